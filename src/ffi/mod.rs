@@ -1,0 +1,257 @@
+//! The C ABI, and only that: check every argument coming from C, convert it to the Rust
+//! core's types, forward the call, convert the result back. No algorithm lives here.
+//!
+//! Every `extern "C"` body runs inside [`ffi_boundary!`], which catches panics (they never
+//! cross into C), records the error message for `cg_last_error_message`, and maps the
+//! error to a [`cg_status`]. Unsafe code of the crate lives only in this module; each block
+//! says why it is sound in a `// SAFETY:` line.
+#![allow(non_camel_case_types)]
+// C callers cannot see Rust's `unsafe`: every pointer is checked (NULL, alignment, size)
+// before use, and the remaining validity contract is written in each function's doc.
+#![allow(clippy::not_unsafe_ptr_arg_deref)]
+// Helpers used by the entry points of the next features.
+#![allow(dead_code)]
+
+pub mod crowd;
+pub mod last_error;
+pub mod status;
+pub mod types;
+pub mod version;
+
+pub use status::cg_status;
+
+use crate::error::{Error, Result};
+
+/// Runs a C entry point's body, which evaluates to `Result<()>`, inside the panic boundary
+/// and turns its outcome into a `cg_status`.
+///
+/// `ffi_boundary!(value_on_error; body)` is the form for functions that return a value
+/// instead of a status: the body evaluates to `Result<T>` and `value_on_error` is returned
+/// (after recording the message) on an error or a panic.
+macro_rules! ffi_boundary {
+    ($body:block) => {{
+        let outcome = ::std::panic::catch_unwind(::std::panic::AssertUnwindSafe(
+            || -> $crate::error::Result<()> { $body },
+        ));
+        match outcome {
+            Ok(Ok(())) => $crate::ffi::status::cg_status::Ok,
+            Ok(Err(error)) => $crate::ffi::last_error::record(&error),
+            Err(payload) => $crate::ffi::last_error::record(&$crate::ffi::panic_error(payload)),
+        }
+    }};
+    ($on_error:expr; $body:block) => {{
+        let outcome = ::std::panic::catch_unwind(::std::panic::AssertUnwindSafe(|| $body));
+        match outcome {
+            Ok(Ok(value)) => value,
+            Ok(Err(error)) => {
+                $crate::ffi::last_error::record(&error);
+                $on_error
+            }
+            Err(payload) => {
+                $crate::ffi::last_error::record(&$crate::ffi::panic_error(payload));
+                $on_error
+            }
+        }
+    }};
+}
+pub(crate) use ffi_boundary;
+
+/// Turns a caught panic's payload into an [`Error::Internal`] carrying its message.
+pub(crate) fn panic_error(payload: Box<dyn std::any::Any + Send>) -> Error {
+    let message = if let Some(text) = payload.downcast_ref::<&str>() {
+        (*text).to_owned()
+    } else if let Some(text) = payload.downcast_ref::<String>() {
+        text.clone()
+    } else {
+        "panic with a non-text payload".to_owned()
+    };
+    Error::Internal(format!("caught panic: {message}"))
+}
+
+/// Fails with [`Error::NullArgument`] naming `what` if `pointer` is NULL.
+pub(crate) fn non_null<T>(pointer: *const T, what: &str) -> Result<()> {
+    if pointer.is_null() {
+        Err(Error::NullArgument(format!("{what} is NULL")))
+    } else {
+        Ok(())
+    }
+}
+
+/// Checks that `pointer` may be dereferenced as a `T`: not NULL and aligned for `T`.
+fn check_pointer<T>(pointer: *const T, what: &str) -> Result<()> {
+    non_null(pointer, what)?;
+    if (pointer as usize) % std::mem::align_of::<T>() != 0 {
+        return Err(Error::InvalidArgument(format!(
+            "{what} is not aligned to {} bytes",
+            std::mem::align_of::<T>()
+        )));
+    }
+    Ok(())
+}
+
+/// Borrows a C object read-only, after checking the pointer.
+///
+/// # Safety
+/// If not NULL and aligned, `pointer` must point to a valid `T` that stays valid and
+/// unaliased by writers for `'a`.
+pub(crate) unsafe fn borrow<'a, T>(pointer: *const T, what: &str) -> Result<&'a T> {
+    check_pointer(pointer, what)?;
+    // SAFETY: checked non-null and aligned; validity is the caller's contract.
+    Ok(unsafe { &*pointer })
+}
+
+/// Borrows a C object mutably, after checking the pointer.
+///
+/// # Safety
+/// If not NULL and aligned, `pointer` must point to a valid `T`, not aliased for `'a`.
+pub(crate) unsafe fn borrow_mut<'a, T>(pointer: *mut T, what: &str) -> Result<&'a mut T> {
+    check_pointer(pointer, what)?;
+    // SAFETY: checked non-null and aligned; validity and exclusivity are the caller's contract.
+    Ok(unsafe { &mut *pointer })
+}
+
+/// Views a C array `(pointer, count)` as a slice. `(NULL, 0)` is an empty slice;
+/// `(NULL, n > 0)` is [`Error::NullArgument`].
+///
+/// # Safety
+/// If `count > 0` and `pointer` is not NULL, it must point to `count` valid, initialised `T`s
+/// that no one writes for `'a`.
+pub(crate) unsafe fn slice<'a, T>(pointer: *const T, count: usize, what: &str) -> Result<&'a [T]> {
+    if count == 0 {
+        return Ok(&[]);
+    }
+    check_array::<T>(pointer, count, what)?;
+    // SAFETY: checked non-null, aligned and size-bounded; validity is the caller's contract.
+    Ok(unsafe { std::slice::from_raw_parts(pointer, count) })
+}
+
+/// Views a C output array `(pointer, count)` as a mutable slice, with the same rules as
+/// [`slice`].
+///
+/// # Safety
+/// If `count > 0` and `pointer` is not NULL, it must point to `count` writable `T`s that no
+/// one else accesses for `'a`.
+pub(crate) unsafe fn slice_mut<'a, T>(
+    pointer: *mut T,
+    count: usize,
+    what: &str,
+) -> Result<&'a mut [T]> {
+    if count == 0 {
+        return Ok(&mut []);
+    }
+    check_array::<T>(pointer, count, what)?;
+    // SAFETY: checked non-null, aligned and size-bounded; validity is the caller's contract.
+    Ok(unsafe { std::slice::from_raw_parts_mut(pointer, count) })
+}
+
+fn check_array<T>(pointer: *const T, count: usize, what: &str) -> Result<()> {
+    if pointer.is_null() {
+        return Err(Error::NullArgument(format!(
+            "{what} is NULL but its count is {count}"
+        )));
+    }
+    check_pointer(pointer, what)?;
+    match count.checked_mul(std::mem::size_of::<T>().max(1)) {
+        Some(bytes) if bytes <= isize::MAX as usize => Ok(()),
+        _ => Err(Error::InvalidArgument(format!(
+            "{what} has an impossible count {count}"
+        ))),
+    }
+}
+
+/// A C struct that starts with `uint32_t struct_size`, so that fields can be appended in
+/// later versions without breaking callers compiled against older headers.
+pub(crate) trait Versioned: Copy {
+    /// The smallest `struct_size` this library accepts (the size of the first released
+    /// layout). Fields past a caller's `struct_size` take their defaults.
+    const MIN_SIZE: usize;
+    /// The struct filled with its documented defaults and the current `struct_size`.
+    fn defaults() -> Self;
+    /// Name used in error messages.
+    const NAME: &'static str;
+}
+
+/// Reads a versioned struct from C: checks the pointer and `struct_size`, then copies the
+/// caller's prefix over the defaults.
+///
+/// # Safety
+/// If not NULL and aligned, `pointer` must point to at least `struct_size` readable bytes,
+/// where `struct_size` is the struct's first field.
+pub(crate) unsafe fn read_versioned<T: Versioned>(pointer: *const T) -> Result<T> {
+    check_pointer(pointer, T::NAME)?;
+    // SAFETY: every versioned struct starts with a u32 `struct_size`; the pointer is non-null
+    // and aligned for T, hence for u32.
+    let declared = unsafe { pointer.cast::<u32>().read() } as usize;
+    let full = std::mem::size_of::<T>();
+    if declared < T::MIN_SIZE || declared > full {
+        return Err(Error::BadStructSize(format!(
+            "{0}.struct_size is {declared}, expected {full} (fill it with {0}_init)",
+            T::NAME,
+        )));
+    }
+    let mut value = T::defaults();
+    // SAFETY: `declared <= size_of::<T>()` bytes are readable at `pointer` (caller contract)
+    // and writable in `value`; the regions do not overlap. Every field is plain old data.
+    unsafe {
+        std::ptr::copy_nonoverlapping(
+            pointer.cast::<u8>(),
+            (&mut value as *mut T).cast::<u8>(),
+            declared,
+        );
+    }
+    Ok(value)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn failing(kind: u8) -> cg_status {
+        ffi_boundary!({
+            match kind {
+                0 => Ok(()),
+                1 => Err(Error::NotFound("entity 7".into())),
+                _ => panic!("boom {kind}"),
+            }
+        })
+    }
+
+    #[test]
+    fn boundary_maps_errors_and_catches_panics() {
+        assert_eq!(failing(0), cg_status::Ok);
+        assert_eq!(failing(1), cg_status::NotFound);
+        assert_eq!(last_error::last_error_message(), "not found: entity 7");
+        let hook = std::panic::take_hook();
+        std::panic::set_hook(Box::new(|_| {}));
+        let status = failing(2);
+        std::panic::set_hook(hook);
+        assert_eq!(status, cg_status::Internal);
+        assert_eq!(
+            last_error::last_error_message(),
+            "internal error: caught panic: boom 2"
+        );
+    }
+
+    #[test]
+    fn arrays_follow_the_null_and_count_rules() {
+        // SAFETY: (NULL, 0) and (NULL, n) are never dereferenced; the real array is valid.
+        unsafe {
+            assert!(slice::<f32>(std::ptr::null(), 0, "a").unwrap().is_empty());
+            assert!(matches!(
+                slice::<f32>(std::ptr::null(), 3, "a"),
+                Err(Error::NullArgument(_))
+            ));
+            let data = [1.0f32, 2.0];
+            assert_eq!(slice(data.as_ptr(), 2, "a").unwrap(), &data);
+            let misaligned = (data.as_ptr() as *const u8).add(1).cast::<f32>();
+            assert!(matches!(
+                slice(misaligned, 1, "a"),
+                Err(Error::InvalidArgument(_))
+            ));
+            assert!(matches!(
+                slice(data.as_ptr(), usize::MAX / 2, "a"),
+                Err(Error::InvalidArgument(_))
+            ));
+        }
+    }
+}

@@ -1,0 +1,28 @@
+//! # crowdgaze
+//!
+//! Believable gaze for every character of a crowd, as a Rust crate and a C library.
+//!
+//! - **Attention** decides where and when each character looks (Grillon & Thalmann 2009;
+//!   Kokkinara, Oyekoya & Steed 2011).
+//! - **Gaze IK** turns its spine, neck, head and eyes there with human timing.
+//! - **Blending** mixes key animations with dual quaternions, driven by where the viewer
+//!   stands (Chaudhuri, Papagiannakis & Magnenat-Thalmann).
+//!
+//! The Rust API ([`Crowd`]) is the core; the C ABI in [`ffi`] only checks, converts and
+//! forwards, and is described by the generated header `include/crowdgaze.h`.
+//!
+//! Conventions: lengths in metres, angles in radians and time in seconds inside; the
+//! caller's units and axes are converted at the edge (see [`world::World`]).
+
+// The header is generated from `ffi` alone: cbindgen skips the core modules.
+/// cbindgen:ignore
+pub mod crowd;
+/// cbindgen:ignore
+pub mod error;
+pub mod ffi;
+/// cbindgen:ignore
+pub mod world;
+
+pub use crowd::{Crowd, CrowdConfig};
+pub use error::{Error, Result};
+pub use world::{Axis, World};

@@ -1,0 +1,213 @@
+//! Compiles every C program in `c_examples/` (C99) and every C++ one (C++17) against
+//! `include/crowdgaze.h` and the library built by this `cargo test`, once linked statically
+//! and once against the shared library, runs each, and checks its exit status and output.
+//!
+//! Each example prints what it checked and ends with the line `ok`. Extra expectations for
+//! particular examples are in [`expected_output`].
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// The directory holding `libcrowdgaze.a` and `libcrowdgaze.so` built for this test run.
+fn library_dir() -> PathBuf {
+    let exe = std::env::current_exe().expect("test executable path");
+    let deps = exe.parent().expect("deps dir").to_path_buf();
+    for dir in [
+        deps.clone(),
+        deps.parent().expect("profile dir").to_path_buf(),
+    ] {
+        if dir.join("libcrowdgaze.a").exists() && dir.join("libcrowdgaze.so").exists() {
+            return dir;
+        }
+    }
+    panic!("libcrowdgaze.a / .so not found next to {}", exe.display());
+}
+
+fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// Work directory for compiled examples, with the shared library installed under its SONAME.
+fn work_dir() -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("c_examples");
+    std::fs::create_dir_all(&dir).expect("create work dir");
+    let so = dir.join("libcrowdgaze.so.0");
+    std::fs::copy(library_dir().join("libcrowdgaze.so"), &so).expect("copy shared library");
+    let link = dir.join("libcrowdgaze.so");
+    let _ = std::fs::remove_file(&link);
+    std::os::unix::fs::symlink("libcrowdgaze.so.0", &link).expect("symlink libcrowdgaze.so");
+    dir
+}
+
+/// Native libraries the Rust standard library needs when linked statically on Linux
+/// (what `rustc --print native-static-libs` reports).
+const NATIVE_STATIC_LIBS: &[&str] = &[
+    "-lgcc_s",
+    "-lutil",
+    "-lrt",
+    "-lpthread",
+    "-lm",
+    "-ldl",
+    "-lc",
+];
+
+#[derive(Clone, Copy, Debug)]
+enum Linkage {
+    Static,
+    Shared,
+}
+
+fn compile(source: &Path, linkage: Linkage, work: &Path) -> PathBuf {
+    let is_cpp = source.extension().is_some_and(|e| e == "cpp");
+    let stem = source.file_stem().unwrap().to_string_lossy().into_owned();
+    let output = work.join(format!("{stem}_{linkage:?}").to_lowercase());
+    let compiler = if is_cpp {
+        std::env::var("CXX").unwrap_or_else(|_| "c++".into())
+    } else {
+        std::env::var("CC").unwrap_or_else(|_| "cc".into())
+    };
+    let mut command = Command::new(&compiler);
+    command
+        .arg(if is_cpp { "-std=c++17" } else { "-std=c99" })
+        .args(["-Wall", "-Wextra", "-Wpedantic", "-Werror", "-O1", "-g"])
+        .arg("-I")
+        .arg(root().join("include"))
+        .arg(source)
+        .arg("-o")
+        .arg(&output);
+    match linkage {
+        Linkage::Static => {
+            command.arg(library_dir().join("libcrowdgaze.a"));
+            command.args(NATIVE_STATIC_LIBS);
+        }
+        Linkage::Shared => {
+            command
+                .arg("-L")
+                .arg(work)
+                .arg("-lcrowdgaze")
+                .arg(format!("-Wl,-rpath,{}", work.display()));
+        }
+    }
+    if !is_cpp {
+        command.arg("-lm");
+    }
+    let result = command
+        .output()
+        .unwrap_or_else(|e| panic!("run {compiler}: {e}"));
+    assert!(
+        result.status.success(),
+        "compiling {} ({linkage:?}) failed:\n{}",
+        source.display(),
+        String::from_utf8_lossy(&result.stderr)
+    );
+    output
+}
+
+/// Substrings that particular examples must print, besides the final `ok`.
+fn expected_output(stem: &str) -> Vec<String> {
+    match stem {
+        "version" => vec![format!("library {}", env!("CARGO_PKG_VERSION"))],
+        "errors" => vec![
+            "CG_STATUS_NULL_ARGUMENT: null argument".into(),
+            "bad struct_size: cg_crowd_config.struct_size is 3".into(),
+        ],
+        _ => vec![],
+    }
+}
+
+fn examples() -> Vec<PathBuf> {
+    let mut sources: Vec<PathBuf> = std::fs::read_dir(root().join("c_examples"))
+        .expect("c_examples/ exists")
+        .map(|entry| entry.expect("dir entry").path())
+        .filter(|path| path.extension().is_some_and(|e| e == "c" || e == "cpp"))
+        .collect();
+    sources.sort();
+    sources
+}
+
+#[test]
+#[cfg_attr(miri, ignore)]
+fn c_examples_build_and_pass_static_and_shared() {
+    let work = work_dir();
+    let sources = examples();
+    assert!(
+        sources.len() >= 3,
+        "expected the C and C++ examples, found {sources:?}"
+    );
+    for source in &sources {
+        let stem = source.file_stem().unwrap().to_string_lossy().into_owned();
+        for linkage in [Linkage::Static, Linkage::Shared] {
+            let program = compile(source, linkage, &work);
+            let run = Command::new(&program)
+                .current_dir(root())
+                .output()
+                .expect("run example");
+            let stdout = String::from_utf8_lossy(&run.stdout);
+            assert!(
+                run.status.success(),
+                "{stem} ({linkage:?}) exited with {:?}\nstdout:\n{stdout}\nstderr:\n{}",
+                run.status,
+                String::from_utf8_lossy(&run.stderr)
+            );
+            assert_eq!(
+                stdout.lines().last(),
+                Some("ok"),
+                "{stem} ({linkage:?}) must end with `ok`:\n{stdout}"
+            );
+            for needle in expected_output(&stem) {
+                assert!(
+                    stdout.contains(&needle),
+                    "{stem} ({linkage:?}) should print {needle:?}:\n{stdout}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+#[cfg_attr(miri, ignore)]
+fn shared_library_exports_only_cg_symbols() {
+    let so = library_dir().join("libcrowdgaze.so");
+    let nm = Command::new("nm")
+        .args(["-D", "--defined-only"])
+        .arg(&so)
+        .output()
+        .expect("run nm");
+    assert!(nm.status.success());
+    let listing = String::from_utf8_lossy(&nm.stdout);
+    let names: Vec<&str> = listing
+        .lines()
+        .filter_map(|line| line.split_whitespace().nth(2))
+        .collect();
+    assert!(names.contains(&"cg_crowd_create"), "{listing}");
+    let foreign: Vec<&&str> = names.iter().filter(|n| !n.starts_with("cg_")).collect();
+    assert!(foreign.is_empty(), "non-cg_ exports: {foreign:?}");
+
+    // Every exported function is declared in the header, and every declared one is exported.
+    let header = std::fs::read_to_string(root().join("include/crowdgaze.h")).expect("header");
+    let mut declared: Vec<String> = header
+        .lines()
+        .filter(|line| !line.starts_with("//") && !line.starts_with(' '))
+        .filter_map(|line| {
+            let open = line.find('(')?;
+            let name = line[..open].rsplit([' ', '*']).next()?;
+            name.starts_with("cg_").then(|| name.to_owned())
+        })
+        .collect();
+    declared.sort();
+    let mut exported: Vec<String> = names.iter().map(|n| n.to_string()).collect();
+    exported.sort();
+    assert_eq!(
+        declared, exported,
+        "header declarations vs exported symbols"
+    );
+
+    let readelf = Command::new("readelf")
+        .arg("-d")
+        .arg(&so)
+        .output()
+        .expect("readelf");
+    let dynamic = String::from_utf8_lossy(&readelf.stdout);
+    let soname = format!("[libcrowdgaze.so.{}]", env!("CARGO_PKG_VERSION_MAJOR"));
+    assert!(dynamic.contains(&soname), "SONAME missing:\n{dynamic}");
+}

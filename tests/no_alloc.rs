@@ -1,0 +1,91 @@
+//! Per-frame calls allocate nothing: a counting global allocator (counter per thread) wraps
+//! the system allocator, and [`assert_no_alloc`] fails if a closure allocates.
+//!
+//! Each feature adds its per-frame calls here, after a warm-up that may allocate.
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+
+struct CountingAllocator;
+
+thread_local! {
+    static ALLOCATIONS: Cell<u64> = const { Cell::new(0) };
+}
+
+// SAFETY: forwards every call to the system allocator unchanged; only counts.
+unsafe impl GlobalAlloc for CountingAllocator {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        ALLOCATIONS.with(|count| count.set(count.get() + 1));
+        // SAFETY: same contract as the caller's.
+        unsafe { System.alloc(layout) }
+    }
+
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        // SAFETY: same contract as the caller's.
+        unsafe { System.dealloc(ptr, layout) }
+    }
+
+    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
+        ALLOCATIONS.with(|count| count.set(count.get() + 1));
+        // SAFETY: same contract as the caller's.
+        unsafe { System.alloc_zeroed(layout) }
+    }
+
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        ALLOCATIONS.with(|count| count.set(count.get() + 1));
+        // SAFETY: same contract as the caller's.
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: CountingAllocator = CountingAllocator;
+
+/// Number of allocations `work` made on this thread.
+fn allocations_during<R>(work: impl FnOnce() -> R) -> (u64, R) {
+    let before = ALLOCATIONS.with(Cell::get);
+    let result = work();
+    let after = ALLOCATIONS.with(Cell::get);
+    (after - before, result)
+}
+
+/// Fails the test, naming `what`, if `work` allocates.
+fn assert_no_alloc<R>(what: &str, work: impl FnOnce() -> R) -> R {
+    let (count, result) = allocations_during(work);
+    assert_eq!(count, 0, "{what} allocated {count} times");
+    result
+}
+
+#[test]
+fn the_counter_sees_allocations() {
+    let (count, vector) = allocations_during(|| vec![1u8; 64]);
+    assert_eq!(count, 1);
+    drop(vector);
+}
+
+#[test]
+fn status_and_version_queries_do_not_allocate() {
+    use crowdgaze::ffi::{crowd, status, version};
+    let mut config = std::mem::MaybeUninit::<crowd::cg_crowd_config>::uninit();
+    assert_eq!(
+        crowd::cg_crowd_config_init(config.as_mut_ptr()),
+        status::cg_status::Ok
+    );
+    let mut handle = std::ptr::null_mut();
+    assert_eq!(
+        crowd::cg_crowd_create(config.as_ptr(), &mut handle),
+        status::cg_status::Ok
+    );
+    assert_no_alloc("status, version and config queries", || {
+        for value in 0..12 {
+            assert!(!status::cg_status_str(value).is_null());
+        }
+        assert_ne!(version::cg_version(), u32::MAX);
+        assert!(!version::cg_version_string().is_null());
+        assert_eq!(
+            crowd::cg_crowd_get_config(handle, config.as_mut_ptr()),
+            status::cg_status::Ok
+        );
+    });
+    crowd::cg_crowd_destroy(handle);
+}
