@@ -22,6 +22,17 @@
 #include <stdint.h>
 #include <stdbool.h>
 
+// The id meaning "no entity": the target of a character that looks ahead.
+#define CG_NO_TARGET UINT32_MAX
+
+// `cg_entity_state.flags`: derive the heading from the direction of motion (the velocity
+// projected on the ground); below 0.1 m/s the last heading is kept. `heading` is ignored.
+#define CG_STATE_HEADING_FROM_MOTION 1
+
+// `cg_entity_state.flags`: `velocity` is given; otherwise it is the difference with the
+// entity's previous pushed position divided by the elapsed time.
+#define CG_STATE_HAS_VELOCITY 2
+
 // Major version of the header. Compare with `cg_version()` at run time to detect a header
 // and library mismatch.
 #define CG_VERSION_MAJOR 0
@@ -106,6 +117,137 @@ typedef uint32_t cg_axis;
 // crowd. Calls taking a `const cg_crowd*` may run concurrently with each other.
 typedef struct cg_crowd cg_crowd;
 
+// A 3-component vector of floats: a position (in the caller's units, see
+// `cg_crowd_config.units_per_metre`) or a direction.
+typedef struct cg_vec3 {
+    // First component.
+    float x;
+    // Second component.
+    float y;
+    // Third component.
+    float z;
+} cg_vec3;
+
+// A new character. Fill it with `cg_character_desc_init`, then set what you need.
+typedef struct cg_character_desc {
+    // Size of this struct in bytes, set by `cg_character_desc_init`.
+    uint32_t struct_size;
+    // Heading, radians counter-clockwise about up (0 along forward). Default 0.
+    float heading;
+    // `I_E`: how interesting this character is to others, >= 0. Default 1.
+    float impact;
+    // Root (ground) position in your units. Default origin.
+    struct cg_vec3 position;
+} cg_character_desc;
+
+// A new scene object: something characters may look at. Fill it with
+// `cg_object_desc_init`, then set what you need.
+typedef struct cg_object_desc {
+    // Size of this struct in bytes, set by `cg_object_desc_init`.
+    uint32_t struct_size;
+    // Its forward direction as a heading (radians), used by the orientation subscores.
+    // Default 0.
+    float heading;
+    // Height of the point looked at above `position`, in your units. Default 0.
+    float look_at_height;
+    // `I_E`: how interesting it is, >= 0. Default 1.
+    float impact;
+    // Root position in your units. Default origin.
+    struct cg_vec3 position;
+} cg_object_desc;
+
+// One entity's state in a frame. Fill each with `cg_entity_state_init` (or copy one that
+// was), then set `id`, `position` and the rest.
+typedef struct cg_entity_state {
+    // Size of this struct in bytes, set by `cg_entity_state_init`; the same in every
+    // element of an array.
+    uint32_t struct_size;
+    // The entity's id.
+    uint32_t id;
+    // `CG_STATE_*` bits. Default 0.
+    uint32_t flags;
+    // Heading, radians counter-clockwise about up; ignored with
+    // `CG_STATE_HEADING_FROM_MOTION`.
+    float heading;
+    // Root (ground) position in your units.
+    struct cg_vec3 position;
+    // Velocity in your units per second; read only with `CG_STATE_HAS_VELOCITY`.
+    struct cg_vec3 velocity;
+} cg_entity_state;
+
+// Where a character looks, as read by `cg_crowd_read_gaze`.
+typedef struct cg_gaze_info {
+    // The character's id.
+    uint32_t character;
+    // The interest point's entity id, or `CG_NO_TARGET` when looking ahead.
+    uint32_t target;
+    // 1 if the character attends to an interest point, else 0.
+    uint32_t attending;
+    // Interest points started so far (online), or planned constraints (offline).
+    uint32_t interest_count;
+    // The point looked at, in your units: the interest point's look-at point, or 10 m
+    // straight ahead at eye height.
+    struct cg_vec3 target_position;
+    // `S_max`: the best score this frame.
+    float s_max;
+    // `A`: the character's attention threshold this frame.
+    float threshold;
+    // Share of the time so far spent attending (online), or planned (offline).
+    float attentive_fraction;
+} cg_gaze_info;
+
+// Everything the scoring function computed for one (character, entity) pair.
+typedef struct cg_score_breakdown {
+    // `d`, ground distance in your units.
+    float distance;
+    // `α`, the entity's angle in the character's field of view (radians, 0 = ahead).
+    float view_angle;
+    // `β`, angle between their forward directions (radians).
+    float heading_angle;
+    // `rs`, relative speed in your units per second.
+    float relative_speed;
+    // `S_p`, proximity subscore in [0, 1].
+    float proximity;
+    // `S_s`, speed subscore in [0, 1].
+    float speed;
+    // `S_o`, orientation subscore in [0, 1].
+    float orientation;
+    // `S_pe`, periphery subscore in [0, 1].
+    float periphery;
+    // `S`, the overall score (0 if pruned).
+    float total;
+    // 1 if the entity was pruned (beyond `max_distance` or outside the field of view).
+    uint32_t pruned;
+} cg_score_breakdown;
+
+// A character's attention parameters (Grillon & Thalmann 2009, eq. 7).
+typedef struct cg_character_params {
+    // Size of this struct in bytes (`cg_crowd_get_character_params` sets it).
+    uint32_t struct_size;
+    // `ω_p`, weight of the proximity subscore.
+    float weight_proximity;
+    // `ω_s`, weight of the relative-speed subscore.
+    float weight_speed;
+    // `ω_o`, weight of the orientation subscore.
+    float weight_orientation;
+    // `ω_pe`, weight of the periphery subscore.
+    float weight_periphery;
+    // `a`/100: the fraction of time the character attends to something, in [0, 1].
+    float attention_fraction;
+} cg_character_params;
+
+// A planned gaze constraint: look at `entity` from `begin` to `end` (seconds).
+typedef struct cg_constraint {
+    // Entity id of the interest point.
+    uint32_t entity;
+    // `S_max` when the constraint begins.
+    float s_max;
+    // `t_b`, start time (s).
+    double begin;
+    // `t_e`, end time (s).
+    double end;
+} cg_constraint;
+
 // Settings of a crowd, fixed for its lifetime. Fill it with `cg_crowd_config_init`, then
 // change the fields you need.
 typedef struct cg_crowd_config {
@@ -128,18 +270,43 @@ typedef struct cg_crowd_config {
     // How many of your length units make one metre: 1 for metres (default), 100 for
     // Unreal's centimetres. Must be > 0 and finite.
     float units_per_metre;
+    // How many entity states `cg_crowd_push_frame` may record for offline planning with
+    // `cg_crowd_plan` (0: no recording, online only). Default 0.
+    uint32_t max_recorded_states;
+    // `d_m`: entities farther than this are never looked at, in your units. Default 10 m.
+    float max_distance;
+    // Full horizontal field of view for attention, radians in (0, 2π]. Default π (180°).
+    float field_of_view;
+    // `ω_sw`: speed subscore `S_s = min(1, ω_sw · rs)`, with `rs` in m/s; seconds per
+    // metre, >= 0. Default 0.5.
+    float speed_weight;
+    // `β_m`: largest angle between two forward directions for the periphery subscore,
+    // radians in [0, π]. Default π/2.
+    float periphery_max_angle;
+    // Seconds an entity must hold the best score above the threshold to become an interest
+    // point. Default 1/3.
+    float min_interest_time;
+    // `d_l`: seconds after which an interest point gives way to the next best; >=
+    // `min_interest_time`. Default 4.
+    float max_interest_time;
+    // Seconds during which an interest point dropped after `max_interest_time` is not picked
+    // again. Default 2.
+    float interest_cooldown;
+    // Seconds of score history before a character's streaming percentile threshold is
+    // used; until then `initial_threshold` is. Default 1.
+    float threshold_warmup;
+    // Threshold used during the warm-up. Default 0.35.
+    float initial_threshold;
+    // Each character's attention fraction (`a`/100, the share of time it attends to
+    // something) is drawn uniformly in [`attention_fraction_min`, `attention_fraction_max`).
+    // Default 0.2.
+    float attention_fraction_min;
+    // See `attention_fraction_min`. Default 0.6.
+    float attention_fraction_max;
+    // Eye height above the character's root of a character without a gaze chain, in your
+    // units: where others look at it. Default 1.6 m.
+    float eye_height;
 } cg_crowd_config;
-
-// A 3-component vector of floats: a position (in the caller's units, see
-// `cg_crowd_config.units_per_metre`) or a direction.
-typedef struct cg_vec3 {
-    // First component.
-    float x;
-    // Second component.
-    float y;
-    // Third component.
-    float z;
-} cg_vec3;
 
 // A rotation quaternion, components in the order **x, y, z, w** (vector part first, scalar
 // last, as glam, Eigen's storage, Unreal's FQuat and Godot's Quaternion lay them out; OSG's
@@ -170,6 +337,151 @@ typedef struct cg_dualquat {
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
+
+// Fills `desc` with defaults (origin, heading 0, impact 1) and its `struct_size`.
+// Errors: `CG_STATUS_NULL_ARGUMENT`. Thread-safe.
+cg_status cg_character_desc_init(struct cg_character_desc *desc);
+
+// Fills `desc` with defaults (origin, heading 0, look-at height 0, impact 1) and its
+// `struct_size`. Errors: `CG_STATUS_NULL_ARGUMENT`. Thread-safe.
+cg_status cg_object_desc_init(struct cg_object_desc *desc);
+
+// Fills `state` with defaults (id `CG_NO_TARGET`, no flags, zeros) and its `struct_size`.
+// Errors: `CG_STATUS_NULL_ARGUMENT`. Thread-safe.
+cg_status cg_entity_state_init(struct cg_entity_state *state);
+
+// Adds a character to the crowd and writes its id to `*out_id`. Its attention
+// parameters are drawn from the crowd's seed (change them with
+// `cg_crowd_set_character_params`). The id stays valid until `cg_crowd_remove_entity`.
+//
+// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_BAD_STRUCT_SIZE`, `CG_STATUS_NON_FINITE`
+// (position, heading or impact), `CG_STATUS_INVALID_ARGUMENT` (negative impact),
+// `CG_STATUS_CAPACITY` (already `max_characters`), `CG_STATUS_WRONG_STATE` (a plan is
+// active). Not thread-safe (mutates the crowd).
+cg_status cg_crowd_add_character(struct cg_crowd *crowd,
+                                 const struct cg_character_desc *desc,
+                                 uint32_t *out_id);
+
+// Adds a scene object (something only looked at) and writes its id to `*out_id`.
+//
+// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_BAD_STRUCT_SIZE`, `CG_STATUS_NON_FINITE`,
+// `CG_STATUS_INVALID_ARGUMENT` (negative impact), `CG_STATUS_CAPACITY` (already
+// `max_objects`), `CG_STATUS_WRONG_STATE` (a plan is active). Not thread-safe.
+cg_status cg_crowd_add_object(struct cg_crowd *crowd,
+                              const struct cg_object_desc *desc,
+                              uint32_t *out_id);
+
+// Removes a character or object. Its id is `CG_STATUS_NOT_FOUND` from then on; characters
+// that looked at it look elsewhere. Removing a character may change the order of
+// characters in `cg_crowd_read_gaze` (the last one takes its place).
+//
+// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NOT_FOUND`, `CG_STATUS_WRONG_STATE` (a
+// plan is active). Not thread-safe.
+cg_status cg_crowd_remove_entity(struct cg_crowd *crowd, uint32_t id);
+
+// Writes the number of characters to `*out_count`. Errors: `CG_STATUS_NULL_ARGUMENT`.
+// Safe to call concurrently with other `const` calls.
+cg_status cg_crowd_character_count(const struct cg_crowd *crowd, size_t *out_count);
+
+// Pushes one frame of entity states at time `t` (seconds). Entities not listed keep
+// their last state; velocities come from the previous pushed position unless given.
+// With recording on (`max_recorded_states > 0`) the frame is also recorded for
+// `cg_crowd_plan`. `states` stays yours; nothing is allocated.
+//
+// Errors (and nothing is changed): `CG_STATUS_NULL_ARGUMENT` (crowd, or states NULL with
+// count > 0), `CG_STATUS_BAD_STRUCT_SIZE`, `CG_STATUS_NON_FINITE` (t or any value),
+// `CG_STATUS_NOT_FOUND` (an unknown id), `CG_STATUS_INVALID_ARGUMENT` (t earlier than the
+// previous frame's, unknown flag bits), `CG_STATUS_CAPACITY` (recording full),
+// `CG_STATUS_WRONG_STATE` (a plan is active). Not thread-safe.
+cg_status cg_crowd_push_frame(struct cg_crowd *crowd,
+                              double t,
+                              const struct cg_entity_state *states,
+                              size_t count);
+
+// Runs attention for every character, `dt` seconds (>= 0) after the previous step: scores
+// the entities near each character, updates its threshold and its interest point. After
+// `cg_crowd_plan`, follows the plan instead, replaying the recorded frames. Allocates
+// nothing.
+//
+// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE` (dt), `CG_STATUS_INVALID_ARGUMENT`
+// (dt < 0). Not thread-safe.
+cg_status cg_crowd_step(struct cg_crowd *crowd, float dt);
+
+// Reads where characters look: fills `out[i]` for the first `min(count, characters)`
+// characters, in the crowd's character order (creation order, except that removing a
+// character moves the last one into its place), and writes how many it filled to
+// `*out_written` if `out_written` is not NULL. `out` stays yours; nothing is allocated.
+//
+// Errors: `CG_STATUS_NULL_ARGUMENT` (crowd, or out NULL with count > 0). Safe to call
+// concurrently with other `const` calls.
+cg_status cg_crowd_read_gaze(const struct cg_crowd *crowd,
+                             struct cg_gaze_info *out,
+                             size_t count,
+                             size_t *out_written);
+
+// Scores `entity` for `character` on the current state and writes every intermediate
+// (distances, angles, subscores, total, pruned) to `*out` — for tools and tests.
+//
+// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NOT_FOUND` (either id),
+// `CG_STATUS_INVALID_ARGUMENT` (`character` is an object). Safe to call concurrently with
+// other `const` calls.
+cg_status cg_crowd_score(const struct cg_crowd *crowd,
+                         uint32_t character,
+                         uint32_t entity,
+                         struct cg_score_breakdown *out);
+
+// Writes a character's attention parameters (with `struct_size`) to `*out_params`.
+//
+// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NOT_FOUND`, `CG_STATUS_INVALID_ARGUMENT`
+// (an object's id). Safe to call concurrently with other `const` calls.
+cg_status cg_crowd_get_character_params(const struct cg_crowd *crowd,
+                                        uint32_t character,
+                                        struct cg_character_params *out_params);
+
+// Sets a character's attention parameters. The four weights are rescaled to sum to 1;
+// changing `attention_fraction` restarts the character's threshold estimate (and its
+// warm-up). Get the current ones with `cg_crowd_get_character_params` first.
+//
+// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_BAD_STRUCT_SIZE`, `CG_STATUS_NOT_FOUND`,
+// `CG_STATUS_NON_FINITE`, `CG_STATUS_INVALID_ARGUMENT` (a negative weight, all weights
+// zero, attention_fraction outside [0, 1], an object's id). Not thread-safe.
+cg_status cg_crowd_set_character_params(struct cg_crowd *crowd,
+                                        uint32_t character,
+                                        const struct cg_character_params *params);
+
+// Sets an entity's impact factor `I_E` (>= 0; how interesting it is to others).
+//
+// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NOT_FOUND`, `CG_STATUS_NON_FINITE`,
+// `CG_STATUS_INVALID_ARGUMENT` (negative). Not thread-safe.
+cg_status cg_crowd_set_impact(struct cg_crowd *crowd, uint32_t entity, float impact);
+
+// Plans attention offline over every recorded frame (the paper's pipeline): scores each
+// frame, sets each character's threshold to the exact percentile of its `S_max(t)`, and
+// cuts its constraints (`cg_crowd_read_constraints`). From then on `cg_crowd_step` replays
+// the recording from its first frame following the plan, and pushing frames or adding and
+// removing entities is `CG_STATUS_WRONG_STATE` until `cg_crowd_clear_plan`. Allocates
+// (once) for the plan.
+//
+// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_WRONG_STATE` (nothing recorded, or
+// already planned). Not thread-safe.
+cg_status cg_crowd_plan(struct cg_crowd *crowd);
+
+// Leaves planned mode and forgets the recording; online stepping and pushing resume.
+// Errors: `CG_STATUS_NULL_ARGUMENT`. Not thread-safe.
+cg_status cg_crowd_clear_plan(struct cg_crowd *crowd);
+
+// Reads a character's planned constraints, in time order: fills the first
+// `min(count, total)` of `out` and writes the total number to `*out_total` (which may be
+// NULL). Call with `(NULL, 0)` to learn the total.
+//
+// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NOT_FOUND`, `CG_STATUS_INVALID_ARGUMENT`
+// (an object's id), `CG_STATUS_WRONG_STATE` (no plan). Safe to call concurrently with
+// other `const` calls.
+cg_status cg_crowd_read_constraints(const struct cg_crowd *crowd,
+                                    uint32_t character,
+                                    struct cg_constraint *out,
+                                    size_t count,
+                                    size_t *out_total);
 
 // Fills `config` with the defaults documented on each field, including `struct_size`.
 //

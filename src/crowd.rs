@@ -1,6 +1,27 @@
-//! The crowd: owns every character and object, and the state of attention and gaze for each.
+//! The crowd: owns every character and object, and steps attention for each character.
+//!
+//! Per frame: [`Crowd::push_frame`] ingests positions and headings (velocities by finite
+//! difference), [`Crowd::step`] rebuilds the spatial grid and runs attention for every
+//! character, and [`Crowd::gaze`] reads the result. Nothing in those allocates.
+//!
+//! Offline (the paper's own pipeline): with `max_recorded_states > 0`, pushed frames are
+//! also recorded; [`Crowd::plan`] then scores the whole recording, computes each
+//! character's exact percentile threshold and its list of constraints
+//! (`entity, t_b, t_e`), and stepping replays the recording following that plan.
 
-use crate::error::{Error, Result};
+use glam::Vec3;
+
+use crate::attention::candidates::{
+    all_pairs_candidates, nearby_candidates, CandidateBatch, NeighbourIndex,
+};
+use crate::attention::interest::{Candidate, InterestConfig, InterestTracker};
+use crate::attention::plan::{Constraint, Plan, Recording};
+use crate::attention::score::{ScoreBreakdown, Scorer, ScoringConfig};
+use crate::attention::CharacterParams;
+use crate::error::{ensure_finite, Error, Result};
+use crate::math::random::{stream, Purpose};
+use crate::scene::ids::{EntityKind, NO_ENTITY};
+use crate::scene::{EntityUpdate, Scene};
 use crate::world::World;
 
 /// Largest capacity accepted for characters or objects (keeps index arithmetic in `u32`).
@@ -19,6 +40,19 @@ pub struct CrowdConfig {
     pub max_objects: u32,
     /// Axes and length unit of the caller's world.
     pub world: World,
+    /// The scoring function's settings (`d_m`, field of view, `ω_sw`, `β_m`).
+    pub scoring: ScoringConfig,
+    /// Interest-point timing and threshold warm-up.
+    pub interest: InterestConfig,
+    /// Range `[low, high)` from which each character's attention fraction `a`/100 is drawn.
+    /// Default [0.2, 0.6).
+    pub attention_fraction_range: (f32, f32),
+    /// Look-at height (metres above the root) of a character without a gaze chain; default
+    /// 1.6 m (eye height).
+    pub default_eye_height: f32,
+    /// How many entity states `push_frame` may record for offline planning (0: no
+    /// recording, online only). Default 0.
+    pub max_recorded_states: u32,
 }
 
 impl Default for CrowdConfig {
@@ -28,8 +62,23 @@ impl Default for CrowdConfig {
             max_characters: 1024,
             max_objects: 256,
             world: World::default(),
+            scoring: ScoringConfig::default(),
+            interest: InterestConfig::default(),
+            attention_fraction_range: (0.2, 0.6),
+            default_eye_height: 1.6,
+            max_recorded_states: 0,
         }
     }
+}
+
+fn check_range(value: f32, low: f32, high: f32, what: &str) -> Result<()> {
+    ensure_finite(value, what)?;
+    if value < low || value > high {
+        return Err(Error::InvalidArgument(format!(
+            "{what} is {value}, must be in [{low}, {high}]"
+        )));
+    }
+    Ok(())
 }
 
 impl CrowdConfig {
@@ -47,7 +96,102 @@ impl CrowdConfig {
                 self.max_objects
             )));
         }
+        let scoring = &self.scoring;
+        check_range(scoring.max_distance, 0.01, 1000.0, "max_distance")?;
+        check_range(
+            scoring.field_of_view,
+            0.01,
+            std::f32::consts::TAU,
+            "field_of_view",
+        )?;
+        check_range(scoring.speed_weight, 0.0, 1000.0, "speed_weight")?;
+        check_range(
+            scoring.periphery_max_angle,
+            0.0,
+            std::f32::consts::PI,
+            "periphery_max_angle",
+        )?;
+        let interest = &self.interest;
+        check_range(interest.min_hold, 0.0, 60.0, "min_hold")?;
+        check_range(interest.max_hold, interest.min_hold, 3600.0, "max_hold")?;
+        check_range(interest.cooldown, 0.0, 3600.0, "cooldown")?;
+        check_range(interest.warmup, 0.0, 3600.0, "warmup")?;
+        check_range(interest.initial_threshold, 0.0, 1e6, "initial_threshold")?;
+        let (low, high) = self.attention_fraction_range;
+        check_range(low, 0.0, 1.0, "attention_fraction_min")?;
+        check_range(high, low, 1.0, "attention_fraction_max")?;
+        check_range(self.default_eye_height, 0.0, 100.0, "default_eye_height")?;
         Ok(())
+    }
+}
+
+/// Where a character is looking, after a step.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GazeInfo {
+    /// The character's id.
+    pub character: u32,
+    /// The interest point's entity id, or [`NO_ENTITY`] when looking ahead.
+    pub target: u32,
+    /// The interest point's look-at position (metres), or the point 10 m ahead at eye
+    /// height when there is none.
+    pub target_position: Vec3,
+    /// `S_max` this frame.
+    pub s_max: f32,
+    /// The attention threshold `A` this frame.
+    pub threshold: f32,
+    /// True if the character attends to an interest point.
+    pub attending: bool,
+    /// Fraction of the observed time spent attending so far.
+    pub attentive_fraction: f32,
+    /// Interest points started so far.
+    pub interest_count: u32,
+}
+
+/// A description of a new character.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CharacterDesc {
+    /// Root position (metres).
+    pub position: Vec3,
+    /// Heading (radians).
+    pub heading: f32,
+    /// `I_E`, how interesting this character is to others (≥ 0). Default 1.
+    pub impact: f32,
+    /// Attention parameters; `None` draws them from the crowd's seed.
+    pub params: Option<CharacterParams>,
+}
+
+impl Default for CharacterDesc {
+    fn default() -> Self {
+        CharacterDesc {
+            position: Vec3::ZERO,
+            heading: 0.0,
+            impact: 1.0,
+            params: None,
+        }
+    }
+}
+
+/// A description of a new scene object.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ObjectDesc {
+    /// Root position (metres).
+    pub position: Vec3,
+    /// Heading (radians): its forward direction, for the orientation subscores.
+    pub heading: f32,
+    /// Height of its look-at point above the root (metres).
+    pub look_at_height: f32,
+    /// `I_E`, how interesting it is (≥ 0). Default 1.
+    pub impact: f32,
+}
+
+impl Default for ObjectDesc {
+    fn default() -> Self {
+        ObjectDesc {
+            position: Vec3::ZERO,
+            heading: 0.0,
+            look_at_height: 0.0,
+            impact: 1.0,
+        }
     }
 }
 
@@ -57,18 +201,426 @@ impl CrowdConfig {
 #[derive(Debug)]
 pub struct Crowd {
     config: CrowdConfig,
+    scorer: Scorer,
+    scene: Scene,
+    neighbours: NeighbourIndex,
+    /// Scratch space of the candidate search.
+    batch: Box<CandidateBatch>,
+    /// Per character (dense, like the scene's character list).
+    params: Vec<CharacterParams>,
+    trackers: Vec<InterestTracker>,
+    /// Characters ever added: the index of each one's random stream.
+    characters_created: u64,
+    /// Time of the last pushed frame.
+    time: f64,
+    recording: Recording,
+    plan: Option<Plan>,
 }
 
 impl Crowd {
     /// Creates an empty crowd, sizing every buffer from `config`.
     pub fn new(config: CrowdConfig) -> Result<Crowd> {
         config.validate()?;
-        Ok(Crowd { config })
+        let capacity = (config.max_characters + config.max_objects) as usize;
+        Ok(Crowd {
+            scorer: Scorer::new(config.scoring),
+            scene: Scene::new(config.world, config.max_characters, config.max_objects),
+            neighbours: NeighbourIndex::new(capacity, config.scoring.max_distance),
+            batch: Box::default(),
+            params: Vec::with_capacity(config.max_characters as usize),
+            trackers: Vec::with_capacity(config.max_characters as usize),
+            characters_created: 0,
+            time: f64::NEG_INFINITY,
+            recording: Recording::new(config.max_recorded_states as usize),
+            plan: None,
+            config,
+        })
     }
 
     /// The configuration the crowd was created with.
     pub fn config(&self) -> &CrowdConfig {
         &self.config
+    }
+
+    /// The scene (entities and their current state).
+    pub fn scene(&self) -> &Scene {
+        &self.scene
+    }
+
+    /// Number of characters.
+    pub fn character_count(&self) -> usize {
+        self.scene.character_count()
+    }
+
+    fn check_impact(impact: f32) -> Result<()> {
+        check_range(impact, 0.0, 1e6, "impact")
+    }
+
+    fn check_params(params: &CharacterParams) -> Result<()> {
+        crate::error::ensure_all_finite(&params.weights.to_array(), "weights")?;
+        let sum: f32 = params.weights.to_array().iter().sum();
+        if params.weights.to_array().iter().any(|w| *w < 0.0) || (sum - 1.0).abs() > 1e-3 {
+            return Err(Error::InvalidArgument(
+                "weights must be non-negative and sum to 1".into(),
+            ));
+        }
+        check_range(params.attention_fraction, 0.0, 1.0, "attention_fraction")
+    }
+
+    /// Adds a character; returns its id.
+    pub fn add_character(&mut self, desc: &CharacterDesc) -> Result<u32> {
+        crate::error::ensure_all_finite(&desc.position.to_array(), "position")?;
+        ensure_finite(desc.heading, "heading")?;
+        Self::check_impact(desc.impact)?;
+        if let Some(params) = &desc.params {
+            Self::check_params(params)?;
+        }
+        self.ensure_online("add a character")?;
+        let params = desc.params.unwrap_or_else(|| {
+            let mut random = stream(
+                self.config.seed,
+                Purpose::CharacterParams,
+                self.characters_created,
+            );
+            CharacterParams::random(&mut random, self.config.attention_fraction_range)
+        });
+        let id = self.scene.add(
+            EntityKind::Character,
+            desc.position,
+            desc.heading,
+            self.config.default_eye_height,
+            desc.impact,
+        )?;
+        self.characters_created += 1;
+        self.params.push(params);
+        self.trackers.push(InterestTracker::new(
+            params.attention_fraction,
+            &self.config.interest,
+        ));
+        Ok(id)
+    }
+
+    /// Adds a scene object; returns its id.
+    pub fn add_object(&mut self, desc: &ObjectDesc) -> Result<u32> {
+        crate::error::ensure_all_finite(&desc.position.to_array(), "position")?;
+        ensure_finite(desc.heading, "heading")?;
+        check_range(desc.look_at_height, -1e6, 1e6, "look_at_height")?;
+        Self::check_impact(desc.impact)?;
+        self.ensure_online("add an object")?;
+        self.scene.add(
+            EntityKind::Object,
+            desc.position,
+            desc.heading,
+            desc.look_at_height,
+            desc.impact,
+        )
+    }
+
+    /// Removes a character or object. Characters looking at it look elsewhere.
+    pub fn remove_entity(&mut self, id: u32) -> Result<()> {
+        self.scene.find(id)?;
+        self.ensure_online("remove an entity")?;
+        if let Some(slot) = self.scene.remove(id)? {
+            self.params.swap_remove(slot as usize);
+            self.trackers.swap_remove(slot as usize);
+        }
+        for tracker in &mut self.trackers {
+            tracker.forget(id);
+        }
+        Ok(())
+    }
+
+    fn ensure_online(&self, what: &str) -> Result<()> {
+        if self.plan.is_some() {
+            return Err(Error::WrongState(format!(
+                "cannot {what} while a plan is active (clear it first)"
+            )));
+        }
+        Ok(())
+    }
+
+    /// A character's attention parameters.
+    pub fn character_params(&self, id: u32) -> Result<CharacterParams> {
+        Ok(self.params[self.scene.character_index(id)?])
+    }
+
+    /// Replaces a character's attention parameters (weights must sum to 1). Changing the
+    /// attention fraction restarts its percentile estimate.
+    pub fn set_character_params(&mut self, id: u32, params: &CharacterParams) -> Result<()> {
+        let index = self.scene.character_index(id)?;
+        Self::check_params(params)?;
+        if params.attention_fraction != self.params[index].attention_fraction {
+            self.trackers[index].set_attention_fraction(params.attention_fraction);
+        }
+        self.params[index] = *params;
+        Ok(())
+    }
+
+    /// Sets an entity's impact factor `I_E` (≥ 0).
+    pub fn set_impact(&mut self, id: u32, impact: f32) -> Result<()> {
+        let (_, index) = self.scene.find(id)?;
+        Self::check_impact(impact)?;
+        self.scene.set_impact(index, impact);
+        Ok(())
+    }
+
+    /// Time of the last pushed frame (−∞ before the first).
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+
+    /// Ingests one frame of entity states at time `time` (seconds, not earlier than the
+    /// previous frame). Entities not listed keep their last state. With recording on, the
+    /// states are also recorded for [`plan`](Self::plan). Fails without changing anything
+    /// on an unknown id, a non-finite value, an earlier time, a full recording, or while a
+    /// plan is active.
+    pub fn push_frame(&mut self, time: f64, updates: &[EntityUpdate]) -> Result<()> {
+        self.push_frame_with(time, updates.len(), |i| Ok(updates[i]))
+    }
+
+    /// [`push_frame`](Self::push_frame) for states produced on the fly: `state(i)` for
+    /// `i < count` converts the caller's i-th state (it is called twice per state: once to
+    /// check them all, once to apply). Lets a caller hand over its own layout without a
+    /// buffer.
+    pub fn push_frame_with(
+        &mut self,
+        time: f64,
+        count: usize,
+        state: impl Fn(usize) -> Result<EntityUpdate>,
+    ) -> Result<()> {
+        if !time.is_finite() {
+            return Err(Error::NonFinite(format!("frame time is {time}")));
+        }
+        if time < self.time {
+            return Err(Error::InvalidArgument(format!(
+                "frame time {time} is earlier than the previous frame's {}",
+                self.time
+            )));
+        }
+        self.ensure_online("push a frame")?;
+        for i in 0..count {
+            self.scene.check_update(&state(i)?)?;
+        }
+        if self.recording.is_enabled() {
+            self.recording.record_with(time, count, |i| state(i).ok())?;
+        }
+        for i in 0..count {
+            if let Ok(update) = state(i) {
+                self.scene.apply_one(time, &update);
+            }
+        }
+        self.time = time;
+        Ok(())
+    }
+
+    /// Runs attention for every character, `dt` seconds after the previous step.
+    pub fn step(&mut self, dt: f32) -> Result<()> {
+        ensure_finite(dt, "dt")?;
+        if dt < 0.0 {
+            return Err(Error::InvalidArgument(format!("dt is {dt}, must be >= 0")));
+        }
+        if let Some(plan) = &mut self.plan {
+            plan.advance(dt, &mut self.scene);
+        }
+        self.neighbours.rebuild(&self.scene);
+        if self.plan.is_some() {
+            return Ok(());
+        }
+        let max_score = self.scene.max_impact();
+        let ids = self.scene.ids();
+        for character in 0..self.scene.character_count() {
+            let tracker = &self.trackers[character];
+            let (best, second) = nearby_candidates(
+                &self.scene,
+                &self.neighbours,
+                &self.scorer,
+                character,
+                &self.params[character].weights,
+                &mut self.batch,
+                |other| tracker.is_cooling(ids[other]),
+            );
+            self.trackers[character].update(best, second, max_score, dt, &self.config.interest);
+        }
+        Ok(())
+    }
+
+    /// The best and second-best entities for a character (by dense index) among those near
+    /// it, skipping itself and entities on cool-down, on the index of the last step.
+    fn best_nearby(&self, character: usize) -> (Candidate, Candidate) {
+        let tracker = &self.trackers[character];
+        let ids = self.scene.ids();
+        nearby_candidates(
+            &self.scene,
+            &self.neighbours,
+            &self.scorer,
+            character,
+            &self.params[character].weights,
+            &mut CandidateBatch::default(),
+            |other| tracker.is_cooling(ids[other]),
+        )
+    }
+
+    /// The same as the grid search, by scoring every entity (the all-pairs loop): a test
+    /// oracle and the baseline of the benchmarks.
+    pub fn best_all_pairs(&self, character_id: u32) -> Result<(Candidate, Candidate)> {
+        let character = self.scene.character_index(character_id)?;
+        Ok(self.best_all_pairs_dense(character))
+    }
+
+    /// [`best_all_pairs`](Self::best_all_pairs) by dense character index.
+    pub fn best_all_pairs_dense(&self, character: usize) -> (Candidate, Candidate) {
+        let tracker = &self.trackers[character];
+        let ids = self.scene.ids();
+        all_pairs_candidates(
+            &self.scene,
+            &self.scorer,
+            character,
+            &self.params[character].weights,
+            |other| tracker.is_cooling(ids[other]),
+        )
+    }
+
+    /// The grid search for one character by id, on the grid of the last step.
+    pub fn best_nearby_by_id(&self, character_id: u32) -> Result<(Candidate, Candidate)> {
+        let character = self.scene.character_index(character_id)?;
+        Ok(self.best_nearby(character))
+    }
+
+    /// Rebuilds the spatial grid from the current positions (done by every step).
+    pub fn rebuild_grid(&mut self) {
+        self.neighbours.rebuild(&self.scene);
+    }
+
+    /// Scores one (character, entity) pair on the current state, with every intermediate.
+    pub fn score(&self, character_id: u32, entity_id: u32) -> Result<ScoreBreakdown> {
+        let character = self.scene.character_index(character_id)?;
+        let (_, entity) = self.scene.find(entity_id)?;
+        let observer = self
+            .scene
+            .ground_state(self.scene.character_entities()[character] as usize);
+        Ok(self.scorer.score(
+            &observer,
+            &self.scene.ground_state(entity),
+            &self.params[character].weights,
+            self.scene.impacts()[entity],
+        ))
+    }
+
+    /// Where a character (by dense index) looks now.
+    pub fn gaze_dense(&self, character: usize) -> GazeInfo {
+        let entity = self.scene.character_entities()[character] as usize;
+        let tracker = &self.trackers[character];
+        let (target, s_max, threshold, attentive_fraction, interest_count) = match &self.plan {
+            Some(plan) => {
+                let (target, s_max, threshold) = plan.current(character);
+                let count = plan.constraints(character).len() as u32;
+                (
+                    target,
+                    s_max,
+                    threshold,
+                    plan.attentive_fraction(character),
+                    count,
+                )
+            }
+            None => {
+                let (attentive, observed) = tracker.attentive_seconds();
+                let fraction = if observed > 0.0 {
+                    attentive / observed
+                } else {
+                    0.0
+                };
+                let (target, s_max) = (tracker.interest(), tracker.s_max());
+                (
+                    target,
+                    s_max,
+                    tracker.threshold(),
+                    fraction,
+                    tracker.interest_count(),
+                )
+            }
+        };
+        let target_index = self.scene.index_of(target);
+        let target_position = match target_index {
+            Some(index) => self.scene.look_at_point(index),
+            None => {
+                let ahead = self
+                    .config
+                    .world
+                    .heading_direction(self.scene.headings()[entity]);
+                self.scene.look_at_point(entity) + ahead * 10.0
+            }
+        };
+        GazeInfo {
+            character: self.scene.ids()[entity],
+            target: if target_index.is_some() {
+                target
+            } else {
+                NO_ENTITY
+            },
+            target_position,
+            s_max,
+            threshold,
+            attending: target_index.is_some(),
+            attentive_fraction,
+            interest_count,
+        }
+    }
+
+    /// Where a character looks now, by id.
+    pub fn gaze(&self, character_id: u32) -> Result<GazeInfo> {
+        Ok(self.gaze_dense(self.scene.character_index(character_id)?))
+    }
+
+    /// Plans attention offline over the recorded frames (see the module docs). Requires
+    /// `max_recorded_states > 0` and at least one recorded frame.
+    pub fn plan(&mut self) -> Result<()> {
+        self.ensure_online("plan again")?;
+        if self.recording.frame_count() == 0 {
+            return Err(Error::WrongState(
+                "nothing recorded: set max_recorded_states and push frames before planning".into(),
+            ));
+        }
+        let plan = Plan::build(
+            &self.recording,
+            &mut self.scene,
+            &mut self.neighbours,
+            &self.scorer,
+            &self.params,
+            &self.config.interest,
+        );
+        self.plan = Some(plan);
+        Ok(())
+    }
+
+    /// Leaves planned mode and forgets the recording; pushing frames works again.
+    pub fn clear_plan(&mut self) {
+        self.plan = None;
+        self.recording.clear();
+    }
+
+    /// True while stepping follows a plan.
+    pub fn is_planned(&self) -> bool {
+        self.plan.is_some()
+    }
+
+    /// A character's planned constraints (entity, `t_b`, `t_e`), in time order.
+    pub fn constraints(&self, character_id: u32) -> Result<&[Constraint]> {
+        let character = self.scene.character_index(character_id)?;
+        let plan = self
+            .plan
+            .as_ref()
+            .ok_or_else(|| Error::WrongState("no plan: call plan() first".into()))?;
+        Ok(plan.constraints(character))
+    }
+
+    /// A character's planned threshold `A` (the exact percentile).
+    pub fn planned_threshold(&self, character_id: u32) -> Result<f32> {
+        let character = self.scene.character_index(character_id)?;
+        let plan = self
+            .plan
+            .as_ref()
+            .ok_or_else(|| Error::WrongState("no plan: call plan() first".into()))?;
+        Ok(plan.threshold(character))
     }
 }
 

@@ -16,6 +16,8 @@
 
 // The header is generated from `ffi` alone: cbindgen skips the core modules.
 /// cbindgen:ignore
+pub mod attention;
+/// cbindgen:ignore
 pub mod crowd;
 /// cbindgen:ignore
 pub mod error;
@@ -23,8 +25,12 @@ pub mod ffi;
 /// cbindgen:ignore
 pub mod math;
 /// cbindgen:ignore
+pub mod scenario;
+/// cbindgen:ignore
+pub mod scene;
+/// cbindgen:ignore
 pub mod world;
 
-pub use crowd::{Crowd, CrowdConfig};
+pub use crowd::{CharacterDesc, Crowd, CrowdConfig, GazeInfo, ObjectDesc};
 pub use error::{Error, Result};
 pub use world::{Axis, World};

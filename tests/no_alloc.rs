@@ -89,3 +89,68 @@ fn status_and_version_queries_do_not_allocate() {
     });
     crowd::cg_crowd_destroy(handle);
 }
+
+#[test]
+fn push_frame_step_and_read_gaze_do_not_allocate() {
+    use crowdgaze::ffi::attention::*;
+    use crowdgaze::ffi::crowd::*;
+    use crowdgaze::ffi::status::cg_status;
+    use crowdgaze::ffi::types::cg_vec3;
+
+    let mut config = std::mem::MaybeUninit::<cg_crowd_config>::uninit();
+    assert_eq!(cg_crowd_config_init(config.as_mut_ptr()), cg_status::Ok);
+    let mut handle = std::ptr::null_mut();
+    assert_eq!(cg_crowd_create(config.as_ptr(), &mut handle), cg_status::Ok);
+    let mut desc = std::mem::MaybeUninit::<cg_character_desc>::uninit();
+    assert_eq!(cg_character_desc_init(desc.as_mut_ptr()), cg_status::Ok);
+    // SAFETY: initialised just above.
+    let mut desc = unsafe { desc.assume_init() };
+    let mut states = Vec::new();
+    for i in 0..200 {
+        desc.position = cg_vec3 {
+            x: (i % 20) as f32 * 1.5,
+            y: 0.0,
+            z: (i / 20) as f32 * 1.5,
+        };
+        let mut id = 0;
+        assert_eq!(
+            cg_crowd_add_character(handle, &desc, &mut id),
+            cg_status::Ok
+        );
+        let mut state = std::mem::MaybeUninit::<cg_entity_state>::uninit();
+        assert_eq!(cg_entity_state_init(state.as_mut_ptr()), cg_status::Ok);
+        // SAFETY: initialised just above.
+        let mut state = unsafe { state.assume_init() };
+        state.id = id;
+        state.position = desc.position;
+        state.flags = CG_STATE_HEADING_FROM_MOTION;
+        states.push(state);
+    }
+    let mut gaze = vec![cg_gaze_info::default(); 200];
+    let mut frame = |t: f64| {
+        for (i, state) in states.iter_mut().enumerate() {
+            state.position.x += if i % 2 == 0 { 0.04 } else { -0.04 };
+        }
+        assert_eq!(
+            cg_crowd_push_frame(handle, t, states.as_ptr(), states.len()),
+            cg_status::Ok
+        );
+        assert_eq!(cg_crowd_step(handle, 1.0 / 30.0), cg_status::Ok);
+        let mut written = 0;
+        assert_eq!(
+            cg_crowd_read_gaze(handle, gaze.as_mut_ptr(), gaze.len(), &mut written),
+            cg_status::Ok
+        );
+        assert_eq!(written, 200);
+    };
+    for i in 0..10 {
+        frame(f64::from(i) / 30.0);
+    }
+    assert_no_alloc("push_frame + step + read_gaze", || {
+        for i in 10..100 {
+            frame(f64::from(i) / 30.0);
+        }
+    });
+    assert!(gaze.iter().any(|g| g.s_max > 0.0));
+    cg_crowd_destroy(handle);
+}

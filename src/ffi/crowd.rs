@@ -2,6 +2,8 @@
 
 use super::types::cg_axis;
 use super::{ffi_boundary, read_versioned, Versioned};
+use crate::attention::interest::InterestConfig;
+use crate::attention::score::ScoringConfig;
 use crate::crowd::{Crowd, CrowdConfig};
 use crate::error::Result;
 use crate::world::World;
@@ -39,6 +41,42 @@ pub struct cg_crowd_config {
     /// How many of your length units make one metre: 1 for metres (default), 100 for
     /// Unreal's centimetres. Must be > 0 and finite.
     pub units_per_metre: f32,
+    /// How many entity states `cg_crowd_push_frame` may record for offline planning with
+    /// `cg_crowd_plan` (0: no recording, online only). Default 0.
+    pub max_recorded_states: u32,
+    /// `d_m`: entities farther than this are never looked at, in your units. Default 10 m.
+    pub max_distance: f32,
+    /// Full horizontal field of view for attention, radians in (0, 2π]. Default π (180°).
+    pub field_of_view: f32,
+    /// `ω_sw`: speed subscore `S_s = min(1, ω_sw · rs)`, with `rs` in m/s; seconds per
+    /// metre, >= 0. Default 0.5.
+    pub speed_weight: f32,
+    /// `β_m`: largest angle between two forward directions for the periphery subscore,
+    /// radians in [0, π]. Default π/2.
+    pub periphery_max_angle: f32,
+    /// Seconds an entity must hold the best score above the threshold to become an interest
+    /// point. Default 1/3.
+    pub min_interest_time: f32,
+    /// `d_l`: seconds after which an interest point gives way to the next best; >=
+    /// `min_interest_time`. Default 4.
+    pub max_interest_time: f32,
+    /// Seconds during which an interest point dropped after `max_interest_time` is not picked
+    /// again. Default 2.
+    pub interest_cooldown: f32,
+    /// Seconds of score history before a character's streaming percentile threshold is
+    /// used; until then `initial_threshold` is. Default 1.
+    pub threshold_warmup: f32,
+    /// Threshold used during the warm-up. Default 0.35.
+    pub initial_threshold: f32,
+    /// Each character's attention fraction (`a`/100, the share of time it attends to
+    /// something) is drawn uniformly in [`attention_fraction_min`, `attention_fraction_max`).
+    /// Default 0.2.
+    pub attention_fraction_min: f32,
+    /// See `attention_fraction_min`. Default 0.6.
+    pub attention_fraction_max: f32,
+    /// Eye height above the character's root of a character without a gaze chain, in your
+    /// units: where others look at it. Default 1.6 m.
+    pub eye_height: f32,
 }
 
 impl Versioned for cg_crowd_config {
@@ -46,32 +84,67 @@ impl Versioned for cg_crowd_config {
     const NAME: &'static str = "cg_crowd_config";
 
     fn defaults() -> Self {
-        let core = CrowdConfig::default();
+        cg_crowd_config::from_core(&CrowdConfig::default())
+    }
+}
+
+impl cg_crowd_config {
+    /// The C view of a core config (lengths in the caller's units).
+    fn from_core(core: &CrowdConfig) -> cg_crowd_config {
+        let units = core.world.units_per_metre;
         cg_crowd_config {
             struct_size: std::mem::size_of::<cg_crowd_config>() as u32,
             max_characters: core.max_characters,
             seed: core.seed,
             max_objects: core.max_objects,
-            up_axis: cg_axis::PositiveY as u32,
-            forward_axis: cg_axis::PositiveZ as u32,
-            units_per_metre: core.world.units_per_metre,
+            up_axis: cg_axis::from_axis(core.world.up_axis),
+            forward_axis: cg_axis::from_axis(core.world.forward_axis),
+            units_per_metre: units,
+            max_recorded_states: core.max_recorded_states,
+            max_distance: core.scoring.max_distance * units,
+            field_of_view: core.scoring.field_of_view,
+            speed_weight: core.scoring.speed_weight,
+            periphery_max_angle: core.scoring.periphery_max_angle,
+            min_interest_time: core.interest.min_hold,
+            max_interest_time: core.interest.max_hold,
+            interest_cooldown: core.interest.cooldown,
+            threshold_warmup: core.interest.warmup,
+            initial_threshold: core.interest.initial_threshold,
+            attention_fraction_min: core.attention_fraction_range.0,
+            attention_fraction_max: core.attention_fraction_range.1,
+            eye_height: core.default_eye_height * units,
         }
     }
-}
 
-impl cg_crowd_config {
-    /// Checks and converts to the core's config.
+    /// Checks and converts to the core's config (lengths to metres).
     fn to_core(self) -> Result<CrowdConfig> {
         let world = World::new(
             cg_axis::parse(self.up_axis, "up_axis")?,
             cg_axis::parse(self.forward_axis, "forward_axis")?,
             self.units_per_metre,
         )?;
+        let metres = 1.0 / self.units_per_metre;
         let config = CrowdConfig {
             seed: self.seed,
             max_characters: self.max_characters,
             max_objects: self.max_objects,
             world,
+            scoring: ScoringConfig {
+                max_distance: self.max_distance * metres,
+                field_of_view: self.field_of_view,
+                speed_weight: self.speed_weight,
+                periphery_max_angle: self.periphery_max_angle,
+            },
+            interest: InterestConfig {
+                min_hold: self.min_interest_time,
+                max_hold: self.max_interest_time,
+                cooldown: self.interest_cooldown,
+                warmup: self.threshold_warmup,
+                initial_threshold: self.initial_threshold,
+            },
+            attention_fraction_range: (self.attention_fraction_min, self.attention_fraction_max),
+            default_eye_height: self.eye_height * metres,
+            max_recorded_states: self.max_recorded_states,
         };
         config.validate()?;
         Ok(config)
@@ -170,16 +243,7 @@ pub extern "C" fn cg_crowd_get_config(
         let crowd = unsafe { crowd_ref(crowd) }?;
         // SAFETY: the caller provides a writable cg_crowd_config (or NULL).
         let out = unsafe { super::borrow_mut(out_config, "out_config") }?;
-        let core = crowd.config();
-        *out = cg_crowd_config {
-            struct_size: std::mem::size_of::<cg_crowd_config>() as u32,
-            max_characters: core.max_characters,
-            seed: core.seed,
-            max_objects: core.max_objects,
-            up_axis: cg_axis::from_axis(core.world.up_axis),
-            forward_axis: cg_axis::from_axis(core.world.forward_axis),
-            units_per_metre: core.world.units_per_metre,
-        };
+        *out = cg_crowd_config::from_core(crowd.config());
         Ok(())
     })
 }

@@ -1,0 +1,61 @@
+//! Attention cost per character-frame at a fixed pedestrian density (0.25 people/m², random
+//! walkers in a square plaza, d_m = 10 m): the spatial-grid step at 1 000, 10 000 and
+//! 100 000 characters, and the naive all-pairs scoring at 1 000 and 10 000 in the same run.
+//!
+//! Run: `cargo bench --bench attention`. Criterion reports time per character-frame
+//! (throughput in elements = characters).
+
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
+use crowdgaze::scenario::Scenario;
+use crowdgaze::{Crowd, CrowdConfig};
+use std::hint::black_box;
+
+const DENSITY: f32 = 0.25;
+const DT: f32 = 1.0 / 30.0;
+
+fn plaza(characters: usize) -> Crowd {
+    let mut crowd = Crowd::new(CrowdConfig {
+        max_characters: characters as u32,
+        max_objects: 0,
+        ..CrowdConfig::default()
+    })
+    .expect("crowd");
+    let mut scenario = Scenario::plaza(characters, DENSITY, 7);
+    scenario.populate(&mut crowd).expect("populate");
+    // Two frames so that velocities and headings come from motion, then a warm-up.
+    for frame in 0..40 {
+        scenario.advance(DT);
+        scenario
+            .push(&mut crowd, f64::from(frame as f32 * DT))
+            .expect("push");
+        crowd.step(DT).expect("step");
+    }
+    crowd
+}
+
+fn attention(c: &mut Criterion) {
+    let mut group = c.benchmark_group("attention");
+    group.sample_size(20);
+    for characters in [1_000usize, 10_000, 100_000] {
+        let mut crowd = plaza(characters);
+        group.throughput(Throughput::Elements(characters as u64));
+        group.bench_function(BenchmarkId::new("grid_step", characters), |b| {
+            b.iter(|| crowd.step(black_box(DT)).expect("step"))
+        });
+        if characters <= 10_000 {
+            group.sample_size(10);
+            group.bench_function(BenchmarkId::new("all_pairs", characters), |b| {
+                b.iter(|| {
+                    for character in 0..crowd.character_count() {
+                        black_box(crowd.best_all_pairs_dense(character));
+                    }
+                })
+            });
+            group.sample_size(20);
+        }
+    }
+    group.finish();
+}
+
+criterion_group!(benches, attention);
+criterion_main!(benches);

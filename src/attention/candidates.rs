@@ -1,0 +1,474 @@
+//! Finding each character's best and second-best entity, fast.
+//!
+//! [`NeighbourIndex`] rebuilds the spatial grid every frame and copies what the scoring
+//! needs (forward, velocity, impact, id) into grid order, so a query reads memory
+//! sequentially whatever the crowd's size. A query gathers the entities within `d_m` and
+//! inside the field of view into a fixed-size [`CandidateBatch`] on the stack, scores the
+//! whole batch in one straight-line loop that the compiler vectorises, then ranks it.
+//! The all-pairs search feeds the same batch from every entity: the test oracle and the
+//! benchmark baseline.
+
+use glam::Vec2;
+
+use super::interest::Candidate;
+use super::score::{
+    orientation_score, periphery_score, proximity_score, speed_score, GroundState, Scorer,
+    SubscoreWeights,
+};
+use crate::math::fast::fast_acos;
+use crate::scene::grid::SpatialGrid;
+use crate::scene::Scene;
+
+/// Candidates scored per batch (a denser neighbourhood is scored in several batches).
+pub const BATCH: usize = 128;
+
+/// The grid and the scoring data of every entity in grid order, rebuilt each frame.
+#[derive(Debug, Clone)]
+pub struct NeighbourIndex {
+    grid: SpatialGrid,
+    forward: Vec<Vec2>,
+    velocity: Vec<Vec2>,
+    impact: Vec<f32>,
+    id: Vec<u32>,
+}
+
+impl NeighbourIndex {
+    /// An index for at most `capacity` entities and queries of radius `radius` (metres).
+    pub fn new(capacity: usize, radius: f32) -> NeighbourIndex {
+        NeighbourIndex {
+            grid: SpatialGrid::new(capacity, radius),
+            forward: vec![Vec2::ZERO; capacity],
+            velocity: vec![Vec2::ZERO; capacity],
+            impact: vec![0.0; capacity],
+            id: vec![0; capacity],
+        }
+    }
+
+    /// Rebuilds the grid and the grid-ordered copies from the scene's current state.
+    pub fn rebuild(&mut self, scene: &Scene) {
+        self.grid.rebuild(scene.ground_positions());
+        let (forwards, velocities) = (scene.forwards(), scene.velocities());
+        let (impacts, ids) = (scene.impacts(), scene.ids());
+        for (slot, &entity) in self.grid.entries().iter().enumerate() {
+            let entity = entity as usize;
+            self.forward[slot] = forwards[entity];
+            self.velocity[slot] = velocities[entity];
+            self.impact[slot] = impacts[entity];
+            self.id[slot] = ids[entity];
+        }
+    }
+
+    /// The grid.
+    pub fn grid(&self) -> &SpatialGrid {
+        &self.grid
+    }
+}
+
+/// Up to [`BATCH`] candidates in structure-of-arrays form, and their scores.
+#[derive(Debug, Clone)]
+pub struct CandidateBatch {
+    len: usize,
+    offset_x: [f32; BATCH],
+    offset_y: [f32; BATCH],
+    distance_squared: [f32; BATCH],
+    forward_x: [f32; BATCH],
+    forward_y: [f32; BATCH],
+    velocity_x: [f32; BATCH],
+    velocity_y: [f32; BATCH],
+    impact: [f32; BATCH],
+    id: [u32; BATCH],
+    entity: [u32; BATCH],
+    score: [f32; BATCH],
+}
+
+impl Default for CandidateBatch {
+    fn default() -> Self {
+        CandidateBatch {
+            len: 0,
+            offset_x: [0.0; BATCH],
+            offset_y: [0.0; BATCH],
+            distance_squared: [0.0; BATCH],
+            forward_x: [0.0; BATCH],
+            forward_y: [0.0; BATCH],
+            velocity_x: [0.0; BATCH],
+            velocity_y: [0.0; BATCH],
+            impact: [0.0; BATCH],
+            id: [0; BATCH],
+            entity: [0; BATCH],
+            score: [0.0; BATCH],
+        }
+    }
+}
+
+impl CandidateBatch {
+    /// True when no more candidates fit.
+    #[inline]
+    fn is_full(&self) -> bool {
+        self.len == BATCH
+    }
+
+    #[inline]
+    #[allow(clippy::too_many_arguments)]
+    fn push(
+        &mut self,
+        offset: Vec2,
+        distance_squared: f32,
+        forward: Vec2,
+        velocity: Vec2,
+        impact: f32,
+        id: u32,
+        entity: u32,
+    ) {
+        let i = self.len;
+        self.offset_x[i] = offset.x;
+        self.offset_y[i] = offset.y;
+        self.distance_squared[i] = distance_squared;
+        self.forward_x[i] = forward.x;
+        self.forward_y[i] = forward.y;
+        self.velocity_x[i] = velocity.x;
+        self.velocity_y[i] = velocity.y;
+        self.impact[i] = impact;
+        self.id[i] = id;
+        self.entity[i] = entity;
+        self.len = i + 1;
+    }
+
+    /// Scores every candidate with the formulas of [`super::score`] (the same functions,
+    /// so the results equal [`Scorer::score`]'s totals).
+    fn score_all(&mut self, scorer: &Scorer, observer: &GroundState, weights: &SubscoreWeights) {
+        let config = scorer.config();
+        let half_field_of_view = 0.5 * config.field_of_view;
+        let (speed_weight, periphery_max_angle) = (config.speed_weight, config.periphery_max_angle);
+        let len = self.len.min(BATCH);
+        for i in 0..len {
+            let distance = self.distance_squared[i].sqrt();
+            let along =
+                observer.forward.x * self.offset_x[i] + observer.forward.y * self.offset_y[i];
+            let cos_view = if distance > 1e-6 {
+                along / distance
+            } else {
+                1.0
+            };
+            let view_angle = fast_acos(cos_view);
+            let heading_angle = fast_acos(
+                observer.forward.x * self.forward_x[i] + observer.forward.y * self.forward_y[i],
+            );
+            let relative_x = self.velocity_x[i] - observer.velocity.x;
+            let relative_y = self.velocity_y[i] - observer.velocity.y;
+            let relative_speed = (relative_x * relative_x + relative_y * relative_y).sqrt();
+            self.score[i] = self.impact[i]
+                * (weights.proximity * proximity_score(distance)
+                    + weights.speed * speed_score(relative_speed, speed_weight)
+                    + weights.orientation * orientation_score(view_angle, heading_angle)
+                    + weights.periphery
+                        * periphery_score(
+                            view_angle,
+                            heading_angle,
+                            half_field_of_view,
+                            periphery_max_angle,
+                        ));
+        }
+    }
+
+    /// Scores the batch, ranks it into `best`/`second` (consulting `skip` only for
+    /// candidates that would enter the top two), and empties it.
+    fn flush(
+        &mut self,
+        scorer: &Scorer,
+        observer: &GroundState,
+        weights: &SubscoreWeights,
+        skip: &mut impl FnMut(usize) -> bool,
+        best: &mut Candidate,
+        second: &mut Candidate,
+    ) {
+        self.score_all(scorer, observer, weights);
+        for i in 0..self.len.min(BATCH) {
+            let candidate = Candidate {
+                id: self.id[i],
+                score: self.score[i],
+            };
+            if candidate.score > 0.0
+                && ranks_above(candidate, *second)
+                && !skip(self.entity[i] as usize)
+            {
+                rank(best, second, candidate);
+            }
+        }
+        self.len = 0;
+    }
+}
+
+/// True if `a` ranks above `b`: a higher score, or an equal score and a lower id (so the
+/// ranking does not depend on the order entities are visited in). Nothing ranks below
+/// the empty candidate.
+#[inline]
+fn ranks_above(a: Candidate, b: Candidate) -> bool {
+    a.score > b.score || (a.score == b.score && a.id < b.id)
+}
+
+/// Keeps the two highest-ranked candidates.
+#[inline]
+fn rank(best: &mut Candidate, second: &mut Candidate, candidate: Candidate) {
+    if ranks_above(candidate, *best) {
+        *second = *best;
+        *best = candidate;
+    } else if ranks_above(candidate, *second) {
+        *second = candidate;
+    }
+}
+
+/// The view test without an arc cosine: is `offset` within the half field of view whose
+/// cosine is `cos_half` of `forward`? (An entity at the observer's position is inside.)
+#[inline(always)]
+fn in_view(forward: Vec2, offset: Vec2, distance_squared: f32, cos_half: f32) -> bool {
+    let along = forward.dot(offset);
+    let bound = cos_half * cos_half * distance_squared;
+    if cos_half >= 0.0 {
+        along >= 0.0 && along * along >= bound
+    } else {
+        along >= 0.0 || along * along <= bound
+    }
+}
+
+/// One character's search: filters offered entities by distance and view, batches the
+/// survivors, and keeps the best two.
+struct Search<'a, Skip: FnMut(usize) -> bool> {
+    scorer: &'a Scorer,
+    weights: &'a SubscoreWeights,
+    observer: GroundState,
+    observer_entity: u32,
+    max_distance_squared: f32,
+    cos_half_field_of_view: f32,
+    batch: &'a mut CandidateBatch,
+    skip: Skip,
+    best: Candidate,
+    second: Candidate,
+}
+
+impl<'a, Skip: FnMut(usize) -> bool> Search<'a, Skip> {
+    fn new(
+        scene: &Scene,
+        scorer: &'a Scorer,
+        character: usize,
+        weights: &'a SubscoreWeights,
+        batch: &'a mut CandidateBatch,
+        skip: Skip,
+    ) -> Self {
+        let observer_entity = scene.character_entities()[character];
+        batch.len = 0;
+        Search {
+            scorer,
+            weights,
+            observer: scene.ground_state(observer_entity as usize),
+            observer_entity,
+            max_distance_squared: scorer.max_distance_squared(),
+            cos_half_field_of_view: (0.5 * scorer.config().field_of_view).cos(),
+            batch,
+            skip,
+            best: Candidate::NONE,
+            second: Candidate::NONE,
+        }
+    }
+
+    /// Offers an entity: its ground `point`, entity index, forward, velocity, impact and id.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn offer(
+        &mut self,
+        point: Vec2,
+        entity: u32,
+        forward: Vec2,
+        velocity: Vec2,
+        impact: f32,
+        id: u32,
+    ) {
+        let offset = point - self.observer.position;
+        let distance_squared = offset.length_squared();
+        if distance_squared > self.max_distance_squared
+            || entity == self.observer_entity
+            || impact <= 0.0
+            || !in_view(
+                self.observer.forward,
+                offset,
+                distance_squared,
+                self.cos_half_field_of_view,
+            )
+        {
+            return;
+        }
+        self.batch.push(
+            offset,
+            distance_squared,
+            forward,
+            velocity,
+            impact,
+            id,
+            entity,
+        );
+        if self.batch.is_full() {
+            self.flush();
+        }
+    }
+
+    fn flush(&mut self) {
+        self.batch.flush(
+            self.scorer,
+            &self.observer,
+            self.weights,
+            &mut self.skip,
+            &mut self.best,
+            &mut self.second,
+        );
+    }
+
+    fn finish(mut self) -> (Candidate, Candidate) {
+        self.flush();
+        (self.best, self.second)
+    }
+}
+
+/// The best and second-best entities (positive score) for the character at dense index
+/// `character`, among the entities near it, skipping itself and every entity index for
+/// which `skip` is true. `index` must have been rebuilt from the scene's current state;
+/// `batch` is scratch space (reused, so that nothing is cleared per query).
+pub fn nearby_candidates(
+    scene: &Scene,
+    index: &NeighbourIndex,
+    scorer: &Scorer,
+    character: usize,
+    weights: &SubscoreWeights,
+    batch: &mut CandidateBatch,
+    skip: impl FnMut(usize) -> bool,
+) -> (Candidate, Candidate) {
+    let mut search = Search::new(scene, scorer, character, weights, batch, skip);
+    let (entries, points) = (index.grid.entries(), index.grid.points());
+    index
+        .grid
+        .for_each_run_near(search.observer.position, |run| {
+            for slot in run {
+                search.offer(
+                    points[slot],
+                    entries[slot],
+                    index.forward[slot],
+                    index.velocity[slot],
+                    index.impact[slot],
+                    index.id[slot],
+                );
+            }
+        });
+    search.finish()
+}
+
+/// [`nearby_candidates`] by looking at every entity of the scene (the all-pairs loop),
+/// kept as a test oracle and a benchmark baseline. Needs no index.
+pub fn all_pairs_candidates(
+    scene: &Scene,
+    scorer: &Scorer,
+    character: usize,
+    weights: &SubscoreWeights,
+    skip: impl FnMut(usize) -> bool,
+) -> (Candidate, Candidate) {
+    let mut batch = CandidateBatch::default();
+    let mut search = Search::new(scene, scorer, character, weights, &mut batch, skip);
+    for (other, point) in scene.ground_positions().iter().enumerate() {
+        search.offer(
+            *point,
+            other as u32,
+            scene.forwards()[other],
+            scene.velocities()[other],
+            scene.impacts()[other],
+            scene.ids()[other],
+        );
+    }
+    search.finish()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::random::Random;
+    use crate::scene::ids::EntityKind;
+    use crate::world::World;
+    use std::f32::consts::PI;
+
+    #[test]
+    fn ranking_keeps_the_top_two_and_breaks_ties_by_id() {
+        let mut best = Candidate::NONE;
+        let mut second = Candidate::NONE;
+        for (id, score) in [(1, 0.2), (2, 0.5), (3, 0.1), (5, 0.4), (4, 0.4)] {
+            rank(&mut best, &mut second, Candidate { id, score });
+        }
+        assert_eq!((best.id, second.id), (2, 4));
+    }
+
+    #[test]
+    fn the_view_test_matches_the_angle() {
+        let mut random = Random::new(4);
+        for fov in [0.5f32, PI / 2.0, PI, 1.5 * PI, 2.0 * PI - 0.01] {
+            let cos_half = (0.5 * fov).cos();
+            for _ in 0..2000 {
+                let forward = Vec2::from_angle(random.range(-PI, PI));
+                let offset = Vec2::new(random.range(-5.0, 5.0), random.range(-5.0, 5.0));
+                let angle = forward.angle_to(offset).abs();
+                if (angle - 0.5 * fov).abs() < 1e-3 {
+                    continue;
+                }
+                let inside = in_view(forward, offset, offset.length_squared(), cos_half);
+                assert_eq!(inside, angle <= 0.5 * fov, "fov {fov}, angle {angle}");
+            }
+        }
+    }
+
+    #[test]
+    fn batch_scores_equal_the_scorer() {
+        let scorer = Scorer::new(Default::default());
+        let mut scene = Scene::new(World::y_up(), 200, 0);
+        let mut random = Random::new(8);
+        for _ in 0..200 {
+            let position = glam::Vec3::new(random.range(-6.0, 6.0), 0.0, random.range(-6.0, 6.0));
+            scene
+                .add(
+                    EntityKind::Character,
+                    position,
+                    random.range(-PI, PI),
+                    1.6,
+                    random.range(0.5, 2.0),
+                )
+                .unwrap();
+        }
+        let weights = SubscoreWeights::normalised([0.3, 0.2, 0.4, 0.1]).unwrap();
+        let mut index = NeighbourIndex::new(200, 10.0);
+        index.rebuild(&scene);
+        for character in 0..200 {
+            let mut batch = CandidateBatch::default();
+            let (best, _) = nearby_candidates(
+                &scene,
+                &index,
+                &scorer,
+                character,
+                &weights,
+                &mut batch,
+                |_| false,
+            );
+            let observer = scene.character_entities()[character] as usize;
+            let exact = (0..scene.len())
+                .filter(|&other| other != observer)
+                .map(|other| {
+                    scorer
+                        .score(
+                            &scene.ground_state(observer),
+                            &scene.ground_state(other),
+                            &weights,
+                            scene.impacts()[other],
+                        )
+                        .total
+                })
+                .fold(0.0, f32::max);
+            assert!(
+                (best.score - exact).abs() <= 1e-6,
+                "{} vs {exact}",
+                best.score
+            );
+        }
+    }
+}

@@ -1,0 +1,57 @@
+//! Attention: which entity each character looks at, and when.
+//!
+//! The crowd model of Grillon & Thalmann 2009: [`score`] rates an entity for a
+//! character, [`candidates`] finds each character's best entities fast, [`interest`] turns the scores into interest points online, [`plan`] does the
+//! same offline over whole recorded trajectories with the exact percentile, and
+//! [`quantile`] provides both percentiles.
+
+pub mod candidates;
+pub mod interest;
+pub mod plan;
+pub mod quantile;
+pub mod score;
+
+use crate::math::random::Random;
+use score::SubscoreWeights;
+
+/// A character's attention parameters.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CharacterParams {
+    /// `ω_p, ω_s, ω_o, ω_pe`.
+    pub weights: SubscoreWeights,
+    /// `a`/100: the fraction of time the character attends to something, in [0, 1].
+    pub attention_fraction: f32,
+}
+
+impl CharacterParams {
+    /// Draws parameters: weights uniform on the simplex (they sum to 1) and the attention
+    /// fraction uniform in `fraction_range`.
+    pub fn random(random: &mut Random, fraction_range: (f32, f32)) -> CharacterParams {
+        // −ln(u) draws are exponential; normalised, they are uniform on the simplex.
+        let mut draw = || -(1.0 - random.next_f32()).ln();
+        let raw = [draw(), draw(), draw(), draw()];
+        let weights = SubscoreWeights::normalised(raw).unwrap_or(SubscoreWeights::EQUAL);
+        CharacterParams {
+            weights,
+            attention_fraction: random.range(fraction_range.0, fraction_range.1),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn random_weights_sum_to_one_and_vary() {
+        let mut random = Random::new(5);
+        let a = CharacterParams::random(&mut random, (0.2, 0.6));
+        let b = CharacterParams::random(&mut random, (0.2, 0.6));
+        for params in [a, b] {
+            let sum: f32 = params.weights.to_array().iter().sum();
+            assert!((sum - 1.0).abs() < 1e-5);
+            assert!((0.2..0.6).contains(&params.attention_fraction));
+        }
+        assert_ne!(a, b);
+    }
+}

@@ -1,0 +1,142 @@
+//! Percentiles of a character's `S_max(t)`: exact (offline) and streaming (online).
+//!
+//! The attention threshold `A` is the `(100 − a)`th percentile of `S_max(t)`. Offline the
+//! whole series is known and [`exact_quantile`] sorts it. Online, [`ScoreHistogram`] keeps
+//! a fixed 64-bin histogram of the scores (normalised by `S_MAX`), from which any quantile
+//! can be read in O(64) with no allocation — the level is not fixed in advance, which the
+//! online tracker needs to correct for its reaction delay.
+
+/// The `p`-quantile (`p` ∈ [0, 1]) of `values` by linear interpolation between order
+/// statistics (the "type 7" rule of R and numpy). Sorts `values` in place. `None` if empty.
+pub fn exact_quantile(values: &mut [f32], p: f32) -> Option<f32> {
+    if values.is_empty() {
+        return None;
+    }
+    values.sort_unstable_by(f32::total_cmp);
+    let position = p.clamp(0.0, 1.0) * (values.len() - 1) as f32;
+    let below = position.floor() as usize;
+    let above = (below + 1).min(values.len() - 1);
+    let fraction = position - below as f32;
+    Some(values[below] + (values[above] - values[below]) * fraction)
+}
+
+/// Number of bins of [`ScoreHistogram`].
+pub const HISTOGRAM_BINS: usize = 64;
+
+/// A streaming estimate of the distribution of scores in [0, 1], to read any quantile:
+/// 64 equal bins of 16-bit counts (128 bytes), no allocation. When a bin would overflow,
+/// every count is halved, so very old samples slowly lose weight. Quantiles interpolate
+/// linearly inside a bin (resolution 1/64 of the range).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ScoreHistogram {
+    counts: [u16; HISTOGRAM_BINS],
+    total: u32,
+}
+
+impl Default for ScoreHistogram {
+    fn default() -> Self {
+        ScoreHistogram {
+            counts: [0; HISTOGRAM_BINS],
+            total: 0,
+        }
+    }
+}
+
+impl ScoreHistogram {
+    /// Number of samples currently weighing in the histogram.
+    pub fn total(&self) -> u32 {
+        self.total
+    }
+
+    /// Adds a sample; values are clamped to [0, 1], non-finite ones ignored.
+    pub fn push(&mut self, value: f32) {
+        if !value.is_finite() {
+            return;
+        }
+        let bin =
+            ((value.clamp(0.0, 1.0) * HISTOGRAM_BINS as f32) as usize).min(HISTOGRAM_BINS - 1);
+        if self.counts[bin] == u16::MAX {
+            self.total = 0;
+            for count in &mut self.counts {
+                *count /= 2;
+                self.total += u32::from(*count);
+            }
+        }
+        self.counts[bin] += 1;
+        self.total += 1;
+    }
+
+    /// The `level`-quantile (level in [0, 1]) of the samples, `None` if there are none.
+    pub fn quantile(&self, level: f32) -> Option<f32> {
+        if self.total == 0 {
+            return None;
+        }
+        let target = level.clamp(0.0, 1.0) * self.total as f32;
+        let mut below = 0.0f32;
+        for (bin, &count) in self.counts.iter().enumerate() {
+            let count = f32::from(count);
+            if count > 0.0 && below + count >= target {
+                let inside = ((target - below) / count).clamp(0.0, 1.0);
+                return Some((bin as f32 + inside) / HISTOGRAM_BINS as f32);
+            }
+            below += count;
+        }
+        Some(1.0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::random::Random;
+
+    #[test]
+    fn exact_quantile_interpolates() {
+        let mut values = [4.0, 1.0, 3.0, 2.0, 5.0];
+        assert_eq!(exact_quantile(&mut values, 0.5), Some(3.0));
+        assert_eq!(exact_quantile(&mut values, 0.0), Some(1.0));
+        assert_eq!(exact_quantile(&mut values, 1.0), Some(5.0));
+        assert_eq!(exact_quantile(&mut values, 0.625), Some(3.5));
+        assert_eq!(exact_quantile(&mut [], 0.5), None);
+    }
+
+    #[test]
+    fn histogram_tracks_the_exact_quantile() {
+        for level in [0.3f32, 0.5, 0.7, 0.9] {
+            let mut random = Random::new(11);
+            let mut histogram = ScoreHistogram::default();
+            let mut all = Vec::new();
+            for _ in 0..100_000 {
+                // A skewed mixture, like S_max: a spike at 0 and a spread above.
+                let value = if random.next_f32() < 0.2 {
+                    0.0
+                } else {
+                    random.next_f32().powi(2)
+                };
+                histogram.push(value);
+                all.push(value);
+            }
+            let exact = exact_quantile(&mut all, level).unwrap();
+            let estimate = histogram.quantile(level).unwrap();
+            assert!(
+                (estimate - exact).abs() < 0.02,
+                "level {level}: {estimate} vs {exact}"
+            );
+        }
+    }
+
+    #[test]
+    fn histogram_halves_instead_of_overflowing() {
+        let mut histogram = ScoreHistogram::default();
+        assert_eq!(histogram.quantile(0.5), None);
+        for _ in 0..70_000 {
+            histogram.push(0.5);
+        }
+        histogram.push(f32::NAN);
+        histogram.push(2.0);
+        assert!(histogram.total() < 70_000);
+        let median = histogram.quantile(0.5).unwrap();
+        assert!((0.5..0.52).contains(&median), "{median}");
+        assert_eq!(histogram.quantile(1.0), Some(1.0));
+    }
+}

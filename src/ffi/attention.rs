@@ -1,0 +1,665 @@
+//! C entry points of crowd attention: adding and removing entities, pushing frames,
+//! stepping, reading where characters look, scoring a pair, and offline planning.
+
+use glam::Vec3;
+
+use super::crowd::{cg_crowd, crowd_mut, crowd_ref};
+use super::types::cg_vec3;
+use super::{cg_status, ffi_boundary, read_versioned, Versioned};
+use crate::attention::score::SubscoreWeights;
+use crate::attention::CharacterParams;
+use crate::crowd::{CharacterDesc, ObjectDesc};
+use crate::error::{ensure_finite, Error, Result};
+use crate::scene::EntityUpdate;
+use crate::world::World;
+
+/// The id meaning "no entity": the target of a character that looks ahead.
+pub const CG_NO_TARGET: u32 = u32::MAX;
+
+/// `cg_entity_state.flags`: derive the heading from the direction of motion (the velocity
+/// projected on the ground); below 0.1 m/s the last heading is kept. `heading` is ignored.
+pub const CG_STATE_HEADING_FROM_MOTION: u32 = 1;
+/// `cg_entity_state.flags`: `velocity` is given; otherwise it is the difference with the
+/// entity's previous pushed position divided by the elapsed time.
+pub const CG_STATE_HAS_VELOCITY: u32 = 2;
+
+/// A new character. Fill it with `cg_character_desc_init`, then set what you need.
+#[repr(C)]
+#[derive(Debug, Clone, Copy)]
+pub struct cg_character_desc {
+    /// Size of this struct in bytes, set by `cg_character_desc_init`.
+    pub struct_size: u32,
+    /// Heading, radians counter-clockwise about up (0 along forward). Default 0.
+    pub heading: f32,
+    /// `I_E`: how interesting this character is to others, >= 0. Default 1.
+    pub impact: f32,
+    /// Root (ground) position in your units. Default origin.
+    pub position: cg_vec3,
+}
+
+/// A new scene object: something characters may look at. Fill it with
+/// `cg_object_desc_init`, then set what you need.
+#[repr(C)]
+#[derive(Debug, Clone, Copy)]
+pub struct cg_object_desc {
+    /// Size of this struct in bytes, set by `cg_object_desc_init`.
+    pub struct_size: u32,
+    /// Its forward direction as a heading (radians), used by the orientation subscores.
+    /// Default 0.
+    pub heading: f32,
+    /// Height of the point looked at above `position`, in your units. Default 0.
+    pub look_at_height: f32,
+    /// `I_E`: how interesting it is, >= 0. Default 1.
+    pub impact: f32,
+    /// Root position in your units. Default origin.
+    pub position: cg_vec3,
+}
+
+/// One entity's state in a frame. Fill each with `cg_entity_state_init` (or copy one that
+/// was), then set `id`, `position` and the rest.
+#[repr(C)]
+#[derive(Debug, Clone, Copy)]
+pub struct cg_entity_state {
+    /// Size of this struct in bytes, set by `cg_entity_state_init`; the same in every
+    /// element of an array.
+    pub struct_size: u32,
+    /// The entity's id.
+    pub id: u32,
+    /// `CG_STATE_*` bits. Default 0.
+    pub flags: u32,
+    /// Heading, radians counter-clockwise about up; ignored with
+    /// `CG_STATE_HEADING_FROM_MOTION`.
+    pub heading: f32,
+    /// Root (ground) position in your units.
+    pub position: cg_vec3,
+    /// Velocity in your units per second; read only with `CG_STATE_HAS_VELOCITY`.
+    pub velocity: cg_vec3,
+}
+
+/// A character's attention parameters (Grillon & Thalmann 2009, eq. 7).
+#[repr(C)]
+#[derive(Debug, Clone, Copy)]
+pub struct cg_character_params {
+    /// Size of this struct in bytes (`cg_crowd_get_character_params` sets it).
+    pub struct_size: u32,
+    /// `ω_p`, weight of the proximity subscore.
+    pub weight_proximity: f32,
+    /// `ω_s`, weight of the relative-speed subscore.
+    pub weight_speed: f32,
+    /// `ω_o`, weight of the orientation subscore.
+    pub weight_orientation: f32,
+    /// `ω_pe`, weight of the periphery subscore.
+    pub weight_periphery: f32,
+    /// `a`/100: the fraction of time the character attends to something, in [0, 1].
+    pub attention_fraction: f32,
+}
+
+/// Where a character looks, as read by `cg_crowd_read_gaze`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default)]
+pub struct cg_gaze_info {
+    /// The character's id.
+    pub character: u32,
+    /// The interest point's entity id, or `CG_NO_TARGET` when looking ahead.
+    pub target: u32,
+    /// 1 if the character attends to an interest point, else 0.
+    pub attending: u32,
+    /// Interest points started so far (online), or planned constraints (offline).
+    pub interest_count: u32,
+    /// The point looked at, in your units: the interest point's look-at point, or 10 m
+    /// straight ahead at eye height.
+    pub target_position: cg_vec3,
+    /// `S_max`: the best score this frame.
+    pub s_max: f32,
+    /// `A`: the character's attention threshold this frame.
+    pub threshold: f32,
+    /// Share of the time so far spent attending (online), or planned (offline).
+    pub attentive_fraction: f32,
+}
+
+/// Everything the scoring function computed for one (character, entity) pair.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default)]
+pub struct cg_score_breakdown {
+    /// `d`, ground distance in your units.
+    pub distance: f32,
+    /// `α`, the entity's angle in the character's field of view (radians, 0 = ahead).
+    pub view_angle: f32,
+    /// `β`, angle between their forward directions (radians).
+    pub heading_angle: f32,
+    /// `rs`, relative speed in your units per second.
+    pub relative_speed: f32,
+    /// `S_p`, proximity subscore in [0, 1].
+    pub proximity: f32,
+    /// `S_s`, speed subscore in [0, 1].
+    pub speed: f32,
+    /// `S_o`, orientation subscore in [0, 1].
+    pub orientation: f32,
+    /// `S_pe`, periphery subscore in [0, 1].
+    pub periphery: f32,
+    /// `S`, the overall score (0 if pruned).
+    pub total: f32,
+    /// 1 if the entity was pruned (beyond `max_distance` or outside the field of view).
+    pub pruned: u32,
+}
+
+/// A planned gaze constraint: look at `entity` from `begin` to `end` (seconds).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default)]
+pub struct cg_constraint {
+    /// Entity id of the interest point.
+    pub entity: u32,
+    /// `S_max` when the constraint begins.
+    pub s_max: f32,
+    /// `t_b`, start time (s).
+    pub begin: f64,
+    /// `t_e`, end time (s).
+    pub end: f64,
+}
+
+impl Versioned for cg_character_desc {
+    const MIN_SIZE: usize = std::mem::size_of::<cg_character_desc>();
+    const NAME: &'static str = "cg_character_desc";
+    fn defaults() -> Self {
+        cg_character_desc {
+            struct_size: std::mem::size_of::<Self>() as u32,
+            heading: 0.0,
+            impact: 1.0,
+            position: cg_vec3::default(),
+        }
+    }
+}
+
+impl Versioned for cg_object_desc {
+    const MIN_SIZE: usize = std::mem::size_of::<cg_object_desc>();
+    const NAME: &'static str = "cg_object_desc";
+    fn defaults() -> Self {
+        cg_object_desc {
+            struct_size: std::mem::size_of::<Self>() as u32,
+            heading: 0.0,
+            look_at_height: 0.0,
+            impact: 1.0,
+            position: cg_vec3::default(),
+        }
+    }
+}
+
+impl Versioned for cg_entity_state {
+    const MIN_SIZE: usize = std::mem::size_of::<cg_entity_state>();
+    const NAME: &'static str = "cg_entity_state";
+    fn defaults() -> Self {
+        cg_entity_state {
+            struct_size: std::mem::size_of::<Self>() as u32,
+            id: CG_NO_TARGET,
+            flags: 0,
+            heading: 0.0,
+            position: cg_vec3::default(),
+            velocity: cg_vec3::default(),
+        }
+    }
+}
+
+impl Versioned for cg_character_params {
+    const MIN_SIZE: usize = std::mem::size_of::<cg_character_params>();
+    const NAME: &'static str = "cg_character_params";
+    fn defaults() -> Self {
+        let weights = SubscoreWeights::EQUAL;
+        cg_character_params {
+            struct_size: std::mem::size_of::<Self>() as u32,
+            weight_proximity: weights.proximity,
+            weight_speed: weights.speed,
+            weight_orientation: weights.orientation,
+            weight_periphery: weights.periphery,
+            attention_fraction: 0.4,
+        }
+    }
+}
+
+/// Writes `value`'s defaults into `*out` (the body of every `_init` function).
+fn init<T: Versioned>(out: *mut T, what: &str) -> Result<()> {
+    // SAFETY: the caller passes a writable T (or NULL, rejected by borrow_mut).
+    let out = unsafe { super::borrow_mut(out, what) }?;
+    *out = T::defaults();
+    Ok(())
+}
+
+/// Fills `desc` with defaults (origin, heading 0, impact 1) and its `struct_size`.
+/// Errors: `CG_STATUS_NULL_ARGUMENT`. Thread-safe.
+#[no_mangle]
+pub extern "C" fn cg_character_desc_init(desc: *mut cg_character_desc) -> cg_status {
+    ffi_boundary!({ init(desc, "desc") })
+}
+
+/// Fills `desc` with defaults (origin, heading 0, look-at height 0, impact 1) and its
+/// `struct_size`. Errors: `CG_STATUS_NULL_ARGUMENT`. Thread-safe.
+#[no_mangle]
+pub extern "C" fn cg_object_desc_init(desc: *mut cg_object_desc) -> cg_status {
+    ffi_boundary!({ init(desc, "desc") })
+}
+
+/// Fills `state` with defaults (id `CG_NO_TARGET`, no flags, zeros) and its `struct_size`.
+/// Errors: `CG_STATUS_NULL_ARGUMENT`. Thread-safe.
+#[no_mangle]
+pub extern "C" fn cg_entity_state_init(state: *mut cg_entity_state) -> cg_status {
+    ffi_boundary!({ init(state, "state") })
+}
+
+fn metres(world: &World, value: cg_vec3, what: &str) -> Result<Vec3> {
+    Ok(world.to_metres(value.to_finite(what)?))
+}
+
+/// Adds a character to the crowd and writes its id to `*out_id`. Its attention
+/// parameters are drawn from the crowd's seed (change them with
+/// `cg_crowd_set_character_params`). The id stays valid until `cg_crowd_remove_entity`.
+///
+/// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_BAD_STRUCT_SIZE`, `CG_STATUS_NON_FINITE`
+/// (position, heading or impact), `CG_STATUS_INVALID_ARGUMENT` (negative impact),
+/// `CG_STATUS_CAPACITY` (already `max_characters`), `CG_STATUS_WRONG_STATE` (a plan is
+/// active). Not thread-safe (mutates the crowd).
+#[no_mangle]
+pub extern "C" fn cg_crowd_add_character(
+    crowd: *mut cg_crowd,
+    desc: *const cg_character_desc,
+    out_id: *mut u32,
+) -> cg_status {
+    ffi_boundary!({
+        // SAFETY: handle contract of cg_crowd.
+        let crowd = unsafe { crowd_mut(crowd) }?;
+        // SAFETY: the caller passes a readable desc of at least its struct_size bytes.
+        let desc = unsafe { read_versioned(desc) }?;
+        super::non_null(out_id, "out_id")?;
+        let core = CharacterDesc {
+            position: metres(&crowd.config().world, desc.position, "position")?,
+            heading: desc.heading,
+            impact: desc.impact,
+            params: None,
+        };
+        let id = crowd.add_character(&core)?;
+        // SAFETY: checked non-null above; the caller provides a writable u32.
+        unsafe { out_id.write_unaligned(id) };
+        Ok(())
+    })
+}
+
+/// Adds a scene object (something only looked at) and writes its id to `*out_id`.
+///
+/// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_BAD_STRUCT_SIZE`, `CG_STATUS_NON_FINITE`,
+/// `CG_STATUS_INVALID_ARGUMENT` (negative impact), `CG_STATUS_CAPACITY` (already
+/// `max_objects`), `CG_STATUS_WRONG_STATE` (a plan is active). Not thread-safe.
+#[no_mangle]
+pub extern "C" fn cg_crowd_add_object(
+    crowd: *mut cg_crowd,
+    desc: *const cg_object_desc,
+    out_id: *mut u32,
+) -> cg_status {
+    ffi_boundary!({
+        // SAFETY: handle contract of cg_crowd.
+        let crowd = unsafe { crowd_mut(crowd) }?;
+        // SAFETY: the caller passes a readable desc of at least its struct_size bytes.
+        let desc = unsafe { read_versioned(desc) }?;
+        super::non_null(out_id, "out_id")?;
+        ensure_finite(desc.look_at_height, "look_at_height")?;
+        let core = ObjectDesc {
+            position: metres(&crowd.config().world, desc.position, "position")?,
+            heading: desc.heading,
+            look_at_height: desc.look_at_height / crowd.config().world.units_per_metre,
+            impact: desc.impact,
+        };
+        let id = crowd.add_object(&core)?;
+        // SAFETY: checked non-null above; the caller provides a writable u32.
+        unsafe { out_id.write_unaligned(id) };
+        Ok(())
+    })
+}
+
+/// Removes a character or object. Its id is `CG_STATUS_NOT_FOUND` from then on; characters
+/// that looked at it look elsewhere. Removing a character may change the order of
+/// characters in `cg_crowd_read_gaze` (the last one takes its place).
+///
+/// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NOT_FOUND`, `CG_STATUS_WRONG_STATE` (a
+/// plan is active). Not thread-safe.
+#[no_mangle]
+pub extern "C" fn cg_crowd_remove_entity(crowd: *mut cg_crowd, id: u32) -> cg_status {
+    ffi_boundary!({
+        // SAFETY: handle contract of cg_crowd.
+        let crowd = unsafe { crowd_mut(crowd) }?;
+        crowd.remove_entity(id)
+    })
+}
+
+/// Writes the number of characters to `*out_count`. Errors: `CG_STATUS_NULL_ARGUMENT`.
+/// Safe to call concurrently with other `const` calls.
+#[no_mangle]
+pub extern "C" fn cg_crowd_character_count(
+    crowd: *const cg_crowd,
+    out_count: *mut usize,
+) -> cg_status {
+    ffi_boundary!({
+        // SAFETY: handle contract of cg_crowd.
+        let crowd = unsafe { crowd_ref(crowd) }?;
+        // SAFETY: the caller provides a writable size_t (or NULL, rejected).
+        let out = unsafe { super::borrow_mut(out_count, "out_count") }?;
+        *out = crowd.character_count();
+        Ok(())
+    })
+}
+
+/// Converts the `index`-th element of a C state array with element size `stride`.
+///
+/// # Safety
+/// `states` must point to `count` elements of `stride` bytes each, `index < count`.
+unsafe fn entity_update(
+    world: &World,
+    states: *const cg_entity_state,
+    stride: usize,
+    index: usize,
+) -> Result<EntityUpdate> {
+    // SAFETY: index < count and each element is `stride` bytes (caller contract).
+    let element = unsafe { states.cast::<u8>().add(index * stride) }.cast::<cg_entity_state>();
+    // SAFETY: as above; read_versioned checks struct_size against this library's layout.
+    let state = unsafe { read_versioned(element) }?;
+    if state.struct_size as usize != stride {
+        return Err(Error::BadStructSize(format!(
+            "states[{index}].struct_size is {}, but states[0]'s is {stride}",
+            state.struct_size
+        )));
+    }
+    ensure_finite(state.heading, "heading")?;
+    if state.flags & !(CG_STATE_HEADING_FROM_MOTION | CG_STATE_HAS_VELOCITY) != 0 {
+        return Err(Error::InvalidArgument(format!(
+            "states[{index}].flags has unknown bits 0x{:x}",
+            state.flags
+        )));
+    }
+    let velocity = if state.flags & CG_STATE_HAS_VELOCITY != 0 {
+        Some(metres(world, state.velocity, "velocity")?)
+    } else {
+        None
+    };
+    Ok(EntityUpdate {
+        id: state.id,
+        position: metres(world, state.position, "position")?,
+        heading: state.heading,
+        heading_from_motion: state.flags & CG_STATE_HEADING_FROM_MOTION != 0,
+        velocity,
+    })
+}
+
+/// Pushes one frame of entity states at time `t` (seconds). Entities not listed keep
+/// their last state; velocities come from the previous pushed position unless given.
+/// With recording on (`max_recorded_states > 0`) the frame is also recorded for
+/// `cg_crowd_plan`. `states` stays yours; nothing is allocated.
+///
+/// Errors (and nothing is changed): `CG_STATUS_NULL_ARGUMENT` (crowd, or states NULL with
+/// count > 0), `CG_STATUS_BAD_STRUCT_SIZE`, `CG_STATUS_NON_FINITE` (t or any value),
+/// `CG_STATUS_NOT_FOUND` (an unknown id), `CG_STATUS_INVALID_ARGUMENT` (t earlier than the
+/// previous frame's, unknown flag bits), `CG_STATUS_CAPACITY` (recording full),
+/// `CG_STATUS_WRONG_STATE` (a plan is active). Not thread-safe.
+#[no_mangle]
+pub extern "C" fn cg_crowd_push_frame(
+    crowd: *mut cg_crowd,
+    t: f64,
+    states: *const cg_entity_state,
+    count: usize,
+) -> cg_status {
+    ffi_boundary!({
+        // SAFETY: handle contract of cg_crowd.
+        let crowd = unsafe { crowd_mut(crowd) }?;
+        let stride = if count == 0 {
+            std::mem::size_of::<cg_entity_state>()
+        } else {
+            // SAFETY: a non-empty array's first element starts with its struct_size.
+            unsafe { read_versioned(states) }?.struct_size as usize
+        };
+        // SAFETY: checks the (pointer, count) pair; elements are `stride` bytes apart.
+        unsafe { super::slice(states.cast::<u8>(), count.saturating_mul(stride), "states") }?;
+        let world = crowd.config().world;
+        crowd.push_frame_with(t, count, |index| {
+            // SAFETY: index < count, stride-sized elements checked above.
+            unsafe { entity_update(&world, states, stride, index) }
+        })
+    })
+}
+
+/// Runs attention for every character, `dt` seconds (>= 0) after the previous step: scores
+/// the entities near each character, updates its threshold and its interest point. After
+/// `cg_crowd_plan`, follows the plan instead, replaying the recorded frames. Allocates
+/// nothing.
+///
+/// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE` (dt), `CG_STATUS_INVALID_ARGUMENT`
+/// (dt < 0). Not thread-safe.
+#[no_mangle]
+pub extern "C" fn cg_crowd_step(crowd: *mut cg_crowd, dt: f32) -> cg_status {
+    ffi_boundary!({
+        // SAFETY: handle contract of cg_crowd.
+        let crowd = unsafe { crowd_mut(crowd) }?;
+        crowd.step(dt)
+    })
+}
+
+/// Reads where characters look: fills `out[i]` for the first `min(count, characters)`
+/// characters, in the crowd's character order (creation order, except that removing a
+/// character moves the last one into its place), and writes how many it filled to
+/// `*out_written` if `out_written` is not NULL. `out` stays yours; nothing is allocated.
+///
+/// Errors: `CG_STATUS_NULL_ARGUMENT` (crowd, or out NULL with count > 0). Safe to call
+/// concurrently with other `const` calls.
+#[no_mangle]
+pub extern "C" fn cg_crowd_read_gaze(
+    crowd: *const cg_crowd,
+    out: *mut cg_gaze_info,
+    count: usize,
+    out_written: *mut usize,
+) -> cg_status {
+    ffi_boundary!({
+        // SAFETY: handle contract of cg_crowd.
+        let crowd = unsafe { crowd_ref(crowd) }?;
+        // SAFETY: the caller provides `count` writable cg_gaze_info (or (NULL, 0)).
+        let out = unsafe { super::slice_mut(out, count, "out") }?;
+        let units = crowd.config().world.units_per_metre;
+        let written = out.len().min(crowd.character_count());
+        for (character, slot) in out.iter_mut().enumerate().take(written) {
+            let gaze = crowd.gaze_dense(character);
+            *slot = cg_gaze_info {
+                character: gaze.character,
+                target: gaze.target,
+                attending: u32::from(gaze.attending),
+                interest_count: gaze.interest_count,
+                target_position: (gaze.target_position * units).into(),
+                s_max: gaze.s_max,
+                threshold: gaze.threshold,
+                attentive_fraction: gaze.attentive_fraction,
+            };
+        }
+        if !out_written.is_null() {
+            // SAFETY: non-null; the caller provides a writable size_t.
+            unsafe { out_written.write_unaligned(written) };
+        }
+        Ok(())
+    })
+}
+
+/// Scores `entity` for `character` on the current state and writes every intermediate
+/// (distances, angles, subscores, total, pruned) to `*out` — for tools and tests.
+///
+/// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NOT_FOUND` (either id),
+/// `CG_STATUS_INVALID_ARGUMENT` (`character` is an object). Safe to call concurrently with
+/// other `const` calls.
+#[no_mangle]
+pub extern "C" fn cg_crowd_score(
+    crowd: *const cg_crowd,
+    character: u32,
+    entity: u32,
+    out: *mut cg_score_breakdown,
+) -> cg_status {
+    ffi_boundary!({
+        // SAFETY: handle contract of cg_crowd.
+        let crowd = unsafe { crowd_ref(crowd) }?;
+        super::non_null(out, "out")?;
+        let score = crowd.score(character, entity)?;
+        let units = crowd.config().world.units_per_metre;
+        // SAFETY: the caller provides a writable cg_score_breakdown (checked non-null).
+        let out = unsafe { super::borrow_mut(out, "out") }?;
+        *out = cg_score_breakdown {
+            distance: score.distance * units,
+            view_angle: score.view_angle,
+            heading_angle: score.heading_angle,
+            relative_speed: score.relative_speed * units,
+            proximity: score.proximity,
+            speed: score.speed,
+            orientation: score.orientation,
+            periphery: score.periphery,
+            total: score.total,
+            pruned: u32::from(score.pruned),
+        };
+        Ok(())
+    })
+}
+
+/// Writes a character's attention parameters (with `struct_size`) to `*out_params`.
+///
+/// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NOT_FOUND`, `CG_STATUS_INVALID_ARGUMENT`
+/// (an object's id). Safe to call concurrently with other `const` calls.
+#[no_mangle]
+pub extern "C" fn cg_crowd_get_character_params(
+    crowd: *const cg_crowd,
+    character: u32,
+    out_params: *mut cg_character_params,
+) -> cg_status {
+    ffi_boundary!({
+        // SAFETY: handle contract of cg_crowd.
+        let crowd = unsafe { crowd_ref(crowd) }?;
+        super::non_null(out_params, "out_params")?;
+        let params = crowd.character_params(character)?;
+        // SAFETY: the caller provides a writable cg_character_params (checked non-null).
+        let out = unsafe { super::borrow_mut(out_params, "out_params") }?;
+        *out = cg_character_params {
+            struct_size: std::mem::size_of::<cg_character_params>() as u32,
+            weight_proximity: params.weights.proximity,
+            weight_speed: params.weights.speed,
+            weight_orientation: params.weights.orientation,
+            weight_periphery: params.weights.periphery,
+            attention_fraction: params.attention_fraction,
+        };
+        Ok(())
+    })
+}
+
+/// Sets a character's attention parameters. The four weights are rescaled to sum to 1;
+/// changing `attention_fraction` restarts the character's threshold estimate (and its
+/// warm-up). Get the current ones with `cg_crowd_get_character_params` first.
+///
+/// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_BAD_STRUCT_SIZE`, `CG_STATUS_NOT_FOUND`,
+/// `CG_STATUS_NON_FINITE`, `CG_STATUS_INVALID_ARGUMENT` (a negative weight, all weights
+/// zero, attention_fraction outside [0, 1], an object's id). Not thread-safe.
+#[no_mangle]
+pub extern "C" fn cg_crowd_set_character_params(
+    crowd: *mut cg_crowd,
+    character: u32,
+    params: *const cg_character_params,
+) -> cg_status {
+    ffi_boundary!({
+        // SAFETY: handle contract of cg_crowd.
+        let crowd = unsafe { crowd_mut(crowd) }?;
+        // SAFETY: the caller passes a readable struct of at least its struct_size bytes.
+        let params = unsafe { read_versioned(params) }?;
+        let raw = [
+            params.weight_proximity,
+            params.weight_speed,
+            params.weight_orientation,
+            params.weight_periphery,
+        ];
+        crate::error::ensure_all_finite(&raw, "weights")?;
+        ensure_finite(params.attention_fraction, "attention_fraction")?;
+        let weights = SubscoreWeights::normalised(raw).ok_or_else(|| {
+            Error::InvalidArgument("weights must be >= 0 and not all zero".into())
+        })?;
+        crowd.set_character_params(
+            character,
+            &CharacterParams {
+                weights,
+                attention_fraction: params.attention_fraction,
+            },
+        )
+    })
+}
+
+/// Sets an entity's impact factor `I_E` (>= 0; how interesting it is to others).
+///
+/// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NOT_FOUND`, `CG_STATUS_NON_FINITE`,
+/// `CG_STATUS_INVALID_ARGUMENT` (negative). Not thread-safe.
+#[no_mangle]
+pub extern "C" fn cg_crowd_set_impact(crowd: *mut cg_crowd, entity: u32, impact: f32) -> cg_status {
+    ffi_boundary!({
+        // SAFETY: handle contract of cg_crowd.
+        let crowd = unsafe { crowd_mut(crowd) }?;
+        crowd.set_impact(entity, impact)
+    })
+}
+
+/// Plans attention offline over every recorded frame (the paper's pipeline): scores each
+/// frame, sets each character's threshold to the exact percentile of its `S_max(t)`, and
+/// cuts its constraints (`cg_crowd_read_constraints`). From then on `cg_crowd_step` replays
+/// the recording from its first frame following the plan, and pushing frames or adding and
+/// removing entities is `CG_STATUS_WRONG_STATE` until `cg_crowd_clear_plan`. Allocates
+/// (once) for the plan.
+///
+/// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_WRONG_STATE` (nothing recorded, or
+/// already planned). Not thread-safe.
+#[no_mangle]
+pub extern "C" fn cg_crowd_plan(crowd: *mut cg_crowd) -> cg_status {
+    ffi_boundary!({
+        // SAFETY: handle contract of cg_crowd.
+        let crowd = unsafe { crowd_mut(crowd) }?;
+        crowd.plan()
+    })
+}
+
+/// Leaves planned mode and forgets the recording; online stepping and pushing resume.
+/// Errors: `CG_STATUS_NULL_ARGUMENT`. Not thread-safe.
+#[no_mangle]
+pub extern "C" fn cg_crowd_clear_plan(crowd: *mut cg_crowd) -> cg_status {
+    ffi_boundary!({
+        // SAFETY: handle contract of cg_crowd.
+        let crowd = unsafe { crowd_mut(crowd) }?;
+        crowd.clear_plan();
+        Ok(())
+    })
+}
+
+/// Reads a character's planned constraints, in time order: fills the first
+/// `min(count, total)` of `out` and writes the total number to `*out_total` (which may be
+/// NULL). Call with `(NULL, 0)` to learn the total.
+///
+/// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NOT_FOUND`, `CG_STATUS_INVALID_ARGUMENT`
+/// (an object's id), `CG_STATUS_WRONG_STATE` (no plan). Safe to call concurrently with
+/// other `const` calls.
+#[no_mangle]
+pub extern "C" fn cg_crowd_read_constraints(
+    crowd: *const cg_crowd,
+    character: u32,
+    out: *mut cg_constraint,
+    count: usize,
+    out_total: *mut usize,
+) -> cg_status {
+    ffi_boundary!({
+        // SAFETY: handle contract of cg_crowd.
+        let crowd = unsafe { crowd_ref(crowd) }?;
+        // SAFETY: the caller provides `count` writable cg_constraint (or (NULL, 0)).
+        let out = unsafe { super::slice_mut(out, count, "out") }?;
+        let constraints = crowd.constraints(character)?;
+        for (slot, constraint) in out.iter_mut().zip(constraints) {
+            *slot = cg_constraint {
+                entity: constraint.entity,
+                s_max: constraint.s_max,
+                begin: constraint.begin,
+                end: constraint.end,
+            };
+        }
+        if !out_total.is_null() {
+            // SAFETY: non-null; the caller provides a writable size_t.
+            unsafe { out_total.write_unaligned(constraints.len()) };
+        }
+        Ok(())
+    })
+}

@@ -1,0 +1,426 @@
+//! The scene: every entity's current state in flat arrays (structure of arrays), its id,
+//! and the per-frame ingestion of positions and headings with velocities derived by
+//! finite differences.
+//!
+//! Entities are stored densely in `0..len()`: removal swaps the last entity into the hole
+//! (ids stay valid; indices do not). Characters are also listed densely, in creation order
+//! up to swap-removal, with the entity index of each. All arrays are sized at creation.
+
+pub mod grid;
+pub mod ids;
+
+use glam::{Vec2, Vec3};
+
+use crate::error::{Error, Result};
+use crate::world::World;
+use ids::{EntityKind, IdTable, NO_ENTITY};
+
+/// Below this ground speed (m/s) a heading derived from motion keeps its last value, so
+/// standing people do not spin.
+pub const MIN_SPEED_FOR_HEADING: f32 = 0.1;
+
+/// One entity's state for a frame, in metres and radians (converted from the caller's units).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EntityUpdate {
+    /// Entity id.
+    pub id: u32,
+    /// Root (ground) position, world axes, metres.
+    pub position: Vec3,
+    /// Heading (radians, counter-clockwise about up, 0 along forward); ignored when
+    /// `heading_from_motion`.
+    pub heading: f32,
+    /// Derive the heading from the velocity's direction.
+    pub heading_from_motion: bool,
+    /// The velocity (world, m/s) if the caller knows it; else a finite difference is used.
+    pub velocity: Option<Vec3>,
+}
+
+/// The entities of a crowd.
+#[derive(Debug, Clone)]
+pub struct Scene {
+    world: World,
+    ids: IdTable,
+    max_characters: u32,
+    max_objects: u32,
+    character_count: u32,
+    object_count: u32,
+    // Per entity (dense).
+    id: Vec<u32>,
+    kind: Vec<EntityKind>,
+    /// Dense character index of a character entity, `NO_ENTITY` for objects.
+    character: Vec<u32>,
+    position: Vec<Vec3>,
+    look_at_height: Vec<f32>,
+    ground: Vec<Vec2>,
+    heading: Vec<f32>,
+    forward: Vec<Vec2>,
+    velocity: Vec<Vec2>,
+    impact: Vec<f32>,
+    last_time: Vec<f64>,
+    // Per character (dense).
+    character_entity: Vec<u32>,
+    /// Largest impact factor of any live entity (`S_MAX`).
+    max_impact: f32,
+}
+
+impl Scene {
+    /// An empty scene with room for the given numbers of characters and objects.
+    pub fn new(world: World, max_characters: u32, max_objects: u32) -> Scene {
+        let capacity = (max_characters + max_objects) as usize;
+        Scene {
+            world,
+            ids: IdTable::new(max_characters + max_objects),
+            max_characters,
+            max_objects,
+            character_count: 0,
+            object_count: 0,
+            id: Vec::with_capacity(capacity),
+            kind: Vec::with_capacity(capacity),
+            character: Vec::with_capacity(capacity),
+            position: Vec::with_capacity(capacity),
+            look_at_height: Vec::with_capacity(capacity),
+            ground: Vec::with_capacity(capacity),
+            heading: Vec::with_capacity(capacity),
+            forward: Vec::with_capacity(capacity),
+            velocity: Vec::with_capacity(capacity),
+            impact: Vec::with_capacity(capacity),
+            last_time: Vec::with_capacity(capacity),
+            character_entity: Vec::with_capacity(max_characters as usize),
+            max_impact: 0.0,
+        }
+    }
+
+    /// The world conventions.
+    pub fn world(&self) -> &World {
+        &self.world
+    }
+
+    /// Number of live entities.
+    pub fn len(&self) -> usize {
+        self.id.len()
+    }
+
+    /// True if there are no entities.
+    pub fn is_empty(&self) -> bool {
+        self.id.is_empty()
+    }
+
+    /// Number of live characters.
+    pub fn character_count(&self) -> usize {
+        self.character_entity.len()
+    }
+
+    /// Adds an entity; `position` in metres, `heading` in radians. Returns its id.
+    pub fn add(
+        &mut self,
+        kind: EntityKind,
+        position: Vec3,
+        heading: f32,
+        look_at_height: f32,
+        impact: f32,
+    ) -> Result<u32> {
+        match kind {
+            EntityKind::Character if self.character_count >= self.max_characters => {
+                return Err(Error::Capacity(format!(
+                    "the crowd already holds max_characters = {} characters",
+                    self.max_characters
+                )))
+            }
+            EntityKind::Object if self.object_count >= self.max_objects => {
+                return Err(Error::Capacity(format!(
+                    "the crowd already holds max_objects = {} objects",
+                    self.max_objects
+                )))
+            }
+            _ => {}
+        }
+        let index = self.id.len() as u32;
+        let id = self.ids.insert(kind, index)?;
+        let ground = self.world.ground(position);
+        self.id.push(id);
+        self.kind.push(kind);
+        self.position.push(position);
+        self.look_at_height.push(look_at_height);
+        self.ground.push(ground);
+        self.heading.push(heading);
+        self.forward.push(Vec2::from_angle(heading));
+        self.velocity.push(Vec2::ZERO);
+        self.impact.push(impact);
+        self.last_time.push(f64::NEG_INFINITY);
+        match kind {
+            EntityKind::Character => {
+                self.character.push(self.character_entity.len() as u32);
+                self.character_entity.push(index);
+                self.character_count += 1;
+            }
+            EntityKind::Object => {
+                self.character.push(NO_ENTITY);
+                self.object_count += 1;
+            }
+        }
+        self.max_impact = self.max_impact.max(impact);
+        Ok(id)
+    }
+
+    /// Removes an entity. Returns the dense character index it had, if it was a character
+    /// (the last character now sits there), so per-character state can be swapped too.
+    pub fn remove(&mut self, id: u32) -> Result<Option<u32>> {
+        let (kind, index) = self.ids.find(id)?;
+        self.ids.remove(id)?;
+        let index = index as usize;
+        let last = self.id.len() - 1;
+        let removed_character = self.character[index];
+        if index != last {
+            let moved_id = self.id[last];
+            self.ids.relocate(moved_id, index as u32);
+            let moved_character = self.character[last];
+            if moved_character != NO_ENTITY {
+                self.character_entity[moved_character as usize] = index as u32;
+            }
+        }
+        self.id.swap_remove(index);
+        self.kind.swap_remove(index);
+        self.character.swap_remove(index);
+        self.position.swap_remove(index);
+        self.look_at_height.swap_remove(index);
+        self.ground.swap_remove(index);
+        self.heading.swap_remove(index);
+        self.forward.swap_remove(index);
+        self.velocity.swap_remove(index);
+        self.impact.swap_remove(index);
+        self.last_time.swap_remove(index);
+        match kind {
+            EntityKind::Character => {
+                let slot = removed_character as usize;
+                let last_character = self.character_entity.len() - 1;
+                if slot != last_character {
+                    let moved_entity = self.character_entity[last_character];
+                    self.character[moved_entity as usize] = slot as u32;
+                }
+                self.character_entity.swap_remove(slot);
+                self.character_count -= 1;
+            }
+            EntityKind::Object => self.object_count -= 1,
+        }
+        self.max_impact = self.impact.iter().copied().fold(0.0, f32::max);
+        Ok((kind == EntityKind::Character).then_some(removed_character))
+    }
+
+    /// Kind and entity index of a live id.
+    pub fn find(&self, id: u32) -> Result<(EntityKind, usize)> {
+        self.ids
+            .find(id)
+            .map(|(kind, index)| (kind, index as usize))
+    }
+
+    /// Entity index of a live id, if any.
+    #[inline]
+    pub fn index_of(&self, id: u32) -> Option<usize> {
+        self.ids.lookup(id).map(|(_, index)| index as usize)
+    }
+
+    /// Dense character index of a live character id.
+    pub fn character_index(&self, id: u32) -> Result<usize> {
+        let (kind, index) = self.find(id)?;
+        if kind != EntityKind::Character {
+            return Err(Error::InvalidArgument(format!(
+                "entity {id} is an object, not a character"
+            )));
+        }
+        Ok(self.character[index] as usize)
+    }
+
+    /// Checks a frame of updates without changing anything: ids exist and values are finite.
+    pub fn check_updates(&self, updates: &[EntityUpdate]) -> Result<()> {
+        updates
+            .iter()
+            .try_for_each(|update| self.check_update(update))
+    }
+
+    /// Checks one update without changing anything: the id exists and values are finite.
+    pub fn check_update(&self, update: &EntityUpdate) -> Result<()> {
+        self.find(update.id)?;
+        crate::error::ensure_all_finite(&update.position.to_array(), "position")?;
+        crate::error::ensure_finite(update.heading, "heading")?;
+        if let Some(velocity) = update.velocity {
+            crate::error::ensure_all_finite(&velocity.to_array(), "velocity")?;
+        }
+        Ok(())
+    }
+
+    /// Applies one frame of updates at time `time` (seconds). Velocities come from the
+    /// caller or from the difference with the entity's previous sample; entities not in
+    /// `updates` keep their last state. Call [`check_updates`](Self::check_updates) first:
+    /// unknown ids are skipped here.
+    pub fn apply(&mut self, time: f64, updates: &[EntityUpdate]) {
+        for update in updates {
+            self.apply_one(time, update);
+        }
+    }
+
+    /// Applies one update at time `time` (see [`apply`](Self::apply)).
+    pub fn apply_one(&mut self, time: f64, update: &EntityUpdate) {
+        {
+            let Some(index) = self.index_of(update.id) else {
+                return;
+            };
+            let ground = self.world.ground(update.position);
+            let elapsed = time - self.last_time[index];
+            let velocity = match update.velocity {
+                Some(velocity) => self.world.ground(velocity),
+                None if elapsed > 0.0 && elapsed.is_finite() => {
+                    (ground - self.ground[index]) / elapsed as f32
+                }
+                None => self.velocity[index],
+            };
+            let heading = if update.heading_from_motion {
+                if velocity.length() >= MIN_SPEED_FOR_HEADING {
+                    velocity.y.atan2(velocity.x)
+                } else {
+                    self.heading[index]
+                }
+            } else {
+                update.heading
+            };
+            self.position[index] = update.position;
+            self.ground[index] = ground;
+            self.velocity[index] = velocity;
+            self.heading[index] = heading;
+            self.forward[index] = Vec2::from_angle(heading);
+            self.last_time[index] = time;
+        }
+    }
+
+    /// Sets an entity's impact factor.
+    pub fn set_impact(&mut self, index: usize, impact: f32) {
+        self.impact[index] = impact;
+        self.max_impact = self.impact.iter().copied().fold(0.0, f32::max);
+    }
+
+    /// `S_MAX`: the largest impact factor of any live entity (the largest possible score).
+    pub fn max_impact(&self) -> f32 {
+        self.max_impact
+    }
+
+    /// Ids, by entity index.
+    pub fn ids(&self) -> &[u32] {
+        &self.id
+    }
+    /// Kinds, by entity index.
+    pub fn kinds(&self) -> &[EntityKind] {
+        &self.kind
+    }
+    /// Root positions (metres), by entity index.
+    pub fn positions(&self) -> &[Vec3] {
+        &self.position
+    }
+    /// Look-at heights above the root (metres), by entity index.
+    pub fn look_at_heights(&self) -> &[f32] {
+        &self.look_at_height
+    }
+    /// Ground-plane positions, by entity index.
+    pub fn ground_positions(&self) -> &[Vec2] {
+        &self.ground
+    }
+    /// Headings (radians), by entity index.
+    pub fn headings(&self) -> &[f32] {
+        &self.heading
+    }
+    /// Unit ground forward directions, by entity index.
+    pub fn forwards(&self) -> &[Vec2] {
+        &self.forward
+    }
+    /// Ground velocities (m/s), by entity index.
+    pub fn velocities(&self) -> &[Vec2] {
+        &self.velocity
+    }
+    /// Impact factors, by entity index.
+    pub fn impacts(&self) -> &[f32] {
+        &self.impact
+    }
+    /// Entity index of each character, by dense character index.
+    pub fn character_entities(&self) -> &[u32] {
+        &self.character_entity
+    }
+
+    /// The world look-at point of an entity (metres): its root plus its look-at height
+    /// along up.
+    pub fn look_at_point(&self, index: usize) -> Vec3 {
+        self.position[index] + self.world.up * self.look_at_height[index]
+    }
+
+    /// The ground-plane state the scoring function needs, of one entity.
+    #[inline]
+    pub fn ground_state(&self, index: usize) -> crate::attention::score::GroundState {
+        crate::attention::score::GroundState {
+            position: self.ground[index],
+            forward: self.forward[index],
+            velocity: self.velocity[index],
+        }
+    }
+
+    /// Sets an entity's look-at height (metres).
+    pub fn set_look_at_height(&mut self, index: usize, height: f32) {
+        self.look_at_height[index] = height;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn update(id: u32, x: f32, z: f32) -> EntityUpdate {
+        EntityUpdate {
+            id,
+            position: Vec3::new(x, 0.0, z),
+            heading: 0.0,
+            heading_from_motion: true,
+            velocity: None,
+        }
+    }
+
+    #[test]
+    fn velocities_and_headings_come_from_motion() {
+        let mut scene = Scene::new(World::y_up(), 4, 4);
+        let a = scene
+            .add(EntityKind::Character, Vec3::ZERO, 0.3, 1.6, 1.0)
+            .unwrap();
+        scene.apply(0.0, &[update(a, 0.0, 0.0)]);
+        // Y up, Z forward: moving along +X is heading +90°.
+        scene.apply(0.5, &[update(a, 1.0, 0.0)]);
+        let index = scene.index_of(a).unwrap();
+        assert!(scene.velocities()[index].abs_diff_eq(Vec2::new(0.0, 2.0), 1e-6));
+        assert!((scene.headings()[index] - std::f32::consts::FRAC_PI_2).abs() < 1e-6);
+        // Standing still keeps the heading.
+        scene.apply(1.0, &[update(a, 1.0, 0.0)]);
+        assert!((scene.headings()[index] - std::f32::consts::FRAC_PI_2).abs() < 1e-6);
+        assert_eq!(scene.velocities()[index], Vec2::ZERO);
+    }
+
+    #[test]
+    fn removal_keeps_other_ids_and_character_indices_valid() {
+        let mut scene = Scene::new(World::y_up(), 3, 2);
+        let a = scene
+            .add(EntityKind::Character, Vec3::X, 0.0, 1.6, 1.0)
+            .unwrap();
+        let o = scene
+            .add(EntityKind::Object, Vec3::Y, 0.0, 1.0, 3.0)
+            .unwrap();
+        let b = scene
+            .add(EntityKind::Character, Vec3::Z, 0.0, 1.6, 1.0)
+            .unwrap();
+        assert_eq!(scene.max_impact(), 3.0);
+        assert_eq!(scene.remove(a).unwrap(), Some(0));
+        assert!(scene.find(a).is_err());
+        assert_eq!(scene.character_index(b).unwrap(), 0);
+        let b_index = scene.index_of(b).unwrap();
+        assert_eq!(scene.positions()[b_index], Vec3::Z);
+        assert_eq!(scene.character_entities()[0] as usize, b_index);
+        assert_eq!(scene.remove(o).unwrap(), None);
+        assert_eq!(scene.max_impact(), 1.0);
+        assert!(scene.character_index(b).is_ok());
+        let full =
+            Scene::new(World::y_up(), 0, 0).add(EntityKind::Object, Vec3::ZERO, 0.0, 0.0, 1.0);
+        assert!(matches!(full, Err(Error::Capacity(_))));
+    }
+}
