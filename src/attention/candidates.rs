@@ -2,11 +2,12 @@
 //!
 //! [`NeighbourIndex`] rebuilds the spatial grid every frame and copies what the scoring
 //! needs (forward, velocity, impact, id) into grid order, so a query reads memory
-//! sequentially whatever the crowd's size. A query gathers the entities within `d_m` and
-//! inside the field of view into a fixed-size [`CandidateBatch`] on the stack, scores the
-//! whole batch in one straight-line loop that the compiler vectorises, then ranks it.
-//! The all-pairs search feeds the same batch from every entity: the test oracle and the
-//! benchmark baseline.
+//! sequentially whatever the crowd's size. A query visits the grid cells around the
+//! character that may be in view; for each entity it only tests distance and view and
+//! appends its slot to a fixed-size [`CandidateBatch`] without branching; the batch then
+//! gathers the survivors' data and scores them in one straight-line loop that the compiler
+//! vectorises, and ranks them. The all-pairs search feeds the same batch from every
+//! entity: the test oracle and the benchmark baseline.
 
 use glam::Vec2;
 
@@ -21,6 +22,7 @@ use crate::scene::Scene;
 
 /// Candidates scored per batch (a denser neighbourhood is scored in several batches).
 pub const BATCH: usize = 128;
+const _: () = assert!(BATCH.is_power_of_two());
 
 /// The grid and the scoring data of every entity in grid order, rebuilt each frame.
 #[derive(Debug, Clone)]
@@ -62,22 +64,62 @@ impl NeighbourIndex {
     pub fn grid(&self) -> &SpatialGrid {
         &self.grid
     }
+
+    fn sources(&self) -> Sources<'_> {
+        Sources {
+            point: self.grid.points(),
+            entity: Some(self.grid.entries()),
+            forward: &self.forward,
+            velocity: &self.velocity,
+            impact: &self.impact,
+            id: &self.id,
+        }
+    }
 }
 
-/// Up to [`BATCH`] candidates in structure-of-arrays form, and their scores.
+/// Where a search reads entity data, by slot: the index's grid-ordered copies, or the
+/// scene's own arrays (slot = entity index).
+#[derive(Clone, Copy)]
+struct Sources<'a> {
+    point: &'a [Vec2],
+    /// Entity index of each slot; `None` when the slot is the entity index.
+    entity: Option<&'a [u32]>,
+    forward: &'a [Vec2],
+    velocity: &'a [Vec2],
+    impact: &'a [f32],
+    id: &'a [u32],
+}
+
+impl<'a> Sources<'a> {
+    fn of_scene(scene: &'a Scene) -> Sources<'a> {
+        Sources {
+            point: scene.ground_positions(),
+            entity: None,
+            forward: scene.forwards(),
+            velocity: scene.velocities(),
+            impact: scene.impacts(),
+            id: scene.ids(),
+        }
+    }
+
+    #[inline(always)]
+    fn entity(&self, slot: usize) -> u32 {
+        self.entity.map_or(slot as u32, |entities| entities[slot])
+    }
+}
+
+/// Up to [`BATCH`] candidate slots, their data in structure-of-arrays form, and scores.
 #[derive(Debug, Clone)]
 pub struct CandidateBatch {
     len: usize,
+    slot: [u32; BATCH],
     offset_x: [f32; BATCH],
     offset_y: [f32; BATCH],
-    distance_squared: [f32; BATCH],
     forward_x: [f32; BATCH],
     forward_y: [f32; BATCH],
     velocity_x: [f32; BATCH],
     velocity_y: [f32; BATCH],
     impact: [f32; BATCH],
-    id: [u32; BATCH],
-    entity: [u32; BATCH],
     score: [f32; BATCH],
 }
 
@@ -85,52 +127,33 @@ impl Default for CandidateBatch {
     fn default() -> Self {
         CandidateBatch {
             len: 0,
+            slot: [0; BATCH],
             offset_x: [0.0; BATCH],
             offset_y: [0.0; BATCH],
-            distance_squared: [0.0; BATCH],
             forward_x: [0.0; BATCH],
             forward_y: [0.0; BATCH],
             velocity_x: [0.0; BATCH],
             velocity_y: [0.0; BATCH],
             impact: [0.0; BATCH],
-            id: [0; BATCH],
-            entity: [0; BATCH],
             score: [0.0; BATCH],
         }
     }
 }
 
 impl CandidateBatch {
-    /// True when no more candidates fit.
-    #[inline]
-    fn is_full(&self) -> bool {
-        self.len == BATCH
-    }
-
-    #[inline]
-    #[allow(clippy::too_many_arguments)]
-    fn push(
-        &mut self,
-        offset: Vec2,
-        distance_squared: f32,
-        forward: Vec2,
-        velocity: Vec2,
-        impact: f32,
-        id: u32,
-        entity: u32,
-    ) {
-        let i = self.len;
-        self.offset_x[i] = offset.x;
-        self.offset_y[i] = offset.y;
-        self.distance_squared[i] = distance_squared;
-        self.forward_x[i] = forward.x;
-        self.forward_y[i] = forward.y;
-        self.velocity_x[i] = velocity.x;
-        self.velocity_y[i] = velocity.y;
-        self.impact[i] = impact;
-        self.id[i] = id;
-        self.entity[i] = entity;
-        self.len = i + 1;
+    /// Copies the data of the batched slots from `sources`, relative to `observer`.
+    fn gather(&mut self, sources: &Sources<'_>, observer: &GroundState) {
+        for i in 0..self.len.min(BATCH) {
+            let slot = self.slot[i] as usize;
+            let offset = sources.point[slot] - observer.position;
+            self.offset_x[i] = offset.x;
+            self.offset_y[i] = offset.y;
+            self.forward_x[i] = sources.forward[slot].x;
+            self.forward_y[i] = sources.forward[slot].y;
+            self.velocity_x[i] = sources.velocity[slot].x;
+            self.velocity_y[i] = sources.velocity[slot].y;
+            self.impact[i] = sources.impact[slot];
+        }
     }
 
     /// Scores every candidate with the formulas of [`super::score`] (the same functions,
@@ -141,14 +164,12 @@ impl CandidateBatch {
         let (speed_weight, periphery_max_angle) = (config.speed_weight, config.periphery_max_angle);
         let len = self.len.min(BATCH);
         for i in 0..len {
-            let distance = self.distance_squared[i].sqrt();
-            let along =
-                observer.forward.x * self.offset_x[i] + observer.forward.y * self.offset_y[i];
-            let cos_view = if distance > 1e-6 {
-                along / distance
-            } else {
-                1.0
-            };
+            let (offset_x, offset_y) = (self.offset_x[i], self.offset_y[i]);
+            let distance = (offset_x * offset_x + offset_y * offset_y).sqrt();
+            let along = observer.forward.x * offset_x + observer.forward.y * offset_y;
+            // Divide unconditionally, then select: keeps the loop vectorisable.
+            let quotient = along / distance.max(1e-6);
+            let cos_view = if distance > 1e-6 { quotient } else { 1.0 };
             let view_angle = fast_acos(cos_view);
             let heading_angle = fast_acos(
                 observer.forward.x * self.forward_x[i] + observer.forward.y * self.forward_y[i],
@@ -168,33 +189,6 @@ impl CandidateBatch {
                             periphery_max_angle,
                         ));
         }
-    }
-
-    /// Scores the batch, ranks it into `best`/`second` (consulting `skip` only for
-    /// candidates that would enter the top two), and empties it.
-    fn flush(
-        &mut self,
-        scorer: &Scorer,
-        observer: &GroundState,
-        weights: &SubscoreWeights,
-        skip: &mut impl FnMut(usize) -> bool,
-        best: &mut Candidate,
-        second: &mut Candidate,
-    ) {
-        self.score_all(scorer, observer, weights);
-        for i in 0..self.len.min(BATCH) {
-            let candidate = Candidate {
-                id: self.id[i],
-                score: self.score[i],
-            };
-            if candidate.score > 0.0
-                && ranks_above(candidate, *second)
-                && !skip(self.entity[i] as usize)
-            {
-                rank(best, second, candidate);
-            }
-        }
-        self.len = 0;
     }
 }
 
@@ -224,17 +218,43 @@ fn in_view(forward: Vec2, offset: Vec2, distance_squared: f32, cos_half: f32) ->
     let along = forward.dot(offset);
     let bound = cos_half * cos_half * distance_squared;
     if cos_half >= 0.0 {
-        along >= 0.0 && along * along >= bound
+        (along >= 0.0) & (along * along >= bound)
     } else {
-        along >= 0.0 || along * along <= bound
+        (along >= 0.0) | (along * along <= bound)
     }
 }
 
-/// One character's search: filters offered entities by distance and view, batches the
+/// True if a grid cell (by its lowest and highest corners) may hold an entity in view of an
+/// observer at `position` facing `forward`: with a field of view of at most 180°
+/// (`cos_half_field_of_view ≥ 0` up to rounding), cells wholly behind the observer are
+/// skipped.
+#[inline]
+fn cell_may_be_in_view(
+    position: Vec2,
+    forward: Vec2,
+    cos_half_field_of_view: f32,
+    low: Vec2,
+    high: Vec2,
+) -> bool {
+    // cos(π/2) rounds to −4e−8 in f32: a 180° view must still cull.
+    if cos_half_field_of_view < -1e-6 {
+        return true;
+    }
+    let (low, high) = (low - position, high - position);
+    // The largest dot product of `forward` with the cell's four corners.
+    let best = forward.x.max(0.0) * high.x
+        + forward.x.min(0.0) * low.x
+        + forward.y.max(0.0) * high.y
+        + forward.y.min(0.0) * low.y;
+    best >= 0.0
+}
+
+/// One character's search: filters offered slots by distance and view, batches the
 /// survivors, and keeps the best two.
 struct Search<'a, Skip: FnMut(usize) -> bool> {
     scorer: &'a Scorer,
     weights: &'a SubscoreWeights,
+    sources: Sources<'a>,
     observer: GroundState,
     observer_entity: u32,
     max_distance_squared: f32,
@@ -248,6 +268,7 @@ struct Search<'a, Skip: FnMut(usize) -> bool> {
 impl<'a, Skip: FnMut(usize) -> bool> Search<'a, Skip> {
     fn new(
         scene: &Scene,
+        sources: Sources<'a>,
         scorer: &'a Scorer,
         character: usize,
         weights: &'a SubscoreWeights,
@@ -259,6 +280,7 @@ impl<'a, Skip: FnMut(usize) -> bool> Search<'a, Skip> {
         Search {
             scorer,
             weights,
+            sources,
             observer: scene.ground_state(observer_entity as usize),
             observer_entity,
             max_distance_squared: scorer.max_distance_squared(),
@@ -270,55 +292,59 @@ impl<'a, Skip: FnMut(usize) -> bool> Search<'a, Skip> {
         }
     }
 
-    /// Offers an entity: its ground `point`, entity index, forward, velocity, impact and id.
+    /// Offers the slots `run`. Branch-free: each slot is written at the batch's end and
+    /// kept only if it passes (within `d_m`, in view, not the observer, positive impact),
+    /// so rejections cost no mispredicted branch.
     #[inline(always)]
-    #[allow(clippy::too_many_arguments)]
-    fn offer(
-        &mut self,
-        point: Vec2,
-        entity: u32,
-        forward: Vec2,
-        velocity: Vec2,
-        impact: f32,
-        id: u32,
-    ) {
-        let offset = point - self.observer.position;
-        let distance_squared = offset.length_squared();
-        if distance_squared > self.max_distance_squared
-            || entity == self.observer_entity
-            || impact <= 0.0
-            || !in_view(
-                self.observer.forward,
-                offset,
-                distance_squared,
-                self.cos_half_field_of_view,
-            )
-        {
-            return;
-        }
-        self.batch.push(
-            offset,
-            distance_squared,
-            forward,
-            velocity,
-            impact,
-            id,
-            entity,
-        );
-        if self.batch.is_full() {
-            self.flush();
+    fn offer_run(&mut self, run: std::ops::Range<usize>) {
+        let sources = self.sources;
+        let first = run.start;
+        let points = &sources.point[run.clone()];
+        let impacts = &sources.impact[run];
+        for (k, (point, impact)) in points.iter().zip(impacts).enumerate() {
+            let slot = first + k;
+            let offset = *point - self.observer.position;
+            let distance_squared = offset.length_squared();
+            let keep = (distance_squared <= self.max_distance_squared)
+                & (*impact > 0.0)
+                & in_view(
+                    self.observer.forward,
+                    offset,
+                    distance_squared,
+                    self.cos_half_field_of_view,
+                )
+                & (sources.entity(slot) != self.observer_entity);
+            // len < BATCH (a full batch is flushed at once) and BATCH is a power of two:
+            // the mask is a no-op that lets the compiler drop the bounds check.
+            let i = self.batch.len % BATCH;
+            self.batch.slot[i] = slot as u32;
+            self.batch.len = i + usize::from(keep);
+            if self.batch.len == BATCH {
+                self.flush();
+            }
         }
     }
 
+    /// Gathers, scores and ranks the batch (consulting `skip` only for candidates that
+    /// would enter the top two), and empties it.
     fn flush(&mut self) {
-        self.batch.flush(
-            self.scorer,
-            &self.observer,
-            self.weights,
-            &mut self.skip,
-            &mut self.best,
-            &mut self.second,
-        );
+        let batch = &mut *self.batch;
+        batch.gather(&self.sources, &self.observer);
+        batch.score_all(self.scorer, &self.observer, self.weights);
+        for i in 0..batch.len.min(BATCH) {
+            let slot = batch.slot[i] as usize;
+            let candidate = Candidate {
+                id: self.sources.id[slot],
+                score: batch.score[i],
+            };
+            if candidate.score > 0.0
+                && ranks_above(candidate, self.second)
+                && !(self.skip)(self.sources.entity(slot) as usize)
+            {
+                rank(&mut self.best, &mut self.second, candidate);
+            }
+        }
+        batch.len = 0;
     }
 
     fn finish(mut self) -> (Candidate, Candidate) {
@@ -340,22 +366,14 @@ pub fn nearby_candidates(
     batch: &mut CandidateBatch,
     skip: impl FnMut(usize) -> bool,
 ) -> (Candidate, Candidate) {
-    let mut search = Search::new(scene, scorer, character, weights, batch, skip);
-    let (entries, points) = (index.grid.entries(), index.grid.points());
+    let sources = index.sources();
+    let mut search = Search::new(scene, sources, scorer, character, weights, batch, skip);
+    let (position, forward) = (search.observer.position, search.observer.forward);
+    let cos_half = search.cos_half_field_of_view;
+    let keep_cell = |low, high| cell_may_be_in_view(position, forward, cos_half, low, high);
     index
         .grid
-        .for_each_run_near(search.observer.position, |run| {
-            for slot in run {
-                search.offer(
-                    points[slot],
-                    entries[slot],
-                    index.forward[slot],
-                    index.velocity[slot],
-                    index.impact[slot],
-                    index.id[slot],
-                );
-            }
-        });
+        .for_each_run_near_where(position, keep_cell, |run| search.offer_run(run));
     search.finish()
 }
 
@@ -369,17 +387,9 @@ pub fn all_pairs_candidates(
     skip: impl FnMut(usize) -> bool,
 ) -> (Candidate, Candidate) {
     let mut batch = CandidateBatch::default();
-    let mut search = Search::new(scene, scorer, character, weights, &mut batch, skip);
-    for (other, point) in scene.ground_positions().iter().enumerate() {
-        search.offer(
-            *point,
-            other as u32,
-            scene.forwards()[other],
-            scene.velocities()[other],
-            scene.impacts()[other],
-            scene.ids()[other],
-        );
-    }
+    let sources = Sources::of_scene(scene);
+    let mut search = Search::new(scene, sources, scorer, character, weights, &mut batch, skip);
+    search.offer_run(0..scene.len());
     search.finish()
 }
 

@@ -157,10 +157,13 @@ pub fn periphery_score(
     half_field_of_view: f32,
     periphery_max_angle: f32,
 ) -> f32 {
+    // Computed unconditionally, then selected: a branch around the division would stop
+    // the batched scoring loop from vectorising.
+    let value = view_angle * (PI - heading_angle) / (half_field_of_view * PI);
     if heading_angle > periphery_max_angle {
         0.0
     } else {
-        view_angle * (PI - heading_angle) / (half_field_of_view * PI)
+        value
     }
 }
 

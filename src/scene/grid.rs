@@ -131,7 +131,20 @@ impl SpatialGrid {
     /// point of the 5 × 5 cells around `centre` — a superset of the points within the
     /// grid's radius of it. Each slot comes once.
     #[inline]
-    pub fn for_each_run_near(&self, centre: Vec2, mut visit: impl FnMut(std::ops::Range<usize>)) {
+    pub fn for_each_run_near(&self, centre: Vec2, visit: impl FnMut(std::ops::Range<usize>)) {
+        self.for_each_run_near_where(centre, |_, _| true, visit);
+    }
+
+    /// Like [`for_each_run_near`](Self::for_each_run_near), but only over the cells for
+    /// which `keep_cell(lowest corner, highest corner)` is true (adjacent kept cells of a
+    /// row still come as one run).
+    #[inline]
+    pub fn for_each_run_near_where(
+        &self,
+        centre: Vec2,
+        keep_cell: impl Fn(Vec2, Vec2) -> bool,
+        mut visit: impl FnMut(std::ops::Range<usize>),
+    ) {
         let span = (self.radius * self.inverse_cell_size).ceil() as i32;
         let (cx, cy) = self.cell_of(centre);
         let first_column = cx.saturating_sub(span).max(0);
@@ -141,10 +154,26 @@ impl SpatialGrid {
         }
         let first_row = cy.saturating_sub(span).max(0);
         let last_row = cy.saturating_add(span).min(self.rows - 1);
+        let size = self.cell_size;
         for row in first_row..=last_row {
-            let start = self.cell_start[(row * self.columns + first_column) as usize] as usize;
-            let end = self.cell_start[(row * self.columns + last_column) as usize + 1] as usize;
-            visit(start..end);
+            let low_y = self.origin.y + row as f32 * size;
+            let mut run_start: Option<i32> = None;
+            for column in first_column..=last_column + 1 {
+                let kept = column <= last_column && {
+                    let low = Vec2::new(self.origin.x + column as f32 * size, low_y);
+                    keep_cell(low, low + Vec2::splat(size))
+                };
+                match (kept, run_start) {
+                    (true, None) => run_start = Some(column),
+                    (false, Some(start)) => {
+                        let first = self.cell_start[(row * self.columns + start) as usize];
+                        let end = self.cell_start[(row * self.columns + column - 1) as usize + 1];
+                        visit(first as usize..end as usize);
+                        run_start = None;
+                    }
+                    _ => {}
+                }
+            }
         }
     }
 
@@ -206,5 +235,45 @@ mod tests {
         assert!(near.contains(&2) && near.contains(&3));
         grid.rebuild(&[]);
         grid.for_each_near(Vec2::ZERO, |_, _| panic!("empty grid"));
+    }
+
+    #[test]
+    fn culled_queries_still_see_every_point_of_the_kept_half() {
+        let mut random = Random::new(5);
+        let points: Vec<Vec2> = (0..400)
+            .map(|_| Vec2::new(random.range(-30.0, 30.0), random.range(-30.0, 30.0)))
+            .collect();
+        let mut grid = SpatialGrid::new(400, 10.0);
+        grid.rebuild(&points);
+        let forward = Vec2::from_angle(0.7);
+        for centre in &points[..40] {
+            let in_front = |low: Vec2, high: Vec2| {
+                [
+                    low,
+                    high,
+                    Vec2::new(low.x, high.y),
+                    Vec2::new(high.x, low.y),
+                ]
+                .iter()
+                .any(|corner| forward.dot(*corner - *centre) >= 0.0)
+            };
+            let mut seen = vec![false; points.len()];
+            let mut visited = 0;
+            grid.for_each_run_near_where(*centre, in_front, |run| {
+                for slot in run {
+                    seen[grid.entries()[slot] as usize] = true;
+                    visited += 1;
+                }
+            });
+            let mut all = 0;
+            grid.for_each_near(*centre, |_, _| all += 1);
+            assert!(visited <= all);
+            for (i, point) in points.iter().enumerate() {
+                let offset = *point - *centre;
+                if offset.length() <= 10.0 && forward.dot(offset) >= 0.0 {
+                    assert!(seen[i], "missed a point in front");
+                }
+            }
+        }
     }
 }
