@@ -3,16 +3,48 @@
 //! The crowd model of Grillon & Thalmann 2009: [`score`] rates an entity for a
 //! character, [`candidates`] finds each character's best entities fast, [`interest`] turns the scores into interest points online, [`plan`] does the
 //! same offline over whole recorded trajectories with the exact percentile, and
-//! [`quantile`] provides both percentiles.
+//! [`quantile`] provides both percentiles. [`saliency`] is the eye-and-head model of
+//! Kokkinara, Oyekoya & Steed 2011 and [`baseline`] the stock behaviour it is compared with.
 
+pub mod baseline;
 pub mod candidates;
 pub mod interest;
 pub mod plan;
 pub mod quantile;
+pub mod saliency;
 pub mod score;
 
 use crate::math::random::Random;
 use score::SubscoreWeights;
+
+/// Which part of an entity a character looks at.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(u8)]
+pub enum TargetPart {
+    /// The entity's look-at point (an object's, or a character's eyes as a whole).
+    Whole = 0,
+    /// A character's head.
+    Head = 1,
+    /// A character's left eye.
+    LeftEye = 2,
+    /// A character's right eye.
+    RightEye = 3,
+    /// A character's chest.
+    Chest = 4,
+    /// A character's torso (belly).
+    Torso = 5,
+}
+
+impl TargetPart {
+    /// The five social targets a character offers (Kokkinara et al. §3.2).
+    pub const SOCIAL: [TargetPart; 5] = [
+        TargetPart::Head,
+        TargetPart::LeftEye,
+        TargetPart::RightEye,
+        TargetPart::Chest,
+        TargetPart::Torso,
+    ];
+}
 
 /// A character's attention parameters.
 #[derive(Debug, Clone, Copy, PartialEq)]
