@@ -22,6 +22,9 @@
 #include <stdint.h>
 #include <stdbool.h>
 
+// Most joints a `cg_chain_desc` holds: 8 spine + 4 cervical + 1 head + 2 eyes.
+#define CG_MAX_CHAIN_JOINTS 15
+
 // Major version of the header. Compare with `cg_version()` at run time to detect a header
 // and library mismatch.
 #define CG_VERSION_MAJOR 0
@@ -99,36 +102,37 @@ typedef uint32_t cg_axis;
 #endif // __STDC_VERSION__ >= 202311L
 #endif // __cplusplus
 
+// What a joint of a gaze chain is. Stored as `uint32_t` in `cg_chain_joint.role`.
+enum cg_joint_role
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+    // A lumbar or thoracic vertebra.
+    CG_JOINT_ROLE_SPINE = 0,
+    // A cervical vertebra (neck).
+    CG_JOINT_ROLE_CERVICAL = 1,
+    // The head (skull base).
+    CG_JOINT_ROLE_HEAD = 2,
+    // The character's left eye.
+    CG_JOINT_ROLE_LEFT_EYE = 3,
+    // The character's right eye.
+    CG_JOINT_ROLE_RIGHT_EYE = 4,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum cg_joint_role cg_joint_role;
+#else
+typedef uint32_t cg_joint_role;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
 // A crowd of characters and the objects they may look at (opaque).
 //
 // Created by `cg_crowd_create`, destroyed by `cg_crowd_destroy`. Not safe for concurrent
 // mutation: calls taking a `cg_crowd*` must not overlap with any other call on the same
 // crowd. Calls taking a `const cg_crowd*` may run concurrently with each other.
 typedef struct cg_crowd cg_crowd;
-
-// Settings of a crowd, fixed for its lifetime. Fill it with `cg_crowd_config_init`, then
-// change the fields you need.
-typedef struct cg_crowd_config {
-    // Size of this struct in bytes, set by `cg_crowd_config_init`; lets later versions of
-    // the library add fields without breaking callers compiled against this header.
-    uint32_t struct_size;
-    // Most characters (entities that look) the crowd holds at once, 1 to 16 777 216.
-    // Default 1024.
-    uint32_t max_characters;
-    // Seed of every random choice; same inputs and seed give bit-identical outputs.
-    // Default 0x6372_6f77_6467_617a.
-    uint64_t seed;
-    // Most scene objects (entities that are only looked at), 0 to 16 777 216. Default 256.
-    uint32_t max_objects;
-    // Which world axis points up, a `cg_axis`. Default `CG_AXIS_POSITIVE_Y`.
-    uint32_t up_axis;
-    // Which world axis heading 0 faces, a `cg_axis` perpendicular to `up_axis`.
-    // Headings are counter-clockwise about `up_axis`. Default `CG_AXIS_POSITIVE_Z`.
-    uint32_t forward_axis;
-    // How many of your length units make one metre: 1 for metres (default), 100 for
-    // Unreal's centimetres. Must be > 0 and finite.
-    float units_per_metre;
-} cg_crowd_config;
 
 // A 3-component vector of floats: a position (in the caller's units, see
 // `cg_crowd_config.units_per_metre`) or a direction.
@@ -158,6 +162,81 @@ typedef struct cg_quat {
 // The identity rotation.
 #define cg_quat_IDENTITY (cg_quat){ .x = 0.0, .y = 0.0, .z = 0.0, .w = 1.0 }
 
+// One joint of a gaze chain.
+//
+// Limits apply to the gaze's *delta* rotation on top of the joint's base rotation, split
+// as swing · twist about `twist_axis`: the twist angle stays in [min_twist, max_twist] and
+// the swing angle (a cone's half-angle) at most max_swing. Radians.
+typedef struct cg_chain_joint {
+    // What the joint is: a `cg_joint_role` value.
+    uint32_t role;
+    // Position of the joint in its parent's local frame (the chain root for the first
+    // joint, the head for the eyes), in your length units.
+    struct cg_vec3 offset;
+    // Rest local rotation relative to the parent (normalised on reading).
+    struct cg_quat rest;
+    // Twist axis in the joint's local frame (normalised on reading): the skeleton's up axis
+    // for spine, cervicals and head (twist = yaw), the eye's forward axis for the eyes
+    // (twist = torsion).
+    struct cg_vec3 twist_axis;
+    // Largest swing angle, radians, in [0, π].
+    float max_swing;
+    // Smallest twist angle, radians, ≥ −π.
+    float min_twist;
+    // Largest twist angle, radians, in [min_twist, π].
+    float max_twist;
+} cg_chain_joint;
+
+// A character's gaze chain: up to 8 spine, up to 4 cervical, exactly 1 head and 0 or 2 eye
+// joints, listed bottom to top in `joints[0 .. joint_count]`: spine…, cervical…, head,
+// left eye, right eye. Each body joint's parent is the previous joint (the chain root for
+// the first); the eyes' parent is the head.
+//
+// Expressed in the world's axes for a character at heading 0; the character's world
+// transform is translation(position) · rotation(heading about the up axis).
+// Fill it with `cg_chain_desc_init_human` (then adjust), or field by field after setting
+// `struct_size = sizeof(cg_chain_desc)`.
+typedef struct cg_chain_desc {
+    // Size of this struct in bytes, set by `cg_chain_desc_init_human`.
+    uint32_t struct_size;
+    // Number of joints used in `joints`, 1 to `CG_MAX_CHAIN_JOINTS`.
+    uint32_t joint_count;
+    // The joints, bottom to top; entries past `joint_count` are ignored.
+    struct cg_chain_joint joints[CG_MAX_CHAIN_JOINTS];
+    // The direction the eyes look at rest, in the head's local frame (normalised on
+    // reading).
+    struct cg_vec3 eye_forward;
+    // The head's up direction in its local frame, perpendicular to `eye_forward`.
+    struct cg_vec3 eye_up;
+    // Position of the chain root (the pelvis) relative to the character's position, in the
+    // character's frame, in your length units.
+    struct cg_vec3 root_offset;
+} cg_chain_desc;
+
+// Settings of a crowd, fixed for its lifetime. Fill it with `cg_crowd_config_init`, then
+// change the fields you need.
+typedef struct cg_crowd_config {
+    // Size of this struct in bytes, set by `cg_crowd_config_init`; lets later versions of
+    // the library add fields without breaking callers compiled against this header.
+    uint32_t struct_size;
+    // Most characters (entities that look) the crowd holds at once, 1 to 16 777 216.
+    // Default 1024.
+    uint32_t max_characters;
+    // Seed of every random choice; same inputs and seed give bit-identical outputs.
+    // Default 0x6372_6f77_6467_617a.
+    uint64_t seed;
+    // Most scene objects (entities that are only looked at), 0 to 16 777 216. Default 256.
+    uint32_t max_objects;
+    // Which world axis points up, a `cg_axis`. Default `CG_AXIS_POSITIVE_Y`.
+    uint32_t up_axis;
+    // Which world axis heading 0 faces, a `cg_axis` perpendicular to `up_axis`.
+    // Headings are counter-clockwise about `up_axis`. Default `CG_AXIS_POSITIVE_Z`.
+    uint32_t forward_axis;
+    // How many of your length units make one metre: 1 for metres (default), 100 for
+    // Unreal's centimetres. Must be > 0 and finite.
+    float units_per_metre;
+} cg_crowd_config;
+
 // A dual quaternion `real + ε dual` describing a rigid transform: `real` is the rotation,
 // `dual = ½ (0, t) ⊗ real` encodes the translation t. Both parts use the x, y, z, w order.
 typedef struct cg_dualquat {
@@ -170,6 +249,24 @@ typedef struct cg_dualquat {
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
+
+// Fills `desc` with the gaze chain of an adult human (Grillon & Thalmann's 5 spine,
+// 2 cervical, 1 head and 2 eye joints) for a skeleton whose up axis is `up_axis` and which
+// faces `forward_axis` (both `cg_axis` values, perpendicular; the character's left is
+// up × forward), including `struct_size`.
+//
+// Lengths are in **metres**: the pelvis (chain root) 0.95 above the character's position,
+// eyes at 1.62, 64 mm apart. If your crowd's `units_per_metre` is not 1, multiply every
+// `joints[i].offset` and `root_offset` by it. Rest rotations are identity. Limits: each spine
+// joint ±8° of yaw and a 5° swing cone, each cervical ±25° and 20°, the head ±20° and 25°,
+// the eyes a 35° cone and no torsion.
+//
+// `*desc` is written only on success. Errors: `CG_STATUS_NULL_ARGUMENT` (desc NULL),
+// `CG_STATUS_INVALID_ARGUMENT` (an axis not a `cg_axis`, or the two not perpendicular).
+// Thread-safe.
+cg_status cg_chain_desc_init_human(struct cg_chain_desc *desc,
+                                   uint32_t up_axis,
+                                   uint32_t forward_axis);
 
 // Fills `config` with the defaults documented on each field, including `struct_size`.
 //

@@ -24,7 +24,9 @@
 //! a new target arrives ([`GazeRequest::target_key`] changes, or a target after none), when
 //! a target point moves more than [`GazeTiming::restart_distance`] between two frames, or when
 //! the spatial solution switched side behind the character. A new target is reached from
-//! wherever the joints are, never through the rest pose.
+//! wherever the joints are, never through the rest pose. The turn side for targets behind
+//! ([`TurnSide`]) is remembered while one target is followed and decided afresh (the short
+//! way in the base posture) for each new target.
 //!
 //! **Deactivation.** With no target, every delta returns to identity (the base motion)
 //! over `t_d` drawn from [`GazeTiming::min_deactivation_time`]…
@@ -423,6 +425,15 @@ impl GazeMotion {
         let prepared = Prepared::new(&config.spatial);
         let timing = &config.timing;
         let body = chain.body_count();
+        let active = matches!(self.phase, GazePhase::Shifting | GazePhase::Holding);
+        let jumped = request.head_target.distance(self.last_head_target) > timing.restart_distance
+            || request.eye_target.distance(self.last_eye_target) > timing.restart_distance;
+        let new_target = !active || request.target_key != self.target_key || jumped;
+        if new_target {
+            // The turn side is remembered while following one target, not across targets:
+            // a new target behind is reached the short way from the base posture.
+            self.side = TurnSide::UNDECIDED;
+        }
         let mut goal = spatial::IDENTITY_DELTAS;
         let (solution, _) = spatial::solve_body_unchecked(
             chain,
@@ -433,12 +444,7 @@ impl GazeMotion {
             &mut self.side,
             &mut goal,
         );
-        let active = matches!(self.phase, GazePhase::Shifting | GazePhase::Holding);
-        let jumped = request.head_target.distance(self.last_head_target) > timing.restart_distance
-            || request.eye_target.distance(self.last_eye_target) > timing.restart_distance;
-        let restart =
-            !active || request.target_key != self.target_key || jumped || solution.side_switched;
-        if restart {
+        if new_target || solution.side_switched {
             self.start = self.deltas;
             self.elapsed = 0.0;
             let head_angle = head_turn(chain, input.base, &self.start[..body], &goal[..body]);
