@@ -221,20 +221,35 @@ impl JointLimits {
 
     /// The rotation within the limits nearest to `rotation` (a unit quaternion): the twist is
     /// clamped to its range and the swing to its cone, each keeping its direction. A rotation
-    /// already within the limits is returned unchanged. No trigonometry.
+    /// already within the limits is returned unchanged, after a handful of multiplications
+    /// (no square root, no trigonometry).
     ///
     /// The sign of `rotation` is kept as given: a rotation of more than π (w < 0) is clamped
     /// on the side it turns towards, not on the side of the short way round.
+    #[inline]
     pub fn clamp(&self, rotation: Quat) -> Quat {
         let axis = Vec3A::from(self.twist_axis);
-        let vector = Vec3A::from(rotation.xyz());
-        let projection = vector.dot(axis);
-        // Twist: the unit vector (cos, sin) of half the twist angle.
-        let length = (rotation.w * rotation.w + projection * projection).sqrt();
+        let projection = Vec3A::from(rotation.xyz()).dot(axis);
+        let w = rotation.w;
+        // The twist is (w, projection) up to its length: (cos, sin) of half the twist angle.
+        // It lies in [min, max] (an arc of the right half-plane, at most π wide) iff it is
+        // counter-clockwise of `min` and clockwise of `max`; no normalisation needed.
+        let (min_cos, min_sin) = self.min_twist_half;
+        let (max_cos, max_sin) = self.max_twist_half;
+        let twist_inside =
+            min_cos * projection - min_sin * w >= 0.0 && w * max_sin - projection * max_cos >= 0.0;
+        // For a unit rotation, the swing's scalar part (cos of half the swing angle) is
+        // √(w² + projection²): compare squares, no square root.
+        let (cone_cos, cone_sin) = self.swing_half;
+        let twist_length_squared = w * w + projection * projection;
+        if twist_inside && twist_length_squared >= cone_cos * cone_cos {
+            return rotation;
+        }
+        let length = twist_length_squared.sqrt();
         let (mut twist_cos, mut twist_sin) = if length < 1e-9 {
             (1.0, 0.0)
         } else {
-            (rotation.w / length, projection / length)
+            (w / length, projection / length)
         };
         let twist = Quat::from_xyzw(
             axis.x * twist_sin,
@@ -243,14 +258,7 @@ impl JointLimits {
             twist_cos,
         );
         let mut swing = rotation * twist.conjugate();
-        let mut changed = false;
-        // Inside [min, max] (an arc of the right half-plane, at most π wide) iff the twist
-        // vector is counter-clockwise of `min` and clockwise of `max`.
-        let (min_cos, min_sin) = self.min_twist_half;
-        let (max_cos, max_sin) = self.max_twist_half;
-        let after_min = min_cos * twist_sin - min_sin * twist_cos >= 0.0;
-        let before_max = twist_cos * max_sin - twist_sin * max_cos >= 0.0;
-        if !(after_min && before_max) {
+        if !twist_inside {
             let to_min = twist_cos * min_cos + twist_sin * min_sin;
             let to_max = twist_cos * max_cos + twist_sin * max_sin;
             (twist_cos, twist_sin) = if to_min > to_max {
@@ -258,14 +266,10 @@ impl JointLimits {
             } else {
                 (max_cos, max_sin)
             };
-            changed = true;
         }
-        // Swing: half-angle σ ∈ [0, π] exceeds the limit h ∈ [0, π/2] iff cos σ < cos h.
-        let (cone_cos, cone_sin) = self.swing_half;
         let swing_vector = Vec3A::from(swing.xyz());
         let swing_sin = swing_vector.length();
-        let swing_length = (swing.w * swing.w + swing_sin * swing_sin).sqrt();
-        if swing.w < cone_cos * swing_length {
+        if swing.w < cone_cos * (swing.w * swing.w + swing_sin * swing_sin).sqrt() {
             swing = if swing_sin > 1e-9 {
                 let direction = swing_vector * (cone_sin / swing_sin);
                 Quat::from_xyzw(direction.x, direction.y, direction.z, cone_cos)
@@ -273,10 +277,6 @@ impl JointLimits {
                 // A full turn (w = −1) is no rotation at all.
                 Quat::IDENTITY
             };
-            changed = true;
-        }
-        if !changed {
-            return rotation;
         }
         let twist = Quat::from_xyzw(
             axis.x * twist_sin,

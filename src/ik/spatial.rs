@@ -52,10 +52,12 @@
 //! `base * delta` (glam's product: the delta acts in the joint's own frame, after its base
 //! rotation).
 
+use std::cell::Cell;
+
 use glam::{Quat, Vec3, Vec3A};
 
-use super::chain::{GazeChain, JointGroup, MAX_CHAIN_JOINTS};
-use super::rotation::axis_angle;
+use super::chain::{GazeChain, JointGroup, JointLimits, MAX_CHAIN_JOINTS};
+use super::rotation::{atan2_upper, sin_cos_quarter};
 use super::CharacterTransform;
 use crate::error::{ensure_all_finite, ensure_finite, Error, Result};
 
@@ -231,9 +233,27 @@ pub fn solve(
     ensure_all_finite(&head_target.to_array(), "head_target")?;
     ensure_all_finite(&eye_target.to_array(), "eye_target")?;
     let prepared = Prepared::new(config);
-    let (solution, head) =
-        solve_body_unchecked(chain, &prepared, character, base, head_target, side, deltas);
-    aim_eyes_unchecked(chain, &prepared, &head, base, eye_target, *side, deltas);
+    let mut solved = IDENTITY_DELTAS;
+    let (solution, head) = solve_body_unchecked(
+        chain,
+        &prepared,
+        character,
+        base,
+        head_target,
+        side,
+        &mut solved,
+    );
+    aim_eyes_unchecked(
+        chain,
+        &prepared,
+        &head,
+        base,
+        eye_target,
+        *side,
+        &mut solved,
+    );
+    let count = chain.joint_count();
+    deltas[..count].copy_from_slice(&solved[..count]);
     Ok(solution)
 }
 
@@ -277,30 +297,61 @@ pub(crate) fn check_pose(
     Ok(())
 }
 
-/// The settings turned into the constants the solver compares against.
-#[derive(Debug, Clone, Copy)]
+/// The settings turned into the constants the solver compares against. The behind-zone
+/// constants need trigonometry, so they are computed only when a target is behind.
+#[derive(Debug, Clone)]
 pub(crate) struct Prepared {
+    behind_hysteresis: f32,
+    behind_clearance: f32,
+    near_distance: f32,
+    /// cos and sin of half of each band (the angles reserved for the groups above).
+    eyes_only_half: (f32, f32),
+    eyes_head_and_neck_half: (f32, f32),
+    zone: Cell<Option<Zone>>,
+}
+
+/// cos and sin of half of `angle ∈ [0, π]`.
+#[inline]
+fn half_angle(angle: f32) -> (f32, f32) {
+    let (sin, cos) = sin_cos_quarter(0.5 * angle);
+    (cos, sin)
+}
+
+/// Constants of the zone behind the character.
+#[derive(Debug, Clone, Copy)]
+struct Zone {
     tan_hysteresis: f32,
     tan_clearance: f32,
     cos_clearance: f32,
     sin_clearance: f32,
-    near_distance: f32,
-    eyes_only: f32,
-    eyes_head_and_neck: f32,
 }
 
 impl Prepared {
     pub(crate) fn new(config: &SpatialConfig) -> Prepared {
-        let (sin_clearance, cos_clearance) = config.behind_clearance.sin_cos();
         Prepared {
-            tan_hysteresis: config.behind_hysteresis.tan(),
+            behind_hysteresis: config.behind_hysteresis,
+            behind_clearance: config.behind_clearance,
+            near_distance: config.near_distance,
+            eyes_only_half: half_angle(config.bands.eyes_only),
+            eyes_head_and_neck_half: half_angle(config.bands.eyes_head_and_neck),
+            zone: Cell::new(None),
+        }
+    }
+
+    #[inline]
+    fn zone(&self) -> Zone {
+        if let Some(zone) = self.zone.get() {
+            return zone;
+        }
+        let (sin_clearance, cos_clearance) = self.behind_clearance.sin_cos();
+        let zone = Zone {
+            tan_hysteresis: self.behind_hysteresis.tan(),
             tan_clearance: sin_clearance / cos_clearance,
             cos_clearance,
             sin_clearance,
-            near_distance: config.near_distance,
-            eyes_only: config.bands.eyes_only,
-            eyes_head_and_neck: config.bands.eyes_head_and_neck,
-        }
+        };
+        self.zone.set(Some(zone));
+        zone
     }
 }
 
@@ -313,7 +364,7 @@ pub(crate) struct Frame {
 
 /// The chain root's world frame.
 #[inline]
-fn root_frame(chain: &GazeChain, character: &CharacterTransform) -> Frame {
+pub(crate) fn root_frame(chain: &GazeChain, character: &CharacterTransform) -> Frame {
     Frame {
         position: Vec3A::from(character.position)
             + character
@@ -376,7 +427,7 @@ fn update_side(
     let left = up.cross(forward);
     let ahead = to_target.dot(forward);
     let across = to_target.dot(left);
-    let in_zone = ahead < 0.0 && across.abs() < prepared.tan_hysteresis * -ahead;
+    let in_zone = ahead < 0.0 && across.abs() < prepared.zone().tan_hysteresis * -ahead;
     let natural = if across > 0.0 {
         1
     } else if across < 0.0 {
@@ -409,56 +460,338 @@ fn behind_adjusted(
     if ahead >= 0.0 {
         return to_target;
     }
+    let zone = prepared.zone();
     let left = up.cross(forward);
     let across = to_target.dot(left);
     let back = -ahead;
-    if across.abs() >= prepared.tan_hysteresis * back {
+    if across.abs() >= zone.tan_hysteresis * back {
         return to_target;
     }
-    if across * side_sign > 0.0 && across.abs() >= prepared.tan_clearance * back {
+    if across * side_sign > 0.0 && across.abs() >= zone.tan_clearance * back {
         return to_target;
     }
     let height = to_target.dot(up);
     let horizontal = (ahead * ahead + across * across).sqrt();
-    forward * (-horizontal * prepared.cos_clearance)
-        + left * (side_sign * horizontal * prepared.sin_clearance)
+    forward * (-horizontal * zone.cos_clearance)
+        + left * (side_sign * horizontal * zone.sin_clearance)
         + up * height
 }
 
-/// The rotation (world unit axis, angle in [0, π]) that turns `forward` towards
-/// `to_target`, faded out near the eye. `fallback_axis` is used when the two are
-/// (anti)parallel.
+/// A rotation of angle θ ∈ [0, π] about a unit axis, kept as the cosine and sine of θ/2,
+/// so that the solver never needs θ itself.
+#[derive(Debug, Clone, Copy)]
+struct Turn {
+    axis: Vec3A,
+    cos: f32,
+    sin: f32,
+}
+
+impl Turn {
+    /// No rotation.
+    fn none(axis: Vec3A) -> Turn {
+        Turn {
+            axis,
+            cos: 1.0,
+            sin: 0.0,
+        }
+    }
+
+    /// θ, radians.
+    fn angle(self) -> f32 {
+        2.0 * atan2_upper(self.sin, self.cos)
+    }
+
+    /// True if θ is larger than the angle whose half has cosine `half_cos`.
+    #[inline]
+    fn exceeds(self, (half_cos, _): (f32, f32)) -> bool {
+        self.cos < half_cos
+    }
+
+    /// The rotation by θ − `reserve` (given by its half-angle's cosine and sine) about the
+    /// same axis, or `None` if θ ≤ `reserve`.
+    #[inline]
+    fn less(self, (reserve_cos, reserve_sin): (f32, f32)) -> Option<Turn> {
+        let sin = self.sin * reserve_cos - self.cos * reserve_sin;
+        (sin > 0.0).then(|| Turn {
+            axis: self.axis,
+            cos: self.cos * reserve_cos + self.sin * reserve_sin,
+            sin,
+        })
+    }
+
+    /// The rotation by `t`·θ, `t ∈ (0, 1]`: a normalised lerp from identity with
+    /// Kapoulkine's parameter correction (within about 10⁻³ of `t`·θ; exact for `t = 1`).
+    #[inline]
+    fn fraction(self, t: f32) -> Turn {
+        if t >= 1.0 {
+            return self;
+        }
+        let d = self.cos;
+        let k_a = 1.0904 + d * (-3.2452 + d * (3.55645 - d * 1.43519));
+        let k_b = 0.848_013 + d * (-1.06021 + d * 0.215_638);
+        let k = k_a * (t - 0.5) * (t - 0.5) + k_b;
+        let t = t + t * (t - 0.5) * (t - 1.0) * k;
+        let cos = 1.0 + t * (self.cos - 1.0);
+        let sin = t * self.sin;
+        let norm = (cos * cos + sin * sin).sqrt().recip();
+        Turn {
+            axis: self.axis,
+            cos: cos * norm,
+            sin: sin * norm,
+        }
+    }
+}
+
+/// The shortest rotation that turns the unit `forward` towards `to_target` (any length),
+/// faded out near the eye. `fallback_axis` is used when the two are (anti)parallel.
+/// Square roots only, no trigonometry (except within the near distance).
 #[inline]
 fn gaze_rotation(
     forward: Vec3A,
     to_target: Vec3A,
     fallback_axis: Vec3A,
     prepared: &Prepared,
-) -> (Vec3A, f32) {
-    let distance = to_target.length();
-    if distance.is_nan() || distance <= 1e-6 {
-        return (fallback_axis, 0.0);
+) -> Turn {
+    let cross = forward.cross(to_target);
+    let ahead = forward.dot(to_target);
+    let cross_squared = cross.length_squared();
+    let distance_squared = ahead * ahead + cross_squared;
+    // Also rejects NaN.
+    if !(distance_squared > 1e-12) {
+        return Turn::none(fallback_axis);
     }
-    let direction = to_target / distance;
-    let cross = forward.cross(direction);
-    let sin = cross.length();
-    let cos = forward.dot(direction);
-    let mut angle = libm::atan2f(sin, cos);
-    let axis = if sin > 1e-7 {
-        cross / sin
+    let distance = distance_squared.sqrt();
+    let mut turn = if cross_squared > 1e-14 * distance_squared {
+        // (|v| + f·v, f × v) is the rotation from f to v, up to its length.
+        let cross_length = cross_squared.sqrt();
+        let w = distance + ahead;
+        let norm = (w * w + cross_squared).sqrt().recip();
+        Turn {
+            axis: cross / cross_length,
+            cos: w * norm,
+            sin: cross_length * norm,
+        }
+    } else if ahead > 0.0 {
+        Turn::none(fallback_axis)
     } else {
-        fallback_axis
+        Turn {
+            axis: fallback_axis,
+            cos: 0.0,
+            sin: 1.0,
+        }
     };
     if distance < prepared.near_distance {
         let t = distance / prepared.near_distance;
-        angle *= t * t * (3.0 - 2.0 * t);
+        let (cos, sin) = half_angle(turn.angle() * t * t * (3.0 - 2.0 * t));
+        turn.cos = cos;
+        turn.sin = sin;
     }
-    (axis, angle)
+    turn
 }
 
-/// The spatial solve of the body joints (spine, cervicals, head) towards `head_target`:
-/// writes `deltas[..body_count]` and returns the solution and the head's final world frame.
-/// Inputs are assumed checked.
+/// Turns a joint whose pre-delta world rotation is `joint_rotation` by the world rotation
+/// `turn`, within its limits: returns the local delta and the world rotation it makes.
+#[inline]
+fn turn_joint(limits: &JointLimits, joint_rotation: Quat, turn: Turn) -> (Quat, Quat) {
+    let local_axis = joint_rotation.conjugate().mul_vec3a(turn.axis) * turn.sin;
+    let wanted = Quat::from_xyzw(local_axis.x, local_axis.y, local_axis.z, turn.cos);
+    let delta = limits.clamp(wanted);
+    let world = if delta == wanted {
+        let world_axis = turn.axis * turn.sin;
+        Quat::from_xyzw(world_axis.x, world_axis.y, world_axis.z, turn.cos)
+    } else {
+        joint_rotation * delta * joint_rotation.conjugate()
+    };
+    (delta, world)
+}
+
+/// One character's body solve between two joints: the incremental forward kinematics
+/// (the current joint's parent frame, the global eye) and what was decided from `q_l`.
+#[derive(Debug, Clone, Copy)]
+struct BodySolver {
+    root: Frame,
+    frame: Frame,
+    eye: Vec3A,
+    forward: Vec3A,
+    up: Vec3A,
+    target: Vec3A,
+    first: Turn,
+    side_sign: f32,
+    head_recruited: bool,
+    spine_recruited: bool,
+    head_reserve: (f32, f32),
+    side_switched: bool,
+}
+
+impl BodySolver {
+    #[inline(always)]
+    fn new(chain: &GazeChain, character: &CharacterTransform, target: Vec3) -> BodySolver {
+        let root = root_frame(chain, character);
+        BodySolver {
+            root,
+            frame: root,
+            eye: Vec3A::ZERO,
+            forward: Vec3A::Z,
+            up: Vec3A::Y,
+            target: target.into(),
+            first: Turn::none(Vec3A::Y),
+            side_sign: 1.0,
+            head_recruited: false,
+            spine_recruited: false,
+            head_reserve: (1.0, 0.0),
+            side_switched: false,
+        }
+    }
+
+    /// Forward kinematics of the base posture, one joint.
+    #[inline(always)]
+    fn base_step(&mut self, chain: &GazeChain, base: &[Quat], index: usize) {
+        let joint = &chain.joints()[index];
+        self.frame.position += self.frame.rotation.mul_vec3a(Vec3A::from(joint.offset));
+        self.frame.rotation *= base[index];
+    }
+
+    /// With the head's base frame reached: the global eye, the turn side, `q_l` and the
+    /// recruitment. Rewinds to the chain root for [`BodySolver::step`].
+    #[inline(always)]
+    fn aim(&mut self, chain: &GazeChain, prepared: &Prepared, side: &mut TurnSide) {
+        (self.eye, self.forward, self.up) = global_eye(chain, &self.frame);
+        let to_target = self.target - self.eye;
+        self.side_switched = update_side(to_target, self.forward, self.up, side, prepared);
+        self.side_sign = side.resolved();
+        let aimed = behind_adjusted(to_target, self.forward, self.up, self.side_sign, prepared);
+        self.first = gaze_rotation(self.forward, aimed, self.up * self.side_sign, prepared);
+        let has_eyes = chain.has_eyes();
+        self.head_recruited = !has_eyes || self.first.exceeds(prepared.eyes_only_half);
+        self.spine_recruited = self.first.exceeds(prepared.eyes_head_and_neck_half);
+        self.head_reserve = if has_eyes {
+            prepared.eyes_only_half
+        } else {
+            (1.0, 0.0)
+        };
+        self.frame = self.root;
+    }
+
+    /// Solves joint `index` (bottom to top): its share of the remaining rotation, clamped;
+    /// moves the global eye with it. Returns the joint's delta.
+    #[inline(always)]
+    fn step(
+        &mut self,
+        chain: &GazeChain,
+        prepared: &Prepared,
+        base: &[Quat],
+        index: usize,
+    ) -> Quat {
+        let joint = &chain.joints()[index];
+        self.frame.position += self.frame.rotation.mul_vec3a(Vec3A::from(joint.offset));
+        let joint_rotation = self.frame.rotation * base[index];
+        let spine_count = chain.spine_count();
+        let (recruited, reserve, above) = if index < spine_count {
+            (
+                self.spine_recruited,
+                prepared.eyes_head_and_neck_half,
+                spine_count - 1 - index,
+            )
+        } else {
+            (
+                self.head_recruited,
+                self.head_reserve,
+                chain.head_index() - index,
+            )
+        };
+        let mut delta = Quat::IDENTITY;
+        if recruited {
+            let remaining = if index == 0 {
+                self.first
+            } else {
+                let to_target = self.target - self.eye;
+                let aimed =
+                    behind_adjusted(to_target, self.forward, self.up, self.side_sign, prepared);
+                gaze_rotation(self.forward, aimed, self.up * self.side_sign, prepared)
+            };
+            if let Some(budget) = remaining.less(reserve) {
+                // c_i / Σ_{j ≥ i} c_j with c_i ∝ n + 1 − i: 2 / (joints above + 2).
+                let share = 2.0 / (above as f32 + 2.0);
+                let turn;
+                (delta, turn) = turn_joint(&joint.limits, joint_rotation, budget.fraction(share));
+                // The joint turns the global eye rigidly about itself.
+                self.eye = self.frame.position + turn.mul_vec3a(self.eye - self.frame.position);
+                self.forward = turn.mul_vec3a(self.forward);
+                self.up = turn.mul_vec3a(self.up);
+            }
+        }
+        self.frame.rotation = joint_rotation * delta;
+        delta
+    }
+
+    fn solution(&self) -> SpatialSolution {
+        SpatialSolution {
+            gaze_angle: self.first.angle(),
+            side_switched: self.side_switched,
+        }
+    }
+}
+
+/// One character's part in a body solve.
+pub(crate) struct BodyProblem<'a> {
+    pub(crate) chain: &'a GazeChain,
+    pub(crate) character: &'a CharacterTransform,
+    pub(crate) base: &'a [Quat],
+    pub(crate) head_target: Vec3,
+    pub(crate) side: &'a mut TurnSide,
+    pub(crate) deltas: &'a mut [Quat; MAX_CHAIN_JOINTS],
+}
+
+/// The spatial solve of the body joints (spine, cervicals, head) of up to `N` characters,
+/// each towards its `head_target`: writes `deltas[..body_count]` of each and returns the
+/// solutions and the heads' final world frames. `None` lanes are skipped. Inputs are
+/// assumed checked.
+///
+/// The characters' joints are solved in lockstep, joint by joint, so that the processor
+/// overlaps their independent dependency chains (each joint waits for the one below it).
+pub(crate) fn solve_bodies<const N: usize>(
+    prepared: &Prepared,
+    mut problems: [Option<BodyProblem<'_>>; N],
+) -> [Option<(SpatialSolution, Frame)>; N] {
+    let mut solvers: [Option<BodySolver>; N] = std::array::from_fn(|lane| {
+        problems[lane]
+            .as_ref()
+            .map(|p| BodySolver::new(p.chain, p.character, p.head_target))
+    });
+    let joints = problems
+        .iter()
+        .flatten()
+        .map(|p| p.chain.body_count())
+        .max()
+        .unwrap_or(0);
+    for index in 0..joints {
+        for lane in 0..N {
+            if let (Some(solver), Some(problem)) = (&mut solvers[lane], &problems[lane]) {
+                if index < problem.chain.body_count() {
+                    solver.base_step(problem.chain, problem.base, index);
+                }
+            }
+        }
+    }
+    for lane in 0..N {
+        if let (Some(solver), Some(problem)) = (&mut solvers[lane], &mut problems[lane]) {
+            solver.aim(problem.chain, prepared, problem.side);
+        }
+    }
+    for index in 0..joints {
+        for lane in 0..N {
+            if let (Some(solver), Some(problem)) = (&mut solvers[lane], &mut problems[lane]) {
+                if index < problem.chain.body_count() {
+                    problem.deltas[index] =
+                        solver.step(problem.chain, prepared, problem.base, index);
+                }
+            }
+        }
+    }
+    std::array::from_fn(|lane| solvers[lane].map(|solver| (solver.solution(), solver.frame)))
+}
+
+/// The spatial solve of one character's body joints (see [`solve_bodies`]).
 pub(crate) fn solve_body_unchecked(
     chain: &GazeChain,
     prepared: &Prepared,
@@ -466,74 +799,26 @@ pub(crate) fn solve_body_unchecked(
     base: &[Quat],
     head_target: Vec3,
     side: &mut TurnSide,
-    deltas: &mut [Quat],
+    deltas: &mut [Quat; MAX_CHAIN_JOINTS],
 ) -> (SpatialSolution, Frame) {
-    let body = chain.body_count();
-    let joints = &chain.joints()[..body];
-    let base = &base[..body];
-    let target = Vec3A::from(head_target);
-    // The global eye in the base posture.
-    let root = root_frame(chain, character);
-    let mut frame = root;
-    for (joint, base) in joints.iter().zip(base) {
-        frame.position += frame.rotation.mul_vec3a(Vec3A::from(joint.offset));
-        frame.rotation *= *base;
-    }
-    let (mut eye, mut forward, mut up) = global_eye(chain, &frame);
-    // q_l and θ.
-    let side_switched = update_side(target - eye, forward, up, side, prepared);
-    let side_sign = side.resolved();
-    let aimed = behind_adjusted(target - eye, forward, up, side_sign, prepared);
-    let (first_axis, gaze_angle) = gaze_rotation(forward, aimed, up * side_sign, prepared);
-    // Recruitment and the angle each group leaves to the groups above it.
-    let has_eyes = chain.has_eyes();
-    let head_recruited = !has_eyes || gaze_angle > prepared.eyes_only;
-    let spine_recruited = gaze_angle > prepared.eyes_head_and_neck;
-    let head_reserve = if has_eyes { prepared.eyes_only } else { 0.0 };
-    let spine_reserve = prepared.eyes_head_and_neck;
-    let spine_count = chain.spine_count();
-    let head_index = chain.head_index();
-
-    let mut frame = root;
-    for (index, (joint, base)) in joints.iter().zip(base).enumerate() {
-        frame.position += frame.rotation.mul_vec3a(Vec3A::from(joint.offset));
-        let joint_rotation = frame.rotation * *base;
-        let (recruited, reserve, above) = if index < spine_count {
-            (spine_recruited, spine_reserve, spine_count - 1 - index)
-        } else {
-            (head_recruited, head_reserve, head_index - index)
-        };
-        let mut delta = Quat::IDENTITY;
-        if recruited {
-            let (axis, angle) = if index == 0 {
-                (first_axis, gaze_angle)
-            } else {
-                let aimed = behind_adjusted(target - eye, forward, up, side_sign, prepared);
-                gaze_rotation(forward, aimed, up * side_sign, prepared)
-            };
-            let budget = angle - reserve;
-            if budget > 0.0 {
-                // c_i / Σ_{j ≥ i} c_j with c_i ∝ n + 1 − i: 2 / (joints above + 2).
-                let share = 2.0 / (above as f32 + 2.0);
-                let local_axis = joint_rotation.conjugate().mul_vec3a(axis);
-                delta = joint.limits.clamp(axis_angle(local_axis, share * budget));
-                // The joint turns the global eye rigidly about itself.
-                let turn = joint_rotation * delta * joint_rotation.conjugate();
-                eye = frame.position + turn.mul_vec3a(eye - frame.position);
-                forward = turn.mul_vec3a(forward);
-                up = turn.mul_vec3a(up);
-            }
-        }
-        deltas[index] = delta;
-        frame.rotation = joint_rotation * delta;
-    }
-    (
+    let [solved] = solve_bodies(
+        prepared,
+        [Some(BodyProblem {
+            chain,
+            character,
+            base,
+            head_target,
+            side,
+            deltas,
+        })],
+    );
+    solved.unwrap_or((
         SpatialSolution {
-            gaze_angle,
-            side_switched,
+            gaze_angle: 0.0,
+            side_switched: false,
         },
-        frame,
-    )
+        root_frame(chain, character),
+    ))
 }
 
 /// Each eye's local forward and up axes: the chain's eye axes (head frame at rest) seen
@@ -587,12 +872,11 @@ pub(crate) fn eye_goal(
     let forward = eye_rotation.mul_vec3a(local_forward);
     let up = eye_rotation.mul_vec3a(local_up);
     let aimed = behind_adjusted(target - position, forward, up, side_sign, prepared);
-    let (axis, angle) = gaze_rotation(forward, aimed, up * side_sign, prepared);
-    if angle <= 0.0 {
+    let turn = gaze_rotation(forward, aimed, up * side_sign, prepared);
+    if turn.sin <= 0.0 {
         return Quat::IDENTITY;
     }
-    let local_axis = eye_rotation.conjugate().mul_vec3a(axis);
-    joint.limits.clamp(axis_angle(local_axis, angle))
+    turn_joint(&joint.limits, eye_rotation, turn).0
 }
 
 /// Eye positions and gaze directions in the world for a head frame and the eyes' deltas.

@@ -42,11 +42,14 @@ use glam::{Quat, Vec3};
 
 use super::chain::{GazeChain, JointGroup, MAX_CHAIN_JOINTS};
 use super::rotation::{angle_between, interpolate, step_toward};
-use super::spatial::{self, Prepared, SpatialConfig, TurnSide};
+use super::spatial::{self, BodyProblem, Frame, Prepared, SpatialConfig, TurnSide};
 use super::CharacterTransform;
 use crate::error::{ensure_all_finite, ensure_finite, Error, Result};
 use crate::math::ease::Ease;
 use crate::math::random::Random;
+
+/// How many characters [`GazeMotion::update_batch`] best takes at once.
+pub const BATCH_LANES: usize = 4;
 
 /// Timing of gaze motions. Seconds, radians, metres.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -334,7 +337,8 @@ impl GazeMotion {
     ///
     /// `random` is the character's own seeded stream (e.g.
     /// `stream(seed, Purpose::GazeTiming, character_index)`): it draws `t_d` when a target is
-    /// dropped. Allocates nothing.
+    /// dropped. Allocates nothing. To update a crowd, [`GazeMotion::update_batch`] does the
+    /// same for several characters at once, faster.
     ///
     /// Errors (the motion is left unchanged): [`Error::InvalidArgument`] if `chain` has a
     /// different joint count than the one the motion was made for, `input.base` is not one
@@ -347,37 +351,232 @@ impl GazeMotion {
         input: &GazeInput<'_>,
         random: &mut Random,
     ) -> Result<()> {
-        self.check(chain, config, input)?;
-        let count = chain.joint_count();
-        match input.request {
-            Some(request) => self.follow(chain, config, input, &request),
-            None => {
-                match self.phase {
-                    GazePhase::Shifting | GazePhase::Holding => {
-                        self.start = self.deltas;
-                        self.elapsed = 0.0;
-                        self.deactivation_time = random.range(
-                            config.timing.min_deactivation_time,
-                            config.timing.max_deactivation_time,
-                        );
-                        self.phase = GazePhase::Returning;
-                    }
-                    GazePhase::Returning => self.elapsed += input.dt,
-                    GazePhase::Idle => {}
-                }
-                if self.phase == GazePhase::Returning {
-                    self.release(chain, config, input.dt);
+        let [result] = GazeMotion::update_batch([self], [chain], config, [input], [random]);
+        result
+    }
+
+    /// [`GazeMotion::update`] for `N` characters at once (each with its own chain, input and
+    /// random stream): the same results, bit for bit, as `N` separate calls, but the
+    /// characters' joints are processed in lockstep so that the processor overlaps their
+    /// serial per-joint computations. [`BATCH_LANES`] characters per call is the sweet spot.
+    /// Each character's result is independent: one failing leaves only its motion unchanged.
+    pub fn update_batch<const N: usize>(
+        motions: [&mut GazeMotion; N],
+        chains: [&GazeChain; N],
+        config: &GazeConfig,
+        inputs: [&GazeInput<'_>; N],
+        randoms: [&mut Random; N],
+    ) -> [Result<()>; N] {
+        if let Err(error) = config.validate() {
+            return std::array::from_fn(|_| Err(error.clone()));
+        }
+        let results: [Result<()>; N] =
+            std::array::from_fn(|lane| motions[lane].check(chains[lane], inputs[lane]));
+        let ok: [bool; N] = std::array::from_fn(|lane| results[lane].is_ok());
+        let prepared = Prepared::new(&config.spatial);
+        let timing = &config.timing;
+
+        // 1. Lanes with a target: is it a new one? Then the spatial solve of the bodies.
+        let mut sides: [TurnSide; N] = std::array::from_fn(|lane| motions[lane].side);
+        let mut new_target = [false; N];
+        for lane in 0..N {
+            if let (true, Some(request)) = (ok[lane], &inputs[lane].request) {
+                let motion = &*motions[lane];
+                let active = matches!(motion.phase, GazePhase::Shifting | GazePhase::Holding);
+                let jumped = request.head_target.distance(motion.last_head_target)
+                    > timing.restart_distance
+                    || request.eye_target.distance(motion.last_eye_target)
+                        > timing.restart_distance;
+                new_target[lane] = !active || request.target_key != motion.target_key || jumped;
+                if new_target[lane] {
+                    // The turn side is remembered while following one target, not across
+                    // targets: a new target behind is reached the short way.
+                    sides[lane] = TurnSide::UNDECIDED;
                 }
             }
         }
-        let head = spatial::head_frame(chain, &input.character, input.base, &self.deltas[..count]);
-        let rays = spatial::eye_rays_unchecked(chain, &head, input.base, &self.deltas[..count]);
-        self.eye_origins = rays.origins;
-        self.eye_directions = rays.directions;
-        Ok(())
+        let mut goals = [spatial::IDENTITY_DELTAS; N];
+        let solved = {
+            let mut problems: [Option<BodyProblem<'_>>; N] = [const { None }; N];
+            for (lane, ((problem, side), goal)) in problems
+                .iter_mut()
+                .zip(sides.iter_mut())
+                .zip(goals.iter_mut())
+                .enumerate()
+            {
+                if let (true, Some(request)) = (ok[lane], &inputs[lane].request) {
+                    *problem = Some(BodyProblem {
+                        chain: chains[lane],
+                        character: &inputs[lane].character,
+                        base: inputs[lane].base,
+                        head_target: request.head_target,
+                        side,
+                        deltas: goal,
+                    });
+                }
+            }
+            spatial::solve_bodies(&prepared, problems)
+        };
+
+        // 2. Each lane's phase, timing and eased fractions.
+        let mut fractions = [[0.0f32; 3]; N];
+        let mut max_steps = [[0.0f32; 3]; N];
+        for lane in 0..N {
+            if !ok[lane] {
+                continue;
+            }
+            let motion = &mut *motions[lane];
+            let input = inputs[lane];
+            let chain = chains[lane];
+            motion.side = sides[lane];
+            match (&input.request, &solved[lane]) {
+                (Some(request), Some((solution, _))) => {
+                    if new_target[lane] || solution.side_switched {
+                        motion.start = motion.deltas;
+                        motion.elapsed = 0.0;
+                        let body = chain.body_count();
+                        let head_angle =
+                            head_turn(input.base, &motion.start[..body], &goals[lane][..body]);
+                        motion.activation_time =
+                            timing.activation_time(head_angle, request.interest_ratio);
+                        motion.phase = GazePhase::Shifting;
+                    } else {
+                        motion.elapsed += input.dt;
+                    }
+                    motion.target_key = request.target_key;
+                    motion.last_head_target = request.head_target;
+                    motion.last_eye_target = request.eye_target;
+                }
+                _ => match motion.phase {
+                    GazePhase::Shifting | GazePhase::Holding => {
+                        motion.start = motion.deltas;
+                        motion.elapsed = 0.0;
+                        motion.deactivation_time = randoms[lane]
+                            .range(timing.min_deactivation_time, timing.max_deactivation_time);
+                        motion.phase = GazePhase::Returning;
+                    }
+                    GazePhase::Returning => motion.elapsed += input.dt,
+                    GazePhase::Idle => {}
+                },
+            }
+            let elapsed = motion.elapsed;
+            fractions[lane] = motion
+                .group_durations()
+                .map(|duration| eased(&timing.ease, elapsed, duration));
+            max_steps[lane] = timing.max_joint_speed.map(|speed| speed * input.dt);
+        }
+        let moving: [bool; N] = std::array::from_fn(|lane| {
+            ok[lane]
+                && matches!(
+                    motions[lane].phase,
+                    GazePhase::Shifting | GazePhase::Holding
+                )
+        });
+        let returning: [bool; N] =
+            std::array::from_fn(|lane| ok[lane] && motions[lane].phase == GazePhase::Returning);
+
+        // 3. Body joints, in lockstep, with each pose's forward kinematics on the way up.
+        let mut heads: [Frame; N] =
+            std::array::from_fn(|lane| spatial::root_frame(chains[lane], &inputs[lane].character));
+        let mut at_rest = [true; N];
+        let joints = (0..N)
+            .filter(|lane| ok[*lane])
+            .map(|lane| chains[lane].body_count())
+            .max()
+            .unwrap_or(0);
+        for index in 0..joints {
+            for lane in 0..N {
+                let chain = chains[lane];
+                if !ok[lane] || index >= chain.body_count() {
+                    continue;
+                }
+                let motion = &mut *motions[lane];
+                let group = spatial::group_of(chain, index).index();
+                if moving[lane] || returning[lane] {
+                    let goal = if moving[lane] {
+                        goals[lane][index]
+                    } else {
+                        Quat::IDENTITY
+                    };
+                    let wanted = interpolate(motion.start[index], goal, fractions[lane][group]);
+                    let delta = motion.settle(chain, index, wanted, max_steps[lane][group]);
+                    at_rest[lane] &= delta == Quat::IDENTITY;
+                    motion.deltas[index] = delta;
+                }
+                let head = &mut heads[lane];
+                head.position += head.rotation.mul_vec3a(chain.joints()[index].offset.into());
+                head.rotation = head.rotation * inputs[lane].base[index] * motion.deltas[index];
+            }
+        }
+
+        // 4. Eyes: vergence from the current head, or back to rest.
+        let eyes_group = JointGroup::Eyes.index();
+        for eye in 0..2 {
+            for lane in 0..N {
+                let chain = chains[lane];
+                let Some(indices) = chain.eye_indices() else {
+                    continue;
+                };
+                if !(moving[lane] || returning[lane]) {
+                    continue;
+                }
+                let index = indices[eye];
+                let motion = &mut *motions[lane];
+                let goal = match &inputs[lane].request {
+                    Some(request) if moving[lane] => spatial::eye_goal(
+                        chain,
+                        &prepared,
+                        &heads[lane],
+                        inputs[lane].base,
+                        index,
+                        request.eye_target.into(),
+                        motion.side_sign(),
+                    ),
+                    _ => Quat::IDENTITY,
+                };
+                let wanted = interpolate(motion.start[index], goal, fractions[lane][eyes_group]);
+                let delta = motion.settle(chain, index, wanted, max_steps[lane][eyes_group]);
+                at_rest[lane] &= delta == Quat::IDENTITY;
+                motion.deltas[index] = delta;
+            }
+        }
+
+        // 5. Phase changes, and the eye rays for debug drawing.
+        for lane in 0..N {
+            if !ok[lane] {
+                continue;
+            }
+            let motion = &mut *motions[lane];
+            let chain = chains[lane];
+            if moving[lane] && motion.phase == GazePhase::Shifting {
+                let durations = motion.group_durations();
+                let longest = if chain.spine_count() > 0 {
+                    durations[JointGroup::Spine.index()]
+                } else {
+                    durations[JointGroup::HeadAndNeck.index()]
+                };
+                if motion.elapsed >= longest {
+                    motion.phase = GazePhase::Holding;
+                }
+            }
+            if returning[lane] && at_rest[lane] && motion.elapsed >= motion.deactivation_time {
+                motion.phase = GazePhase::Idle;
+                motion.side = TurnSide::UNDECIDED;
+            }
+            let count = chain.joint_count();
+            let rays = spatial::eye_rays_unchecked(
+                chain,
+                &heads[lane],
+                inputs[lane].base,
+                &motion.deltas[..count],
+            );
+            motion.eye_origins = rays.origins;
+            motion.eye_directions = rays.directions;
+        }
+        results
     }
 
-    fn check(&self, chain: &GazeChain, config: &GazeConfig, input: &GazeInput<'_>) -> Result<()> {
+    fn check(&self, chain: &GazeChain, input: &GazeInput<'_>) -> Result<()> {
         if chain.joint_count() != self.joint_count as usize {
             return Err(Error::InvalidArgument(format!(
                 "this gaze motion was made for a chain of {} joints, not {}",
@@ -411,105 +610,12 @@ impl GazeMotion {
                 )));
             }
         }
-        config.validate()
-    }
-
-    /// A frame with a target: restart or continue the shift, then blend.
-    fn follow(
-        &mut self,
-        chain: &GazeChain,
-        config: &GazeConfig,
-        input: &GazeInput<'_>,
-        request: &GazeRequest,
-    ) {
-        let prepared = Prepared::new(&config.spatial);
-        let timing = &config.timing;
-        let body = chain.body_count();
-        let active = matches!(self.phase, GazePhase::Shifting | GazePhase::Holding);
-        let jumped = request.head_target.distance(self.last_head_target) > timing.restart_distance
-            || request.eye_target.distance(self.last_eye_target) > timing.restart_distance;
-        let new_target = !active || request.target_key != self.target_key || jumped;
-        if new_target {
-            // The turn side is remembered while following one target, not across targets:
-            // a new target behind is reached the short way from the base posture.
-            self.side = TurnSide::UNDECIDED;
-        }
-        let mut goal = spatial::IDENTITY_DELTAS;
-        let (solution, _) = spatial::solve_body_unchecked(
-            chain,
-            &prepared,
-            &input.character,
-            input.base,
-            request.head_target,
-            &mut self.side,
-            &mut goal,
-        );
-        if new_target || solution.side_switched {
-            self.start = self.deltas;
-            self.elapsed = 0.0;
-            let head_angle = head_turn(chain, input.base, &self.start[..body], &goal[..body]);
-            self.activation_time = timing.activation_time(head_angle, request.interest_ratio);
-            self.phase = GazePhase::Shifting;
-        } else {
-            self.elapsed += input.dt;
-        }
-        self.target_key = request.target_key;
-        self.last_head_target = request.head_target;
-        self.last_eye_target = request.eye_target;
-
-        let durations = self.group_durations();
-        let fractions = durations.map(|duration| eased(&timing.ease, self.elapsed, duration));
-        let max_steps = timing.max_joint_speed.map(|speed| speed * input.dt);
-        for (index, goal) in goal[..body].iter().enumerate() {
-            let group = spatial::group_of(chain, index).index();
-            let wanted = interpolate(self.start[index], *goal, fractions[group]);
-            self.deltas[index] = self.settle(chain, index, wanted, max_steps[group]);
-        }
-        if let Some(eyes) = chain.eye_indices() {
-            let head = spatial::head_frame(chain, &input.character, input.base, &self.deltas);
-            let target = request.eye_target.into();
-            let side = self.side_sign();
-            let group = JointGroup::Eyes.index();
-            for index in eyes {
-                let vergence =
-                    spatial::eye_goal(chain, &prepared, &head, input.base, index, target, side);
-                let wanted = interpolate(self.start[index], vergence, fractions[group]);
-                self.deltas[index] = self.settle(chain, index, wanted, max_steps[group]);
-            }
-        }
-        let longest = if chain.spine_count() > 0 {
-            durations[JointGroup::Spine.index()]
-        } else {
-            durations[JointGroup::HeadAndNeck.index()]
-        };
-        if self.phase == GazePhase::Shifting && self.elapsed >= longest {
-            self.phase = GazePhase::Holding;
-        }
-    }
-
-    /// A frame without a target while returning: blend every joint back to identity.
-    fn release(&mut self, chain: &GazeChain, config: &GazeConfig, dt: f32) {
-        let timing = &config.timing;
-        let durations = self.group_durations();
-        let fractions = durations.map(|duration| eased(&timing.ease, self.elapsed, duration));
-        let max_steps = timing.max_joint_speed.map(|speed| speed * dt);
-        let mut at_rest = true;
-        for index in 0..chain.joint_count() {
-            let group = spatial::group_of(chain, index).index();
-            let wanted = interpolate(self.start[index], Quat::IDENTITY, fractions[group]);
-            let delta = self.settle(chain, index, wanted, max_steps[group]);
-            at_rest &= delta == Quat::IDENTITY;
-            self.deltas[index] = delta;
-        }
-        if at_rest && self.elapsed >= self.deactivation_time {
-            self.phase = GazePhase::Idle;
-            self.side = TurnSide::UNDECIDED;
-        }
+        Ok(())
     }
 
     /// The new delta of joint `index`: `wanted`, at most `max_step` radians from the current
     /// delta, within the joint's limits.
-    #[inline]
+    #[inline(always)]
     fn settle(&self, chain: &GazeChain, index: usize, wanted: Quat, max_step: f32) -> Quat {
         let stepped = step_toward(self.deltas[index], wanted, max_step);
         if stepped == Quat::IDENTITY {
@@ -539,8 +645,8 @@ fn eased(ease: &Ease, elapsed: f32, duration: f32) -> f32 {
 
 /// `θ_head`: the angle of the head's rotation, in the chain root's frame, from the pose
 /// `base * from` to the pose `base * to` (body joints).
-fn head_turn(chain: &GazeChain, base: &[Quat], from: &[Quat], to: &[Quat]) -> f32 {
-    let body = chain.body_count();
+fn head_turn(base: &[Quat], from: &[Quat], to: &[Quat]) -> f32 {
+    let body = from.len();
     let mut head_from = Quat::IDENTITY;
     let mut head_to = Quat::IDENTITY;
     for ((base, from), to) in base[..body].iter().zip(&from[..body]).zip(&to[..body]) {
