@@ -24,6 +24,10 @@ pub const MAX_SPINE_JOINTS: usize = 8;
 pub const MAX_CERVICAL_JOINTS: usize = 4;
 /// Most joints in a chain: 8 spine + 4 cervical + 1 head + 2 eyes.
 pub const MAX_CHAIN_JOINTS: usize = MAX_SPINE_JOINTS + MAX_CERVICAL_JOINTS + 1 + 2;
+/// How far outside its limits (in half-angle sines, about 2·10⁻⁶ rad) a rotation may be and
+/// still count as inside: a rotation clamped once is left alone afterwards.
+pub(crate) const CLAMP_SLACK: f32 = 1e-6;
+
 /// Most body (non-eye) joints in a chain.
 pub const MAX_BODY_JOINTS: usize = MAX_SPINE_JOINTS + MAX_CERVICAL_JOINTS + 1;
 
@@ -59,6 +63,7 @@ impl JointGroup {
     pub const ALL: [JointGroup; 3] = [JointGroup::Eyes, JointGroup::HeadAndNeck, JointGroup::Spine];
 
     /// Index of the group in arrays indexed by group (`Eyes` 0, `HeadAndNeck` 1, `Spine` 2).
+    #[inline]
     pub fn index(self) -> usize {
         self as usize
     }
@@ -66,6 +71,7 @@ impl JointGroup {
 
 impl JointRole {
     /// The group the joint moves with.
+    #[inline]
     pub fn group(self) -> JointGroup {
         match self {
             JointRole::Spine => JointGroup::Spine,
@@ -132,6 +138,7 @@ impl JointLimits {
     }
 
     /// The twist axis, unit, in the joint's local frame.
+    #[inline]
     pub fn twist_axis(&self) -> Vec3 {
         self.twist_axis
     }
@@ -149,6 +156,13 @@ impl JointLimits {
     /// Largest twist angle, radians.
     pub fn max_twist(&self) -> f32 {
         self.max_twist
+    }
+
+    /// The cached (cos, sin) of half the swing limit, half the smallest and half the
+    /// largest twist.
+    #[inline]
+    pub(crate) fn half_angles(&self) -> ((f32, f32), (f32, f32), (f32, f32)) {
+        (self.swing_half, self.min_twist_half, self.max_twist_half)
     }
 
     /// Checks the limits: finite, unit twist axis, `0 ≤ max_swing ≤ π`,
@@ -236,13 +250,15 @@ impl JointLimits {
         // counter-clockwise of `min` and clockwise of `max`; no normalisation needed.
         let (min_cos, min_sin) = self.min_twist_half;
         let (max_cos, max_sin) = self.max_twist_half;
-        let twist_inside =
-            min_cos * projection - min_sin * w >= 0.0 && w * max_sin - projection * max_cos >= 0.0;
+        // With a slack of CLAMP_SLACK, so that a rotation clamped before counts as inside.
+        let twist_inside = min_cos * projection - min_sin * w >= -CLAMP_SLACK
+            && w * max_sin - projection * max_cos >= -CLAMP_SLACK;
         // For a unit rotation, the swing's scalar part (cos of half the swing angle) is
         // √(w² + projection²): compare squares, no square root.
         let (cone_cos, cone_sin) = self.swing_half;
         let twist_length_squared = w * w + projection * projection;
-        if twist_inside && twist_length_squared >= cone_cos * cone_cos {
+        let swing_inside = twist_length_squared >= cone_cos * cone_cos - CLAMP_SLACK;
+        if twist_inside && swing_inside {
             return rotation;
         }
         let length = twist_length_squared.sqrt();
@@ -269,7 +285,7 @@ impl JointLimits {
         }
         let swing_vector = Vec3A::from(swing.xyz());
         let swing_sin = swing_vector.length();
-        if swing.w < cone_cos * (swing.w * swing.w + swing_sin * swing_sin).sqrt() {
+        if !swing_inside {
             swing = if swing_sin > 1e-9 {
                 let direction = swing_vector * (cone_sin / swing_sin);
                 Quat::from_xyzw(direction.x, direction.y, direction.z, cone_cos)
@@ -531,59 +547,70 @@ impl GazeChain {
     }
 
     /// The joints, bottom to top.
+    #[inline]
     pub fn joints(&self) -> &[ChainJoint] {
         &self.joints[..self.joint_count as usize]
     }
 
     /// Number of joints (1 to [`MAX_CHAIN_JOINTS`]).
+    #[inline]
     pub fn joint_count(&self) -> usize {
         self.joint_count as usize
     }
 
     /// Number of spine joints (0 to 8).
+    #[inline]
     pub fn spine_count(&self) -> usize {
         self.spine_count as usize
     }
 
     /// Number of cervical joints (0 to 4).
+    #[inline]
     pub fn cervical_count(&self) -> usize {
         self.cervical_count as usize
     }
 
     /// Number of body joints: spine, cervicals and head (the eyes excluded).
+    #[inline]
     pub fn body_count(&self) -> usize {
         (self.spine_count + self.cervical_count) as usize + 1
     }
 
     /// Index of the head joint.
+    #[inline]
     pub fn head_index(&self) -> usize {
         self.body_count() - 1
     }
 
     /// True if the chain has its two eyes.
+    #[inline]
     pub fn has_eyes(&self) -> bool {
         self.joint_count() == self.body_count() + 2
     }
 
     /// Indices of the left and right eye joints, if any.
+    #[inline]
     pub fn eye_indices(&self) -> Option<[usize; 2]> {
         self.has_eyes()
             .then(|| [self.body_count(), self.body_count() + 1])
     }
 
     /// The direction the eyes look at rest, unit, in the head's local frame.
+    #[inline]
     pub fn eye_forward(&self) -> Vec3 {
         self.eye_forward
     }
 
     /// The head's up direction, unit, in the head's local frame (perpendicular to
     /// [`GazeChain::eye_forward`]).
+    #[inline]
     pub fn eye_up(&self) -> Vec3 {
         self.eye_up
     }
 
     /// The chain root's position relative to the character's position, character frame,
     /// metres.
+    #[inline]
     pub fn root_offset(&self) -> Vec3 {
         self.root_offset
     }

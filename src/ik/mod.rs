@@ -19,6 +19,7 @@
 //! `translation(position) · rotation(heading about world up)` ([`CharacterTransform`]).
 
 pub mod chain;
+mod lanes;
 mod rotation;
 pub mod spatial;
 pub mod temporal;

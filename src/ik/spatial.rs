@@ -54,10 +54,10 @@
 
 use std::cell::Cell;
 
-use glam::{Quat, Vec3, Vec3A};
+use glam::{BVec4A, Quat, Vec3, Vec3A, Vec4};
 
-use super::chain::{GazeChain, JointGroup, JointLimits, MAX_CHAIN_JOINTS};
-use super::rotation::{atan2_upper, sin_cos_quarter};
+use super::chain::{GazeChain, JointGroup, JointLimits, CLAMP_SLACK, MAX_CHAIN_JOINTS};
+use super::lanes::{atan2_upper, gather, mask, sin_cos_quarter, F4, LANES, M4, Q4, V3};
 use super::CharacterTransform;
 use crate::error::{ensure_all_finite, ensure_finite, Error, Result};
 
@@ -233,27 +233,44 @@ pub fn solve(
     ensure_all_finite(&head_target.to_array(), "head_target")?;
     ensure_all_finite(&eye_target.to_array(), "eye_target")?;
     let prepared = Prepared::new(config);
-    let mut solved = IDENTITY_DELTAS;
-    let (solution, head) = solve_body_unchecked(
-        chain,
+    let mut goals = [IDENTITY_DELTAS; LANES];
+    let ([solved, ..], _) = solve_bodies(
         &prepared,
-        character,
-        base,
-        head_target,
-        side,
-        &mut solved,
+        [
+            Some(BodyLane {
+                chain,
+                character,
+                base,
+                head_target,
+                side: *side,
+            }),
+            None,
+            None,
+            None,
+        ],
+        &mut goals,
     );
-    aim_eyes_unchecked(
-        chain,
-        &prepared,
-        &head,
-        base,
-        eye_target,
-        *side,
-        &mut solved,
-    );
+    let (solution, new_side) = solved.ok_or_else(|| Error::Internal("empty solve".into()))?;
+    *side = new_side;
+    if chain.has_eyes() {
+        let chains = [chain; LANES];
+        let bases = [base; LANES];
+        let mut heads = Frames::roots(&chains, &[character; LANES]);
+        for (index, goal) in goals[0][..chain.body_count()].iter().enumerate() {
+            heads.descend(
+                offsets(&chains, true, index),
+                Q4::splat(base[index] * *goal),
+            );
+        }
+        let target = V3::splat(eye_target.into());
+        let side_sign = Vec4::splat(side.resolved());
+        for eye in 0..2 {
+            let frames = EyeFrames::new(&chains, &bases, &heads, eye);
+            goals[0][frames.index[0]] = frames.goal(&chains, &prepared, target, side_sign).lane(0);
+        }
+    }
     let count = chain.joint_count();
-    deltas[..count].copy_from_slice(&solved[..count]);
+    deltas[..count].copy_from_slice(&goals[0][..count]);
     Ok(solution)
 }
 
@@ -313,8 +330,8 @@ pub(crate) struct Prepared {
 /// cos and sin of half of `angle ∈ [0, π]`.
 #[inline]
 fn half_angle(angle: f32) -> (f32, f32) {
-    let (sin, cos) = sin_cos_quarter(0.5 * angle);
-    (cos, sin)
+    let (sin, cos) = sin_cos_quarter(Vec4::splat(0.5 * angle));
+    (cos.x, sin.x)
 }
 
 /// Constants of the zone behind the character.
@@ -394,29 +411,30 @@ pub(crate) fn head_frame(
     frame
 }
 
-/// The global eye (position, forward, up) in the world for a head frame.
+/// The eyes' mid-point in the head's frame (the head joint itself without eyes).
 #[inline]
-fn global_eye(chain: &GazeChain, head: &Frame) -> (Vec3A, Vec3A, Vec3A) {
-    let position = match chain.eye_indices() {
+fn eye_middle(chain: &GazeChain) -> Vec3A {
+    match chain.eye_indices() {
         Some([left, right]) => {
             let joints = chain.joints();
-            let middle =
-                0.5 * (Vec3A::from(joints[left].offset) + Vec3A::from(joints[right].offset));
-            head.position + head.rotation.mul_vec3a(middle)
+            0.5 * (Vec3A::from(joints[left].offset) + Vec3A::from(joints[right].offset))
         }
-        None => head.position,
-    };
+        None => Vec3A::ZERO,
+    }
+}
+
+/// The global eye (position, forward) in the world for a head frame.
+#[inline]
+fn global_eye(chain: &GazeChain, head: &Frame) -> (Vec3A, Vec3A) {
     (
-        position,
+        head.position + head.rotation.mul_vec3a(eye_middle(chain)),
         head.rotation.mul_vec3a(Vec3A::from(chain.eye_forward())),
-        head.rotation.mul_vec3a(Vec3A::from(chain.eye_up())),
     )
 }
 
 /// Resolves the remembered side from the target direction `to_target` seen from an eye
 /// looking along `forward` with up `up`; returns true if it switched while the target is
 /// in the back half.
-#[inline]
 fn update_side(
     to_target: Vec3A,
     forward: Vec3A,
@@ -446,437 +464,565 @@ fn update_side(
     old != 0 && side.0 != old && ahead < 0.0
 }
 
-/// The direction to aim at for `to_target`, applying the behind-the-character rule with
-/// the (resolved) side `side_sign`.
-#[inline]
-fn behind_adjusted(
-    to_target: Vec3A,
-    forward: Vec3A,
-    up: Vec3A,
-    side_sign: f32,
-    prepared: &Prepared,
-) -> Vec3A {
+/// Per lane, the direction to aim at for `to_target`, applying the behind-the-character
+/// rule with the (resolved) side `side_sign` (±1).
+#[inline(always)]
+fn behind_adjusted(to_target: V3, forward: V3, up: V3, side_sign: F4, prepared: &Prepared) -> V3 {
     let ahead = to_target.dot(forward);
-    if ahead >= 0.0 {
+    let behind = ahead.cmplt(Vec4::ZERO);
+    if !behind.any() {
         return to_target;
     }
     let zone = prepared.zone();
     let left = up.cross(forward);
     let across = to_target.dot(left);
     let back = -ahead;
-    if across.abs() >= zone.tan_hysteresis * back {
-        return to_target;
-    }
-    if across * side_sign > 0.0 && across.abs() >= zone.tan_clearance * back {
+    let in_zone = behind & across.abs().cmplt(zone.tan_hysteresis * back);
+    let on_side =
+        (across * side_sign).cmpgt(Vec4::ZERO) & across.abs().cmpge(zone.tan_clearance * back);
+    let replace = in_zone & !on_side;
+    if !replace.any() {
         return to_target;
     }
     let height = to_target.dot(up);
     let horizontal = (ahead * ahead + across * across).sqrt();
-    forward * (-horizontal * zone.cos_clearance)
-        + left * (side_sign * horizontal * zone.sin_clearance)
-        + up * height
+    let aimed = forward
+        .scale(-horizontal * zone.cos_clearance)
+        .add(left.scale(side_sign * horizontal * zone.sin_clearance))
+        .add(up.scale(height));
+    V3::select(replace, aimed, to_target)
 }
 
-/// A rotation of angle θ ∈ [0, π] about a unit axis, kept as the cosine and sine of θ/2,
-/// so that the solver never needs θ itself.
+/// Per lane, a rotation of angle θ ∈ [0, π] about a unit axis, kept as the cosine and sine
+/// of θ/2, so that the solver never needs θ itself.
 #[derive(Debug, Clone, Copy)]
 struct Turn {
-    axis: Vec3A,
-    cos: f32,
-    sin: f32,
+    axis: V3,
+    cos: F4,
+    sin: F4,
 }
 
 impl Turn {
-    /// No rotation.
-    fn none(axis: Vec3A) -> Turn {
-        Turn {
-            axis,
-            cos: 1.0,
-            sin: 0.0,
-        }
-    }
-
     /// θ, radians.
-    fn angle(self) -> f32 {
+    #[inline(always)]
+    fn angle(self) -> F4 {
         2.0 * atan2_upper(self.sin, self.cos)
     }
 
-    /// True if θ is larger than the angle whose half has cosine `half_cos`.
-    #[inline]
-    fn exceeds(self, (half_cos, _): (f32, f32)) -> bool {
-        self.cos < half_cos
-    }
-
     /// The rotation by θ − `reserve` (given by its half-angle's cosine and sine) about the
-    /// same axis, or `None` if θ ≤ `reserve`.
-    #[inline]
-    fn less(self, (reserve_cos, reserve_sin): (f32, f32)) -> Option<Turn> {
+    /// same axis, and where that is more than nothing (θ > reserve).
+    #[inline(always)]
+    fn less(self, reserve_cos: F4, reserve_sin: F4) -> (Turn, M4) {
         let sin = self.sin * reserve_cos - self.cos * reserve_sin;
-        (sin > 0.0).then(|| Turn {
+        let turn = Turn {
             axis: self.axis,
             cos: self.cos * reserve_cos + self.sin * reserve_sin,
             sin,
-        })
+        };
+        (turn, sin.cmpgt(Vec4::ZERO))
     }
 
     /// The rotation by `t`·θ, `t ∈ (0, 1]`: a normalised lerp from identity with
     /// Kapoulkine's parameter correction (within about 10⁻³ of `t`·θ; exact for `t = 1`).
-    #[inline]
-    fn fraction(self, t: f32) -> Turn {
-        if t >= 1.0 {
-            return self;
-        }
+    #[inline(always)]
+    fn fraction(self, t: F4) -> Turn {
         let d = self.cos;
         let k_a = 1.0904 + d * (-3.2452 + d * (3.55645 - d * 1.43519));
         let k_b = 0.848_013 + d * (-1.06021 + d * 0.215_638);
-        let k = k_a * (t - 0.5) * (t - 0.5) + k_b;
-        let t = t + t * (t - 0.5) * (t - 1.0) * k;
-        let cos = 1.0 + t * (self.cos - 1.0);
-        let sin = t * self.sin;
+        let half = t - 0.5;
+        let k = k_a * half * half + k_b;
+        let u = t + t * half * (t - 1.0) * k;
+        let cos = 1.0 + u * (self.cos - 1.0);
+        let sin = u * self.sin;
         let norm = (cos * cos + sin * sin).sqrt().recip();
+        let whole = t.cmpge(Vec4::ONE);
         Turn {
             axis: self.axis,
-            cos: cos * norm,
-            sin: sin * norm,
+            cos: Vec4::select(whole, self.cos, cos * norm),
+            sin: Vec4::select(whole, self.sin, sin * norm),
         }
     }
 }
 
-/// The shortest rotation that turns the unit `forward` towards `to_target` (any length),
-/// faded out near the eye. `fallback_axis` is used when the two are (anti)parallel.
-/// Square roots only, no trigonometry (except within the near distance).
-#[inline]
-fn gaze_rotation(
-    forward: Vec3A,
-    to_target: Vec3A,
-    fallback_axis: Vec3A,
-    prepared: &Prepared,
-) -> Turn {
+/// Per lane, the shortest rotation that turns the unit `forward` towards `to_target` (any
+/// length), faded out near the eye. `fallback_axis` is used when the two are
+/// (anti)parallel. Square roots only, no trigonometry (except within the near distance).
+#[inline(always)]
+fn gaze_rotation(forward: V3, to_target: V3, fallback_axis: V3, prepared: &Prepared) -> Turn {
     let cross = forward.cross(to_target);
     let ahead = forward.dot(to_target);
     let cross_squared = cross.length_squared();
     let distance_squared = ahead * ahead + cross_squared;
-    // Also rejects NaN.
-    if !(distance_squared > 1e-12) {
-        return Turn::none(fallback_axis);
-    }
+    // False for NaN too.
+    let valid = distance_squared.cmpgt(Vec4::splat(1e-12));
     let distance = distance_squared.sqrt();
-    let mut turn = if cross_squared > 1e-14 * distance_squared {
-        // (|v| + f·v, f × v) is the rotation from f to v, up to its length.
-        let cross_length = cross_squared.sqrt();
-        let w = distance + ahead;
-        let norm = (w * w + cross_squared).sqrt().recip();
-        Turn {
-            axis: cross / cross_length,
-            cos: w * norm,
-            sin: cross_length * norm,
-        }
-    } else if ahead > 0.0 {
-        Turn::none(fallback_axis)
-    } else {
-        Turn {
-            axis: fallback_axis,
-            cos: 0.0,
-            sin: 1.0,
-        }
+    let cross_length = cross_squared.sqrt();
+    // (|v| + f·v, f × v) is the rotation from f to v, up to its length.
+    let w = distance + ahead;
+    let norm = (w * w + cross_squared).sqrt().recip();
+    let generic = valid & cross_squared.cmpgt(1e-14 * distance_squared);
+    let ahead_positive = ahead.cmpgt(Vec4::ZERO);
+    // Degenerate: straight ahead is no turn, straight behind a half turn.
+    let degenerate_cos = Vec4::select(ahead_positive | !valid, Vec4::ONE, Vec4::ZERO);
+    let mut turn = Turn {
+        axis: V3::select(generic, cross.scale(cross_length.recip()), fallback_axis),
+        cos: Vec4::select(generic, w * norm, degenerate_cos),
+        sin: Vec4::select(generic, cross_length * norm, 1.0 - degenerate_cos),
     };
-    if distance < prepared.near_distance {
+    let near = valid & distance.cmplt(Vec4::splat(prepared.near_distance));
+    if near.any() {
         let t = distance / prepared.near_distance;
-        let (cos, sin) = half_angle(turn.angle() * t * t * (3.0 - 2.0 * t));
-        turn.cos = cos;
-        turn.sin = sin;
+        let faded = turn.angle() * (t * t * (3.0 - 2.0 * t));
+        let (sin, cos) = sin_cos_quarter(0.5 * faded);
+        turn.cos = Vec4::select(near, cos, turn.cos);
+        turn.sin = Vec4::select(near, sin, turn.sin);
     }
     turn
 }
 
-/// Turns a joint whose pre-delta world rotation is `joint_rotation` by the world rotation
-/// `turn`, within its limits: returns the local delta and the world rotation it makes.
-#[inline]
-fn turn_joint(limits: &JointLimits, joint_rotation: Quat, turn: Turn) -> (Quat, Quat) {
-    let local_axis = joint_rotation.conjugate().mul_vec3a(turn.axis) * turn.sin;
-    let wanted = Quat::from_xyzw(local_axis.x, local_axis.y, local_axis.z, turn.cos);
-    let delta = limits.clamp(wanted);
-    let world = if delta == wanted {
-        let world_axis = turn.axis * turn.sin;
-        Quat::from_xyzw(world_axis.x, world_axis.y, world_axis.z, turn.cos)
-    } else {
-        joint_rotation * delta * joint_rotation.conjugate()
-    };
-    (delta, world)
-}
-
-/// One character's body solve between two joints: the incremental forward kinematics
-/// (the current joint's parent frame, the global eye) and what was decided from `q_l`.
+/// Per lane, a joint's limits.
 #[derive(Debug, Clone, Copy)]
-struct BodySolver {
-    root: Frame,
-    frame: Frame,
-    eye: Vec3A,
-    forward: Vec3A,
-    up: Vec3A,
-    target: Vec3A,
-    first: Turn,
-    side_sign: f32,
-    head_recruited: bool,
-    spine_recruited: bool,
-    head_reserve: (f32, f32),
-    side_switched: bool,
+pub(crate) struct Limits {
+    axis: V3,
+    min_cos: F4,
+    min_sin: F4,
+    max_cos: F4,
+    max_sin: F4,
+    cone_cos: F4,
+    cone_sin: F4,
 }
 
-impl BodySolver {
+impl Limits {
+    /// The same limits in every lane.
     #[inline(always)]
-    fn new(chain: &GazeChain, character: &CharacterTransform, target: Vec3) -> BodySolver {
-        let root = root_frame(chain, character);
-        BodySolver {
-            root,
-            frame: root,
-            eye: Vec3A::ZERO,
-            forward: Vec3A::Z,
-            up: Vec3A::Y,
-            target: target.into(),
-            first: Turn::none(Vec3A::Y),
-            side_sign: 1.0,
-            head_recruited: false,
-            spine_recruited: false,
-            head_reserve: (1.0, 0.0),
-            side_switched: false,
+    pub(crate) fn splat(limits: &JointLimits) -> Limits {
+        let (cone, min, max) = limits.half_angles();
+        Limits {
+            axis: V3::splat(limits.twist_axis().into()),
+            min_cos: Vec4::splat(min.0),
+            min_sin: Vec4::splat(min.1),
+            max_cos: Vec4::splat(max.0),
+            max_sin: Vec4::splat(max.1),
+            cone_cos: Vec4::splat(cone.0),
+            cone_sin: Vec4::splat(cone.1),
         }
     }
 
-    /// Forward kinematics of the base posture, one joint.
+    /// Each lane's limits of joint `indices[lane]` (free past the lane's joints).
     #[inline(always)]
-    fn base_step(&mut self, chain: &GazeChain, base: &[Quat], index: usize) {
-        let joint = &chain.joints()[index];
-        self.frame.position += self.frame.rotation.mul_vec3a(Vec3A::from(joint.offset));
-        self.frame.rotation *= base[index];
-    }
-
-    /// With the head's base frame reached: the global eye, the turn side, `q_l` and the
-    /// recruitment. Rewinds to the chain root for [`BodySolver::step`].
-    #[inline(always)]
-    fn aim(&mut self, chain: &GazeChain, prepared: &Prepared, side: &mut TurnSide) {
-        (self.eye, self.forward, self.up) = global_eye(chain, &self.frame);
-        let to_target = self.target - self.eye;
-        self.side_switched = update_side(to_target, self.forward, self.up, side, prepared);
-        self.side_sign = side.resolved();
-        let aimed = behind_adjusted(to_target, self.forward, self.up, self.side_sign, prepared);
-        self.first = gaze_rotation(self.forward, aimed, self.up * self.side_sign, prepared);
-        let has_eyes = chain.has_eyes();
-        self.head_recruited = !has_eyes || self.first.exceeds(prepared.eyes_only_half);
-        self.spine_recruited = self.first.exceeds(prepared.eyes_head_and_neck_half);
-        self.head_reserve = if has_eyes {
-            prepared.eyes_only_half
-        } else {
-            (1.0, 0.0)
-        };
-        self.frame = self.root;
-    }
-
-    /// Solves joint `index` (bottom to top): its share of the remaining rotation, clamped;
-    /// moves the global eye with it. Returns the joint's delta.
-    #[inline(always)]
-    fn step(
-        &mut self,
-        chain: &GazeChain,
-        prepared: &Prepared,
-        base: &[Quat],
-        index: usize,
-    ) -> Quat {
-        let joint = &chain.joints()[index];
-        self.frame.position += self.frame.rotation.mul_vec3a(Vec3A::from(joint.offset));
-        let joint_rotation = self.frame.rotation * base[index];
-        let spine_count = chain.spine_count();
-        let (recruited, reserve, above) = if index < spine_count {
-            (
-                self.spine_recruited,
-                prepared.eyes_head_and_neck_half,
-                spine_count - 1 - index,
-            )
-        } else {
-            (
-                self.head_recruited,
-                self.head_reserve,
-                chain.head_index() - index,
-            )
-        };
-        let mut delta = Quat::IDENTITY;
-        if recruited {
-            let remaining = if index == 0 {
-                self.first
-            } else {
-                let to_target = self.target - self.eye;
-                let aimed =
-                    behind_adjusted(to_target, self.forward, self.up, self.side_sign, prepared);
-                gaze_rotation(self.forward, aimed, self.up * self.side_sign, prepared)
-            };
-            if let Some(budget) = remaining.less(reserve) {
-                // c_i / Σ_{j ≥ i} c_j with c_i ∝ n + 1 − i: 2 / (joints above + 2).
-                let share = 2.0 / (above as f32 + 2.0);
-                let turn;
-                (delta, turn) = turn_joint(&joint.limits, joint_rotation, budget.fraction(share));
-                // The joint turns the global eye rigidly about itself.
-                self.eye = self.frame.position + turn.mul_vec3a(self.eye - self.frame.position);
-                self.forward = turn.mul_vec3a(self.forward);
-                self.up = turn.mul_vec3a(self.up);
+    pub(crate) fn of_joints(
+        chains: &[&GazeChain; LANES],
+        same_chain: bool,
+        indices: [usize; LANES],
+    ) -> Limits {
+        let uniform = indices.iter().all(|index| *index == indices[0]);
+        if same_chain && uniform {
+            if let Some(joint) = chains[0].joints().get(indices[0]) {
+                return Limits::splat(&joint.limits);
             }
         }
-        self.frame.rotation = joint_rotation * delta;
-        delta
+        Limits::gather(|i| match chains[i].joints().get(indices[i]) {
+            Some(joint) => joint.limits,
+            None => JointLimits::free(Vec3::Y),
+        })
     }
 
-    fn solution(&self) -> SpatialSolution {
-        SpatialSolution {
-            gaze_angle: self.first.angle(),
-            side_switched: self.side_switched,
+    #[inline(always)]
+    pub(crate) fn gather(f: impl Fn(usize) -> JointLimits) -> Limits {
+        let lanes = [f(0), f(1), f(2), f(3)];
+        let halves = lanes.map(|limits| limits.half_angles());
+        Limits {
+            axis: V3::gather(|i| lanes[i].twist_axis().into()),
+            min_cos: gather(|i| halves[i].1 .0),
+            min_sin: gather(|i| halves[i].1 .1),
+            max_cos: gather(|i| halves[i].2 .0),
+            max_sin: gather(|i| halves[i].2 .1),
+            cone_cos: gather(|i| halves[i].0 .0),
+            cone_sin: gather(|i| halves[i].0 .1),
         }
     }
+
+    /// Per lane, [`JointLimits::clamp`]: the rotation within the limits nearest to
+    /// `rotation`, and where it is `rotation` itself, unchanged.
+    #[inline(always)]
+    pub(crate) fn clamp(&self, rotation: Q4) -> (Q4, M4) {
+        let projection = rotation.vector().dot(self.axis);
+        let w = rotation.w;
+        // With a slack of CLAMP_SLACK, so that a rotation clamped before counts as inside.
+        let slack = Vec4::splat(-CLAMP_SLACK);
+        let twist_inside = (self.min_cos * projection - self.min_sin * w).cmpge(slack)
+            & (w * self.max_sin - projection * self.max_cos).cmpge(slack);
+        let twist_length_squared = w * w + projection * projection;
+        let swing_inside = twist_length_squared.cmpge(self.cone_cos * self.cone_cos + slack);
+        let inside = twist_inside & swing_inside;
+        if inside.all() {
+            return (rotation, inside);
+        }
+        let length = twist_length_squared.sqrt();
+        let degenerate = length.cmplt(Vec4::splat(1e-9));
+        let inverse = length.recip();
+        let twist_cos = Vec4::select(degenerate, Vec4::ONE, w * inverse);
+        let twist_sin = Vec4::select(degenerate, Vec4::ZERO, projection * inverse);
+        let twist = Q4::from_parts(self.axis.scale(twist_sin), twist_cos);
+        let swing = rotation.mul(twist.conjugate());
+        let to_min = twist_cos * self.min_cos + twist_sin * self.min_sin;
+        let to_max = twist_cos * self.max_cos + twist_sin * self.max_sin;
+        let nearer_min = to_min.cmpgt(to_max);
+        let twist_cos = Vec4::select(
+            twist_inside,
+            twist_cos,
+            Vec4::select(nearer_min, self.min_cos, self.max_cos),
+        );
+        let twist_sin = Vec4::select(
+            twist_inside,
+            twist_sin,
+            Vec4::select(nearer_min, self.min_sin, self.max_sin),
+        );
+        // The swing's scalar part is the twist's length (see above): the swing is out of its
+        // cone where the fast test said so.
+        let swing_vector = swing.vector();
+        let swing_sin = swing_vector.length_squared().sqrt();
+        let clamped_swing = Q4::select(
+            swing_sin.cmpgt(Vec4::splat(1e-9)),
+            Q4::from_parts(swing_vector.scale(self.cone_sin / swing_sin), self.cone_cos),
+            Q4::IDENTITY,
+        );
+        let swing = Q4::select(swing_inside, swing, clamped_swing);
+        // Both factors are unit quaternions: so is their product.
+        let clamped = swing.mul(Q4::from_parts(self.axis.scale(twist_sin), twist_cos));
+        (Q4::select(inside, rotation, clamped), inside)
+    }
+}
+
+/// Per lane, turns a joint whose pre-delta world rotation is `joint_rotation` by the world
+/// rotation `turn`, within its limits: returns the local delta and the world rotation it
+/// makes.
+#[inline(always)]
+fn turn_joint(limits: &Limits, joint_rotation: Q4, turn: Turn) -> (Q4, Q4) {
+    let local_axis = joint_rotation.conjugate().rotate(turn.axis);
+    let wanted = Q4::from_parts(local_axis.scale(turn.sin), turn.cos);
+    let (delta, unchanged) = limits.clamp(wanted);
+    let world = Q4::from_parts(turn.axis.scale(turn.sin), turn.cos);
+    if unchanged.all() {
+        return (delta, world);
+    }
+    // jr · delta · jr⁻¹: the delta's vector part seen in the world.
+    let clamped_world = Q4::from_parts(joint_rotation.rotate(delta.vector()), delta.w);
+    (delta, Q4::select(unchanged, world, clamped_world))
 }
 
 /// One character's part in a body solve.
-pub(crate) struct BodyProblem<'a> {
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct BodyLane<'a> {
     pub(crate) chain: &'a GazeChain,
     pub(crate) character: &'a CharacterTransform,
     pub(crate) base: &'a [Quat],
     pub(crate) head_target: Vec3,
-    pub(crate) side: &'a mut TurnSide,
-    pub(crate) deltas: &'a mut [Quat; MAX_CHAIN_JOINTS],
+    pub(crate) side: TurnSide,
 }
 
-/// The spatial solve of the body joints (spine, cervicals, head) of up to `N` characters,
-/// each towards its `head_target`: writes `deltas[..body_count]` of each and returns the
-/// solutions and the heads' final world frames. `None` lanes are skipped. Inputs are
-/// assumed checked.
-///
-/// The characters' joints are solved in lockstep, joint by joint, so that the processor
-/// overlaps their independent dependency chains (each joint waits for the one below it).
-pub(crate) fn solve_bodies<const N: usize>(
-    prepared: &Prepared,
-    mut problems: [Option<BodyProblem<'_>>; N],
-) -> [Option<(SpatialSolution, Frame)>; N] {
-    let mut solvers: [Option<BodySolver>; N] = std::array::from_fn(|lane| {
-        problems[lane]
-            .as_ref()
-            .map(|p| BodySolver::new(p.chain, p.character, p.head_target))
-    });
-    let joints = problems
-        .iter()
-        .flatten()
-        .map(|p| p.chain.body_count())
-        .max()
-        .unwrap_or(0);
-    for index in 0..joints {
-        for lane in 0..N {
-            if let (Some(solver), Some(problem)) = (&mut solvers[lane], &problems[lane]) {
-                if index < problem.chain.body_count() {
-                    solver.base_step(problem.chain, problem.base, index);
-                }
-            }
+/// Per lane, a world frame.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Frames {
+    pub(crate) position: V3,
+    pub(crate) rotation: Q4,
+}
+
+impl Frames {
+    /// Each lane's chain root.
+    #[inline(always)]
+    pub(crate) fn roots(
+        chains: &[&GazeChain; LANES],
+        characters: &[&CharacterTransform; LANES],
+    ) -> Frames {
+        Frames {
+            position: V3::gather(|i| root_frame(chains[i], characters[i]).position),
+            rotation: Q4::gather(|i| characters[i].rotation),
         }
     }
-    for lane in 0..N {
-        if let (Some(solver), Some(problem)) = (&mut solvers[lane], &mut problems[lane]) {
-            solver.aim(problem.chain, prepared, problem.side);
-        }
+
+    /// Moves to the next joint down the chain: `offset` in the current frame, then `rotation`.
+    #[inline(always)]
+    pub(crate) fn descend(&mut self, offset: V3, rotation: Q4) {
+        self.position = self.position.add(self.rotation.rotate(offset));
+        self.rotation = self.rotation.mul(rotation);
     }
-    for index in 0..joints {
-        for lane in 0..N {
-            if let (Some(solver), Some(problem)) = (&mut solvers[lane], &mut problems[lane]) {
-                if index < problem.chain.body_count() {
-                    problem.deltas[index] =
-                        solver.step(problem.chain, prepared, problem.base, index);
-                }
-            }
-        }
+}
+
+/// Each lane's joint `index` offset (zero past the lane's body joints).
+#[inline(always)]
+pub(crate) fn offsets(chains: &[&GazeChain; LANES], same_chain: bool, index: usize) -> V3 {
+    if same_chain {
+        return V3::splat(chains[0].joints()[index].offset.into());
     }
-    std::array::from_fn(|lane| solvers[lane].map(|solver| (solver.solution(), solver.frame)))
+    V3::gather(|i| match chains[i].joints().get(index) {
+        Some(joint) => joint.offset.into(),
+        None => Vec3A::ZERO,
+    })
 }
 
-/// The spatial solve of one character's body joints (see [`solve_bodies`]).
-pub(crate) fn solve_body_unchecked(
-    chain: &GazeChain,
+/// True if every lane has the same chain.
+#[inline(always)]
+pub(crate) fn same_chain(chains: &[&GazeChain; LANES]) -> bool {
+    chains.iter().all(|chain| std::ptr::eq(*chain, chains[0]))
+}
+
+/// The spatial solve of the body joints (spine, cervicals, head) of up to four characters,
+/// one per lane, each towards its `head_target`: writes the deltas that are not identity
+/// into `goals[lane][..body_count]` (which come in as identity), and returns each lane's
+/// solution and turn side, and the heads' final world frames. `None` lanes are skipped.
+/// Inputs are assumed checked.
+pub(crate) fn solve_bodies(
     prepared: &Prepared,
-    character: &CharacterTransform,
-    base: &[Quat],
-    head_target: Vec3,
-    side: &mut TurnSide,
-    deltas: &mut [Quat; MAX_CHAIN_JOINTS],
-) -> (SpatialSolution, Frame) {
-    let [solved] = solve_bodies(
-        prepared,
-        [Some(BodyProblem {
-            chain,
-            character,
-            base,
-            head_target,
-            side,
-            deltas,
-        })],
-    );
-    solved.unwrap_or((
-        SpatialSolution {
-            gaze_angle: 0.0,
-            side_switched: false,
-        },
-        root_frame(chain, character),
-    ))
-}
-
-/// Each eye's local forward and up axes: the chain's eye axes (head frame at rest) seen
-/// from the eye's rest frame.
-#[inline]
-fn eye_local_axes(chain: &GazeChain, eye_index: usize) -> (Vec3A, Vec3A) {
-    let to_eye = chain.joints()[eye_index].rest.conjugate();
-    (
-        to_eye.mul_vec3a(Vec3A::from(chain.eye_forward())),
-        to_eye.mul_vec3a(Vec3A::from(chain.eye_up())),
-    )
-}
-
-/// Vergence: the delta of each eye that turns it onto `eye_target` (within its limits),
-/// given the head's final world frame. Writes the eyes' entries of `deltas`; nothing for a
-/// chain without eyes. Inputs are assumed checked.
-pub(crate) fn aim_eyes_unchecked(
-    chain: &GazeChain,
-    prepared: &Prepared,
-    head: &Frame,
-    base: &[Quat],
-    eye_target: Vec3,
-    side: TurnSide,
-    deltas: &mut [Quat],
-) {
-    let Some(eyes) = chain.eye_indices() else {
-        return;
+    lanes: [Option<BodyLane<'_>>; LANES],
+    goals: &mut [[Quat; MAX_CHAIN_JOINTS]; LANES],
+) -> ([Option<(SpatialSolution, TurnSide)>; LANES], Frames) {
+    let Some(filler) = lanes.iter().flatten().next().copied() else {
+        return (
+            [None; LANES],
+            Frames {
+                position: V3::ZERO,
+                rotation: Q4::IDENTITY,
+            },
+        );
     };
-    let target = Vec3A::from(eye_target);
-    let side_sign = side.resolved();
-    for index in eyes {
-        deltas[index] = eye_goal(chain, prepared, head, base, index, target, side_sign);
+    let lane: [BodyLane<'_>; LANES] = std::array::from_fn(|i| lanes[i].unwrap_or(filler));
+    let chains: [&GazeChain; LANES] = lane.map(|l| l.chain);
+    let characters: [&CharacterTransform; LANES] = lane.map(|l| l.character);
+    let same = same_chain(&chains);
+    let body: [usize; LANES] = chains.map(GazeChain::body_count);
+    let joints = body.iter().copied().max().unwrap_or(0);
+    let base = |index: usize| {
+        Q4::gather(|i| {
+            if index < body[i] {
+                lane[i].base[index]
+            } else {
+                Quat::IDENTITY
+            }
+        })
+    };
+    // The global eye in the base posture.
+    let roots = Frames::roots(&chains, &characters);
+    let spine_count = chains[0].spine_count();
+    let mut frame = roots;
+    // The base posture's frame above the spine: where the solve starts if no spine moves.
+    let mut above_spine = roots;
+    for index in 0..joints {
+        frame.descend(offsets(&chains, same, index), base(index));
+        if index + 1 == spine_count {
+            above_spine = frame;
+        }
     }
+    let base_head = frame;
+    let mut eye = frame
+        .position
+        .add(frame.rotation.rotate(V3::gather(|i| eye_middle(chains[i]))));
+    let mut forward = frame
+        .rotation
+        .rotate(V3::gather(|i| chains[i].eye_forward().into()));
+    let mut up = frame
+        .rotation
+        .rotate(V3::gather(|i| chains[i].eye_up().into()));
+    // q_l, θ and the turn side.
+    let target = V3::gather(|i| lane[i].head_target.into());
+    let to_target = target.sub(eye);
+    let mut sides = lane.map(|l| l.side);
+    let mut switched = [false; LANES];
+    for i in 0..LANES {
+        if lanes[i].is_some() {
+            switched[i] = update_side(
+                to_target.lane(i),
+                forward.lane(i),
+                up.lane(i),
+                &mut sides[i],
+                prepared,
+            );
+        }
+    }
+    let side_sign = gather(|i| sides[i].resolved());
+    let aimed = behind_adjusted(to_target, forward, up, side_sign, prepared);
+    let first = gaze_rotation(forward, aimed, up.scale(side_sign), prepared);
+    // Recruitment and the angle each group leaves to the groups above it.
+    let has_eyes = mask(|i| chains[i].has_eyes());
+    let (eyes_only_cos, eyes_only_sin) = prepared.eyes_only_half;
+    let (spine_reserve_cos, spine_reserve_sin) = prepared.eyes_head_and_neck_half;
+    let head_recruited = !has_eyes | first.cos.cmplt(Vec4::splat(eyes_only_cos));
+    let spine_recruited = first.cos.cmplt(Vec4::splat(spine_reserve_cos));
+    let head_reserve_cos = Vec4::select(has_eyes, Vec4::splat(eyes_only_cos), Vec4::ONE);
+    let head_reserve_sin = Vec4::select(has_eyes, Vec4::splat(eyes_only_sin), Vec4::ZERO);
+
+    // Joints below the first that may move keep their base frames: start above them.
+    let (first_joint, mut frame) = if !(head_recruited | spine_recruited).any() {
+        (joints, base_head)
+    } else if same && !spine_recruited.any() {
+        (spine_count, above_spine)
+    } else {
+        (0, roots)
+    };
+    for index in first_joint..joints {
+        frame.position = frame
+            .position
+            .add(frame.rotation.rotate(offsets(&chains, same, index)));
+        let joint_rotation = frame.rotation.mul(base(index));
+        let in_chain = mask(|i| index < body[i]);
+        let is_spine = if same {
+            BVec4A::splat(index < spine_count)
+        } else {
+            mask(|i| index < chains[i].spine_count())
+        };
+        let recruited = in_chain & ((is_spine & spine_recruited) | (!is_spine & head_recruited));
+        let mut delta = Q4::IDENTITY;
+        if recruited.any() {
+            let remaining = if index == 0 {
+                first
+            } else {
+                let aimed = behind_adjusted(target.sub(eye), forward, up, side_sign, prepared);
+                gaze_rotation(forward, aimed, up.scale(side_sign), prepared)
+            };
+            let (budget, some_left) = remaining.less(
+                Vec4::select(is_spine, Vec4::splat(spine_reserve_cos), head_reserve_cos),
+                Vec4::select(is_spine, Vec4::splat(spine_reserve_sin), head_reserve_sin),
+            );
+            let moves = recruited & some_left;
+            if moves.any() {
+                // c_i / Σ_{j ≥ i} c_j with c_i ∝ n + 1 − i: 2 / (joints above + 2).
+                let above_in_group = |chain: &GazeChain| {
+                    if index < chain.spine_count() {
+                        (chain.spine_count() - 1 - index) as f32
+                    } else {
+                        chain.head_index().saturating_sub(index) as f32
+                    }
+                };
+                let above = if same {
+                    Vec4::splat(above_in_group(chains[0]))
+                } else {
+                    gather(|i| above_in_group(chains[i]))
+                };
+                let share = 2.0 / (above + 2.0);
+                let limits = Limits::of_joints(&chains, same, [index; LANES]);
+                let (turned, turn) = turn_joint(&limits, joint_rotation, budget.fraction(share));
+                delta = Q4::select(moves, turned, Q4::IDENTITY);
+                // The joint turns the global eye rigidly about itself.
+                let moved_eye = frame.position.add(turn.rotate(eye.sub(frame.position)));
+                eye = V3::select(moves, moved_eye, eye);
+                forward = V3::select(moves, turn.rotate(forward), forward);
+                up = V3::select(moves, turn.rotate(up), up);
+                for i in 0..LANES {
+                    if lanes[i].is_some() && moves.test(i) {
+                        goals[i][index] = delta.lane(i);
+                    }
+                }
+            }
+        }
+        frame.rotation = joint_rotation.mul(delta);
+    }
+    let angles = first.angle();
+    let solutions = std::array::from_fn(|i| {
+        lanes[i].map(|_| {
+            (
+                SpatialSolution {
+                    gaze_angle: angles[i],
+                    side_switched: switched[i],
+                },
+                sides[i],
+            )
+        })
+    });
+    (solutions, frame)
 }
 
-/// One eye's vergence delta.
-#[inline]
-pub(crate) fn eye_goal(
-    chain: &GazeChain,
-    prepared: &Prepared,
-    head: &Frame,
-    base: &[Quat],
-    index: usize,
-    target: Vec3A,
-    side_sign: f32,
-) -> Quat {
-    let joint = &chain.joints()[index];
-    let (local_forward, local_up) = eye_local_axes(chain, index);
-    let position = head.position + head.rotation.mul_vec3a(Vec3A::from(joint.offset));
-    let eye_rotation = head.rotation * base[index];
-    let forward = eye_rotation.mul_vec3a(local_forward);
-    let up = eye_rotation.mul_vec3a(local_up);
-    let aimed = behind_adjusted(target - position, forward, up, side_sign, prepared);
-    let turn = gaze_rotation(forward, aimed, up * side_sign, prepared);
-    if turn.sin <= 0.0 {
-        return Quat::IDENTITY;
+/// Per lane, one eye's frame before its delta: position, rotation, and the eye's forward and
+/// up axes in its own frame. Lanes without eyes get the head's global eye.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct EyeFrames {
+    pub(crate) position: V3,
+    pub(crate) rotation: Q4,
+    pub(crate) local_forward: V3,
+    local_up: V3,
+    /// Lanes whose chain has eyes.
+    pub(crate) has_eyes: M4,
+    /// Each lane's joint index of this eye (0 without eyes).
+    pub(crate) index: [usize; LANES],
+}
+
+impl EyeFrames {
+    /// Eye `eye` (0 left, 1 right) of each lane, below the heads' final frames.
+    #[inline(always)]
+    pub(crate) fn new(
+        chains: &[&GazeChain; LANES],
+        bases: &[&[Quat]; LANES],
+        heads: &Frames,
+        eye: usize,
+    ) -> EyeFrames {
+        let index = chains.map(|chain| chain.eye_indices().map_or(0, |eyes| eyes[eye]));
+        let has_eyes = mask(|i| chains[i].has_eyes());
+        let offset = V3::gather(|i| {
+            if chains[i].has_eyes() {
+                chains[i].joints()[index[i]].offset.into()
+            } else {
+                eye_middle(chains[i])
+            }
+        });
+        let base = Q4::gather(|i| {
+            if chains[i].has_eyes() {
+                bases[i][index[i]]
+            } else {
+                Quat::IDENTITY
+            }
+        });
+        let axes: [(Vec3A, Vec3A); LANES] = std::array::from_fn(|i| {
+            let chain = chains[i];
+            let (forward, up) = (chain.eye_forward().into(), chain.eye_up().into());
+            if !chain.has_eyes() {
+                return (forward, up);
+            }
+            let rest = chain.joints()[index[i]].rest;
+            if rest == Quat::IDENTITY {
+                (forward, up)
+            } else {
+                let to_eye = rest.conjugate();
+                (to_eye.mul_vec3a(forward), to_eye.mul_vec3a(up))
+            }
+        });
+        EyeFrames {
+            position: heads.position.add(heads.rotation.rotate(offset)),
+            rotation: heads.rotation.mul(base),
+            local_forward: V3::gather(|i| axes[i].0),
+            local_up: V3::gather(|i| axes[i].1),
+            has_eyes,
+            index,
+        }
     }
-    turn_joint(&joint.limits, eye_rotation, turn).0
+
+    /// Per lane, the vergence delta that turns this eye onto `target` (within its limits);
+    /// identity for lanes without eyes.
+    #[inline(always)]
+    pub(crate) fn goal(
+        &self,
+        chains: &[&GazeChain; LANES],
+        prepared: &Prepared,
+        target: V3,
+        side_sign: F4,
+    ) -> Q4 {
+        let forward = self.rotation.rotate(self.local_forward);
+        let up = self.rotation.rotate(self.local_up);
+        let aimed = behind_adjusted(target.sub(self.position), forward, up, side_sign, prepared);
+        let turn = gaze_rotation(forward, aimed, up.scale(side_sign), prepared);
+        let limits = Limits::of_joints(chains, same_chain(chains), self.index);
+        let (delta, _) = turn_joint(&limits, self.rotation, turn);
+        Q4::select(
+            self.has_eyes & turn.sin.cmpgt(Vec4::ZERO),
+            delta,
+            Q4::IDENTITY,
+        )
+    }
+
+    /// Per lane, the unit gaze direction for the eye's delta `delta`.
+    #[inline(always)]
+    pub(crate) fn direction(&self, delta: Q4) -> V3 {
+        let direction = self.rotation.mul(delta).rotate(self.local_forward);
+        direction.scale(direction.length_squared().sqrt().recip())
+    }
 }
 
 /// Eye positions and gaze directions in the world for a head frame and the eyes' deltas.
@@ -894,17 +1040,16 @@ pub(crate) fn eye_rays_unchecked(
             };
             for (slot, index) in eyes.into_iter().enumerate() {
                 let joint = &chain.joints()[index];
-                let (local_forward, _) = eye_local_axes(chain, index);
+                let local_forward = joint.rest.conjugate() * chain.eye_forward();
                 let position = head.position + head.rotation.mul_vec3a(Vec3A::from(joint.offset));
                 let rotation = head.rotation * base[index] * deltas[index];
                 rays.origins[slot] = position.into();
-                rays.directions[slot] =
-                    rotation.mul_vec3a(local_forward).normalize_or_zero().into();
+                rays.directions[slot] = (rotation * local_forward).normalize_or_zero();
             }
             rays
         }
         None => {
-            let (position, forward, _) = global_eye(chain, head);
+            let (position, forward) = global_eye(chain, head);
             EyeRays {
                 origins: [position.into(); 2],
                 directions: [forward.normalize_or_zero().into(); 2],

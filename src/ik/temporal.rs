@@ -38,18 +38,21 @@
 //! the spatial solution, such as a target crossing straight above the character), then
 //! clamped to its limits, so both hold on every frame.
 
-use glam::{Quat, Vec3};
+use glam::{Quat, Vec3, Vec3A, Vec4};
 
 use super::chain::{GazeChain, JointGroup, MAX_CHAIN_JOINTS};
-use super::rotation::{angle_between, interpolate, step_toward};
-use super::spatial::{self, BodyProblem, Frame, Prepared, SpatialConfig, TurnSide};
+use super::lanes::{gather, interpolate, mask, F4, LANES, M4, Q4, V3};
+use super::rotation::{angle_between, step_toward};
+use super::spatial::{
+    self, BodyLane, EyeFrames, Frames, Limits, Prepared, SpatialConfig, TurnSide,
+};
 use super::CharacterTransform;
 use crate::error::{ensure_all_finite, ensure_finite, Error, Result};
 use crate::math::ease::Ease;
 use crate::math::random::Random;
 
 /// How many characters [`GazeMotion::update_batch`] best takes at once.
-pub const BATCH_LANES: usize = 4;
+pub const BATCH_LANES: usize = LANES;
 
 /// Timing of gaze motions. Seconds, radians, metres.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -355,11 +358,13 @@ impl GazeMotion {
         result
     }
 
-    /// [`GazeMotion::update`] for `N` characters at once (each with its own chain, input and
-    /// random stream): the same results, bit for bit, as `N` separate calls, but the
-    /// characters' joints are processed in lockstep so that the processor overlaps their
-    /// serial per-joint computations. [`BATCH_LANES`] characters per call is the sweet spot.
+    /// [`GazeMotion::update`] for `N` characters at once, `1 ≤ N ≤ BATCH_LANES` (each with its
+    /// own chain, input and random stream): the same results as `N` separate calls, computed
+    /// together, one character per SIMD lane — four characters cost about as much as one.
     /// Each character's result is independent: one failing leaves only its motion unchanged.
+    ///
+    /// A crowd updates its characters in chunks of [`BATCH_LANES`] (and the last few with a
+    /// smaller `N`).
     pub fn update_batch<const N: usize>(
         motions: [&mut GazeMotion; N],
         chains: [&GazeChain; N],
@@ -367,18 +372,35 @@ impl GazeMotion {
         inputs: [&GazeInput<'_>; N],
         randoms: [&mut Random; N],
     ) -> [Result<()>; N] {
+        const {
+            assert!(
+                N >= 1 && N <= LANES,
+                "1 to BATCH_LANES characters per batch"
+            )
+        };
         if let Err(error) = config.validate() {
             return std::array::from_fn(|_| Err(error.clone()));
         }
         let results: [Result<()>; N] =
             std::array::from_fn(|lane| motions[lane].check(chains[lane], inputs[lane]));
         let ok: [bool; N] = std::array::from_fn(|lane| results[lane].is_ok());
+        let Some(filler) = (0..N).find(|lane| ok[*lane]) else {
+            return results;
+        };
         let prepared = Prepared::new(&config.spatial);
         let timing = &config.timing;
+        // Every SIMD lane gets a character: lanes past N or failing their checks compute a
+        // copy of the first good one, and their results are dropped.
+        let used = |lane: usize| lane < N && ok[lane];
+        let pick = |lane: usize| if used(lane) { lane } else { filler };
+        let lane_chains: [&GazeChain; LANES] = std::array::from_fn(|lane| chains[pick(lane)]);
+        let lane_inputs: [&GazeInput<'_>; LANES] = std::array::from_fn(|lane| inputs[pick(lane)]);
+        let lane_bases: [&[Quat]; LANES] = lane_inputs.map(|input| input.base);
+        let characters: [&CharacterTransform; LANES] = lane_inputs.map(|input| &input.character);
 
         // 1. Lanes with a target: is it a new one? Then the spatial solve of the bodies.
-        let mut sides: [TurnSide; N] = std::array::from_fn(|lane| motions[lane].side);
         let mut new_target = [false; N];
+        let mut sides: [TurnSide; N] = std::array::from_fn(|lane| motions[lane].side);
         for lane in 0..N {
             if let (true, Some(request)) = (ok[lane], &inputs[lane].request) {
                 let motion = &*motions[lane];
@@ -395,46 +417,42 @@ impl GazeMotion {
                 }
             }
         }
-        let mut goals = [spatial::IDENTITY_DELTAS; N];
-        let solved = {
-            let mut problems: [Option<BodyProblem<'_>>; N] = [const { None }; N];
-            for (lane, ((problem, side), goal)) in problems
-                .iter_mut()
-                .zip(sides.iter_mut())
-                .zip(goals.iter_mut())
-                .enumerate()
-            {
-                if let (true, Some(request)) = (ok[lane], &inputs[lane].request) {
-                    *problem = Some(BodyProblem {
-                        chain: chains[lane],
-                        character: &inputs[lane].character,
-                        base: inputs[lane].base,
-                        head_target: request.head_target,
-                        side,
-                        deltas: goal,
-                    });
+        let mut goals = [spatial::IDENTITY_DELTAS; LANES];
+        let (solved, solved_heads) = spatial::solve_bodies(
+            &prepared,
+            std::array::from_fn(|lane| {
+                if !used(lane) {
+                    return None;
                 }
-            }
-            spatial::solve_bodies(&prepared, problems)
-        };
+                inputs[lane].request.map(|request| BodyLane {
+                    chain: chains[lane],
+                    character: &inputs[lane].character,
+                    base: inputs[lane].base,
+                    head_target: request.head_target,
+                    side: sides[lane],
+                })
+            }),
+            &mut goals,
+        );
 
-        // 2. Each lane's phase, timing and eased fractions.
-        let mut fractions = [[0.0f32; 3]; N];
-        let mut max_steps = [[0.0f32; 3]; N];
+        // 2. Each character's phase, timing and eased fractions.
+        let mut fractions = [[0.0f32; 3]; LANES];
+        let mut max_steps = [[0.0f32; 3]; LANES];
+        let mut moving = [false; LANES];
+        let mut returning = [false; LANES];
         for lane in 0..N {
             if !ok[lane] {
                 continue;
             }
             let motion = &mut *motions[lane];
             let input = inputs[lane];
-            let chain = chains[lane];
-            motion.side = sides[lane];
             match (&input.request, &solved[lane]) {
-                (Some(request), Some((solution, _))) => {
+                (Some(request), Some((solution, side))) => {
+                    motion.side = *side;
                     if new_target[lane] || solution.side_switched {
                         motion.start = motion.deltas;
                         motion.elapsed = 0.0;
-                        let body = chain.body_count();
+                        let body = chains[lane].body_count();
                         let head_angle =
                             head_turn(input.base, &motion.start[..body], &goals[lane][..body]);
                         motion.activation_time =
@@ -464,84 +482,161 @@ impl GazeMotion {
                 .group_durations()
                 .map(|duration| eased(&timing.ease, elapsed, duration));
             max_steps[lane] = timing.max_joint_speed.map(|speed| speed * input.dt);
+            moving[lane] = matches!(motion.phase, GazePhase::Shifting | GazePhase::Holding);
+            returning[lane] = motion.phase == GazePhase::Returning;
         }
-        let moving: [bool; N] = std::array::from_fn(|lane| {
-            ok[lane]
-                && matches!(
-                    motions[lane].phase,
-                    GazePhase::Shifting | GazePhase::Holding
-                )
-        });
-        let returning: [bool; N] =
-            std::array::from_fn(|lane| ok[lane] && motions[lane].phase == GazePhase::Returning);
+        let blending = mask(|lane| moving[lane] || returning[lane]);
 
-        // 3. Body joints, in lockstep, with each pose's forward kinematics on the way up.
-        let mut heads: [Frame; N] =
-            std::array::from_fn(|lane| spatial::root_frame(chains[lane], &inputs[lane].character));
-        let mut at_rest = [true; N];
-        let joints = (0..N)
-            .filter(|lane| ok[*lane])
-            .map(|lane| chains[lane].body_count())
-            .max()
-            .unwrap_or(0);
+        // 3. Body joints.
+        let same = spatial::same_chain(&lane_chains);
+        let body: [usize; LANES] = lane_chains.map(GazeChain::body_count);
+        let joints = body.iter().copied().max().unwrap_or(0);
+        let mut at_rest = glam::BVec4A::splat(true);
+        // Lanes whose every body joint ends exactly on the spatial solution.
+        let mut on_goal = mask(|lane| moving[lane]);
         for index in 0..joints {
-            for lane in 0..N {
-                let chain = chains[lane];
-                if !ok[lane] || index >= chain.body_count() {
-                    continue;
+            let in_chain = mask(|lane| index < body[lane]);
+            let blend = blending & in_chain;
+            if !blend.any() {
+                continue;
+            }
+            let current = Q4::gather(|lane| {
+                if used(lane) && index < body[lane] {
+                    motions[lane].deltas[index]
+                } else {
+                    Quat::IDENTITY
                 }
-                let motion = &mut *motions[lane];
-                let group = spatial::group_of(chain, index).index();
-                if moving[lane] || returning[lane] {
-                    let goal = if moving[lane] {
-                        goals[lane][index]
+            });
+            let groups: [usize; LANES] = std::array::from_fn(|lane| {
+                if index < body[lane] {
+                    spatial::group_of(lane_chains[lane], index).index()
+                } else {
+                    0
+                }
+            });
+            let start = Q4::gather(|lane| {
+                if used(lane) && index < body[lane] {
+                    motions[lane].start[index]
+                } else {
+                    Quat::IDENTITY
+                }
+            });
+            let goal = Q4::gather(|lane| {
+                if moving[lane] {
+                    goals[lane][index]
+                } else {
+                    Quat::IDENTITY
+                }
+            });
+            let (settled, rest) = settle(
+                &lane_chains,
+                same,
+                [index; LANES],
+                start,
+                current,
+                goal,
+                gather(|lane| fractions[lane][groups[lane]]),
+                gather(|lane| max_steps[lane][groups[lane]]),
+            );
+            at_rest &= !blend | rest;
+            on_goal &= !in_chain | settled.bits_equal(goal);
+            for lane in 0..N {
+                if blend.test(lane) {
+                    motions[lane].deltas[index] = settled.lane(lane);
+                }
+            }
+        }
+        // The heads' frames: the spatial solve's when every character is on its solution
+        // (following its target), else the forward kinematics of the new pose.
+        let all_on_goal = (0..LANES).all(|lane| !used(lane) || on_goal.test(lane));
+        let heads = if all_on_goal {
+            solved_heads
+        } else {
+            let mut heads = Frames::roots(&lane_chains, &characters);
+            for index in 0..joints {
+                let rotation = Q4::gather(|lane| {
+                    if index >= body[lane] {
+                        Quat::IDENTITY
+                    } else if used(lane) {
+                        lane_bases[lane][index] * motions[lane].deltas[index]
+                    } else {
+                        lane_bases[lane][index]
+                    }
+                });
+                heads.descend(spatial::offsets(&lane_chains, same, index), rotation);
+            }
+            heads
+        };
+
+        // 4. Eyes: vergence from the current head, or back to rest; then the eye rays.
+        let eye_fractions = gather(|lane| fractions[lane][JointGroup::Eyes.index()]);
+        let eye_steps = gather(|lane| max_steps[lane][JointGroup::Eyes.index()]);
+        let eye_target = V3::gather(|lane| match &lane_inputs[lane].request {
+            Some(request) => request.eye_target.into(),
+            None => Vec3A::ZERO,
+        });
+        let side_sign = gather(|lane| {
+            if used(lane) && motions[lane].side.sign() < 0 {
+                -1.0
+            } else {
+                1.0
+            }
+        });
+        let mut origins = [V3::ZERO; 2];
+        let mut directions = [V3::ZERO; 2];
+        for eye in 0..2 {
+            let frames = EyeFrames::new(&lane_chains, &lane_bases, &heads, eye);
+            let mut delta = Q4::gather(|lane| {
+                if used(lane) && lane_chains[lane].has_eyes() {
+                    motions[lane].deltas[frames.index[lane]]
+                } else {
+                    Quat::IDENTITY
+                }
+            });
+            let blend = blending & frames.has_eyes;
+            if blend.any() {
+                let goal = frames.goal(&lane_chains, &prepared, eye_target, side_sign);
+                let goal = Q4::select(mask(|lane| moving[lane]), goal, Q4::IDENTITY);
+                let start = Q4::gather(|lane| {
+                    if used(lane) && lane_chains[lane].has_eyes() {
+                        motions[lane].start[frames.index[lane]]
                     } else {
                         Quat::IDENTITY
-                    };
-                    let wanted = interpolate(motion.start[index], goal, fractions[lane][group]);
-                    let delta = motion.settle(chain, index, wanted, max_steps[lane][group]);
-                    at_rest[lane] &= delta == Quat::IDENTITY;
-                    motion.deltas[index] = delta;
+                    }
+                });
+                let (settled, rest) = settle(
+                    &lane_chains,
+                    same,
+                    frames.index,
+                    start,
+                    delta,
+                    goal,
+                    eye_fractions,
+                    eye_steps,
+                );
+                delta = Q4::select(blend, settled, delta);
+                at_rest &= !blend | rest;
+                for lane in 0..N {
+                    if blend.test(lane) {
+                        motions[lane].deltas[frames.index[lane]] = delta.lane(lane);
+                    }
                 }
-                let head = &mut heads[lane];
-                head.position += head.rotation.mul_vec3a(chain.joints()[index].offset.into());
-                head.rotation = head.rotation * inputs[lane].base[index] * motion.deltas[index];
+            }
+            origins[eye] = frames.position;
+            directions[eye] = frames.direction(delta);
+        }
+        // Chains without eyes: both rays are the head's global eye.
+        let eyeless = !mask(|lane| lane_chains[lane].has_eyes());
+        if eyeless.any() {
+            let forward = heads
+                .rotation
+                .rotate(V3::gather(|lane| lane_chains[lane].eye_forward().into()));
+            for eye in 0..2 {
+                directions[eye] = V3::select(eyeless, forward, directions[eye]);
             }
         }
 
-        // 4. Eyes: vergence from the current head, or back to rest.
-        let eyes_group = JointGroup::Eyes.index();
-        for eye in 0..2 {
-            for lane in 0..N {
-                let chain = chains[lane];
-                let Some(indices) = chain.eye_indices() else {
-                    continue;
-                };
-                if !(moving[lane] || returning[lane]) {
-                    continue;
-                }
-                let index = indices[eye];
-                let motion = &mut *motions[lane];
-                let goal = match &inputs[lane].request {
-                    Some(request) if moving[lane] => spatial::eye_goal(
-                        chain,
-                        &prepared,
-                        &heads[lane],
-                        inputs[lane].base,
-                        index,
-                        request.eye_target.into(),
-                        motion.side_sign(),
-                    ),
-                    _ => Quat::IDENTITY,
-                };
-                let wanted = interpolate(motion.start[index], goal, fractions[lane][eyes_group]);
-                let delta = motion.settle(chain, index, wanted, max_steps[lane][eyes_group]);
-                at_rest[lane] &= delta == Quat::IDENTITY;
-                motion.deltas[index] = delta;
-            }
-        }
-
-        // 5. Phase changes, and the eye rays for debug drawing.
+        // 5. Phase changes, and the rays for debug drawing.
         for lane in 0..N {
             if !ok[lane] {
                 continue;
@@ -559,19 +654,14 @@ impl GazeMotion {
                     motion.phase = GazePhase::Holding;
                 }
             }
-            if returning[lane] && at_rest[lane] && motion.elapsed >= motion.deactivation_time {
+            if returning[lane] && at_rest.test(lane) && motion.elapsed >= motion.deactivation_time {
                 motion.phase = GazePhase::Idle;
                 motion.side = TurnSide::UNDECIDED;
             }
-            let count = chain.joint_count();
-            let rays = spatial::eye_rays_unchecked(
-                chain,
-                &heads[lane],
-                inputs[lane].base,
-                &motion.deltas[..count],
-            );
-            motion.eye_origins = rays.origins;
-            motion.eye_directions = rays.directions;
+            for eye in 0..2 {
+                motion.eye_origins[eye] = origins[eye].lane(lane).into();
+                motion.eye_directions[eye] = directions[eye].lane(lane).into();
+            }
         }
         results
     }
@@ -612,25 +702,51 @@ impl GazeMotion {
         }
         Ok(())
     }
+}
 
-    /// The new delta of joint `index`: `wanted`, at most `max_step` radians from the current
-    /// delta, within the joint's limits.
-    #[inline(always)]
-    fn settle(&self, chain: &GazeChain, index: usize, wanted: Quat, max_step: f32) -> Quat {
-        let stepped = step_toward(self.deltas[index], wanted, max_step);
-        if stepped == Quat::IDENTITY {
-            return stepped;
-        }
-        chain.joints()[index].limits.clamp(stepped)
+/// Per lane: `interpolate(start, goal, fraction)`, at most `max_step` radians from
+/// `current`, within the limits of joint `indices[lane]`. Returns the new deltas and where
+/// they are exactly identity.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn settle(
+    chains: &[&GazeChain; LANES],
+    same_chain: bool,
+    indices: [usize; LANES],
+    start: Q4,
+    current: Q4,
+    goal: Q4,
+    fraction: F4,
+    max_step: F4,
+) -> (Q4, M4) {
+    // Once a group has arrived (f_P = 1), its joints follow the goal, which the spatial
+    // solve already clamped: no interpolation, no clamping, unless the speed limit binds.
+    let arrived = fraction.cmpge(Vec4::ONE).all();
+    let wanted = if arrived {
+        goal
+    } else {
+        interpolate(start, goal, fraction)
+    };
+    // Within the speed limit iff 1 − |current·wanted| ≤ 1 − cos(max/2), which is at least
+    // h²/2 − h⁴/24 for h = max/2: a test without trigonometry; the rare lanes over the limit
+    // are stepped one by one.
+    let dot = current.dot(wanted).abs().min(Vec4::ONE);
+    let half = 0.5 * max_step;
+    let half_squared = half * half;
+    let fast = (1.0 - dot).cmple(half_squared * (0.5 - half_squared / 24.0));
+    let stepped = if fast.all() {
+        wanted
+    } else {
+        let slow =
+            Q4::gather(|lane| step_toward(current.lane(lane), wanted.lane(lane), max_step[lane]));
+        Q4::select(fast, wanted, slow)
+    };
+    if arrived && fast.all() {
+        return (stepped, stepped.is_identity());
     }
-
-    fn side_sign(&self) -> f32 {
-        if self.side.sign() < 0 {
-            -1.0
-        } else {
-            1.0
-        }
-    }
+    let limits = Limits::of_joints(chains, same_chain, indices);
+    let (clamped, _) = limits.clamp(stepped);
+    (clamped, clamped.is_identity())
 }
 
 /// `f_P(elapsed / duration)`, 1 for a zero duration.
