@@ -33,6 +33,9 @@
 // entity's previous pushed position divided by the elapsed time.
 #define CG_STATE_HAS_VELOCITY 2
 
+// Most joints a `cg_chain_desc` holds: 8 spine + 4 cervical + 1 head + 2 eyes.
+#define CG_MAX_CHAIN_JOINTS 15
+
 // Major version of the header. Compare with `cg_version()` at run time to detect a header
 // and library mismatch.
 #define CG_VERSION_MAJOR 0
@@ -107,6 +110,31 @@ enum cg_axis
 typedef enum cg_axis cg_axis;
 #else
 typedef uint32_t cg_axis;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
+// What a joint of a gaze chain is. Stored as `uint32_t` in `cg_chain_joint.role`.
+enum cg_joint_role
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+    // A lumbar or thoracic vertebra.
+    CG_JOINT_ROLE_SPINE = 0,
+    // A cervical vertebra (neck).
+    CG_JOINT_ROLE_CERVICAL = 1,
+    // The head (skull base).
+    CG_JOINT_ROLE_HEAD = 2,
+    // The character's left eye.
+    CG_JOINT_ROLE_LEFT_EYE = 3,
+    // The character's right eye.
+    CG_JOINT_ROLE_RIGHT_EYE = 4,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum cg_joint_role cg_joint_role;
+#else
+typedef uint32_t cg_joint_role;
 #endif // __STDC_VERSION__ >= 202311L
 #endif // __cplusplus
 
@@ -248,6 +276,74 @@ typedef struct cg_constraint {
     double end;
 } cg_constraint;
 
+// A rotation quaternion, components in the order **x, y, z, w** (vector part first, scalar
+// last, as glam, Eigen's storage, Unreal's FQuat and Godot's Quaternion lay them out; OSG's
+// osg::Quat is x, y, z, w too). The identity is {0, 0, 0, 1}. Inputs should be unit length;
+// crowdgaze normalises them and rejects zero-length or non-finite ones.
+typedef struct cg_quat {
+    // Vector part, x.
+    float x;
+    // Vector part, y.
+    float y;
+    // Vector part, z.
+    float z;
+    // Scalar part.
+    float w;
+} cg_quat;
+// The identity rotation.
+#define cg_quat_IDENTITY (cg_quat){ .x = 0.0, .y = 0.0, .z = 0.0, .w = 1.0 }
+
+// One joint of a gaze chain.
+//
+// Limits apply to the gaze's *delta* rotation on top of the joint's base rotation, split
+// as swing · twist about `twist_axis`: the twist angle stays in [min_twist, max_twist] and
+// the swing angle (a cone's half-angle) at most max_swing. Radians.
+typedef struct cg_chain_joint {
+    // What the joint is: a `cg_joint_role` value.
+    uint32_t role;
+    // Position of the joint in its parent's local frame (the chain root for the first
+    // joint, the head for the eyes), in your length units.
+    struct cg_vec3 offset;
+    // Rest local rotation relative to the parent (normalised on reading).
+    struct cg_quat rest;
+    // Twist axis in the joint's local frame (normalised on reading): the skeleton's up axis
+    // for spine, cervicals and head (twist = yaw), the eye's forward axis for the eyes
+    // (twist = torsion).
+    struct cg_vec3 twist_axis;
+    // Largest swing angle, radians, in [0, π].
+    float max_swing;
+    // Smallest twist angle, radians, ≥ −π.
+    float min_twist;
+    // Largest twist angle, radians, in [min_twist, π].
+    float max_twist;
+} cg_chain_joint;
+
+// A character's gaze chain: up to 8 spine, up to 4 cervical, exactly 1 head and 0 or 2 eye
+// joints, listed bottom to top in `joints[0 .. joint_count]`: spine…, cervical…, head,
+// left eye, right eye. Each body joint's parent is the previous joint (the chain root for
+// the first); the eyes' parent is the head.
+//
+// Expressed in the world's axes for a character at heading 0; the character's world
+// transform is translation(position) · rotation(heading about the up axis).
+// Fill it with `cg_chain_desc_init_human` (then adjust), or field by field after setting
+// `struct_size = sizeof(cg_chain_desc)`.
+typedef struct cg_chain_desc {
+    // Size of this struct in bytes, set by `cg_chain_desc_init_human`.
+    uint32_t struct_size;
+    // Number of joints used in `joints`, 1 to `CG_MAX_CHAIN_JOINTS`.
+    uint32_t joint_count;
+    // The joints, bottom to top; entries past `joint_count` are ignored.
+    struct cg_chain_joint joints[CG_MAX_CHAIN_JOINTS];
+    // The direction the eyes look at rest, in the head's local frame (normalised on
+    // reading).
+    struct cg_vec3 eye_forward;
+    // The head's up direction in its local frame, perpendicular to `eye_forward`.
+    struct cg_vec3 eye_up;
+    // Position of the chain root (the pelvis) relative to the character's position, in the
+    // character's frame, in your length units.
+    struct cg_vec3 root_offset;
+} cg_chain_desc;
+
 // Settings of a crowd, fixed for its lifetime. Fill it with `cg_crowd_config_init`, then
 // change the fields you need.
 typedef struct cg_crowd_config {
@@ -307,23 +403,6 @@ typedef struct cg_crowd_config {
     // units: where others look at it. Default 1.6 m.
     float eye_height;
 } cg_crowd_config;
-
-// A rotation quaternion, components in the order **x, y, z, w** (vector part first, scalar
-// last, as glam, Eigen's storage, Unreal's FQuat and Godot's Quaternion lay them out; OSG's
-// osg::Quat is x, y, z, w too). The identity is {0, 0, 0, 1}. Inputs should be unit length;
-// crowdgaze normalises them and rejects zero-length or non-finite ones.
-typedef struct cg_quat {
-    // Vector part, x.
-    float x;
-    // Vector part, y.
-    float y;
-    // Vector part, z.
-    float z;
-    // Scalar part.
-    float w;
-} cg_quat;
-// The identity rotation.
-#define cg_quat_IDENTITY (cg_quat){ .x = 0.0, .y = 0.0, .z = 0.0, .w = 1.0 }
 
 // A dual quaternion `real + ε dual` describing a rigid transform: `real` is the rotation,
 // `dual = ½ (0, t) ⊗ real` encodes the translation t. Both parts use the x, y, z, w order.
@@ -482,6 +561,24 @@ cg_status cg_crowd_read_constraints(const struct cg_crowd *crowd,
                                     struct cg_constraint *out,
                                     size_t count,
                                     size_t *out_total);
+
+// Fills `desc` with the gaze chain of an adult human (Grillon & Thalmann's 5 spine,
+// 2 cervical, 1 head and 2 eye joints) for a skeleton whose up axis is `up_axis` and which
+// faces `forward_axis` (both `cg_axis` values, perpendicular; the character's left is
+// up × forward), including `struct_size`.
+//
+// Lengths are in **metres**: the pelvis (chain root) 0.95 above the character's position,
+// eyes at 1.62, 64 mm apart. If your crowd's `units_per_metre` is not 1, multiply every
+// `joints[i].offset` and `root_offset` by it. Rest rotations are identity. Limits: each spine
+// joint ±8° of yaw and a 5° swing cone, each cervical ±25° and 20°, the head ±20° and 25°,
+// the eyes a 35° cone and no torsion.
+//
+// `*desc` is written only on success. Errors: `CG_STATUS_NULL_ARGUMENT` (desc NULL),
+// `CG_STATUS_INVALID_ARGUMENT` (an axis not a `cg_axis`, or the two not perpendicular).
+// Thread-safe.
+cg_status cg_chain_desc_init_human(struct cg_chain_desc *desc,
+                                   uint32_t up_axis,
+                                   uint32_t forward_axis);
 
 // Fills `config` with the defaults documented on each field, including `struct_size`.
 //

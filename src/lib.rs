@@ -23,6 +23,8 @@ pub mod crowd;
 pub mod error;
 pub mod ffi;
 /// cbindgen:ignore
+pub mod ik;
+/// cbindgen:ignore
 pub mod math;
 /// cbindgen:ignore
 pub mod scenario;

@@ -111,6 +111,10 @@ fn expected_output(stem: &str) -> Vec<String> {
             "CG_STATUS_NULL_ARGUMENT: null argument".into(),
             "bad struct_size: cg_crowd_config.struct_size is 3".into(),
         ],
+        "chain" => vec![
+            "joints 10, eye height 1.62 m".into(),
+            "pelvis at 95 cm".into(),
+        ],
         _ => vec![],
     }
 }

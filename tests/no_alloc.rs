@@ -154,3 +154,46 @@ fn push_frame_step_and_read_gaze_do_not_allocate() {
     assert!(gaze.iter().any(|g| g.s_max > 0.0));
     cg_crowd_destroy(handle);
 }
+
+#[test]
+fn gaze_motion_update_does_not_allocate() {
+    use crowdgaze::ik::{
+        CharacterTransform, GazeChain, GazeConfig, GazeInput, GazeMotion, GazeRequest,
+    };
+    use crowdgaze::math::random::{stream, Purpose};
+    use glam::{Quat, Vec3};
+
+    let chain = GazeChain::human(Vec3::Y, Vec3::Z);
+    let config = GazeConfig::default();
+    let base = [Quat::IDENTITY; 10];
+    let mut motion = GazeMotion::new(&chain);
+    let mut random = stream(1, Purpose::GazeTiming, 0);
+    let character = CharacterTransform::from_heading(Vec3::new(1.0, 0.0, 2.0), Vec3::Y, 0.5);
+    let mut frame = |request: Option<GazeRequest>, motion: &mut GazeMotion| {
+        let input = GazeInput {
+            character,
+            base: &base,
+            request,
+            dt: 1.0 / 30.0,
+        };
+        motion.update(&chain, &config, &input, &mut random).unwrap();
+    };
+    // Warm-up (may allocate, e.g. thread-locals).
+    frame(
+        Some(GazeRequest::at(1, Vec3::new(0.0, 1.6, 5.0))),
+        &mut motion,
+    );
+    assert_no_alloc("GazeMotion::update", || {
+        for step in 0..300 {
+            let time = step as f32 / 30.0;
+            // A moving target, a new target, targets behind and at the eye, then none.
+            let request = match step {
+                0..=89 => Some(GazeRequest::at(1, Vec3::new(3.0 - time, 1.6, 2.0))),
+                90..=179 => Some(GazeRequest::at(2, Vec3::new(-1.0, 1.8, -3.0))),
+                180..=209 => Some(GazeRequest::at(3, Vec3::new(1.0, 1.62, 2.085))),
+                _ => None,
+            };
+            frame(request, &mut motion);
+        }
+    });
+}

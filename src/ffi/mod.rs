@@ -13,6 +13,7 @@
 #![allow(dead_code)]
 
 pub mod attention;
+pub mod chain;
 pub mod crowd;
 pub mod last_error;
 pub mod status;

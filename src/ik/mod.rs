@@ -1,0 +1,95 @@
+//! Gaze IK (Grillon & Thalmann 2009): the gaze chain a character turns, the spatial
+//! resolution that spreads one gaze rotation over it, and the temporal resolution that
+//! plays it out with human timing.
+//!
+//! - [`chain`]: [`GazeChain`], the spine, neck, head and eye joints, bottom to top, with
+//!   their offsets, rest rotations and limits.
+//! - [`spatial`]: one frame's displacement map — the delta rotation of every joint that
+//!   makes the eyes look at a target ([`spatial::solve`]).
+//! - [`temporal`]: [`GazeMotion`], a character's gaze state from frame to frame: activation
+//!   time, eyes → head → spine desynchronisation, the ease `f_P`, moving targets, restarts and
+//!   deactivation.
+//!
+//! Every output is a *delta* (displacement) local rotation per chain joint: the joint's final
+//! local rotation is `base * delta` (glam's product: the delta acts in the joint's own frame,
+//! after its base rotation), where `base` is the rest pose or the engine's animated pose.
+//!
+//! Units: metres, radians, seconds. The chain is expressed in the world's axes for a
+//! character at heading 0; a character's world transform is
+//! `translation(position) · rotation(heading about world up)` ([`CharacterTransform`]).
+
+pub mod chain;
+mod lanes;
+mod rotation;
+pub mod spatial;
+pub mod temporal;
+
+use glam::{Quat, Vec3};
+
+pub use chain::{
+    ChainJoint, GazeChain, JointGroup, JointLimits, JointRole, MAX_CERVICAL_JOINTS,
+    MAX_CHAIN_JOINTS, MAX_SPINE_JOINTS,
+};
+pub use spatial::{RecruitmentBands, SpatialConfig, SpatialSolution, TurnSide};
+pub use temporal::{GazeConfig, GazeInput, GazeMotion, GazePhase, GazeRequest, GazeTiming};
+
+/// Where a character stands and which way it faces: its world transform is
+/// `translation(position) · rotation`.
+///
+/// For a crowd character, `rotation` is the heading about the world's up axis
+/// ([`CharacterTransform::from_heading`]); any rotation works (e.g. a pelvis orientation).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CharacterTransform {
+    /// The character's position (on the ground), metres.
+    pub position: Vec3,
+    /// The character's orientation (unit quaternion).
+    pub rotation: Quat,
+}
+
+impl CharacterTransform {
+    /// At the origin, heading 0.
+    pub const IDENTITY: CharacterTransform = CharacterTransform {
+        position: Vec3::ZERO,
+        rotation: Quat::IDENTITY,
+    };
+
+    /// A character at `position` turned by `heading` radians counter-clockwise about `up`
+    /// (the world convention of [`crate::world::World`]).
+    pub fn from_heading(position: Vec3, up: Vec3, heading: f32) -> CharacterTransform {
+        CharacterTransform {
+            position,
+            rotation: Quat::from_axis_angle(up, heading),
+        }
+    }
+
+    /// True if every component is finite.
+    pub fn is_finite(&self) -> bool {
+        self.position.is_finite() && self.rotation.is_finite()
+    }
+}
+
+impl Default for CharacterTransform {
+    fn default() -> Self {
+        CharacterTransform::IDENTITY
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::world::World;
+
+    #[test]
+    fn heading_matches_the_world_convention() {
+        for world in [
+            World::y_up(),
+            World::new(crate::Axis::PositiveZ, crate::Axis::NegativeY, 1.0).unwrap(),
+        ] {
+            for heading in [0.0f32, 0.7, -2.0, 3.0] {
+                let character = CharacterTransform::from_heading(Vec3::ZERO, world.up, heading);
+                let facing = character.rotation * world.forward;
+                assert!(facing.abs_diff_eq(world.heading_direction(heading), 1e-5));
+            }
+        }
+    }
+}

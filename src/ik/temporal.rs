@@ -1,0 +1,820 @@
+//! Temporal resolution (Grillon & Thalmann 2009): a character's gaze motion from frame to
+//! frame — when each joint moves, how fast, and how it follows, switches and lets go of a
+//! target.
+//!
+//! **Activation time.** A gaze shift towards a target lasts
+//! `t_a = θ_head · S_MAX / (v_m · S_max)` (the paper's equation 10), `θ_head` the angle
+//! (radians) of the rotation the head has to make in the chain root's frame (from the pose
+//! at the start of the shift to the spatial solution: its own and the spine's share),
+//! `v_m` the head speed ([`GazeTiming::head_speed`], 2π rad/s) and `S_max / S_MAX` the
+//! target's *interest ratio* ([`GazeRequest::interest_ratio`], 1 for explicit targets).
+//! `t_a` is capped at [`GazeTiming::max_activation_time`] (2 s, the paper's bound) and, our
+//! addition, at least [`GazeTiming::min_activation_time`] (0.2 s), so that an eyes-only shift
+//! (`θ_head = 0`) still lasts a saccade.
+//!
+//! **Desynchronisation.** The eyes move over `t_a/2`, the head and cervicals over `t_a`, the
+//! spine over `2 t_a`, each with the ease `f_P` ([`crate::math::ease::Ease`], exactly 0 at the
+//! start and 1 at the end). A body joint's delta goes from its delta at the start of the shift
+//! to its share of the spatial solution, *recomputed every frame* (so moving targets are
+//! followed) while keeping its eased fraction `f_P`. The eyes go from their start delta to
+//! the vergence on the target *from the current, partly turned head*: they reach the target
+//! at `t_a/2`, then re-centre as the head and spine catch up.
+//!
+//! **Restart.** A shift restarts — start = the current pose, progress 0, a new `t_a` — when
+//! a new target arrives ([`GazeRequest::target_key`] changes, or a target after none), when
+//! a target point moves more than [`GazeTiming::restart_distance`] between two frames, or when
+//! the spatial solution switched side behind the character. A new target is reached from
+//! wherever the joints are, never through the rest pose. The turn side for targets behind
+//! ([`TurnSide`]) is remembered while one target is followed and decided afresh (the short
+//! way in the base posture) for each new target.
+//!
+//! **Deactivation.** With no target, every delta returns to identity (the base motion)
+//! over `t_d` drawn from [`GazeTiming::min_deactivation_time`]…
+//! [`GazeTiming::max_deactivation_time`] with the caller's seeded random stream: the spine over
+//! `t_d`, head and cervicals over `t_d/2`, eyes over `t_d/4`, each eased.
+//!
+//! **Speed limits and joint limits.** Every frame each joint's change is capped at its
+//! group's [`GazeTiming::max_joint_speed`] × dt (a safety net for the rare discontinuities of
+//! the spatial solution, such as a target crossing straight above the character), then
+//! clamped to its limits, so both hold on every frame.
+
+use glam::{Quat, Vec3, Vec3A, Vec4};
+
+use super::chain::{GazeChain, JointGroup, MAX_CHAIN_JOINTS};
+use super::lanes::{gather, interpolate, mask, F4, LANES, M4, Q4, V3};
+use super::rotation::{angle_between, step_toward};
+use super::spatial::{
+    self, BodyLane, EyeFrames, Frames, Limits, Prepared, SpatialConfig, TurnSide,
+};
+use super::CharacterTransform;
+use crate::error::{ensure_all_finite, ensure_finite, Error, Result};
+use crate::math::ease::Ease;
+use crate::math::random::Random;
+
+/// How many characters [`GazeMotion::update_batch`] best takes at once.
+pub const BATCH_LANES: usize = LANES;
+
+/// Timing of gaze motions. Seconds, radians, metres.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GazeTiming {
+    /// `v_m`, the head velocity of the activation time formula, rad/s. Default 2π (the
+    /// paper: half the median maximal head velocity Grossman et al. measured).
+    pub head_speed: f32,
+    /// Shortest activation time `t_a`, s (our addition: eyes-only shifts last a saccade).
+    /// Default 0.2.
+    pub min_activation_time: f32,
+    /// Longest activation time `t_a`, s. Default 2 (the paper).
+    pub max_activation_time: f32,
+    /// A target point moving more than this between two frames restarts the shift, metres.
+    /// Default 0.5.
+    pub restart_distance: f32,
+    /// Shortest deactivation time `t_d`, s. Default 0.5.
+    pub min_deactivation_time: f32,
+    /// Longest deactivation time `t_d`, s. Default 1.5.
+    pub max_deactivation_time: f32,
+    /// Fastest any joint of a group may turn, rad/s, indexed by [`JointGroup::index`]
+    /// (eyes, head and cervicals, spine). Defaults 900°/s (saccade velocities saturate
+    /// there), 720°/s (4π, the median maximal head velocity of Grossman et al.), 360°/s.
+    pub max_joint_speed: [f32; 3],
+    /// The ease `f_P`.
+    pub ease: Ease,
+}
+
+impl Default for GazeTiming {
+    fn default() -> Self {
+        GazeTiming {
+            head_speed: std::f32::consts::TAU,
+            min_activation_time: 0.2,
+            max_activation_time: 2.0,
+            restart_distance: 0.5,
+            min_deactivation_time: 0.5,
+            max_deactivation_time: 1.5,
+            max_joint_speed: [
+                900f32.to_radians(),
+                720f32.to_radians(),
+                360f32.to_radians(),
+            ],
+            ease: Ease::default(),
+        }
+    }
+}
+
+impl GazeTiming {
+    /// Checks the ranges: everything finite, `head_speed > 0`,
+    /// `0 < min_activation_time ≤ max_activation_time`, `restart_distance ≥ 0`,
+    /// `0 ≤ min_deactivation_time ≤ max_deactivation_time`, speeds > 0.
+    pub fn validate(&self) -> Result<()> {
+        ensure_all_finite(
+            &[
+                self.head_speed,
+                self.min_activation_time,
+                self.max_activation_time,
+                self.restart_distance,
+                self.min_deactivation_time,
+                self.max_deactivation_time,
+            ],
+            "gaze timing",
+        )?;
+        ensure_all_finite(&self.max_joint_speed, "max_joint_speed")?;
+        let bad = |what: &str| Err(Error::InvalidArgument(format!("gaze timing: {what}")));
+        if self.head_speed <= 0.0 {
+            return bad("head_speed must be > 0");
+        }
+        if self.min_activation_time <= 0.0 || self.max_activation_time < self.min_activation_time {
+            return bad("need 0 < min_activation_time ≤ max_activation_time");
+        }
+        if self.restart_distance < 0.0 {
+            return bad("restart_distance must be ≥ 0");
+        }
+        if self.min_deactivation_time < 0.0
+            || self.max_deactivation_time < self.min_deactivation_time
+        {
+            return bad("need 0 ≤ min_deactivation_time ≤ max_deactivation_time");
+        }
+        if self.max_joint_speed.iter().any(|speed| *speed <= 0.0) {
+            return bad("max_joint_speed must be > 0");
+        }
+        Ok(())
+    }
+
+    /// `t_a` for a head rotation of `head_angle` radians and an interest ratio
+    /// `S_max / S_MAX` in (0, 1]: `head_angle / (v_m · ratio)`, clamped to
+    /// [`GazeTiming::min_activation_time`, `GazeTiming::max_activation_time`].
+    pub fn activation_time(&self, head_angle: f32, interest_ratio: f32) -> f32 {
+        let ratio = interest_ratio.clamp(f32::MIN_POSITIVE, 1.0);
+        let time = head_angle / (self.head_speed * ratio);
+        if time.is_nan() {
+            return self.max_activation_time;
+        }
+        time.clamp(self.min_activation_time, self.max_activation_time)
+    }
+}
+
+/// Everything a [`GazeMotion`] needs to know besides the frame: spatial and timing settings.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct GazeConfig {
+    /// Recruitment bands and the behind / near-target rules.
+    pub spatial: SpatialConfig,
+    /// Durations, speeds and the ease.
+    pub timing: GazeTiming,
+}
+
+impl GazeConfig {
+    /// Checks both parts.
+    pub fn validate(&self) -> Result<()> {
+        self.spatial.validate()?;
+        self.timing.validate()
+    }
+}
+
+/// What a character should look at this frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GazeRequest {
+    /// Identity of the target (an entity id, say): a different key restarts the shift.
+    pub target_key: u64,
+    /// Where the spine, cervicals and head aim, world, metres.
+    pub head_target: Vec3,
+    /// Where the eyes converge, world, metres (the same point for the crowd model).
+    pub eye_target: Vec3,
+    /// `S_max / S_MAX` in (0, 1]: how interesting the target is relative to the most
+    /// interesting thing possible; 1 for explicit targets. Values above 1 count as 1.
+    pub interest_ratio: f32,
+}
+
+impl GazeRequest {
+    /// Look at `target` with head and eyes, interest ratio 1.
+    pub fn at(target_key: u64, target: Vec3) -> GazeRequest {
+        GazeRequest {
+            target_key,
+            head_target: target,
+            eye_target: target,
+            interest_ratio: 1.0,
+        }
+    }
+}
+
+/// One frame of input to [`GazeMotion::update`].
+#[derive(Debug, Clone, Copy)]
+pub struct GazeInput<'a> {
+    /// Where the character is and which way it faces.
+    pub character: CharacterTransform,
+    /// Base local rotation of each chain joint this frame (rest or animated pose; exactly
+    /// `chain.joint_count()` unit quaternions).
+    pub base: &'a [Quat],
+    /// The target, or `None` to let go and return to the base motion.
+    pub request: Option<GazeRequest>,
+    /// Time since the previous update, seconds (≥ 0).
+    pub dt: f32,
+}
+
+/// Where a gaze motion is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum GazePhase {
+    /// No target, every delta identity.
+    #[default]
+    Idle,
+    /// Turning towards a target (some group has not finished its eased shift).
+    Shifting,
+    /// Every group has arrived; following the target.
+    Holding,
+    /// Target dropped: going back to the base motion.
+    Returning,
+}
+
+/// A character's gaze motion state: plain fixed-size data, no heap, 576 bytes
+/// (`size_of::<GazeMotion>()`, checked by a test).
+///
+/// Not safe for concurrent mutation; each character owns one.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GazeMotion {
+    /// The current delta of each joint (the output).
+    deltas: [Quat; MAX_CHAIN_JOINTS],
+    /// The deltas at the start of the current shift or return.
+    start: [Quat; MAX_CHAIN_JOINTS],
+    /// World eye positions after the last update (left, right).
+    eye_origins: [Vec3; 2],
+    /// World gaze directions after the last update (left, right).
+    eye_directions: [Vec3; 2],
+    /// The target points of the previous frame.
+    last_head_target: Vec3,
+    last_eye_target: Vec3,
+    target_key: u64,
+    /// Time since the start of the current shift or return, s.
+    elapsed: f32,
+    /// `t_a` of the current shift, s.
+    activation_time: f32,
+    /// `t_d` of the current return, s.
+    deactivation_time: f32,
+    joint_count: u8,
+    phase: GazePhase,
+    side: TurnSide,
+}
+
+impl GazeMotion {
+    /// A motion at rest (every delta identity) for `chain`.
+    pub fn new(chain: &GazeChain) -> GazeMotion {
+        GazeMotion {
+            deltas: spatial::IDENTITY_DELTAS,
+            start: spatial::IDENTITY_DELTAS,
+            eye_origins: [Vec3::ZERO; 2],
+            eye_directions: [Vec3::ZERO; 2],
+            last_head_target: Vec3::ZERO,
+            last_eye_target: Vec3::ZERO,
+            target_key: 0,
+            elapsed: 0.0,
+            activation_time: 0.0,
+            deactivation_time: 0.0,
+            joint_count: chain.joint_count() as u8,
+            phase: GazePhase::Idle,
+            side: TurnSide::UNDECIDED,
+        }
+    }
+
+    /// The current delta local rotation of each chain joint: the final local rotation of
+    /// joint `i` is `base[i] * deltas()[i]`.
+    pub fn deltas(&self) -> &[Quat] {
+        &self.deltas[..self.joint_count as usize]
+    }
+
+    /// Where the motion is.
+    pub fn phase(&self) -> GazePhase {
+        self.phase
+    }
+
+    /// `t_a` of the current (or last) shift, seconds.
+    pub fn activation_time(&self) -> f32 {
+        self.activation_time
+    }
+
+    /// `t_d` of the current (or last) return, seconds.
+    pub fn deactivation_time(&self) -> f32 {
+        self.deactivation_time
+    }
+
+    /// Seconds since the current shift or return started.
+    pub fn elapsed(&self) -> f32 {
+        self.elapsed
+    }
+
+    /// The side the character turns to for targets behind it.
+    pub fn turn_side(&self) -> TurnSide {
+        self.side
+    }
+
+    /// World positions of the left and right eyes after the last update (both the head's
+    /// global eye for a chain without eyes), metres — for debug drawing.
+    pub fn eye_origins(&self) -> [Vec3; 2] {
+        self.eye_origins
+    }
+
+    /// World unit gaze directions of the left and right eyes after the last update.
+    pub fn eye_directions(&self) -> [Vec3; 2] {
+        self.eye_directions
+    }
+
+    /// The global eye after the last update: the mid-point of the eyes and the mean of
+    /// their directions (unit).
+    pub fn gaze_ray(&self) -> (Vec3, Vec3) {
+        (
+            0.5 * (self.eye_origins[0] + self.eye_origins[1]),
+            (self.eye_directions[0] + self.eye_directions[1]).normalize_or_zero(),
+        )
+    }
+
+    /// How long each group's current shift (or return) lasts, indexed by
+    /// [`JointGroup::index`].
+    pub fn group_durations(&self) -> [f32; 3] {
+        match self.phase {
+            GazePhase::Returning => {
+                let t = self.deactivation_time;
+                [0.25 * t, 0.5 * t, t]
+            }
+            _ => {
+                let t = self.activation_time;
+                [0.5 * t, t, 2.0 * t]
+            }
+        }
+    }
+
+    /// Advances the motion by `input.dt` and computes this frame's deltas.
+    ///
+    /// `random` is the character's own seeded stream (e.g.
+    /// `stream(seed, Purpose::GazeTiming, character_index)`): it draws `t_d` when a target is
+    /// dropped. Allocates nothing. To update a crowd, [`GazeMotion::update_batch`] does the
+    /// same for several characters at once, faster.
+    ///
+    /// Errors (the motion is left unchanged): [`Error::InvalidArgument`] if `chain` has a
+    /// different joint count than the one the motion was made for, `input.base` is not one
+    /// rotation per joint, `dt < 0`, the interest ratio is ≤ 0, or `config` is out of range;
+    /// [`Error::NonFinite`] for a NaN or infinite input.
+    pub fn update(
+        &mut self,
+        chain: &GazeChain,
+        config: &GazeConfig,
+        input: &GazeInput<'_>,
+        random: &mut Random,
+    ) -> Result<()> {
+        let [result] = GazeMotion::update_batch([self], [chain], config, [input], [random]);
+        result
+    }
+
+    /// [`GazeMotion::update`] for `N` characters at once, `1 ≤ N ≤ BATCH_LANES` (each with its
+    /// own chain, input and random stream): the same results as `N` separate calls, computed
+    /// together, one character per SIMD lane — four characters cost about as much as one.
+    /// Each character's result is independent: one failing leaves only its motion unchanged.
+    ///
+    /// A crowd updates its characters in chunks of [`BATCH_LANES`] (and the last few with a
+    /// smaller `N`).
+    pub fn update_batch<const N: usize>(
+        motions: [&mut GazeMotion; N],
+        chains: [&GazeChain; N],
+        config: &GazeConfig,
+        inputs: [&GazeInput<'_>; N],
+        randoms: [&mut Random; N],
+    ) -> [Result<()>; N] {
+        const {
+            assert!(
+                N >= 1 && N <= LANES,
+                "1 to BATCH_LANES characters per batch"
+            )
+        };
+        if let Err(error) = config.validate() {
+            return std::array::from_fn(|_| Err(error.clone()));
+        }
+        let results: [Result<()>; N] =
+            std::array::from_fn(|lane| motions[lane].check(chains[lane], inputs[lane]));
+        let ok: [bool; N] = std::array::from_fn(|lane| results[lane].is_ok());
+        let Some(filler) = (0..N).find(|lane| ok[*lane]) else {
+            return results;
+        };
+        let prepared = Prepared::new(&config.spatial);
+        let timing = &config.timing;
+        // Every SIMD lane gets a character: lanes past N or failing their checks compute a
+        // copy of the first good one, and their results are dropped.
+        let used = |lane: usize| lane < N && ok[lane];
+        let pick = |lane: usize| if used(lane) { lane } else { filler };
+        let lane_chains: [&GazeChain; LANES] = std::array::from_fn(|lane| chains[pick(lane)]);
+        let lane_inputs: [&GazeInput<'_>; LANES] = std::array::from_fn(|lane| inputs[pick(lane)]);
+        let lane_bases: [&[Quat]; LANES] = lane_inputs.map(|input| input.base);
+        let characters: [&CharacterTransform; LANES] = lane_inputs.map(|input| &input.character);
+
+        // 1. Lanes with a target: is it a new one? Then the spatial solve of the bodies.
+        let mut new_target = [false; N];
+        let mut sides: [TurnSide; N] = std::array::from_fn(|lane| motions[lane].side);
+        for lane in 0..N {
+            if let (true, Some(request)) = (ok[lane], &inputs[lane].request) {
+                let motion = &*motions[lane];
+                let active = matches!(motion.phase, GazePhase::Shifting | GazePhase::Holding);
+                let jumped = request.head_target.distance(motion.last_head_target)
+                    > timing.restart_distance
+                    || request.eye_target.distance(motion.last_eye_target)
+                        > timing.restart_distance;
+                new_target[lane] = !active || request.target_key != motion.target_key || jumped;
+                if new_target[lane] {
+                    // The turn side is remembered while following one target, not across
+                    // targets: a new target behind is reached the short way.
+                    sides[lane] = TurnSide::UNDECIDED;
+                }
+            }
+        }
+        let mut goals = [spatial::IDENTITY_DELTAS; LANES];
+        let (solved, solved_heads) = spatial::solve_bodies(
+            &prepared,
+            std::array::from_fn(|lane| {
+                if !used(lane) {
+                    return None;
+                }
+                inputs[lane].request.map(|request| BodyLane {
+                    chain: chains[lane],
+                    character: &inputs[lane].character,
+                    base: inputs[lane].base,
+                    head_target: request.head_target,
+                    side: sides[lane],
+                })
+            }),
+            &mut goals,
+        );
+
+        // 2. Each character's phase, timing and eased fractions.
+        let mut fractions = [[0.0f32; 3]; LANES];
+        let mut max_steps = [[0.0f32; 3]; LANES];
+        let mut moving = [false; LANES];
+        let mut returning = [false; LANES];
+        for lane in 0..N {
+            if !ok[lane] {
+                continue;
+            }
+            let motion = &mut *motions[lane];
+            let input = inputs[lane];
+            match (&input.request, &solved[lane]) {
+                (Some(request), Some((solution, side))) => {
+                    motion.side = *side;
+                    if new_target[lane] || solution.side_switched {
+                        motion.start = motion.deltas;
+                        motion.elapsed = 0.0;
+                        let body = chains[lane].body_count();
+                        let head_angle =
+                            head_turn(input.base, &motion.start[..body], &goals[lane][..body]);
+                        motion.activation_time =
+                            timing.activation_time(head_angle, request.interest_ratio);
+                        motion.phase = GazePhase::Shifting;
+                    } else {
+                        motion.elapsed += input.dt;
+                    }
+                    motion.target_key = request.target_key;
+                    motion.last_head_target = request.head_target;
+                    motion.last_eye_target = request.eye_target;
+                }
+                _ => match motion.phase {
+                    GazePhase::Shifting | GazePhase::Holding => {
+                        motion.start = motion.deltas;
+                        motion.elapsed = 0.0;
+                        motion.deactivation_time = randoms[lane]
+                            .range(timing.min_deactivation_time, timing.max_deactivation_time);
+                        motion.phase = GazePhase::Returning;
+                    }
+                    GazePhase::Returning => motion.elapsed += input.dt,
+                    GazePhase::Idle => {}
+                },
+            }
+            let elapsed = motion.elapsed;
+            fractions[lane] = motion
+                .group_durations()
+                .map(|duration| eased(&timing.ease, elapsed, duration));
+            max_steps[lane] = timing.max_joint_speed.map(|speed| speed * input.dt);
+            moving[lane] = matches!(motion.phase, GazePhase::Shifting | GazePhase::Holding);
+            returning[lane] = motion.phase == GazePhase::Returning;
+        }
+        let blending = mask(|lane| moving[lane] || returning[lane]);
+
+        // 3. Body joints.
+        let same = spatial::same_chain(&lane_chains);
+        let body: [usize; LANES] = lane_chains.map(GazeChain::body_count);
+        let joints = body.iter().copied().max().unwrap_or(0);
+        let mut at_rest = glam::BVec4A::splat(true);
+        // Lanes whose every body joint ends exactly on the spatial solution.
+        let mut on_goal = mask(|lane| moving[lane]);
+        for index in 0..joints {
+            let in_chain = mask(|lane| index < body[lane]);
+            let blend = blending & in_chain;
+            if !blend.any() {
+                continue;
+            }
+            let current = Q4::gather(|lane| {
+                if used(lane) && index < body[lane] {
+                    motions[lane].deltas[index]
+                } else {
+                    Quat::IDENTITY
+                }
+            });
+            let groups: [usize; LANES] = std::array::from_fn(|lane| {
+                if index < body[lane] {
+                    spatial::group_of(lane_chains[lane], index).index()
+                } else {
+                    0
+                }
+            });
+            let start = Q4::gather(|lane| {
+                if used(lane) && index < body[lane] {
+                    motions[lane].start[index]
+                } else {
+                    Quat::IDENTITY
+                }
+            });
+            let goal = Q4::gather(|lane| {
+                if moving[lane] {
+                    goals[lane][index]
+                } else {
+                    Quat::IDENTITY
+                }
+            });
+            let (settled, rest) = settle(
+                &lane_chains,
+                same,
+                [index; LANES],
+                start,
+                current,
+                goal,
+                gather(|lane| fractions[lane][groups[lane]]),
+                gather(|lane| max_steps[lane][groups[lane]]),
+            );
+            at_rest &= !blend | rest;
+            on_goal &= !in_chain | settled.bits_equal(goal);
+            for lane in 0..N {
+                if blend.test(lane) {
+                    motions[lane].deltas[index] = settled.lane(lane);
+                }
+            }
+        }
+        // The heads' frames: the spatial solve's when every character is on its solution
+        // (following its target), else the forward kinematics of the new pose.
+        let all_on_goal = (0..LANES).all(|lane| !used(lane) || on_goal.test(lane));
+        let heads = if all_on_goal {
+            solved_heads
+        } else {
+            let mut heads = Frames::roots(&lane_chains, &characters);
+            for index in 0..joints {
+                let rotation = Q4::gather(|lane| {
+                    if index >= body[lane] {
+                        Quat::IDENTITY
+                    } else if used(lane) {
+                        lane_bases[lane][index] * motions[lane].deltas[index]
+                    } else {
+                        lane_bases[lane][index]
+                    }
+                });
+                heads.descend(spatial::offsets(&lane_chains, same, index), rotation);
+            }
+            heads
+        };
+
+        // 4. Eyes: vergence from the current head, or back to rest; then the eye rays.
+        let eye_fractions = gather(|lane| fractions[lane][JointGroup::Eyes.index()]);
+        let eye_steps = gather(|lane| max_steps[lane][JointGroup::Eyes.index()]);
+        let eye_target = V3::gather(|lane| match &lane_inputs[lane].request {
+            Some(request) => request.eye_target.into(),
+            None => Vec3A::ZERO,
+        });
+        let side_sign = gather(|lane| {
+            if used(lane) && motions[lane].side.sign() < 0 {
+                -1.0
+            } else {
+                1.0
+            }
+        });
+        let mut origins = [V3::ZERO; 2];
+        let mut directions = [V3::ZERO; 2];
+        for eye in 0..2 {
+            let frames = EyeFrames::new(&lane_chains, &lane_bases, &heads, eye);
+            let mut delta = Q4::gather(|lane| {
+                if used(lane) && lane_chains[lane].has_eyes() {
+                    motions[lane].deltas[frames.index[lane]]
+                } else {
+                    Quat::IDENTITY
+                }
+            });
+            let blend = blending & frames.has_eyes;
+            if blend.any() {
+                let goal = frames.goal(&lane_chains, &prepared, eye_target, side_sign);
+                let goal = Q4::select(mask(|lane| moving[lane]), goal, Q4::IDENTITY);
+                let start = Q4::gather(|lane| {
+                    if used(lane) && lane_chains[lane].has_eyes() {
+                        motions[lane].start[frames.index[lane]]
+                    } else {
+                        Quat::IDENTITY
+                    }
+                });
+                let (settled, rest) = settle(
+                    &lane_chains,
+                    same,
+                    frames.index,
+                    start,
+                    delta,
+                    goal,
+                    eye_fractions,
+                    eye_steps,
+                );
+                delta = Q4::select(blend, settled, delta);
+                at_rest &= !blend | rest;
+                for lane in 0..N {
+                    if blend.test(lane) {
+                        motions[lane].deltas[frames.index[lane]] = delta.lane(lane);
+                    }
+                }
+            }
+            origins[eye] = frames.position;
+            directions[eye] = frames.direction(delta);
+        }
+        // Chains without eyes: both rays are the head's global eye.
+        let eyeless = !mask(|lane| lane_chains[lane].has_eyes());
+        if eyeless.any() {
+            let forward = heads
+                .rotation
+                .rotate(V3::gather(|lane| lane_chains[lane].eye_forward().into()));
+            for eye in 0..2 {
+                directions[eye] = V3::select(eyeless, forward, directions[eye]);
+            }
+        }
+
+        // 5. Phase changes, and the rays for debug drawing.
+        for lane in 0..N {
+            if !ok[lane] {
+                continue;
+            }
+            let motion = &mut *motions[lane];
+            let chain = chains[lane];
+            if moving[lane] && motion.phase == GazePhase::Shifting {
+                let durations = motion.group_durations();
+                let longest = if chain.spine_count() > 0 {
+                    durations[JointGroup::Spine.index()]
+                } else {
+                    durations[JointGroup::HeadAndNeck.index()]
+                };
+                if motion.elapsed >= longest {
+                    motion.phase = GazePhase::Holding;
+                }
+            }
+            if returning[lane] && at_rest.test(lane) && motion.elapsed >= motion.deactivation_time {
+                motion.phase = GazePhase::Idle;
+                motion.side = TurnSide::UNDECIDED;
+            }
+            for eye in 0..2 {
+                motion.eye_origins[eye] = origins[eye].lane(lane).into();
+                motion.eye_directions[eye] = directions[eye].lane(lane).into();
+            }
+        }
+        results
+    }
+
+    fn check(&self, chain: &GazeChain, input: &GazeInput<'_>) -> Result<()> {
+        if chain.joint_count() != self.joint_count as usize {
+            return Err(Error::InvalidArgument(format!(
+                "this gaze motion was made for a chain of {} joints, not {}",
+                self.joint_count,
+                chain.joint_count()
+            )));
+        }
+        if input.base.len() != chain.joint_count() {
+            return Err(Error::InvalidArgument(format!(
+                "base holds {} rotations, the chain has {} joints",
+                input.base.len(),
+                chain.joint_count()
+            )));
+        }
+        spatial::check_pose(chain, &input.character, input.base, "base")?;
+        ensure_finite(input.dt, "dt")?;
+        if input.dt < 0.0 {
+            return Err(Error::InvalidArgument(format!(
+                "dt is {}, must be ≥ 0",
+                input.dt
+            )));
+        }
+        if let Some(request) = &input.request {
+            ensure_all_finite(&request.head_target.to_array(), "head_target")?;
+            ensure_all_finite(&request.eye_target.to_array(), "eye_target")?;
+            ensure_finite(request.interest_ratio, "interest_ratio")?;
+            if request.interest_ratio <= 0.0 {
+                return Err(Error::InvalidArgument(format!(
+                    "interest_ratio is {}, must be in (0, 1]",
+                    request.interest_ratio
+                )));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Per lane: `interpolate(start, goal, fraction)`, at most `max_step` radians from
+/// `current`, within the limits of joint `indices[lane]`. Returns the new deltas and where
+/// they are exactly identity.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn settle(
+    chains: &[&GazeChain; LANES],
+    same_chain: bool,
+    indices: [usize; LANES],
+    start: Q4,
+    current: Q4,
+    goal: Q4,
+    fraction: F4,
+    max_step: F4,
+) -> (Q4, M4) {
+    // Once a group has arrived (f_P = 1), its joints follow the goal, which the spatial
+    // solve already clamped: no interpolation, no clamping, unless the speed limit binds.
+    let arrived = fraction.cmpge(Vec4::ONE).all();
+    let wanted = if arrived {
+        goal
+    } else {
+        interpolate(start, goal, fraction)
+    };
+    // Within the speed limit iff 1 − |current·wanted| ≤ 1 − cos(max/2), which is at least
+    // h²/2 − h⁴/24 for h = max/2: a test without trigonometry; the rare lanes over the limit
+    // are stepped one by one.
+    let dot = current.dot(wanted).abs().min(Vec4::ONE);
+    let half = 0.5 * max_step;
+    let half_squared = half * half;
+    let fast = (1.0 - dot).cmple(half_squared * (0.5 - half_squared / 24.0));
+    let stepped = if fast.all() {
+        wanted
+    } else {
+        let slow =
+            Q4::gather(|lane| step_toward(current.lane(lane), wanted.lane(lane), max_step[lane]));
+        Q4::select(fast, wanted, slow)
+    };
+    if arrived && fast.all() {
+        return (stepped, stepped.is_identity());
+    }
+    let limits = Limits::of_joints(chains, same_chain, indices);
+    let (clamped, _) = limits.clamp(stepped);
+    (clamped, clamped.is_identity())
+}
+
+/// `f_P(elapsed / duration)`, 1 for a zero duration.
+#[inline]
+fn eased(ease: &Ease, elapsed: f32, duration: f32) -> f32 {
+    if duration > 0.0 {
+        ease.at(elapsed / duration)
+    } else {
+        1.0
+    }
+}
+
+/// `θ_head`: the angle of the head's rotation, in the chain root's frame, from the pose
+/// `base * from` to the pose `base * to` (body joints).
+fn head_turn(base: &[Quat], from: &[Quat], to: &[Quat]) -> f32 {
+    let body = from.len();
+    let mut head_from = Quat::IDENTITY;
+    let mut head_to = Quat::IDENTITY;
+    for ((base, from), to) in base[..body].iter().zip(&from[..body]).zip(&to[..body]) {
+        head_from = head_from * *base * *from;
+        head_to = head_to * *base * *to;
+    }
+    angle_between(head_from, head_to)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn motion_state_is_small() {
+        assert_eq!(std::mem::size_of::<GazeMotion>(), 576);
+        assert!(std::mem::size_of::<GazeMotion>() < 1024);
+    }
+
+    #[test]
+    fn activation_time_formula_and_bounds() {
+        let timing = GazeTiming::default();
+        // θ_head = π/2 at full interest: (π/2) / 2π = 0.25 s.
+        assert!((timing.activation_time(std::f32::consts::FRAC_PI_2, 1.0) - 0.25).abs() < 1e-6);
+        // Half the interest, twice the time.
+        assert!((timing.activation_time(std::f32::consts::FRAC_PI_2, 0.5) - 0.5).abs() < 1e-6);
+        // Capped at 2 s, at least 0.2 s.
+        assert_eq!(timing.activation_time(3.0, 0.01), 2.0);
+        assert_eq!(timing.activation_time(0.0, 1.0), 0.2);
+        assert_eq!(
+            timing.activation_time(1.0, 5.0),
+            timing.activation_time(1.0, 1.0)
+        );
+    }
+
+    #[test]
+    fn timing_is_validated() {
+        assert!(GazeTiming::default().validate().is_ok());
+        let bad = GazeTiming {
+            min_activation_time: 0.0,
+            ..GazeTiming::default()
+        };
+        assert!(matches!(bad.validate(), Err(Error::InvalidArgument(_))));
+        let bad = GazeTiming {
+            head_speed: f32::NAN,
+            ..GazeTiming::default()
+        };
+        assert!(matches!(bad.validate(), Err(Error::NonFinite(_))));
+        let bad = GazeTiming {
+            max_deactivation_time: 0.1,
+            ..GazeTiming::default()
+        };
+        assert!(matches!(bad.validate(), Err(Error::InvalidArgument(_))));
+    }
+}
