@@ -36,6 +36,19 @@
 // Most joints a `cg_chain_desc` holds: 8 spine + 4 cervical + 1 head + 2 eyes.
 #define CG_MAX_CHAIN_JOINTS 15
 
+// `cg_gaze_target.kind`: look at `point`.
+#define CG_GAZE_TARGET_POINT 0
+
+// `cg_gaze_target.kind`: look at entity `entity`, following it as it moves.
+#define CG_GAZE_TARGET_ENTITY 1
+
+// `cg_gaze_target.priority`: the target overrides automatic attention until cleared.
+#define CG_GAZE_PRIORITY_OVERRIDE 0
+
+// `cg_gaze_target.priority`: the target applies only while the character has no
+// automatic interest point.
+#define CG_GAZE_PRIORITY_WHEN_IDLE 1
+
 // Major version of the header. Compare with `cg_version()` at run time to detect a header
 // and library mismatch.
 #define CG_VERSION_MAJOR 0
@@ -156,6 +169,74 @@ typedef struct cg_vec3 {
     float z;
 } cg_vec3;
 
+// A rotation quaternion, components in the order **x, y, z, w** (vector part first, scalar
+// last, as glam, Eigen's storage, Unreal's FQuat and Godot's Quaternion lay them out; OSG's
+// osg::Quat is x, y, z, w too). The identity is {0, 0, 0, 1}. Inputs should be unit length;
+// crowdgaze normalises them and rejects zero-length or non-finite ones.
+typedef struct cg_quat {
+    // Vector part, x.
+    float x;
+    // Vector part, y.
+    float y;
+    // Vector part, z.
+    float z;
+    // Scalar part.
+    float w;
+} cg_quat;
+// The identity rotation.
+#define cg_quat_IDENTITY (cg_quat){ .x = 0.0, .y = 0.0, .z = 0.0, .w = 1.0 }
+
+// One joint of a gaze chain.
+//
+// Limits apply to the gaze's *delta* rotation on top of the joint's base rotation, split
+// as swing · twist about `twist_axis`: the twist angle stays in [min_twist, max_twist] and
+// the swing angle (a cone's half-angle) at most max_swing. Radians.
+typedef struct cg_chain_joint {
+    // What the joint is: a `cg_joint_role` value.
+    uint32_t role;
+    // Position of the joint in its parent's local frame (the chain root for the first
+    // joint, the head for the eyes), in your length units.
+    struct cg_vec3 offset;
+    // Rest local rotation relative to the parent (normalised on reading).
+    struct cg_quat rest;
+    // Twist axis in the joint's local frame (normalised on reading): the skeleton's up axis
+    // for spine, cervicals and head (twist = yaw), the eye's forward axis for the eyes
+    // (twist = torsion).
+    struct cg_vec3 twist_axis;
+    // Largest swing angle, radians, in [0, π].
+    float max_swing;
+    // Smallest twist angle, radians, ≥ −π.
+    float min_twist;
+    // Largest twist angle, radians, in [min_twist, π].
+    float max_twist;
+} cg_chain_joint;
+
+// A character's gaze chain: up to 8 spine, up to 4 cervical, exactly 1 head and 0 or 2 eye
+// joints, listed bottom to top in `joints[0 .. joint_count]`: spine…, cervical…, head,
+// left eye, right eye. Each body joint's parent is the previous joint (the chain root for
+// the first); the eyes' parent is the head.
+//
+// Expressed in the world's axes for a character at heading 0; the character's world
+// transform is translation(position) · rotation(heading about the up axis).
+// Fill it with `cg_chain_desc_init_human` (then adjust), or field by field after setting
+// `struct_size = sizeof(cg_chain_desc)`.
+typedef struct cg_chain_desc {
+    // Size of this struct in bytes, set by `cg_chain_desc_init_human`.
+    uint32_t struct_size;
+    // Number of joints used in `joints`, 1 to `CG_MAX_CHAIN_JOINTS`.
+    uint32_t joint_count;
+    // The joints, bottom to top; entries past `joint_count` are ignored.
+    struct cg_chain_joint joints[CG_MAX_CHAIN_JOINTS];
+    // The direction the eyes look at rest, in the head's local frame (normalised on
+    // reading).
+    struct cg_vec3 eye_forward;
+    // The head's up direction in its local frame, perpendicular to `eye_forward`.
+    struct cg_vec3 eye_up;
+    // Position of the chain root (the pelvis) relative to the character's position, in the
+    // character's frame, in your length units.
+    struct cg_vec3 root_offset;
+} cg_chain_desc;
+
 // A new character. Fill it with `cg_character_desc_init`, then set what you need.
 typedef struct cg_character_desc {
     // Size of this struct in bytes, set by `cg_character_desc_init`.
@@ -166,6 +247,9 @@ typedef struct cg_character_desc {
     float impact;
     // Root (ground) position in your units. Default origin.
     struct cg_vec3 position;
+    // The character's gaze chain (read during the call, not kept), or NULL (default) for
+    // the human chain of `cg_chain_desc_init_human` in the crowd's axes and units.
+    const struct cg_chain_desc *chain;
 } cg_character_desc;
 
 // A new scene object: something characters may look at. Fill it with
@@ -276,74 +360,6 @@ typedef struct cg_constraint {
     double end;
 } cg_constraint;
 
-// A rotation quaternion, components in the order **x, y, z, w** (vector part first, scalar
-// last, as glam, Eigen's storage, Unreal's FQuat and Godot's Quaternion lay them out; OSG's
-// osg::Quat is x, y, z, w too). The identity is {0, 0, 0, 1}. Inputs should be unit length;
-// crowdgaze normalises them and rejects zero-length or non-finite ones.
-typedef struct cg_quat {
-    // Vector part, x.
-    float x;
-    // Vector part, y.
-    float y;
-    // Vector part, z.
-    float z;
-    // Scalar part.
-    float w;
-} cg_quat;
-// The identity rotation.
-#define cg_quat_IDENTITY (cg_quat){ .x = 0.0, .y = 0.0, .z = 0.0, .w = 1.0 }
-
-// One joint of a gaze chain.
-//
-// Limits apply to the gaze's *delta* rotation on top of the joint's base rotation, split
-// as swing · twist about `twist_axis`: the twist angle stays in [min_twist, max_twist] and
-// the swing angle (a cone's half-angle) at most max_swing. Radians.
-typedef struct cg_chain_joint {
-    // What the joint is: a `cg_joint_role` value.
-    uint32_t role;
-    // Position of the joint in its parent's local frame (the chain root for the first
-    // joint, the head for the eyes), in your length units.
-    struct cg_vec3 offset;
-    // Rest local rotation relative to the parent (normalised on reading).
-    struct cg_quat rest;
-    // Twist axis in the joint's local frame (normalised on reading): the skeleton's up axis
-    // for spine, cervicals and head (twist = yaw), the eye's forward axis for the eyes
-    // (twist = torsion).
-    struct cg_vec3 twist_axis;
-    // Largest swing angle, radians, in [0, π].
-    float max_swing;
-    // Smallest twist angle, radians, ≥ −π.
-    float min_twist;
-    // Largest twist angle, radians, in [min_twist, π].
-    float max_twist;
-} cg_chain_joint;
-
-// A character's gaze chain: up to 8 spine, up to 4 cervical, exactly 1 head and 0 or 2 eye
-// joints, listed bottom to top in `joints[0 .. joint_count]`: spine…, cervical…, head,
-// left eye, right eye. Each body joint's parent is the previous joint (the chain root for
-// the first); the eyes' parent is the head.
-//
-// Expressed in the world's axes for a character at heading 0; the character's world
-// transform is translation(position) · rotation(heading about the up axis).
-// Fill it with `cg_chain_desc_init_human` (then adjust), or field by field after setting
-// `struct_size = sizeof(cg_chain_desc)`.
-typedef struct cg_chain_desc {
-    // Size of this struct in bytes, set by `cg_chain_desc_init_human`.
-    uint32_t struct_size;
-    // Number of joints used in `joints`, 1 to `CG_MAX_CHAIN_JOINTS`.
-    uint32_t joint_count;
-    // The joints, bottom to top; entries past `joint_count` are ignored.
-    struct cg_chain_joint joints[CG_MAX_CHAIN_JOINTS];
-    // The direction the eyes look at rest, in the head's local frame (normalised on
-    // reading).
-    struct cg_vec3 eye_forward;
-    // The head's up direction in its local frame, perpendicular to `eye_forward`.
-    struct cg_vec3 eye_up;
-    // Position of the chain root (the pelvis) relative to the character's position, in the
-    // character's frame, in your length units.
-    struct cg_vec3 root_offset;
-} cg_chain_desc;
-
 // Settings of a crowd, fixed for its lifetime. Fill it with `cg_crowd_config_init`, then
 // change the fields you need.
 typedef struct cg_crowd_config {
@@ -399,10 +415,55 @@ typedef struct cg_crowd_config {
     float attention_fraction_min;
     // See `attention_fraction_min`. Default 0.6.
     float attention_fraction_max;
-    // Eye height above the character's root of a character without a gaze chain, in your
-    // units: where others look at it. Default 1.6 m.
-    float eye_height;
+    // Gaze IK: largest gaze rotation (radians) the eyes make alone. Default 15°.
+    float eyes_only_angle;
+    // Gaze IK: largest gaze rotation (radians) without the spine (eyes, head and neck).
+    // Default 30°.
+    float eyes_head_neck_angle;
+    // `v_m`: head velocity of the activation time `t_a = θ_head S_MAX / (v_m S_max)`,
+    // rad/s. Default 2π.
+    float head_speed;
+    // Longest activation time `t_a` (s). Default 2.
+    float max_activation_time;
+    // A target moving more than this between two frames (your units) restarts the gaze
+    // shift. Default 0.5 m.
+    float restart_distance;
+    // The return to the base motion takes `t_d`, drawn in [min, max] seconds.
+    // Default 0.5.
+    float min_deactivation_time;
+    // See `min_deactivation_time`. Default 1.5.
+    float max_deactivation_time;
 } cg_crowd_config;
+
+// A target set by game logic for one character (top-down attention). Fill it with
+// `cg_gaze_target_init`.
+typedef struct cg_gaze_target {
+    // Size of this struct in bytes, set by `cg_gaze_target_init`.
+    uint32_t struct_size;
+    // `CG_GAZE_TARGET_POINT` (default) or `CG_GAZE_TARGET_ENTITY`.
+    uint32_t kind;
+    // `CG_GAZE_PRIORITY_OVERRIDE` (default) or `CG_GAZE_PRIORITY_WHEN_IDLE`.
+    uint32_t priority;
+    // The entity to look at, with `CG_GAZE_TARGET_ENTITY`.
+    uint32_t entity;
+    // The point to look at (your units), with `CG_GAZE_TARGET_POINT`.
+    struct cg_vec3 point;
+} cg_gaze_target;
+
+// Where a character's eyes are and where they look, as read by `cg_crowd_read_eyes`
+// (for debug drawing).
+typedef struct cg_eye_info {
+    // The character's id.
+    uint32_t character;
+    // Left eye position, your units (the head's position for a chain without eyes).
+    struct cg_vec3 left_origin;
+    // Right eye position, your units.
+    struct cg_vec3 right_origin;
+    // Left eye gaze direction, unit.
+    struct cg_vec3 left_direction;
+    // Right eye gaze direction, unit.
+    struct cg_vec3 right_direction;
+} cg_eye_info;
 
 // A dual quaternion `real + ε dual` describing a rigid transform: `real` is the rotation,
 // `dual = ½ (0, t) ⊗ real` encodes the translation t. Both parts use the x, y, z, w order.
@@ -433,8 +494,9 @@ cg_status cg_entity_state_init(struct cg_entity_state *state);
 // parameters are drawn from the crowd's seed (change them with
 // `cg_crowd_set_character_params`). The id stays valid until `cg_crowd_remove_entity`.
 //
-// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_BAD_STRUCT_SIZE`, `CG_STATUS_NON_FINITE`
-// (position, heading or impact), `CG_STATUS_INVALID_ARGUMENT` (negative impact),
+// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_BAD_STRUCT_SIZE` (desc or its chain),
+// `CG_STATUS_NON_FINITE` (position, heading, impact or chain values),
+// `CG_STATUS_INVALID_ARGUMENT` (negative impact, an invalid chain),
 // `CG_STATUS_CAPACITY` (already `max_characters`), `CG_STATUS_WRONG_STATE` (a plan is
 // active). Not thread-safe (mutates the crowd).
 cg_status cg_crowd_add_character(struct cg_crowd *crowd,
@@ -609,6 +671,100 @@ void cg_crowd_destroy(struct cg_crowd *crowd);
 // Errors: `CG_STATUS_NULL_ARGUMENT` if either pointer is NULL. Safe to call concurrently
 // with other `const` calls on the same crowd.
 cg_status cg_crowd_get_config(const struct cg_crowd *crowd, struct cg_crowd_config *out_config);
+
+// Fills `target` with defaults (a point target at the origin, overriding) and its
+// `struct_size`. Errors: `CG_STATUS_NULL_ARGUMENT`. Thread-safe.
+cg_status cg_gaze_target_init(struct cg_gaze_target *target);
+
+// Gives `character` an explicit gaze target until `cg_crowd_clear_gaze_target`: a point,
+// or an entity followed as it moves, overriding the automatic interest point or only
+// filling in when there is none. The gaze moves there with the usual timing.
+//
+// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_BAD_STRUCT_SIZE`, `CG_STATUS_NOT_FOUND`
+// (character or target entity), `CG_STATUS_NON_FINITE` (point),
+// `CG_STATUS_INVALID_ARGUMENT` (unknown kind or priority, an object as `character`, the
+// character itself as target). Not thread-safe.
+cg_status cg_crowd_set_gaze_target(struct cg_crowd *crowd,
+                                   uint32_t character,
+                                   const struct cg_gaze_target *target);
+
+// Removes `character`'s explicit target; automatic attention takes over again.
+//
+// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NOT_FOUND`, `CG_STATUS_INVALID_ARGUMENT`
+// (an object's id). Not thread-safe.
+cg_status cg_crowd_clear_gaze_target(struct cg_crowd *crowd, uint32_t character);
+
+// Sets a character's base pose: the local rotation of each of its chain joints, bottom to
+// top (`count` must equal the chain's joint count). Engines whose animation moves the
+// spine, neck, head or eyes push it every frame before `cg_crowd_step`; the gaze is added
+// on top (`final = base * delta`). Until set, the rest pose is the base. Quaternions are
+// normalised.
+//
+// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NOT_FOUND`, `CG_STATUS_NON_FINITE`,
+// `CG_STATUS_INVALID_ARGUMENT` (count, a zero quaternion, an object's id). Not
+// thread-safe.
+cg_status cg_crowd_set_base_pose(struct cg_crowd *crowd,
+                                 uint32_t character,
+                                 const struct cg_quat *local,
+                                 size_t count);
+
+// Sets the base poses of many characters at once: `local` holds, for each id of
+// `characters` in order, its chain joints' local rotations bottom to top, packed
+// (`local_count` must be the sum of their joint counts). All or nothing: on an error no
+// pose is changed.
+//
+// Errors: as `cg_crowd_set_base_pose`, and `CG_STATUS_INVALID_ARGUMENT` if `local_count`
+// does not match. Not thread-safe.
+cg_status cg_crowd_set_base_poses(struct cg_crowd *crowd,
+                                  const uint32_t *characters,
+                                  size_t character_count,
+                                  const struct cg_quat *local,
+                                  size_t local_count);
+
+// Writes to `*out_total` how many joints the characters `first .. first + count` have
+// together (in the order of `cg_crowd_read_gaze`): the size `cg_crowd_read_joints` needs.
+//
+// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_INVALID_ARGUMENT` (range past the last
+// character). Safe to call concurrently with other `const` calls.
+cg_status cg_crowd_joint_total(const struct cg_crowd *crowd,
+                               uint32_t first,
+                               uint32_t count,
+                               size_t *out_total);
+
+// Reads the gaze result of characters `first .. first + count` (in the order of
+// `cg_crowd_read_gaze`): each chain joint's final local rotation `base * delta`, bottom to
+// top, chain after chain, packed into `out` (`out_len` at least their joint total, see
+// `cg_crowd_joint_total`; the human chain has 10). Write them to your skeleton's spine,
+// neck, head and eye bones. `out` stays yours; nothing is allocated.
+//
+// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_INVALID_ARGUMENT` (range past the last
+// character, `out_len` too small). Safe to call concurrently with other `const` calls.
+cg_status cg_crowd_read_joints(const struct cg_crowd *crowd,
+                               uint32_t first,
+                               uint32_t count,
+                               struct cg_quat *out,
+                               size_t out_len);
+
+// Like `cg_crowd_read_joints`, but the displacement (delta) rotations alone, for engines
+// that layer gaze additively on their own pose: `final = base * delta`.
+//
+// Errors: as `cg_crowd_read_joints`. Safe to call concurrently with other `const` calls.
+cg_status cg_crowd_read_joint_deltas(const struct cg_crowd *crowd,
+                                     uint32_t first,
+                                     uint32_t count,
+                                     struct cg_quat *out,
+                                     size_t out_len);
+
+// Reads where the eyes of characters `first .. first + count` are and look (world,
+// your units), one `cg_eye_info` each in `out` (`out_len >= count`), for debug drawing.
+//
+// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_INVALID_ARGUMENT` (range, `out_len`). Safe
+// to call concurrently with other `const` calls.
+cg_status cg_crowd_read_eyes(const struct cg_crowd *crowd,
+                             uint32_t first,
+                             uint32_t count,
+                             struct cg_eye_info *out,
+                             size_t out_len);
 
 // Copies the calling thread's last error message into `buf` and returns its full length
 // in bytes (not counting the terminating NUL).

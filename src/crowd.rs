@@ -9,7 +9,7 @@
 //! character's exact percentile threshold and its list of constraints
 //! (`entity, t_b, t_e`), and stepping replays the recording following that plan.
 
-use glam::Vec3;
+use glam::{Quat, Vec3};
 
 use crate::attention::candidates::{
     all_pairs_candidates, nearby_candidates, CandidateBatch, NeighbourIndex,
@@ -19,10 +19,16 @@ use crate::attention::plan::{Constraint, Plan, Recording};
 use crate::attention::score::{ScoreBreakdown, Scorer, ScoringConfig};
 use crate::attention::CharacterParams;
 use crate::error::{ensure_finite, Error, Result};
-use crate::math::random::{stream, Purpose};
+use crate::ik::{
+    CharacterTransform, GazeChain, GazeConfig, GazeInput, GazeMotion, GazeRequest, MAX_CHAIN_JOINTS,
+};
+use crate::math::random::{stream, Purpose, Random};
 use crate::scene::ids::{EntityKind, NO_ENTITY};
 use crate::scene::{EntityUpdate, Scene};
 use crate::world::World;
+
+/// Gaze-request key of explicit point targets (entity ids are below 2³²).
+const EXPLICIT_POINT_KEY: u64 = 1 << 32;
 
 /// Largest capacity accepted for characters or objects (keeps index arithmetic in `u32`).
 pub const MAX_CAPACITY: u32 = 1 << 24;
@@ -47,12 +53,11 @@ pub struct CrowdConfig {
     /// Range `[low, high)` from which each character's attention fraction `a`/100 is drawn.
     /// Default [0.2, 0.6).
     pub attention_fraction_range: (f32, f32),
-    /// Look-at height (metres above the root) of a character without a gaze chain; default
-    /// 1.6 m (eye height).
-    pub default_eye_height: f32,
     /// How many entity states `push_frame` may record for offline planning (0: no
     /// recording, online only). Default 0.
     pub max_recorded_states: u32,
+    /// Gaze IK settings: recruitment bands and timing.
+    pub gaze: GazeConfig,
 }
 
 impl Default for CrowdConfig {
@@ -65,8 +70,8 @@ impl Default for CrowdConfig {
             scoring: ScoringConfig::default(),
             interest: InterestConfig::default(),
             attention_fraction_range: (0.2, 0.6),
-            default_eye_height: 1.6,
             max_recorded_states: 0,
+            gaze: GazeConfig::default(),
         }
     }
 }
@@ -120,8 +125,7 @@ impl CrowdConfig {
         let (low, high) = self.attention_fraction_range;
         check_range(low, 0.0, 1.0, "attention_fraction_min")?;
         check_range(high, low, 1.0, "attention_fraction_max")?;
-        check_range(self.default_eye_height, 0.0, 100.0, "default_eye_height")?;
-        Ok(())
+        self.gaze.validate()
     }
 }
 
@@ -158,6 +162,9 @@ pub struct CharacterDesc {
     pub impact: f32,
     /// Attention parameters; `None` draws them from the crowd's seed.
     pub params: Option<CharacterParams>,
+    /// The gaze chain (metres, world axes at heading 0); `None` is the human chain of
+    /// [`GazeChain::human`] for the crowd's axes.
+    pub chain: Option<GazeChain>,
 }
 
 impl Default for CharacterDesc {
@@ -167,8 +174,37 @@ impl Default for CharacterDesc {
             heading: 0.0,
             impact: 1.0,
             params: None,
+            chain: None,
         }
     }
+}
+
+/// A target set by game logic (top-down attention), overriding or completing the
+/// automatic interest point.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ExplicitTarget {
+    /// A world point (metres).
+    Point(Vec3),
+    /// An entity's look-at point, followed as it moves.
+    Entity(u32),
+}
+
+/// When an explicit target applies.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TargetPriority {
+    /// Always: the automatic interest point is ignored until the target is cleared.
+    Override,
+    /// Only while the character has no automatic interest point.
+    WhenIdle,
+}
+
+/// Where a character's eyes are and where they look, after a step (world, metres).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EyeState {
+    /// Left and right eye positions (the head's position twice for a chain without eyes).
+    pub origins: [Vec3; 2],
+    /// Left and right unit gaze directions.
+    pub directions: [Vec3; 2],
 }
 
 /// A description of a new scene object.
@@ -209,6 +245,18 @@ pub struct Crowd {
     /// Per character (dense, like the scene's character list).
     params: Vec<CharacterParams>,
     trackers: Vec<InterestTracker>,
+    /// Distinct gaze chains; characters share equal ones.
+    chains: Vec<GazeChain>,
+    /// Per character: index into `chains`.
+    chain_of: Vec<u32>,
+    /// Per character: base local rotations of its chain joints (rest or pushed pose).
+    bases: Vec<[Quat; MAX_CHAIN_JOINTS]>,
+    /// Per character: gaze motion state.
+    motions: Vec<GazeMotion>,
+    /// Per character: its random stream for gaze timing draws.
+    gaze_randoms: Vec<Random>,
+    /// Per character: explicit target from game logic.
+    explicit: Vec<Option<(ExplicitTarget, TargetPriority)>>,
     /// Characters ever added: the index of each one's random stream.
     characters_created: u64,
     /// Time of the last pushed frame.
@@ -229,6 +277,12 @@ impl Crowd {
             batch: Box::default(),
             params: Vec::with_capacity(config.max_characters as usize),
             trackers: Vec::with_capacity(config.max_characters as usize),
+            chains: Vec::new(),
+            chain_of: Vec::with_capacity(config.max_characters as usize),
+            bases: Vec::with_capacity(config.max_characters as usize),
+            motions: Vec::with_capacity(config.max_characters as usize),
+            gaze_randoms: Vec::with_capacity(config.max_characters as usize),
+            explicit: Vec::with_capacity(config.max_characters as usize),
             characters_created: 0,
             time: f64::NEG_INFINITY,
             recording: Recording::new(config.max_recorded_states as usize),
@@ -284,13 +338,41 @@ impl Crowd {
             );
             CharacterParams::random(&mut random, self.config.attention_fraction_range)
         });
+        let world = self.config.world;
+        let chain = match desc.chain {
+            Some(chain) => {
+                chain.validate()?;
+                chain
+            }
+            None => GazeChain::human(world.up, world.forward),
+        };
         let id = self.scene.add(
             EntityKind::Character,
             desc.position,
             desc.heading,
-            self.config.default_eye_height,
+            chain.look_at_height(world.up),
             desc.impact,
         )?;
+        let chain_index = match self.chains.iter().position(|known| *known == chain) {
+            Some(index) => index,
+            None => {
+                self.chains.push(chain);
+                self.chains.len() - 1
+            }
+        };
+        let mut base = [Quat::IDENTITY; MAX_CHAIN_JOINTS];
+        for (slot, joint) in base.iter_mut().zip(chain.joints()) {
+            *slot = joint.rest;
+        }
+        self.chain_of.push(chain_index as u32);
+        self.bases.push(base);
+        self.motions.push(GazeMotion::new(&chain));
+        self.gaze_randoms.push(stream(
+            self.config.seed,
+            Purpose::GazeTiming,
+            self.characters_created,
+        ));
+        self.explicit.push(None);
         self.characters_created += 1;
         self.params.push(params);
         self.trackers.push(InterestTracker::new(
@@ -321,11 +403,22 @@ impl Crowd {
         self.scene.find(id)?;
         self.ensure_online("remove an entity")?;
         if let Some(slot) = self.scene.remove(id)? {
-            self.params.swap_remove(slot as usize);
-            self.trackers.swap_remove(slot as usize);
+            let slot = slot as usize;
+            self.params.swap_remove(slot);
+            self.trackers.swap_remove(slot);
+            self.chain_of.swap_remove(slot);
+            self.bases.swap_remove(slot);
+            self.motions.swap_remove(slot);
+            self.gaze_randoms.swap_remove(slot);
+            self.explicit.swap_remove(slot);
         }
         for tracker in &mut self.trackers {
             tracker.forget(id);
+        }
+        for explicit in &mut self.explicit {
+            if matches!(explicit, Some((ExplicitTarget::Entity(target), _)) if *target == id) {
+                *explicit = None;
+            }
         }
         Ok(())
     }
@@ -423,9 +516,15 @@ impl Crowd {
             plan.advance(dt, &mut self.scene);
         }
         self.neighbours.rebuild(&self.scene);
-        if self.plan.is_some() {
-            return Ok(());
+        if self.plan.is_none() {
+            self.attend(dt);
         }
+        self.move_gaze(dt);
+        Ok(())
+    }
+
+    /// Online attention: every character's best entities, threshold and interest point.
+    fn attend(&mut self, dt: f32) {
         let max_score = self.scene.max_impact();
         let ids = self.scene.ids();
         for character in 0..self.scene.character_count() {
@@ -441,7 +540,121 @@ impl Crowd {
             );
             self.trackers[character].update(best, second, max_score, dt, &self.config.interest);
         }
-        Ok(())
+    }
+
+    /// The automatic interest point of a character (dense index) and its `S_max`.
+    fn automatic_target(&self, character: usize) -> (u32, f32) {
+        match &self.plan {
+            Some(plan) => {
+                let (target, s_max, _) = plan.current(character);
+                (target, s_max)
+            }
+            None => {
+                let tracker = &self.trackers[character];
+                (tracker.interest(), tracker.s_max())
+            }
+        }
+    }
+
+    /// What a character (dense index) should look at this frame: its explicit target if
+    /// one applies, else its interest point, as a gaze request.
+    fn gaze_request(&self, character: usize) -> Option<GazeRequest> {
+        let (automatic, s_max) = self.automatic_target(character);
+        let automatic = self
+            .scene
+            .index_of(automatic)
+            .map(|index| (automatic, index));
+        let explicit = match self.explicit[character] {
+            Some((target, TargetPriority::Override)) => Some(target),
+            Some((target, TargetPriority::WhenIdle)) if automatic.is_none() => Some(target),
+            _ => None,
+        };
+        let (key, point, interest_ratio) = match (explicit, automatic) {
+            (Some(ExplicitTarget::Point(point)), _) => (EXPLICIT_POINT_KEY, point, 1.0),
+            (Some(ExplicitTarget::Entity(id)), _) => {
+                let index = self.scene.index_of(id)?;
+                (u64::from(id), self.scene.look_at_point(index), 1.0)
+            }
+            (None, Some((id, index))) => {
+                let max_score = self.scene.max_impact();
+                let ratio = if max_score > 0.0 {
+                    s_max / max_score
+                } else {
+                    1.0
+                };
+                (
+                    u64::from(id),
+                    self.scene.look_at_point(index),
+                    ratio.clamp(0.05, 1.0),
+                )
+            }
+            (None, None) => return None,
+        };
+        Some(GazeRequest {
+            target_key: key,
+            head_target: point,
+            eye_target: point,
+            interest_ratio,
+        })
+    }
+
+    /// A character's (dense index) world transform.
+    fn character_transform(&self, character: usize) -> CharacterTransform {
+        let entity = self.scene.character_entities()[character] as usize;
+        CharacterTransform::from_heading(
+            self.scene.positions()[entity],
+            self.config.world.up,
+            self.scene.headings()[entity],
+        )
+    }
+
+    /// Gaze IK: moves every character's chain towards its target, four at a time.
+    fn move_gaze(&mut self, dt: f32) {
+        const LANES: usize = crate::ik::temporal::BATCH_LANES;
+        let count = self.scene.character_count();
+        let mut first = 0;
+        while first < count {
+            let lanes = (count - first).min(LANES);
+            let requests: [Option<GazeRequest>; LANES] =
+                std::array::from_fn(|lane| self.gaze_request((first + lane).min(count - 1)));
+            let transforms: [CharacterTransform; LANES] =
+                std::array::from_fn(|lane| self.character_transform((first + lane).min(count - 1)));
+            let chains: [&GazeChain; LANES] = std::array::from_fn(|lane| {
+                let character = (first + lane).min(count - 1);
+                &self.chains[self.chain_of[character] as usize]
+            });
+            let inputs: [GazeInput<'_>; LANES] = std::array::from_fn(|lane| {
+                let character = (first + lane).min(count - 1);
+                GazeInput {
+                    character: transforms[lane],
+                    base: &self.bases[character][..chains[lane].joint_count()],
+                    request: requests[lane],
+                    dt,
+                }
+            });
+            let motions = &mut self.motions[first..first + lanes];
+            let randoms = &mut self.gaze_randoms[first..first + lanes];
+            // Inputs were checked when they came in: a failure here would be a bug, and it
+            // leaves only that character's motion unchanged.
+            if let (
+                [motion_0, motion_1, motion_2, motion_3],
+                [random_0, random_1, random_2, random_3],
+            ) = (&mut *motions, &mut *randoms)
+            {
+                let _ = GazeMotion::update_batch(
+                    [motion_0, motion_1, motion_2, motion_3],
+                    [chains[0], chains[1], chains[2], chains[3]],
+                    &self.config.gaze,
+                    [&inputs[0], &inputs[1], &inputs[2], &inputs[3]],
+                    [random_0, random_1, random_2, random_3],
+                );
+            } else {
+                for (lane, (motion, random)) in motions.iter_mut().zip(randoms).enumerate() {
+                    let _ = motion.update(chains[lane], &self.config.gaze, &inputs[lane], random);
+                }
+            }
+            first += lanes;
+        }
     }
 
     /// The best and second-best entities for a character (by dense index) among those near
@@ -569,6 +782,134 @@ impl Crowd {
     /// Where a character looks now, by id.
     pub fn gaze(&self, character_id: u32) -> Result<GazeInfo> {
         Ok(self.gaze_dense(self.scene.character_index(character_id)?))
+    }
+
+    /// A character's gaze chain.
+    pub fn chain(&self, character_id: u32) -> Result<&GazeChain> {
+        let character = self.scene.character_index(character_id)?;
+        Ok(&self.chains[self.chain_of[character] as usize])
+    }
+
+    /// Number of chain joints of the characters `first .. first + count` (dense order)
+    /// together: the length of their packed joint outputs.
+    pub fn joint_total(&self, first: usize, count: usize) -> Result<usize> {
+        let range = self.character_range(first, count)?;
+        Ok(self.chain_of[range]
+            .iter()
+            .map(|&chain| self.chains[chain as usize].joint_count())
+            .sum())
+    }
+
+    fn character_range(&self, first: usize, count: usize) -> Result<std::ops::Range<usize>> {
+        let characters = self.character_count();
+        match first.checked_add(count) {
+            Some(end) if end <= characters => Ok(first..end),
+            _ => Err(Error::InvalidArgument(format!(
+                "characters {first} .. {first} + {count} are out of range: there are {characters}"
+            ))),
+        }
+    }
+
+    /// Sets a character's base pose: the local rotation of each chain joint, bottom to top
+    /// (the engine's animated pose; the rest pose until set). Rotations are normalised.
+    pub fn set_base_pose(&mut self, character_id: u32, local: &[Quat]) -> Result<()> {
+        let character = self.scene.character_index(character_id)?;
+        let joints = self.chains[self.chain_of[character] as usize].joint_count();
+        if local.len() != joints {
+            return Err(Error::InvalidArgument(format!(
+                "the base pose has {} rotations, the chain {joints} joints",
+                local.len()
+            )));
+        }
+        let mut base = self.bases[character];
+        for (slot, rotation) in base.iter_mut().zip(local) {
+            crate::error::ensure_all_finite(&rotation.to_array(), "base pose")?;
+            let length = rotation.length();
+            if length <= 1e-6 {
+                return Err(Error::InvalidArgument(
+                    "a base rotation has length 0".into(),
+                ));
+            }
+            *slot = *rotation / length;
+        }
+        self.bases[character] = base;
+        Ok(())
+    }
+
+    /// Gives a character an explicit target until [`clear_gaze_target`](Self::clear_gaze_target).
+    pub fn set_gaze_target(
+        &mut self,
+        character_id: u32,
+        target: ExplicitTarget,
+        priority: TargetPriority,
+    ) -> Result<()> {
+        let character = self.scene.character_index(character_id)?;
+        match target {
+            ExplicitTarget::Point(point) => {
+                crate::error::ensure_all_finite(&point.to_array(), "target point")?
+            }
+            ExplicitTarget::Entity(id) => {
+                self.scene.find(id)?;
+                if id == character_id {
+                    return Err(Error::InvalidArgument(
+                        "a character cannot look at itself".into(),
+                    ));
+                }
+            }
+        }
+        self.explicit[character] = Some((target, priority));
+        Ok(())
+    }
+
+    /// Removes a character's explicit target; its automatic attention takes over again.
+    pub fn clear_gaze_target(&mut self, character_id: u32) -> Result<()> {
+        let character = self.scene.character_index(character_id)?;
+        self.explicit[character] = None;
+        Ok(())
+    }
+
+    /// Writes the chain joints of characters `first .. first + count` (dense order) into
+    /// `out`, packed one chain after another, bottom to top: the final local rotations
+    /// `base * delta`, or the deltas alone with `deltas_only`. `out` must hold
+    /// [`joint_total`](Self::joint_total) rotations; returns how many were written.
+    pub fn read_joints(
+        &self,
+        first: usize,
+        count: usize,
+        deltas_only: bool,
+        out: &mut [Quat],
+    ) -> Result<usize> {
+        let total = self.joint_total(first, count)?;
+        if out.len() < total {
+            return Err(Error::InvalidArgument(format!(
+                "the output holds {} rotations, {total} are needed",
+                out.len()
+            )));
+        }
+        let mut written = 0;
+        for character in first..first + count {
+            let deltas = self.motions[character].deltas();
+            let base = &self.bases[character][..deltas.len()];
+            for ((slot, delta), base) in out[written..].iter_mut().zip(deltas).zip(base) {
+                *slot = if deltas_only { *delta } else { *base * *delta };
+            }
+            written += deltas.len();
+        }
+        Ok(written)
+    }
+
+    /// Where a character's (dense index) eyes are and look after the last step.
+    pub fn eyes_dense(&self, character: usize) -> EyeState {
+        let motion = &self.motions[character];
+        EyeState {
+            origins: motion.eye_origins(),
+            directions: motion.eye_directions(),
+        }
+    }
+
+    /// A character's gaze motion (phase, timing), by id.
+    pub fn gaze_motion(&self, character_id: u32) -> Result<&GazeMotion> {
+        Ok(&self.motions[self.scene.character_index(character_id)?])
     }
 
     /// Plans attention offline over the recorded frames (see the module docs). Requires

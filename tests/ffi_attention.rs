@@ -16,7 +16,7 @@ fn crowd(units_per_metre: f32, recorded: u32) -> *mut cg_crowd {
     let mut config = unsafe { config.assume_init() };
     config.units_per_metre = units_per_metre;
     config.max_distance = 10.0 * units_per_metre;
-    config.eye_height = 1.6 * units_per_metre;
+    config.restart_distance = 0.5 * units_per_metre;
     config.max_characters = 4;
     config.max_objects = 1;
     config.max_recorded_states = recorded;

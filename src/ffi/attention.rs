@@ -3,6 +3,7 @@
 
 use glam::Vec3;
 
+use super::chain::cg_chain_desc;
 use super::crowd::{cg_crowd, crowd_mut, crowd_ref};
 use super::types::cg_vec3;
 use super::{cg_status, ffi_boundary, read_versioned, Versioned};
@@ -35,6 +36,9 @@ pub struct cg_character_desc {
     pub impact: f32,
     /// Root (ground) position in your units. Default origin.
     pub position: cg_vec3,
+    /// The character's gaze chain (read during the call, not kept), or NULL (default) for
+    /// the human chain of `cg_chain_desc_init_human` in the crowd's axes and units.
+    pub chain: *const cg_chain_desc,
 }
 
 /// A new scene object: something characters may look at. Fill it with
@@ -166,6 +170,7 @@ impl Versioned for cg_character_desc {
             heading: 0.0,
             impact: 1.0,
             position: cg_vec3::default(),
+            chain: std::ptr::null(),
         }
     }
 }
@@ -252,8 +257,9 @@ fn metres(world: &World, value: cg_vec3, what: &str) -> Result<Vec3> {
 /// parameters are drawn from the crowd's seed (change them with
 /// `cg_crowd_set_character_params`). The id stays valid until `cg_crowd_remove_entity`.
 ///
-/// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_BAD_STRUCT_SIZE`, `CG_STATUS_NON_FINITE`
-/// (position, heading or impact), `CG_STATUS_INVALID_ARGUMENT` (negative impact),
+/// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_BAD_STRUCT_SIZE` (desc or its chain),
+/// `CG_STATUS_NON_FINITE` (position, heading, impact or chain values),
+/// `CG_STATUS_INVALID_ARGUMENT` (negative impact, an invalid chain),
 /// `CG_STATUS_CAPACITY` (already `max_characters`), `CG_STATUS_WRONG_STATE` (a plan is
 /// active). Not thread-safe (mutates the crowd).
 #[no_mangle]
@@ -268,11 +274,21 @@ pub extern "C" fn cg_crowd_add_character(
         // SAFETY: the caller passes a readable desc of at least its struct_size bytes.
         let desc = unsafe { read_versioned(desc) }?;
         super::non_null(out_id, "out_id")?;
+        let world = crowd.config().world;
+        let chain = if desc.chain.is_null() {
+            None
+        } else {
+            // SAFETY: a non-null chain points to a readable cg_chain_desc of at least its
+            // struct_size bytes (caller contract).
+            let chain = unsafe { read_versioned(desc.chain) }?;
+            Some(chain.to_core(world.units_per_metre)?)
+        };
         let core = CharacterDesc {
-            position: metres(&crowd.config().world, desc.position, "position")?,
+            position: metres(&world, desc.position, "position")?,
             heading: desc.heading,
             impact: desc.impact,
             params: None,
+            chain,
         };
         let id = crowd.add_character(&core)?;
         // SAFETY: checked non-null above; the caller provides a writable u32.

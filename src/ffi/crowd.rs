@@ -6,6 +6,7 @@ use crate::attention::interest::InterestConfig;
 use crate::attention::score::ScoringConfig;
 use crate::crowd::{Crowd, CrowdConfig};
 use crate::error::Result;
+use crate::ik::GazeConfig;
 use crate::world::World;
 
 /// A crowd of characters and the objects they may look at (opaque).
@@ -74,9 +75,24 @@ pub struct cg_crowd_config {
     pub attention_fraction_min: f32,
     /// See `attention_fraction_min`. Default 0.6.
     pub attention_fraction_max: f32,
-    /// Eye height above the character's root of a character without a gaze chain, in your
-    /// units: where others look at it. Default 1.6 m.
-    pub eye_height: f32,
+    /// Gaze IK: largest gaze rotation (radians) the eyes make alone. Default 15°.
+    pub eyes_only_angle: f32,
+    /// Gaze IK: largest gaze rotation (radians) without the spine (eyes, head and neck).
+    /// Default 30°.
+    pub eyes_head_neck_angle: f32,
+    /// `v_m`: head velocity of the activation time `t_a = θ_head S_MAX / (v_m S_max)`,
+    /// rad/s. Default 2π.
+    pub head_speed: f32,
+    /// Longest activation time `t_a` (s). Default 2.
+    pub max_activation_time: f32,
+    /// A target moving more than this between two frames (your units) restarts the gaze
+    /// shift. Default 0.5 m.
+    pub restart_distance: f32,
+    /// The return to the base motion takes `t_d`, drawn in [min, max] seconds.
+    /// Default 0.5.
+    pub min_deactivation_time: f32,
+    /// See `min_deactivation_time`. Default 1.5.
+    pub max_deactivation_time: f32,
 }
 
 impl Versioned for cg_crowd_config {
@@ -112,8 +128,27 @@ impl cg_crowd_config {
             initial_threshold: core.interest.initial_threshold,
             attention_fraction_min: core.attention_fraction_range.0,
             attention_fraction_max: core.attention_fraction_range.1,
-            eye_height: core.default_eye_height * units,
+            eyes_only_angle: core.gaze.spatial.bands.eyes_only,
+            eyes_head_neck_angle: core.gaze.spatial.bands.eyes_head_and_neck,
+            head_speed: core.gaze.timing.head_speed,
+            max_activation_time: core.gaze.timing.max_activation_time,
+            restart_distance: core.gaze.timing.restart_distance * units,
+            min_deactivation_time: core.gaze.timing.min_deactivation_time,
+            max_deactivation_time: core.gaze.timing.max_deactivation_time,
         }
+    }
+
+    /// The gaze IK part of the core config (other gaze settings keep their defaults).
+    fn gaze_config(&self, metres: f32) -> GazeConfig {
+        let mut gaze = GazeConfig::default();
+        gaze.spatial.bands.eyes_only = self.eyes_only_angle;
+        gaze.spatial.bands.eyes_head_and_neck = self.eyes_head_neck_angle;
+        gaze.timing.head_speed = self.head_speed;
+        gaze.timing.max_activation_time = self.max_activation_time;
+        gaze.timing.restart_distance = self.restart_distance * metres;
+        gaze.timing.min_deactivation_time = self.min_deactivation_time;
+        gaze.timing.max_deactivation_time = self.max_deactivation_time;
+        gaze
     }
 
     /// Checks and converts to the core's config (lengths to metres).
@@ -143,8 +178,8 @@ impl cg_crowd_config {
                 initial_threshold: self.initial_threshold,
             },
             attention_fraction_range: (self.attention_fraction_min, self.attention_fraction_max),
-            default_eye_height: self.eye_height * metres,
             max_recorded_states: self.max_recorded_states,
+            gaze: self.gaze_config(metres),
         };
         config.validate()?;
         Ok(config)

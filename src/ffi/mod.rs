@@ -15,6 +15,7 @@
 pub mod attention;
 pub mod chain;
 pub mod crowd;
+pub mod gaze;
 pub mod last_error;
 pub mod status;
 pub mod types;
