@@ -1,5 +1,6 @@
-//! Small math the models share: the gaze ease curve and the seeded random numbers.
-//! (Vectors and quaternions come from glam.)
+//! Small math the models share: the gaze ease curve, the seeded random numbers, and dual
+//! quaternions for rigid transforms. (Vectors and quaternions come from glam.)
 
+pub mod dualquat;
 pub mod ease;
 pub mod random;
