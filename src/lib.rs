@@ -16,6 +16,8 @@
 
 // The header is generated from `ffi` alone: cbindgen skips the core modules.
 /// cbindgen:ignore
+pub mod blend;
+/// cbindgen:ignore
 pub mod crowd;
 /// cbindgen:ignore
 pub mod error;
@@ -25,6 +27,8 @@ pub mod math;
 /// cbindgen:ignore
 pub mod world;
 
+pub use blend::{ViewBlender, ViewBlenderConfig};
 pub use crowd::{Crowd, CrowdConfig};
 pub use error::{Error, Result};
+pub use math::dualquat::DualQuat;
 pub use world::{Axis, World};

@@ -246,7 +246,7 @@ macro_rules! dual_quat {
             #[inline]
             pub fn try_normalize(self) -> Option<Self> {
                 let length = self.real.length();
-                if !(length > 1e-12 as $t) || !length.is_finite() {
+                if !length.is_finite() || length <= 1e-12 as $t {
                     return None;
                 }
                 let inverse = 1.0 / length;

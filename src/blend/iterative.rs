@@ -1,0 +1,336 @@
+//! Dual quaternion iterative blending, DIB (Kavan et al.; Chaudhuri et al., Algorithm 1), for
+//! one transform or a whole pose:
+//!
+//! ```text
+//! b̂ = DLB(q̂_k, w_k)
+//! repeat  x̂ = Σ w_k log(b̂* q̂_k);  b̂ = b̂ exp(x̂)   until ‖x̂‖ < p
+//! ```
+//!
+//! The result is the weighted mean of the transforms in the screw metric: it is rigid,
+//! invariant to the coordinate system (`DIB(T q̂_k) = T DIB(q̂_k)`), and for two inputs equals
+//! ScLERP ([`DualQuat::sclerp`]). Each `log` takes the shorter screw (`b̂* q̂_k` flipped to
+//! `real.w ≥ 0`), so antipodal inputs blend the short way.
+//!
+//! The iteration runs in f64 ([`DDualQuat`]) so that `p` can be far below f32 rounding, in any
+//! length unit; the result is rounded to f32 at the end. `‖x̂‖` is the Euclidean norm of the
+//! 8 components: half-angles in radians and half-translations in the inputs' length unit.
+//! At most `max_iterations` updates are made; if `‖x̂‖ < p` is not reached by then, the
+//! iterate with the smallest `‖x̂‖` is returned and flagged as not converged.
+
+use super::linear::dlb_by;
+use super::{check_pose_layout, check_weights, AsDualQuat};
+use crate::error::{Error, Result};
+use crate::math::dualquat::{DDualQuat, DualQuat};
+
+/// Largest `max_iterations` accepted, so that a call always ends quickly.
+pub const MAX_ITERATIONS_LIMIT: u32 = 1000;
+
+/// The stopping rule of DIB: precision `p` and the most updates allowed.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DibSettings {
+    /// `p`: stop when `‖x̂‖ < p` (radians and length units mixed, see the module docs).
+    /// Finite and `> 0`. Default 1e−6.
+    pub precision: f32,
+    /// Most updates `b̂ = b̂ exp(x̂)`, 0 to [`MAX_ITERATIONS_LIMIT`]. With 0, DIB returns DLB
+    /// and only checks it. Default 16.
+    pub max_iterations: u32,
+}
+
+impl Default for DibSettings {
+    fn default() -> Self {
+        DibSettings {
+            precision: 1e-6,
+            max_iterations: 16,
+        }
+    }
+}
+
+impl DibSettings {
+    /// Checks the documented ranges.
+    ///
+    /// Errors: [`Error::NonFinite`] (precision NaN or infinite), [`Error::InvalidArgument`]
+    /// (precision `≤ 0`, max_iterations above [`MAX_ITERATIONS_LIMIT`]).
+    pub fn validate(&self) -> Result<()> {
+        if !self.precision.is_finite() {
+            return Err(Error::NonFinite(format!("precision is {}", self.precision)));
+        }
+        if self.precision <= 0.0 {
+            return Err(Error::InvalidArgument(format!(
+                "precision is {}, must be > 0",
+                self.precision
+            )));
+        }
+        if self.max_iterations > MAX_ITERATIONS_LIMIT {
+            return Err(Error::InvalidArgument(format!(
+                "max_iterations is {}, at most {MAX_ITERATIONS_LIMIT}",
+                self.max_iterations
+            )));
+        }
+        Ok(())
+    }
+}
+
+/// What DIB returned for one transform.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DibOutcome {
+    /// The blended unit dual quaternion (the best iterate if not converged).
+    pub blend: DualQuat,
+    /// `‖x̂‖` at `blend`.
+    pub residual: f64,
+    /// Updates made.
+    pub iterations: u32,
+    /// Whether `‖x̂‖ < p` was reached.
+    pub converged: bool,
+}
+
+impl DibOutcome {
+    /// `Ok(blend)` if converged, otherwise [`Error::NotConverged`] (the blend is still in
+    /// `self` for callers that want the best result).
+    pub fn into_result(self, settings: &DibSettings) -> Result<DualQuat> {
+        if self.converged {
+            Ok(self.blend)
+        } else {
+            Err(not_converged(1, 1, self.residual, settings))
+        }
+    }
+}
+
+/// How a pose blend went, joint by joint.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct PoseOutcome {
+    /// Joints blended.
+    pub joints: usize,
+    /// Joints whose DIB did not reach the precision (0 for DLB).
+    pub unconverged_joints: usize,
+    /// Largest `‖x̂‖` over the joints (0 for DLB).
+    pub largest_residual: f64,
+    /// Most updates any joint needed (0 for DLB).
+    pub most_iterations: u32,
+}
+
+impl PoseOutcome {
+    /// True if every joint converged.
+    pub fn converged(&self) -> bool {
+        self.unconverged_joints == 0
+    }
+
+    /// `Ok(())` if every joint converged, otherwise [`Error::NotConverged`] saying how many
+    /// did not (the pose has been written all the same).
+    pub fn into_result(self, settings: &DibSettings) -> Result<()> {
+        if self.converged() {
+            Ok(())
+        } else {
+            Err(not_converged(
+                self.unconverged_joints,
+                self.joints,
+                self.largest_residual,
+                settings,
+            ))
+        }
+    }
+
+    pub(crate) fn add(&mut self, outcome: &DibOutcome) {
+        self.joints += 1;
+        if !outcome.converged {
+            self.unconverged_joints += 1;
+        }
+        self.largest_residual = self.largest_residual.max(outcome.residual);
+        self.most_iterations = self.most_iterations.max(outcome.iterations);
+    }
+}
+
+fn not_converged(failed: usize, of: usize, residual: f64, settings: &DibSettings) -> Error {
+    Error::NotConverged(format!(
+        "DIB: {failed} of {of} blends did not reach precision {} in {} iterations \
+         (largest |x| = {residual:.3e}); the best iterates were written",
+        settings.precision, settings.max_iterations
+    ))
+}
+
+/// DIB of `inputs` (unit dual quaternions) with weights `w_k` (finite, `≥ 0`, not all zero;
+/// divided by their sum). For one input it returns that input; for two it equals ScLERP.
+///
+/// Errors: bad weights or counts (see [`check_weights`]) or settings
+/// ([`DibSettings::validate`]). Not converging is not an error here: see
+/// [`DibOutcome::converged`] and [`DibOutcome::into_result`].
+pub fn dib<Q: AsDualQuat>(
+    inputs: &[Q],
+    weights: &[f32],
+    settings: &DibSettings,
+) -> Result<DibOutcome> {
+    settings.validate()?;
+    let inverse_total = check_weights(inputs.len(), weights)?;
+    Ok(dib_by(weights, inverse_total, settings, |k| {
+        inputs[k].as_dual_quat()
+    }))
+}
+
+/// DIB of a whole pose, with the layout of [`super::blend_pose_dlb`] (key-major `keys`, joint
+/// `j` of key `k` at `k · joint_count + j`). Every joint of `out` is written, converged or
+/// not; the outcome says how many did not converge. Allocates nothing.
+///
+/// Errors: bad weights, layout or settings; nothing is written then.
+pub fn blend_pose_dib<Q: AsDualQuat, O: From<DualQuat>>(
+    keys: &[Q],
+    weights: &[f32],
+    joint_count: usize,
+    settings: &DibSettings,
+    out: &mut [O],
+) -> Result<PoseOutcome> {
+    settings.validate()?;
+    check_pose_layout(keys.len(), weights.len(), joint_count, out.len())?;
+    let inverse_total = check_weights(weights.len(), weights)?;
+    let mut outcome = PoseOutcome::default();
+    for (joint, slot) in out.iter_mut().enumerate() {
+        let joint_outcome = dib_by(weights, inverse_total, settings, |k| {
+            keys[k * joint_count + joint].as_dual_quat()
+        });
+        outcome.add(&joint_outcome);
+        *slot = joint_outcome.blend.into();
+    }
+    Ok(outcome)
+}
+
+/// Algorithm 1 on `input(0) .. input(weights.len() − 1)`, weights and settings already
+/// checked; `inverse_total = 1 / Σ w_k`.
+pub(crate) fn dib_by(
+    weights: &[f32],
+    inverse_total: f64,
+    settings: &DibSettings,
+    input: impl Fn(usize) -> DualQuat,
+) -> DibOutcome {
+    let precision = f64::from(settings.precision);
+    let mut blend = dlb_by(weights, &input).as_f64();
+    let mut best = (blend, f64::INFINITY, 0);
+    for iteration in 0..=settings.max_iterations {
+        let inverse = blend.conjugate();
+        let mut step = DDualQuat::ZERO;
+        for (k, &weight) in weights.iter().enumerate() {
+            if weight > 0.0 {
+                let relative = inverse * input(k).as_f64();
+                step = step + relative.log() * (f64::from(weight) * inverse_total);
+            }
+        }
+        let residual = step.length();
+        if residual < best.1 {
+            best = (blend, residual, iteration);
+        }
+        if residual < precision {
+            return DibOutcome {
+                blend: blend.as_f32(),
+                residual,
+                iterations: iteration,
+                converged: true,
+            };
+        }
+        if iteration == settings.max_iterations {
+            break;
+        }
+        let next = blend * step.exp();
+        blend = next.try_normalize().unwrap_or(next);
+    }
+    DibOutcome {
+        blend: best.0.as_f32(),
+        residual: best.1,
+        iterations: settings.max_iterations,
+        converged: false,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::{Quat, Vec3};
+
+    fn transform(axis: Vec3, angle: f32, translation: Vec3) -> DualQuat {
+        DualQuat::from_rotation_translation(
+            Quat::from_axis_angle(axis.normalize(), angle),
+            translation,
+        )
+    }
+
+    fn same(a: DualQuat, b: DualQuat, tolerance: f32) -> bool {
+        (a - b).length() <= tolerance || (a + b).length() <= tolerance
+    }
+
+    #[test]
+    fn one_input_is_returned_at_once() {
+        let q = transform(Vec3::X, 2.0, Vec3::new(4.0, 5.0, 6.0));
+        let outcome = dib(&[q], &[1.0], &DibSettings::default()).unwrap();
+        assert!(outcome.converged);
+        assert_eq!(outcome.iterations, 0);
+        assert!(same(outcome.blend, q, 1e-6));
+    }
+
+    #[test]
+    fn two_inputs_give_sclerp() {
+        let a = transform(Vec3::new(1.0, 2.0, 0.5), 0.4, Vec3::new(0.2, 0.0, 1.0));
+        let b = transform(Vec3::new(-1.0, 0.5, 0.0), 1.9, Vec3::new(1.5, -0.7, 0.3));
+        for t in [0.0f32, 0.1, 0.5, 0.8, 1.0] {
+            let outcome = dib(&[a, b], &[1.0 - t, t], &DibSettings::default()).unwrap();
+            assert!(outcome.converged);
+            assert!(same(outcome.blend, a.sclerp(b, t), 1e-5), "t = {t}");
+        }
+    }
+
+    #[test]
+    fn the_residual_is_below_the_precision() {
+        let inputs = [
+            transform(Vec3::Y, 0.5, Vec3::new(100.0, 0.0, 0.0)),
+            transform(Vec3::Z, -0.9, Vec3::new(0.0, 250.0, 0.0)),
+            transform(Vec3::X, 1.2, Vec3::new(0.0, 0.0, -80.0)),
+        ];
+        let settings = DibSettings {
+            precision: 1e-9,
+            max_iterations: 50,
+        };
+        let outcome = dib(&inputs, &[0.2, 0.3, 0.5], &settings).unwrap();
+        assert!(outcome.converged, "{outcome:?}");
+        assert!(outcome.residual < 1e-9);
+        assert!(outcome.blend.is_unit(1e-6));
+    }
+
+    #[test]
+    fn running_out_of_iterations_is_reported_with_the_best_iterate() {
+        let inputs = [
+            transform(Vec3::Y, 0.0, Vec3::ZERO),
+            transform(Vec3::Y, 2.5, Vec3::new(3.0, 0.0, 0.0)),
+            transform(Vec3::X, 2.0, Vec3::new(0.0, 3.0, 0.0)),
+        ];
+        let weights = [0.3, 0.4, 0.3];
+        let settings = DibSettings {
+            precision: 1e-7,
+            max_iterations: 0,
+        };
+        let outcome = dib(&inputs, &weights, &settings).unwrap();
+        assert!(!outcome.converged);
+        assert!(outcome.residual >= 1e-7);
+        // With no update allowed, the best iterate is DLB.
+        let dlb = super::super::dlb(&inputs, &weights).unwrap();
+        assert!(same(outcome.blend, dlb, 1e-6));
+        assert!(matches!(
+            outcome.into_result(&settings),
+            Err(Error::NotConverged(_))
+        ));
+    }
+
+    #[test]
+    fn settings_are_checked() {
+        let q = [DualQuat::IDENTITY];
+        for (precision, max_iterations) in [(0.0, 4), (-1.0, 4), (1e-6, MAX_ITERATIONS_LIMIT + 1)] {
+            let settings = DibSettings {
+                precision,
+                max_iterations,
+            };
+            assert!(matches!(
+                dib(&q, &[1.0], &settings),
+                Err(Error::InvalidArgument(_))
+            ));
+        }
+        let nan = DibSettings {
+            precision: f32::NAN,
+            max_iterations: 4,
+        };
+        assert!(matches!(dib(&q, &[1.0], &nan), Err(Error::NonFinite(_))));
+    }
+}
