@@ -41,8 +41,8 @@ pub struct KeyClip {
 
 impl KeyClip {
     /// A clip from `frames` (frame-major, `frame_count × joint_count` transforms, each
-    /// normalised on the way in). `frames_per_second` must be finite and `> 0` unless the
-    /// clip has one frame.
+    /// normalised on the way in). `frames_per_second` must be finite, and `> 0` unless the
+    /// clip has one frame (where it is ignored).
     ///
     /// Errors: [`Error::InvalidArgument`] (no joints, no frames, a length that is not a
     /// multiple of `joint_count`, a frame rate `≤ 0`, a transform with a zero real part),
@@ -65,17 +65,15 @@ impl KeyClip {
             )));
         }
         let frame_count = frames.len() / joint_count;
-        if frame_count > 1 {
-            if !frames_per_second.is_finite() {
-                return Err(Error::NonFinite(format!(
-                    "frames_per_second is {frames_per_second}"
-                )));
-            }
-            if frames_per_second <= 0.0 {
-                return Err(Error::InvalidArgument(format!(
-                    "frames_per_second is {frames_per_second}, must be > 0"
-                )));
-            }
+        if !frames_per_second.is_finite() {
+            return Err(Error::NonFinite(format!(
+                "frames_per_second is {frames_per_second}"
+            )));
+        }
+        if frame_count > 1 && frames_per_second <= 0.0 {
+            return Err(Error::InvalidArgument(format!(
+                "frames_per_second is {frames_per_second}, must be > 0"
+            )));
         }
         let mut stored = Vec::with_capacity(frames.len());
         for (index, frame) in frames.iter().enumerate() {

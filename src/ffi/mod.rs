@@ -12,6 +12,7 @@
 // Helpers used by the entry points of the next features.
 #![allow(dead_code)]
 
+pub mod blend;
 pub mod crowd;
 pub mod last_error;
 pub mod status;
