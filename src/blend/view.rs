@@ -107,7 +107,8 @@ pub struct ViewBlenderConfig {
     pub distance: ViewDistance,
     /// DLB or DIB per joint. Default DLB.
     pub method: BlendMethod,
-    /// DIB's precision `p` (see [`DibSettings`]). Default 1e−6.
+    /// DIB's precision `p` (see [`DibSettings`]; in the caller's length unit for the
+    /// translations). Default 1e−6.
     pub precision: f32,
     /// DIB's most updates per joint (see [`DibSettings`]). Default 16.
     pub max_iterations: u32,

@@ -263,30 +263,32 @@ macro_rules! dual_quat {
             /// d), with `real.w = dual.w = 0`. Takes the representative with `real.w ≥ 0`, so
             /// θ ≤ π (the shorter screw) and `exp(log(q̂)) = ±q̂`. Exact for the identity
             /// (`0`) and pure translations (`ε ½ t`): no NaN for any unit input.
+            #[inline]
             pub fn log(self) -> Self {
                 let (real, dual) = if self.real.w < 0.0 {
-                    (-self.real, -self.dual)
+                    (-$vec4::from(self.real), -$vec4::from(self.dual))
                 } else {
-                    (self.real, self.dual)
+                    ($vec4::from(self.real), $vec4::from(self.dual))
                 };
-                let vector = real.xyz();
+                let xyz = $vec4::new(1.0, 1.0, 1.0, 0.0);
+                let vector = real * xyz;
                 let sine = vector.length(); // sin(θ/2)
                 let cosine = real.w; // cos(θ/2)
-                let half_angle = sine.atan2(cosine);
+                let half_angle = <$t as Series>::first_quadrant_atan2(sine, cosine);
                 // f1 = a / sin a, f2 = (a cos a − sin a) / sin³ a, a = θ/2.
-                let (f1, f2) = if (half_angle as f64) < SMALL_HALF_ANGLE {
+                let (f1, f2) = if half_angle < SMALL_HALF_ANGLE as $t {
                     let (g1, g2) = sinc_factors(half_angle * half_angle);
                     let f1 = 1.0 / g1;
                     (f1, g2 * f1 * f1 * f1)
                 } else {
-                    let sine3 = sine * sine * sine;
-                    (half_angle / sine, (half_angle * cosine - sine) / sine3)
+                    let inverse_sine = 1.0 / sine;
+                    let f1 = half_angle * inverse_sine;
+                    (f1, (f1 * cosine - 1.0) * inverse_sine * inverse_sine)
                 };
-                let log_real = vector * f1;
-                let log_dual = dual.xyz() * f1 + vector * (dual.w * f2);
+                let log_dual = (dual * xyz) * f1 + vector * (dual.w * f2);
                 Self {
-                    real: $quat::from_xyzw(log_real.x, log_real.y, log_real.z, 0.0),
-                    dual: $quat::from_xyzw(log_dual.x, log_dual.y, log_dual.z, 0.0),
+                    real: $quat::from_vec4(vector * f1),
+                    dual: $quat::from_vec4(log_dual),
                 }
             }
 
@@ -294,11 +296,14 @@ macro_rules! dual_quat {
             /// returns; the scalar parts `real.w` and `dual.w` are ignored): the unit dual
             /// quaternion of the screw it describes. Exact for `0` (identity) and a pure
             /// translation (`exp(ε ½ t)` translates by `t`).
+            #[inline]
             pub fn exp(self) -> Self {
-                let u = self.real.xyz();
-                let u_dual = self.dual.xyz();
+                let xyz = $vec4::new(1.0, 1.0, 1.0, 0.0);
+                let u = $vec4::from(self.real) * xyz;
+                let u_dual = $vec4::from(self.dual) * xyz;
                 let angle_squared = u.length_squared(); // φ², φ = θ/2
-                let (cosine, g1, g2) = if (angle_squared as f64) < SMALL_HALF_ANGLE * SMALL_HALF_ANGLE {
+                let small = SMALL_HALF_ANGLE as $t;
+                let (cosine, g1, g2) = if angle_squared < small * small {
                     let (g1, g2) = sinc_factors(angle_squared);
                     (cos_series(angle_squared), g1, g2)
                 } else {
@@ -308,11 +313,11 @@ macro_rules! dual_quat {
                     (cosine, g1, (cosine - g1) / angle_squared)
                 };
                 let pitch = u.dot(u_dual);
-                let real = u * g1;
-                let dual = u_dual * g1 + u * (pitch * g2);
+                let real = u * g1 + $vec4::new(0.0, 0.0, 0.0, cosine);
+                let dual = u_dual * g1 + u * (pitch * g2) + $vec4::new(0.0, 0.0, 0.0, -pitch * g1);
                 Self {
-                    real: $quat::from_xyzw(real.x, real.y, real.z, cosine),
-                    dual: $quat::from_xyzw(dual.x, dual.y, dual.z, -pitch * g1),
+                    real: $quat::from_vec4(real),
+                    dual: $quat::from_vec4(dual),
                 }
             }
 
@@ -487,6 +492,8 @@ fn cos_series<T: Series>(x: T) -> T {
 trait Series: Copy {
     /// `Σ coefficients[i] xⁱ` by Horner's rule.
     fn poly(x: Self, coefficients: &[f64]) -> Self;
+    /// `atan2(y, x)` for `y ≥ 0`, `x ≥ 0`: an angle in [0, π/2].
+    fn first_quadrant_atan2(y: Self, x: Self) -> Self;
 }
 
 impl Series for f32 {
@@ -497,12 +504,40 @@ impl Series for f32 {
             .rev()
             .fold(0.0, |sum, &c| sum * x + c as f32)
     }
+
+    /// Inline, to f32 rounding (about 1e−7 rad) and about three times faster than `atan2f`
+    /// (DIB takes one per input and iteration): Cephes' `atanf` polynomial after reducing
+    /// the ratio to |z| ≤ tan(π/8).
+    #[inline]
+    fn first_quadrant_atan2(y: f32, x: f32) -> f32 {
+        use std::f32::consts::{FRAC_PI_2, FRAC_PI_4};
+        const TAN_PI_8: f32 = 0.414_213_57;
+        const TAN_3PI_8: f32 = 2.414_213_7;
+        if y == 0.0 {
+            return 0.0;
+        }
+        let (base, z) = if y <= TAN_PI_8 * x {
+            (0.0, y / x)
+        } else if y <= TAN_3PI_8 * x {
+            (FRAC_PI_4, (y - x) / (y + x))
+        } else {
+            (FRAC_PI_2, -x / y)
+        };
+        let z2 = z * z;
+        let p = ((8.053_744_5e-2 * z2 - 1.387_768_6e-1) * z2 + 1.997_771_1e-1) * z2 - 3.333_295e-1;
+        base + z + z * z2 * p
+    }
 }
 
 impl Series for f64 {
     #[inline]
     fn poly(x: f64, coefficients: &[f64]) -> f64 {
         coefficients.iter().rev().fold(0.0, |sum, &c| sum * x + c)
+    }
+
+    #[inline]
+    fn first_quadrant_atan2(y: f64, x: f64) -> f64 {
+        y.atan2(x)
     }
 }
 
@@ -761,6 +796,28 @@ mod tests {
             start.sclerp(stop, 0.5),
             1e-5
         ));
+    }
+
+    #[test]
+    fn fast_atan2_is_accurate_over_the_quadrant() {
+        let mut worst = 0.0f64;
+        for i in 0..=20_000 {
+            let angle = std::f64::consts::FRAC_PI_2 * f64::from(i) / 20_000.0;
+            for radius in [1.0f64, 0.5, 3.0] {
+                let (y, x) = (
+                    (radius * angle.sin()) as f32,
+                    (radius * angle.cos()).max(0.0) as f32,
+                );
+                let fast = f64::from(<f32 as Series>::first_quadrant_atan2(y, x));
+                worst = worst.max((fast - f64::from(y).atan2(f64::from(x))).abs());
+            }
+        }
+        assert!(worst < 3e-7, "worst error {worst}");
+        assert_eq!(<f32 as Series>::first_quadrant_atan2(0.0, 0.0), 0.0);
+        assert_eq!(
+            <f32 as Series>::first_quadrant_atan2(1.0, 0.0),
+            std::f32::consts::FRAC_PI_2
+        );
     }
 
     #[test]
