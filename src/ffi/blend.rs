@@ -63,10 +63,21 @@ impl From<DualQuat> for cg_dualquat {
     }
 }
 
-/// Checks every element of a C array of dual quaternions (see [`cg_dualquat::to_unit`]).
+/// Checks every element of a C array of dual quaternions as [`cg_dualquat::to_unit`] does
+/// (allocating only for the message of an error).
 fn check_all(values: &[cg_dualquat], what: &str) -> Result<()> {
     for (index, value) in values.iter().enumerate() {
-        value.to_unit(&format!("{what}[{index}]"))?;
+        let raw = value.raw();
+        if !raw.is_finite() {
+            return Err(Error::NonFinite(format!(
+                "{what}[{index}] is not finite: {value:?}"
+            )));
+        }
+        if raw.try_normalize().is_none() {
+            return Err(Error::InvalidArgument(format!(
+                "{what}[{index}] has a zero real part, not a rigid transform"
+            )));
+        }
     }
     Ok(())
 }
