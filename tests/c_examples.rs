@@ -111,6 +111,10 @@ fn expected_output(stem: &str) -> Vec<String> {
             "CG_STATUS_NULL_ARGUMENT: null argument".into(),
             "bad struct_size: cg_crowd_config.struct_size is 3".into(),
         ],
+        "view_blend" => vec![
+            "on key camera 1: weights 0.000 1.000 0.000".into(),
+            "camera centre from P: (4.000, 1.600, 1.000)".into(),
+        ],
         _ => vec![],
     }
 }
