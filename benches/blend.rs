@@ -1,7 +1,8 @@
 //! Benchmarks of pose blending (DESIGN §10): DLB and DIB (p = 1e−6) of a 27-joint pose from
 //! K = 2, 3, 4, 8 key poses, and in the same run nalgebra's `UnitDualQuaternion::try_sclerp`
 //! over the same 27 joints for K = 2 (the baseline: DIB of two inputs is ScLERP), next to our
-//! own `DualQuat::sclerp`. Budget: DLB 27 × 3 ≤ 0.3 µs, DIB ≤ 2 µs.
+//! own `DualQuat::sclerp`; and DIB at the paper's precision p = 1e−3 for K = 3. Budget: DLB
+//! 27 × 3 ≤ 0.3 µs, DIB ≤ 2 µs.
 //!
 //! Run with `cargo bench --bench blend`; medians are in
 //! `target/criterion/<group>/<bench>/new/estimates.json`.
@@ -132,6 +133,27 @@ fn blending(c: &mut Criterion) {
         });
     }
     dib.finish();
+
+    // The paper's own precision (Chaudhuri et al. used p = 0.001), K = 3.
+    let coarse = DibSettings {
+        precision: 1e-3,
+        max_iterations: 16,
+    };
+    let mut dib_coarse = c.benchmark_group("dib_27_joints_p1e-3");
+    dib_coarse.bench_function(BenchmarkId::from_parameter(3), |b| {
+        b.iter(|| {
+            blend_pose_dib(
+                black_box(&keys[..3 * JOINTS]),
+                black_box(&all_weights[1]),
+                JOINTS,
+                &coarse,
+                &mut out,
+            )
+            .expect("valid inputs");
+            black_box(&out);
+        })
+    });
+    dib_coarse.finish();
 
     // Two inputs: DIB = ScLERP. nalgebra's try_sclerp over the same 27 joints, and ours.
     let t = all_weights[0][1];

@@ -216,9 +216,10 @@ typedef struct cg_view_blender_config {
     // A `cg_blend_method`: DLB or DIB per joint. Default `CG_BLEND_METHOD_DLB`.
     uint32_t method;
     // DIB's precision p (half-angles in radians and half-translations in your length unit,
-    // mixed), finite and > 0. Default 1e-6. Unused by DLB.
+    // mixed), finite and > 0. Default 1e-6 (for metres; use 1e-4 with centimetres). Unused
+    // by DLB.
     float precision;
-    // DIB's most iterations per joint, 0 to 1000. Default 16. Unused by DLB.
+    // DIB's most iterations per joint, 1 to 1000. Default 16. Unused by DLB.
     uint32_t max_iterations;
 } cg_view_blender_config;
 
@@ -319,15 +320,16 @@ cg_status cg_blend_dlb(const struct cg_dualquat *inputs,
 // two inputs, the input itself for one.
 //
 // `precision` is in mixed units (half-angles in radians, half-translations in your length
-// unit), finite and `> 0`; 1e-6 is typical. `max_iterations` is 0 (DLB, checked) to 1000;
-// 16 is plenty. Inputs and weights as in `cg_blend_dlb`; `out` may alias an input.
-// Thread-safe; allocates nothing.
+// unit), finite and `> 0`: 1e-6 suits metres, 1e-4 centimetres (the iteration runs in float,
+// whose rounding is about 1e-7 of the translations). `max_iterations` is 1 to 1000; 16 is
+// plenty (typical poses need 2 to 4). Inputs and weights as in `cg_blend_dlb`; `out` may
+// alias an input. Thread-safe; allocates nothing.
 //
 // Returns `CG_STATUS_OK` with `*out` written; or `CG_STATUS_NOT_CONVERGED` with `*out` holding
 // the best iterate when the precision was not reached in `max_iterations`.
 //
 // Errors (nothing written): those of `cg_blend_dlb`, plus `CG_STATUS_NON_FINITE` (precision
-// NaN or infinite) and `CG_STATUS_INVALID_ARGUMENT` (precision `<= 0`, max_iterations
+// NaN or infinite) and `CG_STATUS_INVALID_ARGUMENT` (precision `<= 0`, max_iterations 0 or
 // above 1000).
 cg_status cg_blend_dib(const struct cg_dualquat *inputs,
                        const float *weights,

@@ -24,7 +24,7 @@
 //! rounding: about 1e−7 plus 1e−7 × the translations' size. p = 1e−6 suits metres; with
 //! centimetres use 1e−4 (the same 1 µm).
 
-use super::linear::dlb_by;
+use super::lanes::{dib4, DualQuat4, LANES};
 use super::{check_pose_layout, check_weights, AsDualQuat};
 use crate::error::{Error, Result};
 use crate::math::dualquat::DualQuat;
@@ -179,9 +179,16 @@ pub fn dib<Q: AsDualQuat>(
 ) -> Result<DibOutcome> {
     settings.validate()?;
     let inverse_total = check_weights(inputs.len(), weights)?;
-    Ok(dib_by(weights, inverse_total, settings, |k| {
-        inputs[k].as_dual_quat()
-    }))
+    let mut outcome = None;
+    dib_joints(
+        weights,
+        inverse_total,
+        settings,
+        1,
+        |k, _| inputs[k].as_dual_quat(),
+        |_, joint_outcome| outcome = Some(*joint_outcome),
+    );
+    outcome.ok_or_else(|| Error::Internal("DIB produced no result".into()))
 }
 
 /// DIB of a whole pose, with the layout of [`super::blend_pose_dlb`] (key-major `keys`, joint
@@ -200,68 +207,86 @@ pub fn blend_pose_dib<Q: AsDualQuat, O: From<DualQuat>>(
     check_pose_layout(keys.len(), weights.len(), joint_count, out.len())?;
     let inverse_total = check_weights(weights.len(), weights)?;
     let mut outcome = PoseOutcome::default();
-    for (joint, slot) in out.iter_mut().enumerate() {
-        let joint_outcome = dib_by(weights, inverse_total, settings, |k| {
-            keys[k * joint_count + joint].as_dual_quat()
-        });
-        outcome.add(&joint_outcome);
-        *slot = joint_outcome.blend.into();
-    }
+    dib_joints(
+        weights,
+        inverse_total,
+        settings,
+        joint_count,
+        |k, joint| keys[k * joint_count + joint].as_dual_quat(),
+        |joint, joint_outcome| {
+            outcome.add(joint_outcome);
+            out[joint] = joint_outcome.blend.into();
+        },
+    );
     Ok(outcome)
 }
 
-/// Algorithm 1 on `input(0) .. input(weights.len() − 1)`, weights and settings already
-/// checked; `inverse_total = 1 / Σ w_k`.
-pub(crate) fn dib_by(
+/// Most keys whose four-joint groups are gathered once on the stack; beyond, they are
+/// gathered again at each iteration.
+const GATHERED_KEYS: usize = 32;
+
+/// Algorithm 1 for `joint_count` joints sharing `weights` (already checked;
+/// `inverse_total = 1 / Σ w_k`), where `input(k, j)` is joint `j` of key `k`; `write(j, …)`
+/// receives each joint's outcome. Four joints run side by side in SIMD lanes.
+pub(crate) fn dib_joints(
     weights: &[f32],
     inverse_total: f64,
     settings: &DibSettings,
-    input: impl Fn(usize) -> DualQuat,
-) -> DibOutcome {
-    let inverse_total = inverse_total as f32;
+    joint_count: usize,
+    input: impl Fn(usize, usize) -> DualQuat,
+    mut write: impl FnMut(usize, &DibOutcome),
+) {
     // One or two inputs with weight: the fixed point is known in closed form (the input, or
     // ScLERP, where `x̂ = 0` exactly), so no iteration is needed.
     let mut active = weights.iter().enumerate().filter(|(_, &w)| w > 0.0);
     match (active.next(), active.next(), active.next()) {
         (Some((only, _)), None, _) => {
-            return DibOutcome::closed_form(input(only).try_normalize().unwrap_or(input(only)));
+            for joint in 0..joint_count {
+                let q = input(only, joint);
+                write(
+                    joint,
+                    &DibOutcome::closed_form(q.try_normalize().unwrap_or(q)),
+                );
+            }
+            return;
         }
         (Some((first, &w_first)), Some((second, &w_second)), None) => {
             let t = w_second / (w_first + w_second);
-            return DibOutcome::closed_form(input(first).sclerp(input(second), t));
+            for joint in 0..joint_count {
+                let blend = input(first, joint).sclerp(input(second, joint), t);
+                write(joint, &DibOutcome::closed_form(blend));
+            }
+            return;
         }
         _ => {}
     }
-    let mut blend = dlb_by(weights, &input);
-    let mut best = (blend, f32::INFINITY);
-    for iteration in 1..=settings.max_iterations {
-        let inverse = blend.conjugate();
-        let mut step = DualQuat::ZERO;
-        for (k, &weight) in weights.iter().enumerate() {
-            if weight > 0.0 {
-                step = step + (inverse * input(k)).log() * (weight * inverse_total);
+    let inverse_total = inverse_total as f32;
+    let gather = |k: usize, start: usize| {
+        let last = joint_count - 1;
+        DualQuat4::gather(std::array::from_fn(|lane| {
+            input(k, (start + lane).min(last))
+        }))
+    };
+    let mut gathered = [DualQuat4::default(); GATHERED_KEYS];
+    for start in (0..joint_count).step_by(LANES) {
+        let lanes_used = (joint_count - start).min(LANES);
+        let outcomes = if weights.len() <= GATHERED_KEYS {
+            for (k, slot) in gathered.iter_mut().enumerate().take(weights.len()) {
+                if weights[k] > 0.0 {
+                    *slot = gather(k, start);
+                }
             }
+            dib4(weights, inverse_total, settings, lanes_used, &|k| {
+                gathered[k]
+            })
+        } else {
+            dib4(weights, inverse_total, settings, lanes_used, &|k| {
+                gather(k, start)
+            })
+        };
+        for (lane, outcome) in outcomes.iter().enumerate().take(lanes_used) {
+            write(start + lane, outcome);
         }
-        let residual = step.length();
-        if residual < best.1 {
-            best = (blend, residual);
-        }
-        let next = blend * step.exp();
-        blend = next.try_normalize().unwrap_or(next);
-        if residual < settings.precision {
-            return DibOutcome {
-                blend,
-                residual,
-                iterations: iteration,
-                converged: true,
-            };
-        }
-    }
-    DibOutcome {
-        blend: best.0,
-        residual: best.1,
-        iterations: settings.max_iterations,
-        converged: false,
     }
 }
 

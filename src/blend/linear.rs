@@ -9,6 +9,7 @@
 //! therefore never fails on valid weights. `‖·‖` is the dual quaternion norm: the result has
 //! a unit real part and a dual part orthogonal to it, a rigid transform.
 
+use super::lanes::{dlb4, DualQuat4, LANES};
 use super::{check_pose_layout, check_weights, AsDualQuat};
 use crate::error::Result;
 use crate::math::dualquat::DualQuat;
@@ -42,8 +43,18 @@ pub fn blend_pose_dlb<Q: AsDualQuat, O: From<DualQuat>>(
 ) -> Result<()> {
     check_pose_layout(keys.len(), weights.len(), joint_count, out.len())?;
     check_weights(weights.len(), weights)?;
-    for (joint, slot) in out.iter_mut().enumerate() {
-        *slot = dlb_by(weights, |k| keys[k * joint_count + joint].as_dual_quat()).into();
+    for (chunk, slots) in out.chunks_mut(LANES).enumerate() {
+        let start = chunk * LANES;
+        let last = joint_count - 1;
+        let input = |k: usize| {
+            DualQuat4::gather(std::array::from_fn(|lane| {
+                keys[k * joint_count + (start + lane).min(last)].as_dual_quat()
+            }))
+        };
+        let blended = dlb4(weights, &input).scatter();
+        for (slot, q) in slots.iter_mut().zip(blended) {
+            *slot = q.into();
+        }
     }
     Ok(())
 }

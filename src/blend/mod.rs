@@ -14,6 +14,7 @@
 
 pub mod clip;
 pub mod iterative;
+mod lanes;
 pub mod linear;
 pub mod projection;
 pub mod view;

@@ -22,7 +22,7 @@
 use glam::{DVec3, Vec3};
 
 use super::clip::{FramePair, KeyClip};
-use super::iterative::{dib_by, DibSettings, PoseOutcome};
+use super::iterative::{dib_joints, DibSettings, PoseOutcome};
 use super::linear::dlb_by;
 use super::AsDualQuat;
 use crate::error::{Error, Result};
@@ -423,31 +423,29 @@ impl ViewBlender {
         let inverse_total = 1.0 / active_weights.iter().map(|&w| f64::from(w)).sum::<f64>();
         let settings = self.config.dib_settings();
 
-        let mut samples = [DualQuat::IDENTITY; MAX_KEYS];
+        let sample = |k: usize, joint: usize| match clips[k] {
+            Some(clip) => clip.joint_at(frames[k], joint),
+            None => DualQuat::IDENTITY,
+        };
         let mut outcome = PoseOutcome::default();
-        for (joint, slot) in out.iter_mut().enumerate() {
-            for (sample, (clip, frame)) in samples
-                .iter_mut()
-                .zip(clips.iter().zip(frames))
-                .take(active)
-            {
-                if let Some(clip) = clip {
-                    *sample = clip.joint_at(frame, joint);
+        match self.config.method {
+            BlendMethod::Dlb => {
+                for (joint, slot) in out.iter_mut().enumerate() {
+                    outcome.joints += 1;
+                    *slot = dlb_by(active_weights, |k| sample(k, joint)).into();
                 }
             }
-            let blended = match self.config.method {
-                BlendMethod::Dlb => {
-                    outcome.joints += 1;
-                    dlb_by(active_weights, |k| samples[k])
-                }
-                BlendMethod::Dib => {
-                    let joint_outcome =
-                        dib_by(active_weights, inverse_total, &settings, |k| samples[k]);
-                    outcome.add(&joint_outcome);
-                    joint_outcome.blend
-                }
-            };
-            *slot = blended.into();
+            BlendMethod::Dib => dib_joints(
+                active_weights,
+                inverse_total,
+                &settings,
+                self.config.joint_count,
+                sample,
+                |joint, joint_outcome| {
+                    outcome.add(joint_outcome);
+                    out[joint] = joint_outcome.blend.into();
+                },
+            ),
         }
         Ok(outcome)
     }
