@@ -135,6 +135,20 @@ impl DualQuat4 {
         }
     }
 
+    /// `self + other · s` for a pure `other` (scalar parts 0, as `log` returns).
+    #[inline]
+    fn add_pure_scaled(self, other: DualQuat4, s: Vec4) -> DualQuat4 {
+        DualQuat4 {
+            rx: self.rx + other.rx * s,
+            ry: self.ry + other.ry * s,
+            rz: self.rz + other.rz * s,
+            dx: self.dx + other.dx * s,
+            dy: self.dy + other.dy * s,
+            dz: self.dz + other.dz * s,
+            ..self
+        }
+    }
+
     /// Dot products of the real parts.
     #[inline]
     fn real_dot(self, other: DualQuat4) -> Vec4 {
@@ -410,7 +424,7 @@ pub(crate) fn dib4(
         for (k, &weight) in weights.iter().enumerate() {
             if weight > 0.0 {
                 let w = Vec4::splat(weight * inverse_total);
-                step = step.add_scaled(inverse.mul(input(k)).log(), w);
+                step = step.add_pure_scaled(inverse.mul(input(k)).log(), w);
             }
         }
         let residual = step.length();
