@@ -1,5 +1,6 @@
 //! Four blends at once: DLB and DIB computed on four joints side by side, one joint per SIMD
-//! lane (structure of arrays), which is what makes whole-pose DIB fit the frame budget.
+//! lane (structure of arrays), which halves the cost of whole-pose DIB against one joint at a
+//! time.
 //!
 //! [`DualQuat4`] holds one component of four dual quaternions in each `Vec4`. Its `log` and
 //! `exp` avoid per-lane branches: the arctangent is Cephes' `atanf` with a selected range
