@@ -236,6 +236,13 @@ pub(crate) fn dib_joints(
     input: impl Fn(usize, usize) -> DualQuat,
     mut write: impl FnMut(usize, &DibOutcome),
 ) {
+    // Joints `start .. start + 4` of key `k` (repeating the last joint past the end).
+    let gather = |k: usize, start: usize| {
+        let last = joint_count.saturating_sub(1);
+        DualQuat4::gather(std::array::from_fn(|lane| {
+            input(k, (start + lane).min(last))
+        }))
+    };
     // One or two inputs with weight: the fixed point is known in closed form (the input, or
     // ScLERP, where `x̂ = 0` exactly), so no iteration is needed.
     let mut active = weights.iter().enumerate().filter(|(_, &w)| w > 0.0);
@@ -252,21 +259,19 @@ pub(crate) fn dib_joints(
         }
         (Some((first, &w_first)), Some((second, &w_second)), None) => {
             let t = w_second / (w_first + w_second);
-            for joint in 0..joint_count {
-                let blend = input(first, joint).sclerp(input(second, joint), t);
-                write(joint, &DibOutcome::closed_form(blend));
+            for start in (0..joint_count).step_by(LANES) {
+                let blended = gather(first, start)
+                    .sclerp(gather(second, start), t)
+                    .scatter();
+                for (lane, blend) in blended.iter().enumerate().take(joint_count - start) {
+                    write(start + lane, &DibOutcome::closed_form(*blend));
+                }
             }
             return;
         }
         _ => {}
     }
     let inverse_total = inverse_total as f32;
-    let gather = |k: usize, start: usize| {
-        let last = joint_count - 1;
-        DualQuat4::gather(std::array::from_fn(|lane| {
-            input(k, (start + lane).min(last))
-        }))
-    };
     let mut gathered = [DualQuat4::default(); GATHERED_KEYS];
     for start in (0..joint_count).step_by(LANES) {
         let lanes_used = (joint_count - start).min(LANES);

@@ -5,9 +5,8 @@
 //! [`DualQuat4`] holds one component of four dual quaternions in each `Vec4`. Its `log` and
 //! `exp` avoid per-lane branches: the arctangent is Cephes' `atanf` with a selected range
 //! reduction, and the sine factors are short series in the squared half angle below 0.25 rad
-//! and closed forms above, chosen per lane. `exp` of a screw above 0.25 rad (DIB's steps are
-//! far smaller, except rarely the first) falls back to the scalar [`DualQuat::exp`] for that
-//! lane.
+//! and closed forms above, chosen per lane; `exp` uses longer series, valid up to the largest
+//! half angle `log` returns (π/2), and falls back to the scalar [`DualQuat::exp`] beyond.
 
 use glam::{BVec4A, Mat4, Quat, Vec4};
 
@@ -264,13 +263,15 @@ impl DualQuat4 {
         }
     }
 
-    /// [`DualQuat::exp`] of each lane (scalar parts ignored). DIB's steps are small screws,
-    /// done by series; a lane beyond [`SERIES_LIMIT`] takes the scalar path.
+    /// [`DualQuat::exp`] of each lane (scalar parts ignored), by series valid for screws up
+    /// to [`EXP_LIMIT`] (which covers ScLERP's and DIB's steps); a lane beyond takes the
+    /// scalar path.
     #[inline]
     fn exp(self) -> DualQuat4 {
         let angle_squared = self.rx * self.rx + self.ry * self.ry + self.rz * self.rz;
-        let (g1, g2) = sine_factors(angle_squared);
-        let cosine = estrin(angle_squared, &COS);
+        let g1 = estrin9(angle_squared, &LONG_SINC);
+        let g2 = estrin9(angle_squared, &LONG_SINC_DIFFERENCE);
+        let cosine = estrin9(angle_squared, &LONG_COS);
         let pitch = self.rx * self.dx + self.ry * self.dy + self.rz * self.dz;
         let pitch_g2 = pitch * g2;
         let mut result = DualQuat4 {
@@ -283,7 +284,7 @@ impl DualQuat4 {
             dz: self.dz * g1 + self.rz * pitch_g2,
             dw: -pitch * g1,
         };
-        let beyond = angle_squared.cmpge(Vec4::splat(SERIES_LIMIT * SERIES_LIMIT));
+        let beyond = angle_squared.cmpge(Vec4::splat(EXP_LIMIT * EXP_LIMIT));
         if beyond.any() {
             let lanes = self.scatter();
             let mut exact = result.scatter();
@@ -296,10 +297,70 @@ impl DualQuat4 {
         }
         result
     }
+
+    /// ScLERP of each lane: `a exp(t log(a* b))`, as [`DualQuat::sclerp`].
+    #[inline]
+    pub(crate) fn sclerp(self, other: DualQuat4, t: f32) -> DualQuat4 {
+        let step = self.conjugate().mul(other).log().scale(Vec4::splat(t));
+        self.mul(step.exp()).normalize()
+    }
 }
 
-/// `sin φ / φ`, `(cos φ − sin φ / φ) / φ²` and `cos φ` as series in `x = φ²`, to f32 rounding
-/// for φ < [`SERIES_LIMIT`] (the first omitted terms are below 1e−13).
+/// Largest half angle (radians) of the screws `exp` takes by series: a little above π/2,
+/// the largest half angle `log` returns.
+const EXP_LIMIT: f32 = 1.6;
+
+/// The series of `exp` in `x = φ²` up to [`EXP_LIMIT`] (first omitted terms below 1e−12).
+const LONG_SINC: [f32; 9] = [
+    1.0,
+    -1.666_666_7e-1,
+    8.333_333e-3,
+    -1.984_127e-4,
+    2.755_732e-6,
+    -2.505_210_8e-8,
+    1.605_904_4e-10,
+    -7.647_164e-13,
+    2.811_457_3e-15,
+];
+const LONG_SINC_DIFFERENCE: [f32; 9] = [
+    -3.333_333_3e-1,
+    3.333_333_3e-2,
+    -1.190_476_2e-3,
+    2.204_585_5e-5,
+    -2.505_210_8e-7,
+    1.927_085_3e-9,
+    -1.070_602_9e-11,
+    4.498_331_6e-14,
+    -1.479_714_3e-16,
+];
+const LONG_COS: [f32; 9] = [
+    1.0,
+    -0.5,
+    4.166_666_8e-2,
+    -1.388_888_9e-3,
+    2.480_158_7e-5,
+    -2.755_732e-7,
+    2.087_675_7e-9,
+    -1.147_074_6e-11,
+    4.779_477_3e-14,
+];
+
+/// `Σ c_i xⁱ` for nine coefficients by Estrin's scheme.
+#[inline]
+fn estrin9(x: Vec4, c: &[f32; 9]) -> Vec4 {
+    let x2 = x * x;
+    let x4 = x2 * x2;
+    let p01 = Vec4::splat(c[0]) + x * c[1];
+    let p23 = Vec4::splat(c[2]) + x * c[3];
+    let p45 = Vec4::splat(c[4]) + x * c[5];
+    let p67 = Vec4::splat(c[6]) + x * c[7];
+    let low = p01 + x2 * p23;
+    let high = p45 + x2 * p67;
+    low + x4 * (high + x4 * c[8])
+}
+
+/// `sin φ / φ` and `(cos φ − sin φ / φ) / φ²` as series in `x = φ²`, for `log` below
+/// [`SERIES_LIMIT`] (the first omitted terms are below 1e−13).
 const SINC: [f32; 6] = [
     1.0,
     -1.0 / 6.0,
@@ -315,14 +376,6 @@ const SINC_DIFFERENCE: [f32; 6] = [
     1.0 / 45_360.0,
     -1.0 / 3_991_680.0,
     1.927_085_2e-9,
-];
-const COS: [f32; 6] = [
-    1.0,
-    -0.5,
-    1.0 / 24.0,
-    -1.0 / 720.0,
-    1.0 / 40_320.0,
-    -2.755_732e-7,
 ];
 
 /// `Σ c_i xⁱ` by Estrin's scheme (shorter dependency chains than Horner's).
@@ -510,6 +563,27 @@ mod tests {
             let exp_big = DualQuat4::gather(big).exp().scatter();
             for lane in 0..4 {
                 assert!((exp_big[lane] - big[lane].exp()).length() < 2e-5);
+            }
+        }
+    }
+
+    #[test]
+    fn lane_sclerp_matches_the_scalar_one() {
+        let mut random = Random::new(13);
+        for _ in 0..200 {
+            let a: [DualQuat; 4] = std::array::from_fn(|_| random_transform(&mut random, 3.1));
+            let b: [DualQuat; 4] = std::array::from_fn(|_| random_transform(&mut random, 3.1));
+            for t in [0.0, 0.3, 0.5, 1.0] {
+                let lanes = DualQuat4::gather(a)
+                    .sclerp(DualQuat4::gather(b), t)
+                    .scatter();
+                for lane in 0..4 {
+                    let scalar = a[lane].sclerp(b[lane], t);
+                    let error = (lanes[lane] - scalar)
+                        .length()
+                        .min((lanes[lane] + scalar).length());
+                    assert!(error < 2e-5, "t = {t}: {:?} vs {scalar:?}", lanes[lane]);
+                }
             }
         }
     }
