@@ -412,7 +412,7 @@ impl ViewBlender {
         let mut frames = [FramePair::default(); MAX_KEYS];
         let mut active = 0;
         for (clip, &weight) in self.key_clips.iter().zip(weights.iter()) {
-            if let (Some(clip), true) = (clip, weight > 0.0) {
+            if let Some(clip) = clip.as_ref().filter(|_| weight > 0.0) {
                 clips[active] = Some(clip);
                 active_weights[active] = weight as f32;
                 frames[active] = clip.frame_pair(time);
