@@ -151,12 +151,66 @@ typedef uint32_t cg_joint_role;
 #endif // __STDC_VERSION__ >= 202311L
 #endif // __cplusplus
 
+// How `cg_view_blender` blends the key animations per joint (the `method` field of
+// `cg_view_blender_config`, a `uint32_t` holding one of these values).
+enum cg_blend_method
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+    // Dual quaternion linear blending: closed form, the fastest. The default.
+    CG_BLEND_METHOD_DLB = 0,
+    // Dual quaternion iterative blending: the exact mean, iterated to `precision`.
+    CG_BLEND_METHOD_DIB = 1,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum cg_blend_method cg_blend_method;
+#else
+typedef uint32_t cg_blend_method;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
+// How `cg_view_blender` measures the distance D between the viewer's direction and a key
+// camera on the unit sphere (the `distance` field of `cg_view_blender_config`, a `uint32_t`
+// holding one of these values).
+enum cg_view_distance
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+    // The great-circle angle in radians (0 to π). The default.
+    CG_VIEW_DISTANCE_GEODESIC = 0,
+    // The straight chord through the sphere, `|v_c - v_k|` (0 to 2): the paper's cheaper
+    // approximation.
+    CG_VIEW_DISTANCE_CHORDAL = 1,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum cg_view_distance cg_view_distance;
+#else
+typedef uint32_t cg_view_distance;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
 // A crowd of characters and the objects they may look at (opaque).
 //
 // Created by `cg_crowd_create`, destroyed by `cg_crowd_destroy`. Not safe for concurrent
 // mutation: calls taking a `cg_crowd*` must not overlap with any other call on the same
 // crowd. Calls taking a `const cg_crowd*` may run concurrently with each other.
 typedef struct cg_crowd cg_crowd;
+
+// View-adaptive animation of one character (opaque): key animations, key cameras around the
+// character, and the blend of the key animations by where the viewer stands (Chaudhuri,
+// Papagiannakis & Magnenat-Thalmann).
+//
+// Created by `cg_view_blender_create`, destroyed by `cg_view_blender_destroy`. Set a clip or
+// pose for every key and add key cameras, then call `cg_view_blender_weights` /
+// `cg_view_blender_evaluate` each frame (they allocate nothing). Not safe for concurrent
+// mutation: the set/add calls must not overlap any other call on the same blender. Calls
+// taking a `const cg_view_blender*` may run concurrently with each other, so one blender can
+// serve many characters that share its key animations.
+typedef struct cg_view_blender cg_view_blender;
 
 // A 3-component vector of floats: a position (in the caller's units, see
 // `cg_crowd_config.units_per_metre`) or a direction.
@@ -360,6 +414,41 @@ typedef struct cg_constraint {
     double end;
 } cg_constraint;
 
+// A dual quaternion `real + ε dual` describing a rigid transform: `real` is the rotation,
+// `dual = ½ (0, t) ⊗ real` encodes the translation t. Both parts use the x, y, z, w order.
+typedef struct cg_dualquat {
+    // Rotation part (unit quaternion).
+    struct cg_quat real;
+    // Translation part, `½ (0, t) ⊗ real`.
+    struct cg_quat dual;
+} cg_dualquat;
+
+// Settings of a view blender, fixed for its lifetime. Fill it with
+// `cg_view_blender_config_init`, then set `joint_count` and `key_count` (they have no usable
+// default) and change what you need.
+typedef struct cg_view_blender_config {
+    // Size of this struct in bytes, set by `cg_view_blender_config_init`; lets later versions
+    // add fields without breaking callers compiled against this header.
+    uint32_t struct_size;
+    // Joints per pose, 1 to 65536. Default 0: must be set.
+    uint32_t joint_count;
+    // Key animations K, 1 to 32. Default 0: must be set.
+    uint32_t key_count;
+    // Exponent α of the weights `w_k = D_k^-α / Σ D_j^-α`, in [2, 4]: lower spreads each key
+    // camera's influence wider, higher focuses it near the camera. Default 2.
+    float alpha;
+    // A `cg_view_distance`: how D is measured. Default `CG_VIEW_DISTANCE_GEODESIC`.
+    uint32_t distance;
+    // A `cg_blend_method`: DLB or DIB per joint. Default `CG_BLEND_METHOD_DLB`.
+    uint32_t method;
+    // DIB's precision p (half-angles in radians and half-translations in your length unit,
+    // mixed), finite and > 0. Default 1e-6 (for metres; use 1e-4 with centimetres). Unused
+    // by DLB.
+    float precision;
+    // DIB's most iterations per joint, 1 to 1000. Default 16. Unused by DLB.
+    uint32_t max_iterations;
+} cg_view_blender_config;
+
 // Settings of a crowd, fixed for its lifetime. Fill it with `cg_crowd_config_init`, then
 // change the fields you need.
 typedef struct cg_crowd_config {
@@ -464,15 +553,6 @@ typedef struct cg_eye_info {
     // Right eye gaze direction, unit.
     struct cg_vec3 right_direction;
 } cg_eye_info;
-
-// A dual quaternion `real + ε dual` describing a rigid transform: `real` is the rotation,
-// `dual = ½ (0, t) ⊗ real` encodes the translation t. Both parts use the x, y, z, w order.
-typedef struct cg_dualquat {
-    // Rotation part (unit quaternion).
-    struct cg_quat real;
-    // Translation part, `½ (0, t) ⊗ real`.
-    struct cg_quat dual;
-} cg_dualquat;
 
 #ifdef __cplusplus
 extern "C" {
@@ -623,6 +703,261 @@ cg_status cg_crowd_read_constraints(const struct cg_crowd *crowd,
                                     struct cg_constraint *out,
                                     size_t count,
                                     size_t *out_total);
+
+// Builds the unit dual quaternion of the rigid transform "rotate by `rotation`, then
+// translate by `translation`" (`x ↦ R x + t`) into `*out`.
+//
+// `rotation` is normalised; `translation` is in your length unit. Writes `*out` only on
+// success. Thread-safe.
+//
+// Errors: `CG_STATUS_NULL_ARGUMENT` (a NULL pointer), `CG_STATUS_NON_FINITE` (a NaN or
+// infinite component), `CG_STATUS_INVALID_ARGUMENT` (a zero-length rotation).
+cg_status cg_dualquat_from_rt(const struct cg_quat *rotation,
+                              const struct cg_vec3 *translation,
+                              struct cg_dualquat *out);
+
+// Splits the rigid transform `*dual_quat` (normalised first) into its rotation
+// `*out_rotation` and translation `*out_translation` (your length unit).
+//
+// Writes both outputs only on success. Thread-safe.
+//
+// Errors: `CG_STATUS_NULL_ARGUMENT` (a NULL pointer), `CG_STATUS_NON_FINITE` (a NaN or
+// infinite component), `CG_STATUS_INVALID_ARGUMENT` (a zero real part).
+cg_status cg_dualquat_to_rt(const struct cg_dualquat *dual_quat,
+                            struct cg_quat *out_rotation,
+                            struct cg_vec3 *out_translation);
+
+// Converts a rigid 4×4 matrix to a unit dual quaternion into `*out`.
+//
+// `matrix` points to 16 floats, **column-major** for column vectors (`p' = M p`, translation
+// in elements 12, 13, 14), as OpenGL, glam and Eigen store them. OpenSceneGraph's
+// `osg::Matrixf` (row vectors, translation in its 4th row) has exactly this memory layout:
+// pass `matrix.ptr()` as is. The matrix must be rigid: an orthonormal rotation block with
+// determinant +1 and a bottom row (0, 0, 0, 1), each within 1e-3. Writes `*out` only on
+// success. Thread-safe.
+//
+// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE` (a NaN or infinite element),
+// `CG_STATUS_INVALID_ARGUMENT` (a scale, shear, reflection or projection).
+cg_status cg_dualquat_from_matrix(const float *matrix, struct cg_dualquat *out);
+
+// Converts the rigid transform `*dual_quat` (normalised first) to a 4×4 matrix, written as
+// 16 floats to `out`, column-major for column vectors (the layout `cg_dualquat_from_matrix`
+// reads, and `osg::Matrixf::set(const float*)` takes).
+//
+// Writes `out` only on success. Thread-safe.
+//
+// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE`, `CG_STATUS_INVALID_ARGUMENT` (a
+// zero real part).
+cg_status cg_dualquat_to_matrix(const struct cg_dualquat *dual_quat, float *out);
+
+// Dual quaternion linear blending (DLB, equation 4 of Chaudhuri et al.) of `count` rigid
+// transforms `inputs` with weights `weights` into `*out`: `Σ w_k q̂_k / ‖Σ w_k q̂_k‖`.
+//
+// Inputs are normalised; antipodal ones (`q̂` and `−q̂`, the same transform) are flipped to the
+// hemisphere of the first input with a non-zero weight, so blends go the short way. Weights
+// must be finite, `>= 0` and not all zero; they need not sum to 1. `out` may alias an input.
+// Writes `*out` only on success. Thread-safe; allocates nothing.
+//
+// Errors: `CG_STATUS_NULL_ARGUMENT` (a NULL pointer with `count > 0`, or `out` NULL),
+// `CG_STATUS_NON_FINITE` (a NaN or infinite input or weight), `CG_STATUS_INVALID_ARGUMENT`
+// (`count` 0, a negative weight, weights summing to 0, an input with a zero real part).
+cg_status cg_blend_dlb(const struct cg_dualquat *inputs,
+                       const float *weights,
+                       size_t count,
+                       struct cg_dualquat *out);
+
+// Dual quaternion iterative blending (DIB, Algorithm 1 of Chaudhuri et al.) of `count` rigid
+// transforms with weights `weights` into `*out`: starting from DLB, repeats
+// `x = Σ w_k log(b* q̂_k)`, `b = b exp(x)` until `‖x‖ < precision`, at most `max_iterations`
+// times. The exact weighted mean in the screw metric: rigid, coordinate invariant, ScLERP for
+// two inputs, the input itself for one.
+//
+// `precision` is in mixed units (half-angles in radians, half-translations in your length
+// unit), finite and `> 0`: 1e-6 suits metres, 1e-4 centimetres (the iteration runs in float,
+// whose rounding is about 1e-7 of the translations). `max_iterations` is 1 to 1000; 16 is
+// plenty (typical poses need 2 to 4). Inputs and weights as in `cg_blend_dlb`; `out` may
+// alias an input. Thread-safe; allocates nothing.
+//
+// Returns `CG_STATUS_OK` with `*out` written; or `CG_STATUS_NOT_CONVERGED` with `*out` holding
+// the best iterate when the precision was not reached in `max_iterations`.
+//
+// Errors (nothing written): those of `cg_blend_dlb`, plus `CG_STATUS_NON_FINITE` (precision
+// NaN or infinite) and `CG_STATUS_INVALID_ARGUMENT` (precision `<= 0`, max_iterations 0 or
+// above 1000).
+cg_status cg_blend_dib(const struct cg_dualquat *inputs,
+                       const float *weights,
+                       size_t count,
+                       float precision,
+                       uint32_t max_iterations,
+                       struct cg_dualquat *out);
+
+// DLB of whole poses: `keys` holds `key_count` poses of `joint_count` joints each,
+// **key-major** (joint `j` of key `k` at `keys[k * joint_count + j]`); joint `j` of `out_pose`
+// (`joint_count` long) gets the DLB of the keys' joint `j` with the shared `weights`
+// (`key_count` long). Rules of `cg_blend_dlb` per joint.
+//
+// `out_pose` must not overlap `keys`. `joint_count` 0 is a valid empty pose. Writes
+// `out_pose` only on success. Thread-safe; allocates nothing.
+//
+// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE`, `CG_STATUS_INVALID_ARGUMENT` (as
+// `cg_blend_dlb`, plus `key_count * joint_count` overflowing or `out_pose` overlapping `keys`).
+cg_status cg_blend_pose_dlb(const struct cg_dualquat *keys,
+                            const float *weights,
+                            size_t key_count,
+                            size_t joint_count,
+                            struct cg_dualquat *out_pose);
+
+// DIB of whole poses, with the layout of `cg_blend_pose_dlb` and the precision and
+// iteration rules of `cg_blend_dib`, per joint.
+//
+// Returns `CG_STATUS_OK` with every joint written; or `CG_STATUS_NOT_CONVERGED` with every
+// joint written (the best iterate where the precision was not reached) — the message says
+// how many joints did not converge. Thread-safe; allocates nothing.
+//
+// Errors (nothing written): those of `cg_blend_pose_dlb` and of the DIB settings.
+cg_status cg_blend_pose_dib(const struct cg_dualquat *keys,
+                            const float *weights,
+                            size_t key_count,
+                            size_t joint_count,
+                            float precision,
+                            uint32_t max_iterations,
+                            struct cg_dualquat *out_pose);
+
+// The centre of a projective camera `P = K[R|t]` (3×4) into `*out`: the right null space of
+// `P` (`P (C, 1) = 0`), i.e. `C = −Rᵀ t`. Use it as the viewer position of
+// `cg_view_blender_weights` and `cg_view_blender_evaluate` when the viewer comes from camera
+// tracking.
+//
+// `projection` points to 12 floats, **row-major** (`projection[4 * r + c]` is row `r`,
+// column `c`, as OpenCV and Hartley & Zisserman write P); any non-zero scale of P works.
+// `*out` is in the units and frame of the world P maps from. Writes `*out` only on success.
+// Thread-safe.
+//
+// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE` (a NaN or infinite element),
+// `CG_STATUS_INVALID_ARGUMENT` (a degenerate P: singular left 3×3 block, as for an affine
+// camera, rank below 3, or a centre too far away for a float).
+cg_status cg_camera_center_from_projection(const float *projection, struct cg_vec3 *out);
+
+// Fills `config` with the defaults documented on each field, including `struct_size`.
+//
+// Errors: `CG_STATUS_NULL_ARGUMENT` if `config` is NULL. Thread-safe.
+cg_status cg_view_blender_config_init(struct cg_view_blender_config *config);
+
+// Creates a view blender from `config`, with no key animation and no key camera yet, and
+// stores its handle in `*out_blender`.
+//
+// The caller owns the new blender and releases it with `cg_view_blender_destroy`.
+// `*out_blender` is written only on success. Thread-safe.
+//
+// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_BAD_STRUCT_SIZE` (config not filled by
+// `cg_view_blender_config_init`), `CG_STATUS_INVALID_ARGUMENT` (a field out of its range,
+// an unknown enum value), `CG_STATUS_NON_FINITE` (alpha or precision NaN or infinite).
+cg_status cg_view_blender_create(const struct cg_view_blender_config *config,
+                                 struct cg_view_blender **out_blender);
+
+// Destroys a view blender created by `cg_view_blender_create` and frees everything it owns
+// (its clips and cameras).
+//
+// NULL is accepted and ignored. The handle must not be used afterwards, and no other call
+// on this blender may be running.
+void cg_view_blender_destroy(struct cg_view_blender *blender);
+
+// Sets (or replaces) key animation `key` (0 to `key_count - 1`) to a clip of `frame_count`
+// poses played at `frames_per_second`.
+//
+// `frames` holds `frame_count * joint_count` rigid transforms (the joints' local transforms,
+// as your skeleton defines them), **frame-major**: joint `j` of frame `f` at
+// `frames[f * joint_count + j]`. They are copied (and normalised): the caller keeps ownership.
+// Frame `f` plays at time `f / frames_per_second`. A clamped clip (`looping` false) holds its
+// first and last frames outside its range; a looping one repeats with period
+// `frame_count / frames_per_second` and interpolates from the last frame back to the first
+// (do not repeat the first frame at the end). Between frames each joint is interpolated by
+// DLB of the two neighbouring frames. `frames_per_second` must be finite, and > 0 unless
+// `frame_count` is 1.
+//
+// Allocates (setup, not per frame). Not safe concurrently with any other call on this
+// blender. Nothing changes on error.
+//
+// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE` (a NaN or infinite component or
+// frame rate), `CG_STATUS_INVALID_ARGUMENT` (key out of range, `frame_count` 0, frame rate
+// <= 0, a transform with a zero real part, a count overflowing).
+cg_status cg_view_blender_set_key_clip(struct cg_view_blender *blender,
+                                       uint32_t key,
+                                       const struct cg_dualquat *frames,
+                                       size_t frame_count,
+                                       float frames_per_second,
+                                       bool looping);
+
+// Sets (or replaces) key `key` (0 to `key_count - 1`) to a static pose: `pose` holds
+// `joint_count` rigid transforms (copied and normalised; the caller keeps ownership).
+// `joint_count` must equal the blender's.
+//
+// Allocates (setup, not per frame). Not safe concurrently with any other call on this
+// blender. Nothing changes on error.
+//
+// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE`, `CG_STATUS_INVALID_ARGUMENT` (key
+// out of range, wrong `joint_count`, a transform with a zero real part).
+cg_status cg_view_blender_set_key_pose(struct cg_view_blender *blender,
+                                       uint32_t key,
+                                       const struct cg_dualquat *pose,
+                                       size_t joint_count);
+
+// Adds a key camera: the direction `direction` from the character's centre, in the
+// character's own frame (any non-zero length; it is normalised onto the unit sphere), mapped
+// to key animation `key`. Several cameras may map to one key; a key with no camera never
+// contributes. The camera moves with the character.
+//
+// Allocates (setup, not per frame). Not safe concurrently with any other call on this
+// blender. Nothing changes on error.
+//
+// Errors: `CG_STATUS_NULL_ARGUMENT` (blender NULL), `CG_STATUS_NON_FINITE`,
+// `CG_STATUS_INVALID_ARGUMENT` (key out of range, a zero direction).
+cg_status cg_view_blender_add_camera(struct cg_view_blender *blender,
+                                     struct cg_vec3 direction,
+                                     uint32_t key);
+
+// The view weights of the key animations for a viewer at `*viewer` looking at the character
+// placed by `*character`, into `out_weights` (`count` = `key_count` floats).
+//
+// `*character` is the character's rigid transform in the world (rotation and position; see
+// `cg_dualquat_from_rt`), `*viewer` the viewer's world position, in the same length unit
+// (only directions matter). The viewer's direction in the character's frame is projected on
+// the unit sphere, and key k gets `w_k = Σ_{cameras c of k} D_c^-α / Σ_{all cameras} D_c^-α`:
+// convex weights summing to 1. A viewer on a key camera (D < 1e-6) gets that camera's key
+// alone. Writes `out_weights` only on success. Allocates nothing; may run concurrently with
+// other const calls on this blender.
+//
+// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE` (a NaN or infinite input),
+// `CG_STATUS_INVALID_ARGUMENT` (`count` is not `key_count`, the character transform has a zero
+// real part, or the viewer is at the character's centre, within 1e-6 of its position scaled
+// by max(1, |positions|)), `CG_STATUS_WRONG_STATE` (no key camera yet).
+cg_status cg_view_blender_weights(const struct cg_view_blender *blender,
+                                  const struct cg_dualquat *character,
+                                  const struct cg_vec3 *viewer,
+                                  float *out_weights,
+                                  size_t count);
+
+// The blended pose at time `t` (seconds) for a viewer at `*viewer` looking at the character
+// placed by `*character`, into `out_pose` (`joints` = `joint_count` transforms, the joints'
+// local transforms in your skeleton's order).
+//
+// Computes the weights as `cg_view_blender_weights`, samples every key animation with a
+// non-zero weight at `t`, and blends each joint with DLB or DIB (the config's `method`).
+// Every key must have a clip or pose. Allocates nothing; may run concurrently with other
+// const calls on this blender.
+//
+// Returns `CG_STATUS_OK` with the pose written; or, with DIB, `CG_STATUS_NOT_CONVERGED` with
+// the whole pose written (the best iterate for the joints that missed the precision).
+//
+// Errors (nothing written): those of `cg_view_blender_weights`, plus
+// `CG_STATUS_INVALID_ARGUMENT` (`joints` is not `joint_count`), `CG_STATUS_NON_FINITE` (`t`
+// NaN or infinite), `CG_STATUS_WRONG_STATE` (a key without clip or pose).
+cg_status cg_view_blender_evaluate(const struct cg_view_blender *blender,
+                                   const struct cg_dualquat *character,
+                                   const struct cg_vec3 *viewer,
+                                   double t,
+                                   struct cg_dualquat *out_pose,
+                                   size_t joints);
 
 // Fills `desc` with the gaze chain of an adult human (Grillon & Thalmann's 5 spine,
 // 2 cervical, 1 head and 2 eye joints) for a skeleton whose up axis is `up_axis` and which

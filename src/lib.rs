@@ -18,6 +18,8 @@
 /// cbindgen:ignore
 pub mod attention;
 /// cbindgen:ignore
+pub mod blend;
+/// cbindgen:ignore
 pub mod crowd;
 /// cbindgen:ignore
 pub mod error;
@@ -33,6 +35,8 @@ pub mod scene;
 /// cbindgen:ignore
 pub mod world;
 
+pub use blend::{ViewBlender, ViewBlenderConfig};
 pub use crowd::{CharacterDesc, Crowd, CrowdConfig, GazeInfo, ObjectDesc};
 pub use error::{Error, Result};
+pub use math::dualquat::DualQuat;
 pub use world::{Axis, World};

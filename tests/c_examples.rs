@@ -115,6 +115,10 @@ fn expected_output(stem: &str) -> Vec<String> {
             "joints 10, eye height 1.62 m".into(),
             "pelvis at 95 cm".into(),
         ],
+        "view_blend" => vec![
+            "on key camera 1: weights 0.000 1.000 0.000".into(),
+            "camera centre from P: (4.000, 1.600, 1.000)".into(),
+        ],
         _ => vec![],
     }
 }

@@ -197,3 +197,120 @@ fn gaze_motion_update_does_not_allocate() {
         }
     });
 }
+
+#[test]
+fn view_blending_does_not_allocate_per_frame() {
+    use crowdgaze::ffi::blend::*;
+    use crowdgaze::ffi::status::cg_status;
+    use crowdgaze::ffi::types::{cg_dualquat, cg_quat, cg_vec3};
+
+    let (joints, keys) = (27usize, 3u32);
+    let dq = |angle: f32, y: f32| {
+        let (sin, cos) = (angle / 2.0).sin_cos();
+        let real = cg_quat {
+            x: 0.0,
+            y: sin,
+            z: 0.0,
+            w: cos,
+        };
+        // dual = ½ (0, 0, y, 0)·real
+        let dual = cg_quat {
+            x: 0.5 * y * sin,
+            y: 0.5 * y * cos,
+            z: 0.0,
+            w: 0.0,
+        };
+        cg_dualquat { real, dual }
+    };
+    for method in [cg_blend_method::Dlb, cg_blend_method::Dib] {
+        // Setup (allocates): config, blender, three 10-frame looping clips, three cameras.
+        let mut config = std::mem::MaybeUninit::<cg_view_blender_config>::uninit();
+        assert_eq!(
+            cg_view_blender_config_init(config.as_mut_ptr()),
+            cg_status::Ok
+        );
+        // SAFETY: initialised by cg_view_blender_config_init.
+        let mut config = unsafe { config.assume_init() };
+        config.joint_count = joints as u32;
+        config.key_count = keys;
+        config.method = method as u32;
+        let mut blender = std::ptr::null_mut();
+        assert_eq!(cg_view_blender_create(&config, &mut blender), cg_status::Ok);
+        for key in 0..keys {
+            let frames: Vec<cg_dualquat> = (0..10 * joints)
+                .map(|i| dq((key as f32 - 1.0) * 0.5 + 0.02 * (i / joints) as f32, 0.2))
+                .collect();
+            assert_eq!(
+                cg_view_blender_set_key_clip(blender, key, frames.as_ptr(), 10, 30.0, true),
+                cg_status::Ok
+            );
+            let angle = (key as f32 - 1.0) * 1.0;
+            let direction = cg_vec3 {
+                x: angle.sin(),
+                y: 0.0,
+                z: angle.cos(),
+            };
+            assert_eq!(
+                cg_view_blender_add_camera(blender, direction, key),
+                cg_status::Ok
+            );
+        }
+        let character = dq(0.3, 0.0);
+        let mut weights = [0.0f32; 3];
+        let mut pose = vec![dq(0.0, 0.0); joints];
+
+        assert_no_alloc("cg_view_blender_weights and _evaluate", || {
+            for frame in 0..120 {
+                let angle = frame as f32 * 0.05;
+                let viewer = cg_vec3 {
+                    x: 4.0 * angle.sin(),
+                    y: 1.6,
+                    z: 4.0 * angle.cos(),
+                };
+                assert_eq!(
+                    cg_view_blender_weights(blender, &character, &viewer, weights.as_mut_ptr(), 3),
+                    cg_status::Ok
+                );
+                let status = cg_view_blender_evaluate(
+                    blender,
+                    &character,
+                    &viewer,
+                    f64::from(frame) / 30.0,
+                    pose.as_mut_ptr(),
+                    joints,
+                );
+                assert_eq!(status, cg_status::Ok);
+            }
+            // The stateless blends too, on the last pose (3 keys of 9 joints).
+            let mut out = [pose[0]; 9];
+            assert_eq!(
+                cg_blend_pose_dlb(pose.as_ptr(), weights.as_ptr(), 3, 9, out.as_mut_ptr()),
+                cg_status::Ok
+            );
+            assert_eq!(
+                cg_blend_pose_dib(
+                    pose.as_ptr(),
+                    weights.as_ptr(),
+                    3,
+                    9,
+                    1e-6,
+                    16,
+                    out.as_mut_ptr()
+                ),
+                cg_status::Ok
+            );
+            assert_eq!(
+                cg_blend_dib(
+                    pose.as_ptr(),
+                    weights.as_ptr(),
+                    3,
+                    1e-6,
+                    16,
+                    out.as_mut_ptr()
+                ),
+                cg_status::Ok
+            );
+        });
+        cg_view_blender_destroy(blender);
+    }
+}

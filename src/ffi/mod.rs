@@ -13,6 +13,7 @@
 #![allow(dead_code)]
 
 pub mod attention;
+pub mod blend;
 pub mod chain;
 pub mod crowd;
 pub mod gaze;

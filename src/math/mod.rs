@@ -1,7 +1,8 @@
-//! Small math the models share: fast angles, the gaze ease curve and the seeded random
-//! numbers.
-//! (Vectors and quaternions come from glam.)
+//! Small math the models share: fast approximations, the gaze ease curve, the seeded
+//! random numbers, and dual quaternions for rigid transforms. (Vectors and quaternions come
+//! from glam.)
 
+pub mod dualquat;
 pub mod ease;
 pub mod fast;
 pub mod random;

@@ -1,0 +1,841 @@
+//! The C ABI of dual quaternion blending and view-adaptive animation: dual quaternion
+//! conversions, DLB/DIB of transforms and poses, the camera centre of a projection matrix, and
+//! the `cg_view_blender` handle. It checks, converts and forwards to `crate::blend` and
+//! `crate::math::dualquat`.
+
+use glam::{Mat4, Quat};
+
+use super::status::cg_status;
+use super::types::{cg_dualquat, cg_quat, cg_vec3};
+use super::{
+    borrow, borrow_mut, ffi_boundary, non_null, read_versioned, slice, slice_mut, Versioned,
+};
+use crate::blend::{
+    self, AsDualQuat, BlendMethod, DibSettings, KeyClip, ViewBlender, ViewBlenderConfig,
+    ViewDistance,
+};
+use crate::error::{ensure_finite, Error, Result};
+use crate::math::dualquat::DualQuat;
+
+// ---------------------------------------------------------------------------------------------
+// Conversions
+
+impl cg_dualquat {
+    /// The raw dual quaternion, as given.
+    fn raw(self) -> DualQuat {
+        DualQuat::from_parts(
+            Quat::from_xyzw(self.real.x, self.real.y, self.real.z, self.real.w),
+            Quat::from_xyzw(self.dual.x, self.dual.y, self.dual.z, self.dual.w),
+        )
+    }
+
+    /// Converts to a unit dual quaternion after checking every component is finite and the
+    /// real part is not zero.
+    pub(crate) fn to_unit(self, what: &str) -> Result<DualQuat> {
+        let raw = self.raw();
+        if !raw.is_finite() {
+            return Err(Error::NonFinite(format!("{what} is not finite: {self:?}")));
+        }
+        raw.try_normalize().ok_or_else(|| {
+            Error::InvalidArgument(format!(
+                "{what} has a zero real part, not a rigid transform"
+            ))
+        })
+    }
+}
+
+/// Read by the blenders in place. Only used on arrays checked by [`check_all`], so the
+/// normalisation cannot fail.
+impl AsDualQuat for cg_dualquat {
+    #[inline]
+    fn as_dual_quat(self) -> DualQuat {
+        let raw = self.raw();
+        raw.try_normalize().unwrap_or(raw)
+    }
+}
+
+impl From<DualQuat> for cg_dualquat {
+    fn from(q: DualQuat) -> Self {
+        cg_dualquat {
+            real: q.real.into(),
+            dual: q.dual.into(),
+        }
+    }
+}
+
+/// Checks every element of a C array of dual quaternions as [`cg_dualquat::to_unit`] does
+/// (allocating only for the message of an error).
+fn check_all(values: &[cg_dualquat], what: &str) -> Result<()> {
+    for (index, value) in values.iter().enumerate() {
+        let raw = value.raw();
+        if !raw.is_finite() {
+            return Err(Error::NonFinite(format!(
+                "{what}[{index}] is not finite: {value:?}"
+            )));
+        }
+        if raw.try_normalize().is_none() {
+            return Err(Error::InvalidArgument(format!(
+                "{what}[{index}] has a zero real part, not a rigid transform"
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Fails with [`Error::InvalidArgument`] if the byte ranges of two C arrays overlap (an
+/// output may not alias an input).
+fn check_disjoint<A, B>(
+    input: *const A,
+    input_count: usize,
+    output: *const B,
+    output_count: usize,
+    what: &str,
+) -> Result<()> {
+    let input_start = input as usize;
+    let input_end = input_start + input_count * std::mem::size_of::<A>();
+    let output_start = output as usize;
+    let output_end = output_start + output_count * std::mem::size_of::<B>();
+    if input_count > 0 && output_count > 0 && input_start < output_end && output_start < input_end {
+        return Err(Error::InvalidArgument(format!("{what} overlaps its input")));
+    }
+    Ok(())
+}
+
+/// `key_count × joint_count`, or [`Error::InvalidArgument`] on overflow.
+fn pose_elements(key_count: usize, joint_count: usize) -> Result<usize> {
+    key_count
+        .checked_mul(joint_count)
+        .ok_or_else(|| Error::InvalidArgument(format!("{key_count} × {joint_count} overflows")))
+}
+
+// ---------------------------------------------------------------------------------------------
+// Dual quaternions
+
+/// Builds the unit dual quaternion of the rigid transform "rotate by `rotation`, then
+/// translate by `translation`" (`x ↦ R x + t`) into `*out`.
+///
+/// `rotation` is normalised; `translation` is in your length unit. Writes `*out` only on
+/// success. Thread-safe.
+///
+/// Errors: `CG_STATUS_NULL_ARGUMENT` (a NULL pointer), `CG_STATUS_NON_FINITE` (a NaN or
+/// infinite component), `CG_STATUS_INVALID_ARGUMENT` (a zero-length rotation).
+#[no_mangle]
+pub extern "C" fn cg_dualquat_from_rt(
+    rotation: *const cg_quat,
+    translation: *const cg_vec3,
+    out: *mut cg_dualquat,
+) -> cg_status {
+    ffi_boundary!({
+        // SAFETY: the caller passes readable rotation and translation (or NULL).
+        let rotation = unsafe { borrow(rotation, "rotation") }?.to_unit("rotation")?;
+        // SAFETY: as above.
+        let translation =
+            unsafe { borrow(translation, "translation") }?.to_finite("translation")?;
+        let result = DualQuat::from_rotation_translation(rotation, translation);
+        // SAFETY: the caller passes a writable cg_dualquat (or NULL).
+        *unsafe { borrow_mut(out, "out") }? = result.into();
+        Ok(())
+    })
+}
+
+/// Splits the rigid transform `*dual_quat` (normalised first) into its rotation
+/// `*out_rotation` and translation `*out_translation` (your length unit).
+///
+/// Writes both outputs only on success. Thread-safe.
+///
+/// Errors: `CG_STATUS_NULL_ARGUMENT` (a NULL pointer), `CG_STATUS_NON_FINITE` (a NaN or
+/// infinite component), `CG_STATUS_INVALID_ARGUMENT` (a zero real part).
+#[no_mangle]
+pub extern "C" fn cg_dualquat_to_rt(
+    dual_quat: *const cg_dualquat,
+    out_rotation: *mut cg_quat,
+    out_translation: *mut cg_vec3,
+) -> cg_status {
+    ffi_boundary!({
+        non_null(out_rotation, "out_rotation")?;
+        non_null(out_translation, "out_translation")?;
+        // SAFETY: the caller passes a readable cg_dualquat (or NULL).
+        let q = unsafe { borrow(dual_quat, "dual_quat") }?.to_unit("dual_quat")?;
+        let (rotation, translation) = q.to_rotation_translation();
+        // SAFETY: checked non-null above; the caller passes writable outputs.
+        *unsafe { borrow_mut(out_rotation, "out_rotation") }? = rotation.into();
+        // SAFETY: as above.
+        *unsafe { borrow_mut(out_translation, "out_translation") }? = translation.into();
+        Ok(())
+    })
+}
+
+/// Converts a rigid 4×4 matrix to a unit dual quaternion into `*out`.
+///
+/// `matrix` points to 16 floats, **column-major** for column vectors (`p' = M p`, translation
+/// in elements 12, 13, 14), as OpenGL, glam and Eigen store them. OpenSceneGraph's
+/// `osg::Matrixf` (row vectors, translation in its 4th row) has exactly this memory layout:
+/// pass `matrix.ptr()` as is. The matrix must be rigid: an orthonormal rotation block with
+/// determinant +1 and a bottom row (0, 0, 0, 1), each within 1e-3. Writes `*out` only on
+/// success. Thread-safe.
+///
+/// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE` (a NaN or infinite element),
+/// `CG_STATUS_INVALID_ARGUMENT` (a scale, shear, reflection or projection).
+#[no_mangle]
+pub extern "C" fn cg_dualquat_from_matrix(matrix: *const f32, out: *mut cg_dualquat) -> cg_status {
+    ffi_boundary!({
+        non_null(out, "out")?;
+        let mut elements = [0.0f32; 16];
+        // SAFETY: the caller passes 16 readable floats (or NULL).
+        elements.copy_from_slice(unsafe { slice(matrix, 16, "matrix") }?);
+        let result = DualQuat::from_mat4(&Mat4::from_cols_array(&elements))?;
+        // SAFETY: the caller passes a writable cg_dualquat.
+        *unsafe { borrow_mut(out, "out") }? = result.into();
+        Ok(())
+    })
+}
+
+/// Converts the rigid transform `*dual_quat` (normalised first) to a 4×4 matrix, written as
+/// 16 floats to `out`, column-major for column vectors (the layout `cg_dualquat_from_matrix`
+/// reads, and `osg::Matrixf::set(const float*)` takes).
+///
+/// Writes `out` only on success. Thread-safe.
+///
+/// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE`, `CG_STATUS_INVALID_ARGUMENT` (a
+/// zero real part).
+#[no_mangle]
+pub extern "C" fn cg_dualquat_to_matrix(dual_quat: *const cg_dualquat, out: *mut f32) -> cg_status {
+    ffi_boundary!({
+        non_null(out, "out")?;
+        // SAFETY: the caller passes a readable cg_dualquat (or NULL).
+        let q = unsafe { borrow(dual_quat, "dual_quat") }?.to_unit("dual_quat")?;
+        let elements = q.to_mat4().to_cols_array();
+        // SAFETY: the caller passes 16 writable floats.
+        unsafe { slice_mut(out, 16, "out") }?.copy_from_slice(&elements);
+        Ok(())
+    })
+}
+
+// ---------------------------------------------------------------------------------------------
+// Blending
+
+/// Dual quaternion linear blending (DLB, equation 4 of Chaudhuri et al.) of `count` rigid
+/// transforms `inputs` with weights `weights` into `*out`: `Σ w_k q̂_k / ‖Σ w_k q̂_k‖`.
+///
+/// Inputs are normalised; antipodal ones (`q̂` and `−q̂`, the same transform) are flipped to the
+/// hemisphere of the first input with a non-zero weight, so blends go the short way. Weights
+/// must be finite, `>= 0` and not all zero; they need not sum to 1. `out` may alias an input.
+/// Writes `*out` only on success. Thread-safe; allocates nothing.
+///
+/// Errors: `CG_STATUS_NULL_ARGUMENT` (a NULL pointer with `count > 0`, or `out` NULL),
+/// `CG_STATUS_NON_FINITE` (a NaN or infinite input or weight), `CG_STATUS_INVALID_ARGUMENT`
+/// (`count` 0, a negative weight, weights summing to 0, an input with a zero real part).
+#[no_mangle]
+pub extern "C" fn cg_blend_dlb(
+    inputs: *const cg_dualquat,
+    weights: *const f32,
+    count: usize,
+    out: *mut cg_dualquat,
+) -> cg_status {
+    ffi_boundary!({
+        // SAFETY: the caller passes `count` readable transforms and weights (or NULL, 0).
+        let inputs = unsafe { slice(inputs, count, "inputs") }?;
+        // SAFETY: as above.
+        let weights = unsafe { slice(weights, count, "weights") }?;
+        non_null(out, "out")?;
+        check_all(inputs, "inputs")?;
+        let result = blend::dlb(inputs, weights)?;
+        // SAFETY: the caller passes a writable cg_dualquat; the inputs are no longer used.
+        *unsafe { borrow_mut(out, "out") }? = result.into();
+        Ok(())
+    })
+}
+
+/// Dual quaternion iterative blending (DIB, Algorithm 1 of Chaudhuri et al.) of `count` rigid
+/// transforms with weights `weights` into `*out`: starting from DLB, repeats
+/// `x = Σ w_k log(b* q̂_k)`, `b = b exp(x)` until `‖x‖ < precision`, at most `max_iterations`
+/// times. The exact weighted mean in the screw metric: rigid, coordinate invariant, ScLERP for
+/// two inputs, the input itself for one.
+///
+/// `precision` is in mixed units (half-angles in radians, half-translations in your length
+/// unit), finite and `> 0`: 1e-6 suits metres, 1e-4 centimetres (the iteration runs in float,
+/// whose rounding is about 1e-7 of the translations). `max_iterations` is 1 to 1000; 16 is
+/// plenty (typical poses need 2 to 4). Inputs and weights as in `cg_blend_dlb`; `out` may
+/// alias an input. Thread-safe; allocates nothing.
+///
+/// Returns `CG_STATUS_OK` with `*out` written; or `CG_STATUS_NOT_CONVERGED` with `*out` holding
+/// the best iterate when the precision was not reached in `max_iterations`.
+///
+/// Errors (nothing written): those of `cg_blend_dlb`, plus `CG_STATUS_NON_FINITE` (precision
+/// NaN or infinite) and `CG_STATUS_INVALID_ARGUMENT` (precision `<= 0`, max_iterations 0 or
+/// above 1000).
+#[no_mangle]
+pub extern "C" fn cg_blend_dib(
+    inputs: *const cg_dualquat,
+    weights: *const f32,
+    count: usize,
+    precision: f32,
+    max_iterations: u32,
+    out: *mut cg_dualquat,
+) -> cg_status {
+    ffi_boundary!({
+        // SAFETY: the caller passes `count` readable transforms and weights (or NULL, 0).
+        let inputs = unsafe { slice(inputs, count, "inputs") }?;
+        // SAFETY: as above.
+        let weights = unsafe { slice(weights, count, "weights") }?;
+        non_null(out, "out")?;
+        check_all(inputs, "inputs")?;
+        let settings = DibSettings {
+            precision,
+            max_iterations,
+        };
+        let outcome = blend::dib(inputs, weights, &settings)?;
+        // SAFETY: the caller passes a writable cg_dualquat; the inputs are no longer used.
+        *unsafe { borrow_mut(out, "out") }? = outcome.blend.into();
+        outcome.into_result(&settings).map(|_| ())
+    })
+}
+
+/// DLB of whole poses: `keys` holds `key_count` poses of `joint_count` joints each,
+/// **key-major** (joint `j` of key `k` at `keys[k * joint_count + j]`); joint `j` of `out_pose`
+/// (`joint_count` long) gets the DLB of the keys' joint `j` with the shared `weights`
+/// (`key_count` long). Rules of `cg_blend_dlb` per joint.
+///
+/// `out_pose` must not overlap `keys`. `joint_count` 0 is a valid empty pose. Writes
+/// `out_pose` only on success. Thread-safe; allocates nothing.
+///
+/// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE`, `CG_STATUS_INVALID_ARGUMENT` (as
+/// `cg_blend_dlb`, plus `key_count * joint_count` overflowing or `out_pose` overlapping `keys`).
+#[no_mangle]
+pub extern "C" fn cg_blend_pose_dlb(
+    keys: *const cg_dualquat,
+    weights: *const f32,
+    key_count: usize,
+    joint_count: usize,
+    out_pose: *mut cg_dualquat,
+) -> cg_status {
+    ffi_boundary!({
+        let elements = pose_elements(key_count, joint_count)?;
+        // SAFETY: the caller passes `key_count * joint_count` readable transforms (or NULL, 0).
+        let keys_slice = unsafe { slice(keys, elements, "keys") }?;
+        // SAFETY: the caller passes `key_count` readable weights (or NULL, 0).
+        let weights = unsafe { slice(weights, key_count, "weights") }?;
+        check_all(keys_slice, "keys")?;
+        non_null_array(out_pose, joint_count, "out_pose")?;
+        check_disjoint(keys, elements, out_pose, joint_count, "out_pose")?;
+        // SAFETY: `joint_count` writable transforms, checked not to overlap `keys`.
+        let out = unsafe { slice_mut(out_pose, joint_count, "out_pose") }?;
+        blend::blend_pose_dlb(keys_slice, weights, joint_count, out)
+    })
+}
+
+/// DIB of whole poses, with the layout of `cg_blend_pose_dlb` and the precision and
+/// iteration rules of `cg_blend_dib`, per joint.
+///
+/// Returns `CG_STATUS_OK` with every joint written; or `CG_STATUS_NOT_CONVERGED` with every
+/// joint written (the best iterate where the precision was not reached) — the message says
+/// how many joints did not converge. Thread-safe; allocates nothing.
+///
+/// Errors (nothing written): those of `cg_blend_pose_dlb` and of the DIB settings.
+#[no_mangle]
+pub extern "C" fn cg_blend_pose_dib(
+    keys: *const cg_dualquat,
+    weights: *const f32,
+    key_count: usize,
+    joint_count: usize,
+    precision: f32,
+    max_iterations: u32,
+    out_pose: *mut cg_dualquat,
+) -> cg_status {
+    ffi_boundary!({
+        let elements = pose_elements(key_count, joint_count)?;
+        // SAFETY: the caller passes `key_count * joint_count` readable transforms (or NULL, 0).
+        let keys_slice = unsafe { slice(keys, elements, "keys") }?;
+        // SAFETY: the caller passes `key_count` readable weights (or NULL, 0).
+        let weights = unsafe { slice(weights, key_count, "weights") }?;
+        check_all(keys_slice, "keys")?;
+        non_null_array(out_pose, joint_count, "out_pose")?;
+        check_disjoint(keys, elements, out_pose, joint_count, "out_pose")?;
+        let settings = DibSettings {
+            precision,
+            max_iterations,
+        };
+        // SAFETY: `joint_count` writable transforms, checked not to overlap `keys`.
+        let out = unsafe { slice_mut(out_pose, joint_count, "out_pose") }?;
+        blend::blend_pose_dib(keys_slice, weights, joint_count, &settings, out)?
+            .into_result(&settings)
+    })
+}
+
+/// Fails with [`Error::NullArgument`] for an output array `(NULL, n > 0)`.
+fn non_null_array<T>(pointer: *const T, count: usize, what: &str) -> Result<()> {
+    if count > 0 {
+        non_null(pointer, what)?;
+    }
+    Ok(())
+}
+
+/// The centre of a projective camera `P = K[R|t]` (3×4) into `*out`: the right null space of
+/// `P` (`P (C, 1) = 0`), i.e. `C = −Rᵀ t`. Use it as the viewer position of
+/// `cg_view_blender_weights` and `cg_view_blender_evaluate` when the viewer comes from camera
+/// tracking.
+///
+/// `projection` points to 12 floats, **row-major** (`projection[4 * r + c]` is row `r`,
+/// column `c`, as OpenCV and Hartley & Zisserman write P); any non-zero scale of P works.
+/// `*out` is in the units and frame of the world P maps from. Writes `*out` only on success.
+/// Thread-safe.
+///
+/// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE` (a NaN or infinite element),
+/// `CG_STATUS_INVALID_ARGUMENT` (a degenerate P: singular left 3×3 block, as for an affine
+/// camera, rank below 3, or a centre too far away for a float).
+#[no_mangle]
+pub extern "C" fn cg_camera_center_from_projection(
+    projection: *const f32,
+    out: *mut cg_vec3,
+) -> cg_status {
+    ffi_boundary!({
+        non_null(out, "out")?;
+        let mut elements = [0.0f32; 12];
+        // SAFETY: the caller passes 12 readable floats (or NULL).
+        elements.copy_from_slice(unsafe { slice(projection, 12, "projection") }?);
+        let centre = blend::camera_centre_from_projection(&elements)?;
+        // SAFETY: the caller passes a writable cg_vec3.
+        *unsafe { borrow_mut(out, "out") }? = centre.into();
+        Ok(())
+    })
+}
+
+// ---------------------------------------------------------------------------------------------
+// The view blender
+
+/// How `cg_view_blender` blends the key animations per joint (the `method` field of
+/// `cg_view_blender_config`, a `uint32_t` holding one of these values).
+#[repr(u32)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum cg_blend_method {
+    /// Dual quaternion linear blending: closed form, the fastest. The default.
+    Dlb = 0,
+    /// Dual quaternion iterative blending: the exact mean, iterated to `precision`.
+    Dib = 1,
+}
+
+/// How `cg_view_blender` measures the distance D between the viewer's direction and a key
+/// camera on the unit sphere (the `distance` field of `cg_view_blender_config`, a `uint32_t`
+/// holding one of these values).
+#[repr(u32)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum cg_view_distance {
+    /// The great-circle angle in radians (0 to π). The default.
+    Geodesic = 0,
+    /// The straight chord through the sphere, `|v_c - v_k|` (0 to 2): the paper's cheaper
+    /// approximation.
+    Chordal = 1,
+}
+
+/// View-adaptive animation of one character (opaque): key animations, key cameras around the
+/// character, and the blend of the key animations by where the viewer stands (Chaudhuri,
+/// Papagiannakis & Magnenat-Thalmann).
+///
+/// Created by `cg_view_blender_create`, destroyed by `cg_view_blender_destroy`. Set a clip or
+/// pose for every key and add key cameras, then call `cg_view_blender_weights` /
+/// `cg_view_blender_evaluate` each frame (they allocate nothing). Not safe for concurrent
+/// mutation: the set/add calls must not overlap any other call on the same blender. Calls
+/// taking a `const cg_view_blender*` may run concurrently with each other, so one blender can
+/// serve many characters that share its key animations.
+pub struct cg_view_blender {
+    _private: [u8; 0],
+}
+
+/// Settings of a view blender, fixed for its lifetime. Fill it with
+/// `cg_view_blender_config_init`, then set `joint_count` and `key_count` (they have no usable
+/// default) and change what you need.
+#[repr(C)]
+#[derive(Debug, Clone, Copy)]
+pub struct cg_view_blender_config {
+    /// Size of this struct in bytes, set by `cg_view_blender_config_init`; lets later versions
+    /// add fields without breaking callers compiled against this header.
+    pub struct_size: u32,
+    /// Joints per pose, 1 to 65536. Default 0: must be set.
+    pub joint_count: u32,
+    /// Key animations K, 1 to 32. Default 0: must be set.
+    pub key_count: u32,
+    /// Exponent α of the weights `w_k = D_k^-α / Σ D_j^-α`, in [2, 4]: lower spreads each key
+    /// camera's influence wider, higher focuses it near the camera. Default 2.
+    pub alpha: f32,
+    /// A `cg_view_distance`: how D is measured. Default `CG_VIEW_DISTANCE_GEODESIC`.
+    pub distance: u32,
+    /// A `cg_blend_method`: DLB or DIB per joint. Default `CG_BLEND_METHOD_DLB`.
+    pub method: u32,
+    /// DIB's precision p (half-angles in radians and half-translations in your length unit,
+    /// mixed), finite and > 0. Default 1e-6 (for metres; use 1e-4 with centimetres). Unused
+    /// by DLB.
+    pub precision: f32,
+    /// DIB's most iterations per joint, 1 to 1000. Default 16. Unused by DLB.
+    pub max_iterations: u32,
+}
+
+impl Versioned for cg_view_blender_config {
+    const MIN_SIZE: usize = std::mem::size_of::<cg_view_blender_config>();
+    const NAME: &'static str = "cg_view_blender_config";
+
+    fn defaults() -> Self {
+        let core = ViewBlenderConfig::new(0, 0);
+        cg_view_blender_config {
+            struct_size: std::mem::size_of::<cg_view_blender_config>() as u32,
+            joint_count: 0,
+            key_count: 0,
+            alpha: core.alpha,
+            distance: cg_view_distance::Geodesic as u32,
+            method: cg_blend_method::Dlb as u32,
+            precision: core.precision,
+            max_iterations: core.max_iterations,
+        }
+    }
+}
+
+impl cg_view_blender_config {
+    /// Checks and converts to the core's config.
+    fn to_core(self) -> Result<ViewBlenderConfig> {
+        ensure_finite(self.alpha, "alpha")?;
+        ensure_finite(self.precision, "precision")?;
+        let distance = match self.distance {
+            0 => ViewDistance::Geodesic,
+            1 => ViewDistance::Chordal,
+            other => {
+                return Err(Error::InvalidArgument(format!(
+                    "distance is {other}, not a cg_view_distance"
+                )))
+            }
+        };
+        let method = match self.method {
+            0 => BlendMethod::Dlb,
+            1 => BlendMethod::Dib,
+            other => {
+                return Err(Error::InvalidArgument(format!(
+                    "method is {other}, not a cg_blend_method"
+                )))
+            }
+        };
+        let config = ViewBlenderConfig {
+            joint_count: self.joint_count as usize,
+            key_count: self.key_count as usize,
+            alpha: self.alpha,
+            distance,
+            method,
+            precision: self.precision,
+            max_iterations: self.max_iterations,
+        };
+        config.validate()?;
+        Ok(config)
+    }
+}
+
+/// Fills `config` with the defaults documented on each field, including `struct_size`.
+///
+/// Errors: `CG_STATUS_NULL_ARGUMENT` if `config` is NULL. Thread-safe.
+#[no_mangle]
+pub extern "C" fn cg_view_blender_config_init(config: *mut cg_view_blender_config) -> cg_status {
+    ffi_boundary!({
+        // SAFETY: the caller passes a pointer to a cg_view_blender_config it owns (or NULL).
+        let config = unsafe { borrow_mut(config, "config") }?;
+        *config = cg_view_blender_config::defaults();
+        Ok(())
+    })
+}
+
+/// Creates a view blender from `config`, with no key animation and no key camera yet, and
+/// stores its handle in `*out_blender`.
+///
+/// The caller owns the new blender and releases it with `cg_view_blender_destroy`.
+/// `*out_blender` is written only on success. Thread-safe.
+///
+/// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_BAD_STRUCT_SIZE` (config not filled by
+/// `cg_view_blender_config_init`), `CG_STATUS_INVALID_ARGUMENT` (a field out of its range,
+/// an unknown enum value), `CG_STATUS_NON_FINITE` (alpha or precision NaN or infinite).
+#[no_mangle]
+pub extern "C" fn cg_view_blender_create(
+    config: *const cg_view_blender_config,
+    out_blender: *mut *mut cg_view_blender,
+) -> cg_status {
+    ffi_boundary!({
+        non_null(out_blender, "out_blender")?;
+        // SAFETY: the caller passes a readable config of at least its struct_size bytes.
+        let config = unsafe { read_versioned(config) }?.to_core()?;
+        let blender = Box::new(ViewBlender::new(config)?);
+        // SAFETY: out_blender was checked non-null; the caller provides a writable slot.
+        let out = unsafe { borrow_mut(out_blender, "out_blender") }?;
+        *out = Box::into_raw(blender).cast::<cg_view_blender>();
+        Ok(())
+    })
+}
+
+/// Destroys a view blender created by `cg_view_blender_create` and frees everything it owns
+/// (its clips and cameras).
+///
+/// NULL is accepted and ignored. The handle must not be used afterwards, and no other call
+/// on this blender may be running.
+#[no_mangle]
+pub extern "C" fn cg_view_blender_destroy(blender: *mut cg_view_blender) {
+    if blender.is_null() {
+        return;
+    }
+    let _ = ffi_boundary!({
+        // SAFETY: a non-null handle was produced by Box::into_raw in cg_view_blender_create
+        // and is destroyed once, by the caller's contract.
+        drop(unsafe { Box::from_raw(blender.cast::<ViewBlender>()) });
+        Ok(())
+    });
+}
+
+/// Reborrows a blender handle as the core blender.
+///
+/// # Safety
+/// `blender`, if not NULL, must be a live handle from `cg_view_blender_create`, with no
+/// mutable access for `'a`.
+unsafe fn blender_ref<'a>(blender: *const cg_view_blender) -> Result<&'a ViewBlender> {
+    // SAFETY: forwarded contract: a live handle is a Box<ViewBlender>.
+    unsafe { borrow(blender.cast::<ViewBlender>(), "blender") }
+}
+
+/// Reborrows a blender handle mutably as the core blender.
+///
+/// # Safety
+/// `blender`, if not NULL, must be a live handle from `cg_view_blender_create`, not accessed
+/// by anything else for `'a`.
+unsafe fn blender_mut<'a>(blender: *mut cg_view_blender) -> Result<&'a mut ViewBlender> {
+    // SAFETY: forwarded contract: a live handle is a Box<ViewBlender>.
+    unsafe { borrow_mut(blender.cast::<ViewBlender>(), "blender") }
+}
+
+/// Sets (or replaces) key animation `key` (0 to `key_count - 1`) to a clip of `frame_count`
+/// poses played at `frames_per_second`.
+///
+/// `frames` holds `frame_count * joint_count` rigid transforms (the joints' local transforms,
+/// as your skeleton defines them), **frame-major**: joint `j` of frame `f` at
+/// `frames[f * joint_count + j]`. They are copied (and normalised): the caller keeps ownership.
+/// Frame `f` plays at time `f / frames_per_second`. A clamped clip (`looping` false) holds its
+/// first and last frames outside its range; a looping one repeats with period
+/// `frame_count / frames_per_second` and interpolates from the last frame back to the first
+/// (do not repeat the first frame at the end). Between frames each joint is interpolated by
+/// DLB of the two neighbouring frames. `frames_per_second` must be finite, and > 0 unless
+/// `frame_count` is 1.
+///
+/// Allocates (setup, not per frame). Not safe concurrently with any other call on this
+/// blender. Nothing changes on error.
+///
+/// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE` (a NaN or infinite component or
+/// frame rate), `CG_STATUS_INVALID_ARGUMENT` (key out of range, `frame_count` 0, frame rate
+/// <= 0, a transform with a zero real part, a count overflowing).
+#[no_mangle]
+pub extern "C" fn cg_view_blender_set_key_clip(
+    blender: *mut cg_view_blender,
+    key: u32,
+    frames: *const cg_dualquat,
+    frame_count: usize,
+    frames_per_second: f32,
+    looping: bool,
+) -> cg_status {
+    ffi_boundary!({
+        // SAFETY: handle contract of cg_view_blender.
+        let blender = unsafe { blender_mut(blender) }?;
+        let joint_count = blender.config().joint_count;
+        let elements = pose_elements(frame_count, joint_count)?;
+        // SAFETY: the caller passes `frame_count * joint_count` readable transforms (or NULL, 0).
+        let frames = unsafe { slice(frames, elements, "frames") }?;
+        ensure_finite(frames_per_second, "frames_per_second")?;
+        check_all(frames, "frames")?;
+        let clip = KeyClip::new(frames, joint_count, frames_per_second, looping)?;
+        blender.set_key_clip(key as usize, clip)
+    })
+}
+
+/// Sets (or replaces) key `key` (0 to `key_count - 1`) to a static pose: `pose` holds
+/// `joint_count` rigid transforms (copied and normalised; the caller keeps ownership).
+/// `joint_count` must equal the blender's.
+///
+/// Allocates (setup, not per frame). Not safe concurrently with any other call on this
+/// blender. Nothing changes on error.
+///
+/// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE`, `CG_STATUS_INVALID_ARGUMENT` (key
+/// out of range, wrong `joint_count`, a transform with a zero real part).
+#[no_mangle]
+pub extern "C" fn cg_view_blender_set_key_pose(
+    blender: *mut cg_view_blender,
+    key: u32,
+    pose: *const cg_dualquat,
+    joint_count: usize,
+) -> cg_status {
+    ffi_boundary!({
+        // SAFETY: handle contract of cg_view_blender.
+        let blender = unsafe { blender_mut(blender) }?;
+        // SAFETY: the caller passes `joint_count` readable transforms (or NULL, 0).
+        let pose = unsafe { slice(pose, joint_count, "pose") }?;
+        check_all(pose, "pose")?;
+        blender.set_key_pose(key as usize, pose)
+    })
+}
+
+/// Adds a key camera: the direction `direction` from the character's centre, in the
+/// character's own frame (any non-zero length; it is normalised onto the unit sphere), mapped
+/// to key animation `key`. Several cameras may map to one key; a key with no camera never
+/// contributes. The camera moves with the character.
+///
+/// Allocates (setup, not per frame). Not safe concurrently with any other call on this
+/// blender. Nothing changes on error.
+///
+/// Errors: `CG_STATUS_NULL_ARGUMENT` (blender NULL), `CG_STATUS_NON_FINITE`,
+/// `CG_STATUS_INVALID_ARGUMENT` (key out of range, a zero direction).
+#[no_mangle]
+pub extern "C" fn cg_view_blender_add_camera(
+    blender: *mut cg_view_blender,
+    direction: cg_vec3,
+    key: u32,
+) -> cg_status {
+    ffi_boundary!({
+        // SAFETY: handle contract of cg_view_blender.
+        let blender = unsafe { blender_mut(blender) }?;
+        let direction = direction.to_finite("direction")?;
+        blender.add_camera(direction, key as usize).map(|_| ())
+    })
+}
+
+/// Reads the character transform and viewer position from C.
+///
+/// # Safety
+/// Each pointer, if not NULL and aligned, must point to a readable value.
+unsafe fn read_view(
+    character: *const cg_dualquat,
+    viewer: *const cg_vec3,
+) -> Result<(DualQuat, glam::Vec3)> {
+    // SAFETY: forwarded contract.
+    let character = unsafe { borrow(character, "character") }?.to_unit("character")?;
+    // SAFETY: forwarded contract.
+    let viewer = unsafe { borrow(viewer, "viewer") }?.to_finite("viewer")?;
+    Ok((character, viewer))
+}
+
+/// The view weights of the key animations for a viewer at `*viewer` looking at the character
+/// placed by `*character`, into `out_weights` (`count` = `key_count` floats).
+///
+/// `*character` is the character's rigid transform in the world (rotation and position; see
+/// `cg_dualquat_from_rt`), `*viewer` the viewer's world position, in the same length unit
+/// (only directions matter). The viewer's direction in the character's frame is projected on
+/// the unit sphere, and key k gets `w_k = Σ_{cameras c of k} D_c^-α / Σ_{all cameras} D_c^-α`:
+/// convex weights summing to 1. A viewer on a key camera (D < 1e-6) gets that camera's key
+/// alone. Writes `out_weights` only on success. Allocates nothing; may run concurrently with
+/// other const calls on this blender.
+///
+/// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE` (a NaN or infinite input),
+/// `CG_STATUS_INVALID_ARGUMENT` (`count` is not `key_count`, the character transform has a zero
+/// real part, or the viewer is at the character's centre, within 1e-6 of its position scaled
+/// by max(1, |positions|)), `CG_STATUS_WRONG_STATE` (no key camera yet).
+#[no_mangle]
+pub extern "C" fn cg_view_blender_weights(
+    blender: *const cg_view_blender,
+    character: *const cg_dualquat,
+    viewer: *const cg_vec3,
+    out_weights: *mut f32,
+    count: usize,
+) -> cg_status {
+    ffi_boundary!({
+        // SAFETY: handle contract of cg_view_blender.
+        let blender = unsafe { blender_ref(blender) }?;
+        // SAFETY: the caller passes readable character and viewer (or NULL).
+        let (character, viewer) = unsafe { read_view(character, viewer) }?;
+        // SAFETY: the caller passes `count` writable floats (or NULL, 0).
+        let out = unsafe { slice_mut(out_weights, count, "out_weights") }?;
+        blender.weights(character, viewer, out)
+    })
+}
+
+/// The blended pose at time `t` (seconds) for a viewer at `*viewer` looking at the character
+/// placed by `*character`, into `out_pose` (`joints` = `joint_count` transforms, the joints'
+/// local transforms in your skeleton's order).
+///
+/// Computes the weights as `cg_view_blender_weights`, samples every key animation with a
+/// non-zero weight at `t`, and blends each joint with DLB or DIB (the config's `method`).
+/// Every key must have a clip or pose. Allocates nothing; may run concurrently with other
+/// const calls on this blender.
+///
+/// Returns `CG_STATUS_OK` with the pose written; or, with DIB, `CG_STATUS_NOT_CONVERGED` with
+/// the whole pose written (the best iterate for the joints that missed the precision).
+///
+/// Errors (nothing written): those of `cg_view_blender_weights`, plus
+/// `CG_STATUS_INVALID_ARGUMENT` (`joints` is not `joint_count`), `CG_STATUS_NON_FINITE` (`t`
+/// NaN or infinite), `CG_STATUS_WRONG_STATE` (a key without clip or pose).
+#[no_mangle]
+pub extern "C" fn cg_view_blender_evaluate(
+    blender: *const cg_view_blender,
+    character: *const cg_dualquat,
+    viewer: *const cg_vec3,
+    t: f64,
+    out_pose: *mut cg_dualquat,
+    joints: usize,
+) -> cg_status {
+    ffi_boundary!({
+        // SAFETY: handle contract of cg_view_blender.
+        let blender = unsafe { blender_ref(blender) }?;
+        // SAFETY: the caller passes readable character and viewer (or NULL).
+        let (character, viewer) = unsafe { read_view(character, viewer) }?;
+        // SAFETY: the caller passes `joints` writable transforms (or NULL, 0); the character
+        // and viewer were copied out above.
+        let out = unsafe { slice_mut(out_pose, joints, "out_pose") }?;
+        blender
+            .evaluate(character, viewer, t, out)?
+            .into_result(&blender.config().dib_settings())
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn dq(q: DualQuat) -> cg_dualquat {
+        q.into()
+    }
+
+    #[test]
+    fn conversions_check_their_input() {
+        let zero = cg_dualquat {
+            real: cg_quat {
+                x: 0.0,
+                y: 0.0,
+                z: 0.0,
+                w: 0.0,
+            },
+            dual: cg_quat::IDENTITY,
+        };
+        assert!(matches!(zero.to_unit("q"), Err(Error::InvalidArgument(_))));
+        let mut nan = dq(DualQuat::IDENTITY);
+        nan.dual.y = f32::NAN;
+        assert!(matches!(nan.to_unit("q"), Err(Error::NonFinite(_))));
+        let mut scaled = dq(DualQuat::IDENTITY);
+        scaled.real.w = 3.0;
+        assert_eq!(scaled.to_unit("q").unwrap(), DualQuat::IDENTITY);
+    }
+
+    #[test]
+    fn overlapping_arrays_are_detected() {
+        let data = [0u8; 64];
+        let p = data.as_ptr();
+        assert!(check_disjoint(p, 32, p.wrapping_add(16), 32, "out").is_err());
+        assert!(check_disjoint(p, 32, p.wrapping_add(32), 32, "out").is_ok());
+        assert!(check_disjoint(p, 0, p, 32, "out").is_ok());
+    }
+
+    #[test]
+    fn enums_match_their_c_values() {
+        assert_eq!(cg_blend_method::Dlb as u32, 0);
+        assert_eq!(cg_blend_method::Dib as u32, 1);
+        assert_eq!(cg_view_distance::Geodesic as u32, 0);
+        assert_eq!(cg_view_distance::Chordal as u32, 1);
+        let defaults = cg_view_blender_config::defaults();
+        assert_eq!(
+            defaults.struct_size as usize,
+            std::mem::size_of::<cg_view_blender_config>()
+        );
+        assert!(defaults.to_core().is_err(), "counts must be set");
+        let filled = cg_view_blender_config {
+            joint_count: 3,
+            key_count: 2,
+            ..defaults
+        };
+        let core = filled.to_core().unwrap();
+        assert_eq!(core, ViewBlenderConfig::new(3, 2));
+    }
+}
