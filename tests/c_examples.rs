@@ -1,6 +1,7 @@
-//! Compiles every C program in `c_examples/` (C99) and every C++ one (C++17) against
-//! `include/crowdgaze.h` and the library built by this `cargo test`, once linked statically
-//! and once against the shared library, runs each, and checks its exit status and output.
+//! Compiles every C program in `c_examples/` (C99) and every C++ one (C++17, with the C++
+//! wrapper's `bindings/cpp/` on the include path) against `include/crowdgaze.h` and the
+//! library built by this `cargo test`, once linked statically and once against the shared
+//! library, runs each, and checks its exit status and output.
 //!
 //! Each example prints what it checked and ends with the line `ok`. Extra expectations for
 //! particular examples are in [`expected_output`].
@@ -71,10 +72,12 @@ fn compile(source: &Path, linkage: Linkage, work: &Path) -> PathBuf {
         .arg(if is_cpp { "-std=c++17" } else { "-std=c99" })
         .args(["-Wall", "-Wextra", "-Wpedantic", "-Werror", "-O1", "-g"])
         .arg("-I")
-        .arg(root().join("include"))
-        .arg(source)
-        .arg("-o")
-        .arg(&output);
+        .arg(root().join("include"));
+    if is_cpp {
+        // The header-only C++ wrapper, bindings/cpp/crowdgaze.hpp.
+        command.arg("-I").arg(root().join("bindings/cpp"));
+    }
+    command.arg(source).arg("-o").arg(&output);
     match linkage {
         Linkage::Static => {
             command.arg(library_dir().join("libcrowdgaze.a"));
@@ -118,6 +121,11 @@ fn expected_output(stem: &str) -> Vec<String> {
         "view_blend" => vec![
             "on key camera 1: weights 0.000 1.000 0.000".into(),
             "camera centre from P: (4.000, 1.600, 1.000)".into(),
+        ],
+        "cpp_wrapper" => vec![
+            "left eye off the target by 0.00 deg".into(),
+            "step(-1) threw: invalid argument: dt is -1, must be >= 0".into(),
+            "half-way viewer: weights 0.500 0.500, head yaw 30.00 deg".into(),
         ],
         _ => vec![],
     }

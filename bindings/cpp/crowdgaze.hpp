@@ -1,0 +1,760 @@
+// crowdgaze.hpp — header-only C++17 wrapper of the crowdgaze C API (include/crowdgaze.h).
+//
+// - `crowdgaze::Crowd` and `crowdgaze::ViewBlender` own a `cg_crowd*` / `cg_view_blender*`:
+//   move-only, the destructor calls the matching `_destroy`; `raw()` lends the handle,
+//   `release()` gives it up.
+// - Every call exists twice: `name(...)` throws `crowdgaze::Error` (the status and the
+//   library's `cg_last_error_message`), `try_name(...)` is `noexcept` and returns the
+//   `cg_status` (`[[nodiscard]]`). The wrapper allocates nothing in either, except where a
+//   function returns a `std::vector` or `std::string` (said on each).
+// - Bulk calls take `crowdgaze::Span<T>`: a pointer and a count, built implicitly from a
+//   `std::vector`, a `std::array`, a C array, or `{pointer, count}`. Nothing is copied.
+// - The plain C structs (`cg_vec3`, `cg_quat`, `cg_entity_state`, ...) are used as they are.
+//
+// Thread safety is the C API's: a handle is not safe for concurrent mutation; `const`
+// member functions may run concurrently with each other.
+#ifndef CROWDGAZE_HPP
+#define CROWDGAZE_HPP
+
+#include "crowdgaze.h"
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <iterator>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+namespace crowdgaze {
+
+// ---------------------------------------------------------------------------------------
+// Span: a pointer and a count (C++17 has no std::span).
+
+template <class T>
+class Span {
+   public:
+    using element_type = T;
+    using value_type = std::remove_cv_t<T>;
+
+    constexpr Span() noexcept = default;
+    constexpr Span(T* data, std::size_t size) noexcept : data_(data), size_(size) {}
+
+    // Any contiguous container with data() and size() whose elements convert: std::vector,
+    // std::array, C arrays, std::string, another Span (Span<T> to Span<const T>).
+    template <class Container,
+              class Pointer = decltype(std::data(std::declval<Container&>())),
+              class = std::enable_if_t<
+                  !std::is_same_v<std::remove_cv_t<std::remove_reference_t<Container>>, Span> &&
+                  std::is_convertible_v<Pointer, T*> &&
+                  std::is_same_v<std::remove_cv_t<std::remove_pointer_t<Pointer>>, value_type>>>
+    constexpr Span(Container&& container) noexcept  // NOLINT: implicit on purpose
+        : data_(std::data(container)), size_(std::size(container)) {}
+
+    constexpr T* data() const noexcept { return data_; }
+    constexpr std::size_t size() const noexcept { return size_; }
+    constexpr bool empty() const noexcept { return size_ == 0; }
+    constexpr T* begin() const noexcept { return data_; }
+    constexpr T* end() const noexcept { return data_ + size_; }
+    constexpr T& operator[](std::size_t i) const noexcept { return data_[i]; }
+    // Elements `offset .. offset + count` (the caller keeps them in range).
+    constexpr Span subspan(std::size_t offset, std::size_t count) const noexcept {
+        return Span(data_ + offset, count);
+    }
+
+   private:
+    T* data_ = nullptr;
+    std::size_t size_ = 0;
+};
+
+// ---------------------------------------------------------------------------------------
+// Errors.
+
+// The calling thread's last error message (allocates the string).
+inline std::string last_error_message() {
+    std::size_t length = cg_last_error_message(nullptr, 0);
+    std::vector<char> buffer(length + 1, '\0');
+    cg_last_error_message(buffer.data(), buffer.size());
+    return std::string(buffer.data(), length);
+}
+
+// The static description of a status ("null argument", ...).
+inline const char* status_string(cg_status status) noexcept {
+    return cg_status_str(static_cast<std::uint32_t>(status));
+}
+
+// A failed crowdgaze call: the status and the one-line message of `cg_last_error_message`
+// (which starts with the kind of error, e.g. "invalid argument: dt is -1, must be >= 0").
+// `what()` is that message, or the status description if the message is empty.
+class Error : public std::runtime_error {
+   public:
+    Error(cg_status status, const std::string& message)
+        : std::runtime_error(message.empty() ? std::string(status_string(status)) : message),
+          status_(status),
+          message_(message) {}
+
+    cg_status status() const noexcept { return status_; }
+    // The library's message (empty if it gave none).
+    const std::string& message() const noexcept { return message_; }
+
+   private:
+    cg_status status_;
+    std::string message_;
+};
+
+// Throws `Error` with the thread's last error message unless `status` is `CG_STATUS_OK`.
+inline void check(cg_status status) {
+    if (status != CG_STATUS_OK) {
+        throw Error(status, last_error_message());
+    }
+}
+
+// Like `check`, but `CG_STATUS_NOT_CONVERGED` (outputs written, best iterate) is not an
+// error: returns true if converged, false if not.
+inline bool check_converged(cg_status status) {
+    if (status == CG_STATUS_NOT_CONVERGED) {
+        return false;
+    }
+    check(status);
+    return true;
+}
+
+namespace detail {
+// Sizes the wrapper checks itself (the C call takes one count for two arrays) report this
+// status without a library message; the exception's message says what did not match.
+inline void check_sizes(bool good, const char* what) {
+    if (!good) {
+        throw Error(CG_STATUS_INVALID_ARGUMENT, what);
+    }
+}
+}  // namespace detail
+
+// ---------------------------------------------------------------------------------------
+// Version.
+
+// The linked library's version, `(major << 16) | (minor << 8) | patch`.
+inline std::uint32_t version() noexcept { return cg_version(); }
+// The linked library's version string, "major.minor.patch" (static).
+inline const char* version_string() noexcept { return cg_version_string(); }
+// Whether the linked library's major version (and, before 1.0, minor) is the header's.
+inline bool version_matches_header() noexcept {
+    const std::uint32_t v = cg_version();
+    const std::uint32_t major = v >> 16, minor = (v >> 8) & 0xff;
+    return major == CG_VERSION_MAJOR && (CG_VERSION_MAJOR != 0 || minor == CG_VERSION_MINOR);
+}
+
+// ---------------------------------------------------------------------------------------
+// Plain structs filled with their defaults (the C `_init` functions; they cannot fail on a
+// valid pointer).
+
+inline cg_crowd_config crowd_config() noexcept {
+    cg_crowd_config config{};
+    (void)cg_crowd_config_init(&config);
+    return config;
+}
+inline cg_character_desc character_desc() noexcept {
+    cg_character_desc desc{};
+    (void)cg_character_desc_init(&desc);
+    return desc;
+}
+inline cg_character_desc character_desc(cg_vec3 position, float heading = 0.0f) noexcept {
+    cg_character_desc desc = character_desc();
+    desc.position = position;
+    desc.heading = heading;
+    return desc;
+}
+inline cg_object_desc object_desc() noexcept {
+    cg_object_desc desc{};
+    (void)cg_object_desc_init(&desc);
+    return desc;
+}
+inline cg_entity_state entity_state() noexcept {
+    cg_entity_state state{};
+    (void)cg_entity_state_init(&state);
+    return state;
+}
+// A state for entity `id` at `position`, heading from motion (the usual walker).
+inline cg_entity_state entity_state(std::uint32_t id, cg_vec3 position) noexcept {
+    cg_entity_state state = entity_state();
+    state.id = id;
+    state.position = position;
+    state.flags = CG_STATE_HEADING_FROM_MOTION;
+    return state;
+}
+inline cg_gaze_target gaze_target() noexcept {
+    cg_gaze_target target{};
+    (void)cg_gaze_target_init(&target);
+    return target;
+}
+// A point target (default priority: override).
+inline cg_gaze_target gaze_target_point(cg_vec3 point,
+                                        std::uint32_t priority = CG_GAZE_PRIORITY_OVERRIDE) noexcept {
+    cg_gaze_target target = gaze_target();
+    target.kind = CG_GAZE_TARGET_POINT;
+    target.point = point;
+    target.priority = priority;
+    return target;
+}
+// An entity target, followed as it moves.
+inline cg_gaze_target gaze_target_entity(std::uint32_t entity,
+                                         std::uint32_t priority = CG_GAZE_PRIORITY_OVERRIDE) noexcept {
+    cg_gaze_target target = gaze_target();
+    target.kind = CG_GAZE_TARGET_ENTITY;
+    target.entity = entity;
+    target.priority = priority;
+    return target;
+}
+inline cg_view_blender_config view_blender_config() noexcept {
+    cg_view_blender_config config{};
+    (void)cg_view_blender_config_init(&config);
+    return config;
+}
+inline cg_view_blender_config view_blender_config(std::uint32_t joint_count,
+                                                  std::uint32_t key_count,
+                                                  cg_blend_method method = CG_BLEND_METHOD_DLB) noexcept {
+    cg_view_blender_config config = view_blender_config();
+    config.joint_count = joint_count;
+    config.key_count = key_count;
+    config.method = static_cast<std::uint32_t>(method);
+    return config;
+}
+
+// The human gaze chain (5 spine, 2 cervical, head, 2 eyes; metres) for these axes.
+[[nodiscard]] inline cg_status try_chain_desc_human(cg_axis up, cg_axis forward,
+                                                    cg_chain_desc& out) noexcept {
+    return cg_chain_desc_init_human(&out, static_cast<std::uint32_t>(up),
+                                    static_cast<std::uint32_t>(forward));
+}
+inline cg_chain_desc chain_desc_human(cg_axis up, cg_axis forward) {
+    cg_chain_desc desc{};
+    check(try_chain_desc_human(up, forward, desc));
+    return desc;
+}
+
+// ---------------------------------------------------------------------------------------
+// Crowd.
+
+// Owns a `cg_crowd*`: attention and gaze IK for a crowd of characters. Move-only.
+class Crowd {
+   public:
+    // An empty owner (no crowd); `operator bool` is false.
+    Crowd() noexcept = default;
+    // Creates a crowd from `config` (see `crowd_config()`); throws `Error`.
+    explicit Crowd(const cg_crowd_config& config) { check(try_create(config, *this)); }
+    // Takes ownership of a crowd created elsewhere (NULL gives an empty owner).
+    explicit Crowd(cg_crowd* adopted) noexcept : crowd_(adopted) {}
+
+    // Creates a crowd into `out` (replacing what it held) without throwing.
+    [[nodiscard]] static cg_status try_create(const cg_crowd_config& config, Crowd& out) noexcept {
+        cg_crowd* created = nullptr;
+        const cg_status status = cg_crowd_create(&config, &created);
+        if (status == CG_STATUS_OK) {
+            out.reset(created);
+        }
+        return status;
+    }
+
+    ~Crowd() { cg_crowd_destroy(crowd_); }
+    Crowd(const Crowd&) = delete;
+    Crowd& operator=(const Crowd&) = delete;
+    Crowd(Crowd&& other) noexcept : crowd_(other.release()) {}
+    Crowd& operator=(Crowd&& other) noexcept {
+        if (this != &other) {
+            reset(other.release());
+        }
+        return *this;
+    }
+
+    // The handle, still owned by this object.
+    cg_crowd* raw() const noexcept { return crowd_; }
+    // Gives up ownership: the caller must `cg_crowd_destroy` the returned handle.
+    [[nodiscard]] cg_crowd* release() noexcept { return std::exchange(crowd_, nullptr); }
+    // Destroys the crowd held (if any) and takes `adopted`.
+    void reset(cg_crowd* adopted = nullptr) noexcept {
+        cg_crowd_destroy(std::exchange(crowd_, adopted));
+    }
+    explicit operator bool() const noexcept { return crowd_ != nullptr; }
+
+    // --- setup -------------------------------------------------------------------------
+
+    [[nodiscard]] cg_status try_config(cg_crowd_config& out) const noexcept {
+        return cg_crowd_get_config(crowd_, &out);
+    }
+    cg_crowd_config config() const {
+        cg_crowd_config out{};
+        check(try_config(out));
+        return out;
+    }
+
+    [[nodiscard]] cg_status try_add_character(const cg_character_desc& desc,
+                                              std::uint32_t& out_id) noexcept {
+        return cg_crowd_add_character(crowd_, &desc, &out_id);
+    }
+    std::uint32_t add_character(const cg_character_desc& desc) {
+        std::uint32_t id = CG_NO_TARGET;
+        check(try_add_character(desc, id));
+        return id;
+    }
+    std::uint32_t add_character_at(cg_vec3 position, float heading = 0.0f) {
+        return add_character(character_desc(position, heading));
+    }
+
+    [[nodiscard]] cg_status try_add_object(const cg_object_desc& desc,
+                                           std::uint32_t& out_id) noexcept {
+        return cg_crowd_add_object(crowd_, &desc, &out_id);
+    }
+    std::uint32_t add_object(const cg_object_desc& desc) {
+        std::uint32_t id = CG_NO_TARGET;
+        check(try_add_object(desc, id));
+        return id;
+    }
+
+    [[nodiscard]] cg_status try_remove_entity(std::uint32_t id) noexcept {
+        return cg_crowd_remove_entity(crowd_, id);
+    }
+    void remove_entity(std::uint32_t id) { check(try_remove_entity(id)); }
+
+    [[nodiscard]] cg_status try_character_count(std::size_t& out) const noexcept {
+        return cg_crowd_character_count(crowd_, &out);
+    }
+    std::size_t character_count() const {
+        std::size_t count = 0;
+        check(try_character_count(count));
+        return count;
+    }
+
+    [[nodiscard]] cg_status try_character_params(std::uint32_t character,
+                                                 cg_character_params& out) const noexcept {
+        return cg_crowd_get_character_params(crowd_, character, &out);
+    }
+    cg_character_params character_params(std::uint32_t character) const {
+        cg_character_params params{};
+        check(try_character_params(character, params));
+        return params;
+    }
+    [[nodiscard]] cg_status try_set_character_params(std::uint32_t character,
+                                                     const cg_character_params& params) noexcept {
+        return cg_crowd_set_character_params(crowd_, character, &params);
+    }
+    void set_character_params(std::uint32_t character, const cg_character_params& params) {
+        check(try_set_character_params(character, params));
+    }
+
+    [[nodiscard]] cg_status try_set_impact(std::uint32_t entity, float impact) noexcept {
+        return cg_crowd_set_impact(crowd_, entity, impact);
+    }
+    void set_impact(std::uint32_t entity, float impact) { check(try_set_impact(entity, impact)); }
+
+    // --- every frame -------------------------------------------------------------------
+
+    // Pushes the states of (some of) the entities at time `t`; see cg_crowd_push_frame.
+    [[nodiscard]] cg_status try_push_frame(double t, Span<const cg_entity_state> states) noexcept {
+        return cg_crowd_push_frame(crowd_, t, states.data(), states.size());
+    }
+    void push_frame(double t, Span<const cg_entity_state> states) {
+        check(try_push_frame(t, states));
+    }
+
+    // Attention and gaze IK for every character, `dt` seconds after the previous step.
+    [[nodiscard]] cg_status try_step(float dt) noexcept { return cg_crowd_step(crowd_, dt); }
+    void step(float dt) { check(try_step(dt)); }
+
+    // Where the characters look, in character order; returns how many were written.
+    [[nodiscard]] cg_status try_read_gaze(Span<cg_gaze_info> out,
+                                          std::size_t& written) const noexcept {
+        return cg_crowd_read_gaze(crowd_, out.data(), out.size(), &written);
+    }
+    std::size_t read_gaze(Span<cg_gaze_info> out) const {
+        std::size_t written = 0;
+        check(try_read_gaze(out, written));
+        return written;
+    }
+
+    // Joints of characters `first .. first + count` together (what read_joints needs).
+    [[nodiscard]] cg_status try_joint_total(std::uint32_t first, std::uint32_t count,
+                                            std::size_t& out) const noexcept {
+        return cg_crowd_joint_total(crowd_, first, count, &out);
+    }
+    std::size_t joint_total(std::uint32_t first, std::uint32_t count) const {
+        std::size_t total = 0;
+        check(try_joint_total(first, count, total));
+        return total;
+    }
+
+    // Final local rotations (base * delta) of the chain joints of characters
+    // `first .. first + count`, bottom to top, chain after chain.
+    [[nodiscard]] cg_status try_read_joints(std::uint32_t first, std::uint32_t count,
+                                            Span<cg_quat> out) const noexcept {
+        return cg_crowd_read_joints(crowd_, first, count, out.data(), out.size());
+    }
+    void read_joints(std::uint32_t first, std::uint32_t count, Span<cg_quat> out) const {
+        check(try_read_joints(first, count, out));
+    }
+
+    // The gaze's delta rotations alone (final = base * delta).
+    [[nodiscard]] cg_status try_read_joint_deltas(std::uint32_t first, std::uint32_t count,
+                                                  Span<cg_quat> out) const noexcept {
+        return cg_crowd_read_joint_deltas(crowd_, first, count, out.data(), out.size());
+    }
+    void read_joint_deltas(std::uint32_t first, std::uint32_t count, Span<cg_quat> out) const {
+        check(try_read_joint_deltas(first, count, out));
+    }
+
+    // Eye positions and directions of characters `first .. first + count` (debug drawing).
+    [[nodiscard]] cg_status try_read_eyes(std::uint32_t first, std::uint32_t count,
+                                          Span<cg_eye_info> out) const noexcept {
+        return cg_crowd_read_eyes(crowd_, first, count, out.data(), out.size());
+    }
+    void read_eyes(std::uint32_t first, std::uint32_t count, Span<cg_eye_info> out) const {
+        check(try_read_eyes(first, count, out));
+    }
+
+    // The animated base pose of one character's chain joints (local rotations, bottom to
+    // top), before step.
+    [[nodiscard]] cg_status try_set_base_pose(std::uint32_t character,
+                                              Span<const cg_quat> local) noexcept {
+        return cg_crowd_set_base_pose(crowd_, character, local.data(), local.size());
+    }
+    void set_base_pose(std::uint32_t character, Span<const cg_quat> local) {
+        check(try_set_base_pose(character, local));
+    }
+
+    // Base poses of many characters: their joints packed in the order of `characters`.
+    [[nodiscard]] cg_status try_set_base_poses(Span<const std::uint32_t> characters,
+                                               Span<const cg_quat> local) noexcept {
+        return cg_crowd_set_base_poses(crowd_, characters.data(), characters.size(),
+                                       local.data(), local.size());
+    }
+    void set_base_poses(Span<const std::uint32_t> characters, Span<const cg_quat> local) {
+        check(try_set_base_poses(characters, local));
+    }
+
+    // Explicit (top-down) gaze targets.
+    [[nodiscard]] cg_status try_set_gaze_target(std::uint32_t character,
+                                                const cg_gaze_target& target) noexcept {
+        return cg_crowd_set_gaze_target(crowd_, character, &target);
+    }
+    void set_gaze_target(std::uint32_t character, const cg_gaze_target& target) {
+        check(try_set_gaze_target(character, target));
+    }
+    void look_at(std::uint32_t character, cg_vec3 point) {
+        set_gaze_target(character, gaze_target_point(point));
+    }
+    [[nodiscard]] cg_status try_clear_gaze_target(std::uint32_t character) noexcept {
+        return cg_crowd_clear_gaze_target(crowd_, character);
+    }
+    void clear_gaze_target(std::uint32_t character) { check(try_clear_gaze_target(character)); }
+
+    // --- tools and offline planning ----------------------------------------------------
+
+    [[nodiscard]] cg_status try_score(std::uint32_t character, std::uint32_t entity,
+                                      cg_score_breakdown& out) const noexcept {
+        return cg_crowd_score(crowd_, character, entity, &out);
+    }
+    cg_score_breakdown score(std::uint32_t character, std::uint32_t entity) const {
+        cg_score_breakdown out{};
+        check(try_score(character, entity, out));
+        return out;
+    }
+
+    [[nodiscard]] cg_status try_plan() noexcept { return cg_crowd_plan(crowd_); }
+    void plan() { check(try_plan()); }
+    [[nodiscard]] cg_status try_clear_plan() noexcept { return cg_crowd_clear_plan(crowd_); }
+    void clear_plan() { check(try_clear_plan()); }
+
+    // Fills `out` with the first planned constraints of `character` and writes how many
+    // there are in all to `total`.
+    [[nodiscard]] cg_status try_read_constraints(std::uint32_t character, Span<cg_constraint> out,
+                                                 std::size_t& total) const noexcept {
+        return cg_crowd_read_constraints(crowd_, character, out.data(), out.size(), &total);
+    }
+    std::size_t read_constraints(std::uint32_t character, Span<cg_constraint> out) const {
+        std::size_t total = 0;
+        check(try_read_constraints(character, out, total));
+        return total;
+    }
+    // All of a character's planned constraints (allocates the vector).
+    std::vector<cg_constraint> constraints(std::uint32_t character) const {
+        std::vector<cg_constraint> out(read_constraints(character, {}));
+        const std::size_t total = read_constraints(character, out);
+        out.resize(total < out.size() ? total : out.size());
+        return out;
+    }
+
+   private:
+    cg_crowd* crowd_ = nullptr;
+};
+
+// ---------------------------------------------------------------------------------------
+// Dual quaternions and blending (free functions; thread-safe; allocate nothing).
+
+// A rotation and a translation (your length unit).
+struct RigidTransform {
+    cg_quat rotation;
+    cg_vec3 translation;
+};
+
+[[nodiscard]] inline cg_status try_dualquat_from_rt(const cg_quat& rotation,
+                                                    const cg_vec3& translation,
+                                                    cg_dualquat& out) noexcept {
+    return cg_dualquat_from_rt(&rotation, &translation, &out);
+}
+// The transform "rotate by `rotation`, then translate by `translation`".
+inline cg_dualquat dualquat_from_rt(const cg_quat& rotation, const cg_vec3& translation) {
+    cg_dualquat out{};
+    check(try_dualquat_from_rt(rotation, translation, out));
+    return out;
+}
+
+[[nodiscard]] inline cg_status try_dualquat_to_rt(const cg_dualquat& dual_quat,
+                                                  RigidTransform& out) noexcept {
+    return cg_dualquat_to_rt(&dual_quat, &out.rotation, &out.translation);
+}
+inline RigidTransform dualquat_to_rt(const cg_dualquat& dual_quat) {
+    RigidTransform out{};
+    check(try_dualquat_to_rt(dual_quat, out));
+    return out;
+}
+
+// `matrix`: 16 floats, column-major for column vectors (OSG's osg::Matrixf::ptr() as is).
+[[nodiscard]] inline cg_status try_dualquat_from_matrix(const float* matrix,
+                                                        cg_dualquat& out) noexcept {
+    return cg_dualquat_from_matrix(matrix, &out);
+}
+inline cg_dualquat dualquat_from_matrix(const std::array<float, 16>& matrix) {
+    cg_dualquat out{};
+    check(try_dualquat_from_matrix(matrix.data(), out));
+    return out;
+}
+inline cg_dualquat dualquat_from_matrix(const float* matrix) {
+    cg_dualquat out{};
+    check(try_dualquat_from_matrix(matrix, out));
+    return out;
+}
+
+[[nodiscard]] inline cg_status try_dualquat_to_matrix(const cg_dualquat& dual_quat,
+                                                      float* out16) noexcept {
+    return cg_dualquat_to_matrix(&dual_quat, out16);
+}
+// The 4x4 matrix, column-major for column vectors.
+inline std::array<float, 16> dualquat_to_matrix(const cg_dualquat& dual_quat) {
+    std::array<float, 16> out{};
+    check(try_dualquat_to_matrix(dual_quat, out.data()));
+    return out;
+}
+
+// DLB of `inputs` with `weights` (same count).
+[[nodiscard]] inline cg_status try_blend_dlb(Span<const cg_dualquat> inputs,
+                                             Span<const float> weights,
+                                             cg_dualquat& out) noexcept {
+    if (inputs.size() != weights.size()) {
+        return CG_STATUS_INVALID_ARGUMENT;
+    }
+    return cg_blend_dlb(inputs.data(), weights.data(), inputs.size(), &out);
+}
+inline cg_dualquat blend_dlb(Span<const cg_dualquat> inputs, Span<const float> weights) {
+    detail::check_sizes(inputs.size() == weights.size(),
+                        "crowdgaze::blend_dlb: inputs and weights differ in size");
+    cg_dualquat out{};
+    check(try_blend_dlb(inputs, weights, out));
+    return out;
+}
+
+// DIB of `inputs` with `weights` (same count) into `out`; returns false (with `out` the best
+// iterate) if `precision` was not reached in `max_iterations`.
+[[nodiscard]] inline cg_status try_blend_dib(Span<const cg_dualquat> inputs,
+                                             Span<const float> weights, float precision,
+                                             std::uint32_t max_iterations,
+                                             cg_dualquat& out) noexcept {
+    if (inputs.size() != weights.size()) {
+        return CG_STATUS_INVALID_ARGUMENT;
+    }
+    return cg_blend_dib(inputs.data(), weights.data(), inputs.size(), precision, max_iterations,
+                        &out);
+}
+inline bool blend_dib(Span<const cg_dualquat> inputs, Span<const float> weights,
+                      cg_dualquat& out, float precision = 1e-6f,
+                      std::uint32_t max_iterations = 16) {
+    detail::check_sizes(inputs.size() == weights.size(),
+                        "crowdgaze::blend_dib: inputs and weights differ in size");
+    return check_converged(try_blend_dib(inputs, weights, precision, max_iterations, out));
+}
+
+// DLB of whole poses: `keys` key-major (`weights.size()` keys of `out_pose.size()` joints).
+[[nodiscard]] inline cg_status try_blend_pose_dlb(Span<const cg_dualquat> keys,
+                                                  Span<const float> weights,
+                                                  Span<cg_dualquat> out_pose) noexcept {
+    if (keys.size() != weights.size() * out_pose.size()) {
+        return CG_STATUS_INVALID_ARGUMENT;
+    }
+    return cg_blend_pose_dlb(keys.data(), weights.data(), weights.size(), out_pose.size(),
+                             out_pose.data());
+}
+inline void blend_pose_dlb(Span<const cg_dualquat> keys, Span<const float> weights,
+                           Span<cg_dualquat> out_pose) {
+    detail::check_sizes(keys.size() == weights.size() * out_pose.size(),
+                        "crowdgaze::blend_pose_dlb: keys.size() != weights.size() * joints");
+    check(try_blend_pose_dlb(keys, weights, out_pose));
+}
+
+// DIB of whole poses; returns false if some joint missed the precision (all written).
+[[nodiscard]] inline cg_status try_blend_pose_dib(Span<const cg_dualquat> keys,
+                                                  Span<const float> weights,
+                                                  Span<cg_dualquat> out_pose, float precision,
+                                                  std::uint32_t max_iterations) noexcept {
+    if (keys.size() != weights.size() * out_pose.size()) {
+        return CG_STATUS_INVALID_ARGUMENT;
+    }
+    return cg_blend_pose_dib(keys.data(), weights.data(), weights.size(), out_pose.size(),
+                             precision, max_iterations, out_pose.data());
+}
+inline bool blend_pose_dib(Span<const cg_dualquat> keys, Span<const float> weights,
+                           Span<cg_dualquat> out_pose, float precision = 1e-6f,
+                           std::uint32_t max_iterations = 16) {
+    detail::check_sizes(keys.size() == weights.size() * out_pose.size(),
+                        "crowdgaze::blend_pose_dib: keys.size() != weights.size() * joints");
+    return check_converged(try_blend_pose_dib(keys, weights, out_pose, precision, max_iterations));
+}
+
+// The centre of a 3x4 row-major camera matrix P = K[R|t].
+[[nodiscard]] inline cg_status try_camera_center_from_projection(const float* projection12,
+                                                                 cg_vec3& out) noexcept {
+    return cg_camera_center_from_projection(projection12, &out);
+}
+inline cg_vec3 camera_center_from_projection(const std::array<float, 12>& projection) {
+    cg_vec3 out{};
+    check(try_camera_center_from_projection(projection.data(), out));
+    return out;
+}
+
+// ---------------------------------------------------------------------------------------
+// View blender.
+
+// Owns a `cg_view_blender*`: view-adaptive blending of key animations. Move-only. Knows its
+// joint and key counts (from the config, or given when adopting a handle).
+class ViewBlender {
+   public:
+    ViewBlender() noexcept = default;
+    // Creates a blender from `config` (see `view_blender_config(joints, keys)`); throws.
+    explicit ViewBlender(const cg_view_blender_config& config) {
+        check(try_create(config, *this));
+    }
+    // Takes ownership of a blender created elsewhere with these counts.
+    ViewBlender(cg_view_blender* adopted, std::uint32_t joint_count,
+                std::uint32_t key_count) noexcept
+        : blender_(adopted), joint_count_(joint_count), key_count_(key_count) {}
+
+    [[nodiscard]] static cg_status try_create(const cg_view_blender_config& config,
+                                              ViewBlender& out) noexcept {
+        cg_view_blender* created = nullptr;
+        const cg_status status = cg_view_blender_create(&config, &created);
+        if (status == CG_STATUS_OK) {
+            out.reset(created, config.joint_count, config.key_count);
+        }
+        return status;
+    }
+
+    ~ViewBlender() { cg_view_blender_destroy(blender_); }
+    ViewBlender(const ViewBlender&) = delete;
+    ViewBlender& operator=(const ViewBlender&) = delete;
+    ViewBlender(ViewBlender&& other) noexcept
+        : joint_count_(other.joint_count_), key_count_(other.key_count_) {
+        blender_ = other.release();
+    }
+    ViewBlender& operator=(ViewBlender&& other) noexcept {
+        if (this != &other) {
+            const std::uint32_t joints = other.joint_count_, keys = other.key_count_;
+            reset(other.release(), joints, keys);
+        }
+        return *this;
+    }
+
+    cg_view_blender* raw() const noexcept { return blender_; }
+    [[nodiscard]] cg_view_blender* release() noexcept {
+        joint_count_ = 0;
+        key_count_ = 0;
+        return std::exchange(blender_, nullptr);
+    }
+    void reset(cg_view_blender* adopted = nullptr, std::uint32_t joint_count = 0,
+               std::uint32_t key_count = 0) noexcept {
+        cg_view_blender_destroy(std::exchange(blender_, adopted));
+        joint_count_ = joint_count;
+        key_count_ = key_count;
+    }
+    explicit operator bool() const noexcept { return blender_ != nullptr; }
+    std::uint32_t joint_count() const noexcept { return joint_count_; }
+    std::uint32_t key_count() const noexcept { return key_count_; }
+
+    // Key `key` plays a clip: `frames` frame-major, `frames.size() / joint_count()` frames.
+    [[nodiscard]] cg_status try_set_key_clip(std::uint32_t key, Span<const cg_dualquat> frames,
+                                             float frames_per_second, bool looping) noexcept {
+        if (joint_count_ == 0 || frames.size() % joint_count_ != 0) {
+            return CG_STATUS_INVALID_ARGUMENT;
+        }
+        return cg_view_blender_set_key_clip(blender_, key, frames.data(),
+                                            frames.size() / joint_count_, frames_per_second,
+                                            looping);
+    }
+    void set_key_clip(std::uint32_t key, Span<const cg_dualquat> frames, float frames_per_second,
+                      bool looping) {
+        detail::check_sizes(joint_count_ != 0 && frames.size() % joint_count_ == 0,
+                            "crowdgaze::ViewBlender::set_key_clip: frames.size() is not a "
+                            "multiple of joint_count()");
+        check(try_set_key_clip(key, frames, frames_per_second, looping));
+    }
+
+    // Key `key` is a static pose of `joint_count()` joints.
+    [[nodiscard]] cg_status try_set_key_pose(std::uint32_t key,
+                                             Span<const cg_dualquat> pose) noexcept {
+        return cg_view_blender_set_key_pose(blender_, key, pose.data(), pose.size());
+    }
+    void set_key_pose(std::uint32_t key, Span<const cg_dualquat> pose) {
+        check(try_set_key_pose(key, pose));
+    }
+
+    // A key camera: a direction in the character's frame, mapped to key `key`.
+    [[nodiscard]] cg_status try_add_camera(cg_vec3 direction, std::uint32_t key) noexcept {
+        return cg_view_blender_add_camera(blender_, direction, key);
+    }
+    void add_camera(cg_vec3 direction, std::uint32_t key) {
+        check(try_add_camera(direction, key));
+    }
+
+    // The key weights (`key_count()` floats) for a viewer at `viewer`.
+    [[nodiscard]] cg_status try_weights(const cg_dualquat& character, const cg_vec3& viewer,
+                                        Span<float> out) const noexcept {
+        return cg_view_blender_weights(blender_, &character, &viewer, out.data(), out.size());
+    }
+    void weights(const cg_dualquat& character, const cg_vec3& viewer, Span<float> out) const {
+        check(try_weights(character, viewer, out));
+    }
+    // Allocates the vector.
+    std::vector<float> weights(const cg_dualquat& character, const cg_vec3& viewer) const {
+        std::vector<float> out(key_count_);
+        weights(character, viewer, out);
+        return out;
+    }
+
+    // The blended pose (`joint_count()` local transforms) at clip time `t`. Returns false
+    // if DIB missed its precision somewhere (the pose is written all the same).
+    [[nodiscard]] cg_status try_evaluate(const cg_dualquat& character, const cg_vec3& viewer,
+                                         double t, Span<cg_dualquat> out_pose) const noexcept {
+        return cg_view_blender_evaluate(blender_, &character, &viewer, t, out_pose.data(),
+                                        out_pose.size());
+    }
+    bool evaluate(const cg_dualquat& character, const cg_vec3& viewer, double t,
+                  Span<cg_dualquat> out_pose) const {
+        return check_converged(try_evaluate(character, viewer, t, out_pose));
+    }
+
+   private:
+    cg_view_blender* blender_ = nullptr;
+    std::uint32_t joint_count_ = 0;
+    std::uint32_t key_count_ = 0;
+};
+
+}  // namespace crowdgaze
+
+#endif  // CROWDGAZE_HPP
