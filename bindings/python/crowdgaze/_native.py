@@ -1,0 +1,547 @@
+"""The C ABI of crowdgaze seen from ctypes: the constants, enums and structs of
+``include/crowdgaze.h`` (same names, order and types), the search for the shared library,
+and every function's ``argtypes``/``restype``.
+
+Nothing here wraps or checks: that is ``crowdgaze.crowd`` and ``crowdgaze.blend``.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import enum
+import os
+import sys
+from ctypes import (
+    POINTER,
+    Structure,
+    c_bool,
+    c_char_p,
+    c_double,
+    c_float,
+    c_size_t,
+    c_uint32,
+    c_uint64,
+)
+from pathlib import Path
+
+# --- constants (#define in the header) ---------------------------------------------------
+
+CG_NO_TARGET = 0xFFFFFFFF
+CG_STATE_HEADING_FROM_MOTION = 1
+CG_STATE_HAS_VELOCITY = 2
+CG_MAX_CHAIN_JOINTS = 15
+CG_GAZE_TARGET_POINT = 0
+CG_GAZE_TARGET_ENTITY = 1
+CG_GAZE_PRIORITY_OVERRIDE = 0
+CG_GAZE_PRIORITY_WHEN_IDLE = 1
+CG_VERSION_MAJOR = 0
+CG_VERSION_MINOR = 1
+CG_VERSION_PATCH = 0
+#: The header's ``cg_quat_IDENTITY`` (x, y, z, w), as a tuple any quaternion argument takes.
+cg_quat_IDENTITY = (0.0, 0.0, 0.0, 1.0)
+
+
+# --- enums ---------------------------------------------------------------------------------
+
+
+class Status(enum.IntEnum):
+    """``cg_status``: the result of every fallible call."""
+
+    OK = 0
+    NULL_ARGUMENT = 1
+    INVALID_ARGUMENT = 2
+    NON_FINITE = 3
+    NOT_FOUND = 4
+    CAPACITY = 5
+    BAD_STRUCT_SIZE = 6
+    WRONG_STATE = 7
+    NOT_CONVERGED = 8
+    INTERNAL = 9
+
+
+class Axis(enum.IntEnum):
+    """``cg_axis``: a signed world axis."""
+
+    POSITIVE_X = 0
+    NEGATIVE_X = 1
+    POSITIVE_Y = 2
+    NEGATIVE_Y = 3
+    POSITIVE_Z = 4
+    NEGATIVE_Z = 5
+
+
+class JointRole(enum.IntEnum):
+    """``cg_joint_role``: what a gaze chain joint is."""
+
+    SPINE = 0
+    CERVICAL = 1
+    HEAD = 2
+    LEFT_EYE = 3
+    RIGHT_EYE = 4
+
+
+class BlendMethod(enum.IntEnum):
+    """``cg_blend_method``: DLB or DIB."""
+
+    DLB = 0
+    DIB = 1
+
+
+class ViewDistance(enum.IntEnum):
+    """``cg_view_distance``: how the distance to a key camera is measured."""
+
+    GEODESIC = 0
+    CHORDAL = 1
+
+
+#: C enum name -> Python enum, for the declaration test and for users who read the header.
+ENUMS = {
+    "cg_status": Status,
+    "cg_axis": Axis,
+    "cg_joint_role": JointRole,
+    "cg_blend_method": BlendMethod,
+    "cg_view_distance": ViewDistance,
+}
+
+# Every enum value also under its C name (CG_STATUS_OK, CG_AXIS_POSITIVE_Y, ...).
+for _c_name, _enum in ENUMS.items():
+    for _member in _enum:
+        globals()[f"{_c_name.upper()}_{_member.name}"] = int(_member)
+del _c_name, _enum, _member
+
+
+# --- structs -------------------------------------------------------------------------------
+
+
+class Vec3(Structure):
+    """``cg_vec3``."""
+
+    _fields_ = [("x", c_float), ("y", c_float), ("z", c_float)]
+
+    def __iter__(self):
+        return iter((self.x, self.y, self.z))
+
+    def __repr__(self) -> str:
+        return f"Vec3({self.x:g}, {self.y:g}, {self.z:g})"
+
+
+class Quat(Structure):
+    """``cg_quat``: x, y, z, w."""
+
+    _fields_ = [("x", c_float), ("y", c_float), ("z", c_float), ("w", c_float)]
+
+    def __iter__(self):
+        return iter((self.x, self.y, self.z, self.w))
+
+    def __repr__(self) -> str:
+        return f"Quat({self.x:g}, {self.y:g}, {self.z:g}, {self.w:g})"
+
+
+class ChainJoint(Structure):
+    """``cg_chain_joint``."""
+
+    _fields_ = [
+        ("role", c_uint32),
+        ("offset", Vec3),
+        ("rest", Quat),
+        ("twist_axis", Vec3),
+        ("max_swing", c_float),
+        ("min_twist", c_float),
+        ("max_twist", c_float),
+    ]
+
+
+class ChainDesc(Structure):
+    """``cg_chain_desc``."""
+
+    _fields_ = [
+        ("struct_size", c_uint32),
+        ("joint_count", c_uint32),
+        ("joints", ChainJoint * CG_MAX_CHAIN_JOINTS),
+        ("eye_forward", Vec3),
+        ("eye_up", Vec3),
+        ("root_offset", Vec3),
+    ]
+
+
+class CharacterDesc(Structure):
+    """``cg_character_desc``."""
+
+    _fields_ = [
+        ("struct_size", c_uint32),
+        ("heading", c_float),
+        ("impact", c_float),
+        ("position", Vec3),
+        ("chain", POINTER(ChainDesc)),
+    ]
+
+
+class ObjectDesc(Structure):
+    """``cg_object_desc``."""
+
+    _fields_ = [
+        ("struct_size", c_uint32),
+        ("heading", c_float),
+        ("look_at_height", c_float),
+        ("impact", c_float),
+        ("position", Vec3),
+    ]
+
+
+class EntityState(Structure):
+    """``cg_entity_state``."""
+
+    _fields_ = [
+        ("struct_size", c_uint32),
+        ("id", c_uint32),
+        ("flags", c_uint32),
+        ("heading", c_float),
+        ("position", Vec3),
+        ("velocity", Vec3),
+    ]
+
+
+class GazeInfo(Structure):
+    """``cg_gaze_info``."""
+
+    _fields_ = [
+        ("character", c_uint32),
+        ("target", c_uint32),
+        ("attending", c_uint32),
+        ("interest_count", c_uint32),
+        ("target_position", Vec3),
+        ("s_max", c_float),
+        ("threshold", c_float),
+        ("attentive_fraction", c_float),
+    ]
+
+
+class ScoreBreakdown(Structure):
+    """``cg_score_breakdown``."""
+
+    _fields_ = [
+        ("distance", c_float),
+        ("view_angle", c_float),
+        ("heading_angle", c_float),
+        ("relative_speed", c_float),
+        ("proximity", c_float),
+        ("speed", c_float),
+        ("orientation", c_float),
+        ("periphery", c_float),
+        ("total", c_float),
+        ("pruned", c_uint32),
+    ]
+
+
+class CharacterParams(Structure):
+    """``cg_character_params``."""
+
+    _fields_ = [
+        ("struct_size", c_uint32),
+        ("weight_proximity", c_float),
+        ("weight_speed", c_float),
+        ("weight_orientation", c_float),
+        ("weight_periphery", c_float),
+        ("attention_fraction", c_float),
+    ]
+
+
+class Constraint(Structure):
+    """``cg_constraint``."""
+
+    _fields_ = [
+        ("entity", c_uint32),
+        ("s_max", c_float),
+        ("begin", c_double),
+        ("end", c_double),
+    ]
+
+
+class DualQuat(Structure):
+    """``cg_dualquat``: real (rotation) then dual (translation) part."""
+
+    _fields_ = [("real", Quat), ("dual", Quat)]
+
+
+class ViewBlenderConfig(Structure):
+    """``cg_view_blender_config``."""
+
+    _fields_ = [
+        ("struct_size", c_uint32),
+        ("joint_count", c_uint32),
+        ("key_count", c_uint32),
+        ("alpha", c_float),
+        ("distance", c_uint32),
+        ("method", c_uint32),
+        ("precision", c_float),
+        ("max_iterations", c_uint32),
+    ]
+
+
+class CrowdConfig(Structure):
+    """``cg_crowd_config``."""
+
+    _fields_ = [
+        ("struct_size", c_uint32),
+        ("max_characters", c_uint32),
+        ("seed", c_uint64),
+        ("max_objects", c_uint32),
+        ("up_axis", c_uint32),
+        ("forward_axis", c_uint32),
+        ("units_per_metre", c_float),
+        ("max_recorded_states", c_uint32),
+        ("max_distance", c_float),
+        ("field_of_view", c_float),
+        ("speed_weight", c_float),
+        ("periphery_max_angle", c_float),
+        ("min_interest_time", c_float),
+        ("max_interest_time", c_float),
+        ("interest_cooldown", c_float),
+        ("threshold_warmup", c_float),
+        ("initial_threshold", c_float),
+        ("attention_fraction_min", c_float),
+        ("attention_fraction_max", c_float),
+        ("eyes_only_angle", c_float),
+        ("eyes_head_neck_angle", c_float),
+        ("head_speed", c_float),
+        ("max_activation_time", c_float),
+        ("restart_distance", c_float),
+        ("min_deactivation_time", c_float),
+        ("max_deactivation_time", c_float),
+    ]
+
+
+class GazeTarget(Structure):
+    """``cg_gaze_target``."""
+
+    _fields_ = [
+        ("struct_size", c_uint32),
+        ("kind", c_uint32),
+        ("priority", c_uint32),
+        ("entity", c_uint32),
+        ("point", Vec3),
+    ]
+
+
+class EyeInfo(Structure):
+    """``cg_eye_info``."""
+
+    _fields_ = [
+        ("character", c_uint32),
+        ("left_origin", Vec3),
+        ("right_origin", Vec3),
+        ("left_direction", Vec3),
+        ("right_direction", Vec3),
+    ]
+
+
+class CrowdHandle(Structure):
+    """``cg_crowd`` (opaque): only ever used through a pointer."""
+
+
+class ViewBlenderHandle(Structure):
+    """``cg_view_blender`` (opaque): only ever used through a pointer."""
+
+
+#: C struct name -> ctypes type (the opaque handles included).
+STRUCTS = {
+    "cg_vec3": Vec3,
+    "cg_quat": Quat,
+    "cg_chain_joint": ChainJoint,
+    "cg_chain_desc": ChainDesc,
+    "cg_character_desc": CharacterDesc,
+    "cg_object_desc": ObjectDesc,
+    "cg_entity_state": EntityState,
+    "cg_gaze_info": GazeInfo,
+    "cg_score_breakdown": ScoreBreakdown,
+    "cg_character_params": CharacterParams,
+    "cg_constraint": Constraint,
+    "cg_dualquat": DualQuat,
+    "cg_view_blender_config": ViewBlenderConfig,
+    "cg_crowd_config": CrowdConfig,
+    "cg_gaze_target": GazeTarget,
+    "cg_eye_info": EyeInfo,
+    "cg_crowd": CrowdHandle,
+    "cg_view_blender": ViewBlenderHandle,
+}
+
+
+# --- functions -----------------------------------------------------------------------------
+
+_status = c_uint32  # cg_status is a uint32_t in C
+_P = POINTER
+
+#: Every function of the header: name -> (restype, argtypes).
+FUNCTIONS = {
+    "cg_character_desc_init": (_status, [_P(CharacterDesc)]),
+    "cg_object_desc_init": (_status, [_P(ObjectDesc)]),
+    "cg_entity_state_init": (_status, [_P(EntityState)]),
+    "cg_crowd_add_character": (_status, [_P(CrowdHandle), _P(CharacterDesc), _P(c_uint32)]),
+    "cg_crowd_add_object": (_status, [_P(CrowdHandle), _P(ObjectDesc), _P(c_uint32)]),
+    "cg_crowd_remove_entity": (_status, [_P(CrowdHandle), c_uint32]),
+    "cg_crowd_character_count": (_status, [_P(CrowdHandle), _P(c_size_t)]),
+    "cg_crowd_push_frame": (_status, [_P(CrowdHandle), c_double, _P(EntityState), c_size_t]),
+    "cg_crowd_step": (_status, [_P(CrowdHandle), c_float]),
+    "cg_crowd_read_gaze": (_status, [_P(CrowdHandle), _P(GazeInfo), c_size_t, _P(c_size_t)]),
+    "cg_crowd_score": (_status, [_P(CrowdHandle), c_uint32, c_uint32, _P(ScoreBreakdown)]),
+    "cg_crowd_get_character_params": (
+        _status,
+        [_P(CrowdHandle), c_uint32, _P(CharacterParams)],
+    ),
+    "cg_crowd_set_character_params": (
+        _status,
+        [_P(CrowdHandle), c_uint32, _P(CharacterParams)],
+    ),
+    "cg_crowd_set_impact": (_status, [_P(CrowdHandle), c_uint32, c_float]),
+    "cg_crowd_plan": (_status, [_P(CrowdHandle)]),
+    "cg_crowd_clear_plan": (_status, [_P(CrowdHandle)]),
+    "cg_crowd_read_constraints": (
+        _status,
+        [_P(CrowdHandle), c_uint32, _P(Constraint), c_size_t, _P(c_size_t)],
+    ),
+    "cg_dualquat_from_rt": (_status, [_P(Quat), _P(Vec3), _P(DualQuat)]),
+    "cg_dualquat_to_rt": (_status, [_P(DualQuat), _P(Quat), _P(Vec3)]),
+    "cg_dualquat_from_matrix": (_status, [_P(c_float), _P(DualQuat)]),
+    "cg_dualquat_to_matrix": (_status, [_P(DualQuat), _P(c_float)]),
+    "cg_blend_dlb": (_status, [_P(DualQuat), _P(c_float), c_size_t, _P(DualQuat)]),
+    "cg_blend_dib": (
+        _status,
+        [_P(DualQuat), _P(c_float), c_size_t, c_float, c_uint32, _P(DualQuat)],
+    ),
+    "cg_blend_pose_dlb": (
+        _status,
+        [_P(DualQuat), _P(c_float), c_size_t, c_size_t, _P(DualQuat)],
+    ),
+    "cg_blend_pose_dib": (
+        _status,
+        [_P(DualQuat), _P(c_float), c_size_t, c_size_t, c_float, c_uint32, _P(DualQuat)],
+    ),
+    "cg_camera_center_from_projection": (_status, [_P(c_float), _P(Vec3)]),
+    "cg_view_blender_config_init": (_status, [_P(ViewBlenderConfig)]),
+    "cg_view_blender_create": (_status, [_P(ViewBlenderConfig), _P(_P(ViewBlenderHandle))]),
+    "cg_view_blender_destroy": (None, [_P(ViewBlenderHandle)]),
+    "cg_view_blender_set_key_clip": (
+        _status,
+        [_P(ViewBlenderHandle), c_uint32, _P(DualQuat), c_size_t, c_float, c_bool],
+    ),
+    "cg_view_blender_set_key_pose": (
+        _status,
+        [_P(ViewBlenderHandle), c_uint32, _P(DualQuat), c_size_t],
+    ),
+    "cg_view_blender_add_camera": (_status, [_P(ViewBlenderHandle), Vec3, c_uint32]),
+    "cg_view_blender_weights": (
+        _status,
+        [_P(ViewBlenderHandle), _P(DualQuat), _P(Vec3), _P(c_float), c_size_t],
+    ),
+    "cg_view_blender_evaluate": (
+        _status,
+        [_P(ViewBlenderHandle), _P(DualQuat), _P(Vec3), c_double, _P(DualQuat), c_size_t],
+    ),
+    "cg_chain_desc_init_human": (_status, [_P(ChainDesc), c_uint32, c_uint32]),
+    "cg_crowd_config_init": (_status, [_P(CrowdConfig)]),
+    "cg_crowd_create": (_status, [_P(CrowdConfig), _P(_P(CrowdHandle))]),
+    "cg_crowd_destroy": (None, [_P(CrowdHandle)]),
+    "cg_crowd_get_config": (_status, [_P(CrowdHandle), _P(CrowdConfig)]),
+    "cg_gaze_target_init": (_status, [_P(GazeTarget)]),
+    "cg_crowd_set_gaze_target": (_status, [_P(CrowdHandle), c_uint32, _P(GazeTarget)]),
+    "cg_crowd_clear_gaze_target": (_status, [_P(CrowdHandle), c_uint32]),
+    "cg_crowd_set_base_pose": (_status, [_P(CrowdHandle), c_uint32, _P(Quat), c_size_t]),
+    "cg_crowd_set_base_poses": (
+        _status,
+        [_P(CrowdHandle), _P(c_uint32), c_size_t, _P(Quat), c_size_t],
+    ),
+    "cg_crowd_joint_total": (_status, [_P(CrowdHandle), c_uint32, c_uint32, _P(c_size_t)]),
+    "cg_crowd_read_joints": (
+        _status,
+        [_P(CrowdHandle), c_uint32, c_uint32, _P(Quat), c_size_t],
+    ),
+    "cg_crowd_read_joint_deltas": (
+        _status,
+        [_P(CrowdHandle), c_uint32, c_uint32, _P(Quat), c_size_t],
+    ),
+    "cg_crowd_read_eyes": (
+        _status,
+        [_P(CrowdHandle), c_uint32, c_uint32, _P(EyeInfo), c_size_t],
+    ),
+    "cg_last_error_message": (c_size_t, [c_char_p, c_size_t]),
+    "cg_status_str": (c_char_p, [c_uint32]),
+    "cg_version": (c_uint32, []),
+    "cg_version_string": (c_char_p, []),
+}
+
+
+# --- the shared library --------------------------------------------------------------------
+
+
+def _library_file_names() -> list[str]:
+    if sys.platform == "darwin":
+        return ["libcrowdgaze.dylib"]
+    if sys.platform == "win32":
+        return ["crowdgaze.dll"]
+    return ["libcrowdgaze.so", "libcrowdgaze.so.0"]
+
+
+def _cargo_target_dir() -> Path:
+    """The Cargo target directory of the repository this package sits in."""
+    configured = os.environ.get("CARGO_TARGET_DIR")
+    if configured:
+        return Path(configured)
+    repository = Path(__file__).resolve().parents[3]
+    return repository / "target"
+
+
+def library_candidates() -> list[Path]:
+    """Where ``find_library`` looks, in order (the env var aside)."""
+    here = Path(__file__).resolve().parent
+    candidates = [here / name for name in _library_file_names()]
+    target = _cargo_target_dir()
+    cargo_builds = [
+        target / profile / name
+        for profile in ("release", "debug")
+        for name in _library_file_names()[:1]
+    ]
+    # Of the Cargo builds, the most recently built first.
+    existing = sorted(
+        (p for p in cargo_builds if p.is_file()), key=lambda p: p.stat().st_mtime, reverse=True
+    )
+    return candidates + existing + [p for p in cargo_builds if p not in existing]
+
+
+def find_library() -> Path:
+    """The shared library to load: ``$CROWDGAZE_LIBRARY`` if set; else a library next to
+    this package; else the newest of the Cargo builds ``target/release`` and
+    ``target/debug`` (``$CARGO_TARGET_DIR`` if set) of the repository holding the package.
+    """
+    configured = os.environ.get("CROWDGAZE_LIBRARY")
+    if configured:
+        path = Path(configured)
+        if not path.is_file():
+            raise OSError(f"CROWDGAZE_LIBRARY={configured} is not a file")
+        return path
+    for path in library_candidates():
+        if path.is_file():
+            return path
+    looked = ", ".join(str(p) for p in library_candidates())
+    raise OSError(
+        "crowdgaze: shared library not found; build it with `cargo build --release` or set "
+        f"CROWDGAZE_LIBRARY (looked at: {looked})"
+    )
+
+
+def load(path: Path | str | None = None) -> ctypes.CDLL:
+    """Loads the library and declares every function's ``restype`` and ``argtypes``."""
+    path = Path(path) if path is not None else find_library()
+    library = ctypes.CDLL(str(path))
+    for name, (restype, argtypes) in FUNCTIONS.items():
+        function = getattr(library, name)
+        function.restype = restype
+        function.argtypes = argtypes
+    version = library.cg_version()
+    major, minor = version >> 16, (version >> 8) & 0xFF
+    if major != CG_VERSION_MAJOR or (major == 0 and minor != CG_VERSION_MINOR):
+        raise ImportError(
+            f"crowdgaze: the library at {path} is version "
+            f"{library.cg_version_string().decode()}, these bindings are "
+            f"{CG_VERSION_MAJOR}.{CG_VERSION_MINOR}.{CG_VERSION_PATCH}"
+        )
+    return library

@@ -1,0 +1,266 @@
+"""A real crowd through the Python binding: walkers and bystanders pushed frame by frame,
+stepped, and their gaze, joints and eyes read back and checked against geometry."""
+
+import ctypes
+
+import numpy as np
+import pytest
+
+import crowdgaze as cg
+
+EYE_HEIGHT = 1.62  # the human chain's eyes above the character's position (metres)
+FPS = 30
+
+
+def quat_multiply(a, b):
+    """Hamilton product of (..., 4) x y z w arrays."""
+    ax, ay, az, aw = np.moveaxis(np.asarray(a, np.float64), -1, 0)
+    bx, by, bz, bw = np.moveaxis(np.asarray(b, np.float64), -1, 0)
+    return np.stack(
+        [
+            aw * bx + ax * bw + ay * bz - az * by,
+            aw * by - ax * bz + ay * bw + az * bx,
+            aw * bz + ax * by - ay * bx + az * bw,
+            aw * bw - ax * bx - ay * by - az * bz,
+        ],
+        axis=-1,
+    )
+
+
+def yaw_degrees(q):
+    """Yaw (counter-clockwise about +Y from +Z) of +Z rotated by q."""
+    x, y, z, w = q
+    return np.degrees(np.arctan2(2 * (x * z + w * y), 1 - 2 * (x * x + y * y)))
+
+
+def angle_degrees(u, v):
+    u, v = np.asarray(u, np.float64), np.asarray(v, np.float64)
+    cosine = u @ v / (np.linalg.norm(u) * np.linalg.norm(v))
+    return np.degrees(np.arccos(np.clip(cosine, -1, 1)))
+
+
+START = np.array([[-1, 0, -8], [1, 0, 8], [-3, 0, 0], [3, 0, 0]], np.float32)
+VELOCITY = np.array([[0, 0, 1.4], [0, 0, -1.4], [0, 0, 0], [0, 0, 0]], np.float32)
+HEADINGS = [0.0, np.pi, 0.0, 0.0]  # walker 1 walks along -Z
+
+
+def street(seed=3):
+    """Two walkers passing each other between two bystanders and a lamp (3 m high)."""
+    crowd = cg.Crowd(max_characters=4, max_objects=1, seed=seed)
+    ids = [crowd.add_character(p, heading) for p, heading in zip(START, HEADINGS)]
+    lamp = crowd.add_object((0, 0, 0), look_at_height=3.0)
+    return crowd, ids, lamp
+
+
+def run_street(crowd, ids, seconds, on_frame=None):
+    states = cg.entity_states(ids, START)
+    for frame in range(1, int(seconds * FPS) + 1):
+        t = frame / FPS
+        states["position"] = START + VELOCITY * t
+        crowd.push_frame(t, states)
+        crowd.step(1 / FPS)
+        if on_frame:
+            on_frame(t, states)
+
+
+def test_walkers_look_at_real_targets():
+    crowd, ids, lamp = street()
+    assert ids == [0, 1, 2, 3] and len(crowd) == 4
+    seen = set()
+    frames_checked = 0
+
+    def check(t, states):
+        nonlocal frames_checked
+        gaze = crowd.read_gaze()
+        assert gaze.dtype == cg.GAZE_INFO_DTYPE and gaze.shape == (4,)
+        assert list(gaze["character"]) == ids
+        positions = {int(i): states["position"][k] for k, i in enumerate(ids)}
+        for row, me in zip(gaze, ids):
+            assert 0.0 <= row["attentive_fraction"] <= 1.0
+            if row["attending"]:
+                target = int(row["target"])
+                assert target != me and (target in ids or target == lamp)
+                seen.add((me, target))
+                expected = (
+                    np.array([0, 3.0, 0])
+                    if target == lamp
+                    else positions[target] + [0, EYE_HEIGHT, 0]
+                )
+                np.testing.assert_allclose(row["target_position"], expected, atol=1e-4)
+            else:
+                assert row["target"] == cg.NO_TARGET
+                # Looking ahead: 10 m straight ahead at eye height; walker 1 walks along -Z,
+                # the others face +Z (heading 0, or walking along +Z).
+                forward = -1 if VELOCITY[ids.index(me), 2] < 0 else 1
+                ahead = positions[me] + [0, EYE_HEIGHT, 10 * forward]
+                np.testing.assert_allclose(row["target_position"], ahead, atol=1e-4)
+        frames_checked += 1
+
+    run_street(crowd, ids, 10, check)
+    assert frames_checked == 300
+    # Both walkers found something to look at; the lamp and a bystander among the targets.
+    assert {me for me, _ in seen} >= {0, 1}
+    assert any(target == lamp for _, target in seen)
+    assert any(target in (2, 3) for me, target in seen if me in (0, 1))
+    gaze = crowd.read_gaze()
+    assert gaze["interest_count"][:2].min() >= 1
+
+
+def test_a_character_turns_to_a_point_eyes_first():
+    crowd, ids, _ = street()
+    watcher = ids[2]
+    # 60 degrees to the watcher's left (Y up, +Z forward: left is +X), at eye height.
+    point = START[2] + [3 * np.sin(np.radians(60)), 1.6, 3 * np.cos(np.radians(60))]
+    crowd.set_gaze_target(watcher, point=point)
+    base = np.tile(np.array([0, 0, 0, 1], np.float32), (10, 1))
+    base[0] = [np.sin(np.radians(5)), 0, 0, np.cos(np.radians(5))]  # spine bent 10 degrees
+    crowd.set_base_pose(watcher, base)
+    eye_yaw_at = {}
+
+    def record(t, states):
+        joints = crowd.read_joints(2, 1)
+        world = np.array([0, 0, 0, 1.0])
+        for j in joints[:8]:
+            world = quat_multiply(world, j)
+        head = yaw_degrees(world)
+        eyes = (
+            yaw_degrees(quat_multiply(world, joints[8]))
+            + yaw_degrees(quat_multiply(world, joints[9]))
+        ) / 2
+        eye_yaw_at[round(t * FPS)] = (eyes, head)
+
+    run_street(crowd, ids, 3, record)
+    # Eyes lead: early on the eyes have turned more than the head.
+    eyes_early, head_early = eye_yaw_at[6]
+    assert eyes_early > head_early + 10
+    eyes, head = eye_yaw_at[90]
+    assert 20 < head < eyes
+    # The eyes look exactly at the point.
+    info = crowd.read_eyes(2, 1)[0]
+    assert info["character"] == watcher
+    for origin, direction in [
+        ("left_origin", "left_direction"),
+        ("right_origin", "right_direction"),
+    ]:
+        assert angle_degrees(info[direction], point - info[origin]) < 1.0
+        assert abs(np.linalg.norm(info[direction]) - 1) < 1e-5
+    # Final rotations are base * delta, and unit.
+    joints, deltas = crowd.read_joints(2, 1), crowd.read_joint_deltas(2, 1)
+    np.testing.assert_allclose(quat_multiply(base, deltas), joints, atol=2e-6)
+    np.testing.assert_allclose(np.linalg.norm(joints, axis=1), 1, atol=1e-5)
+    # Cleared: the watcher returns to its base pose over its deactivation time.
+    crowd.clear_gaze_target(watcher)
+    run_street(crowd, ids, 0)  # nothing pushed
+    for _ in range(3 * FPS):
+        crowd.step(1 / FPS)
+    np.testing.assert_allclose(np.abs(crowd.read_joint_deltas(2, 1)[:, 3]), 1, atol=1e-3)
+
+
+def test_same_seed_same_bits():
+    results = []
+    for _ in range(2):
+        crowd, ids, _ = street(seed=11)
+        run_street(crowd, ids, 4)
+        results.append((crowd.read_joints(), crowd.read_gaze(), crowd.read_eyes()))
+    for a, b in zip(*results):
+        assert a.tobytes() == b.tobytes()
+    crowd, ids, _ = street(seed=12)
+    run_street(crowd, ids, 4)
+    assert crowd.read_gaze().tobytes() != results[0][1].tobytes()
+
+
+def test_numpy_arrays_pass_without_copies():
+    crowd, ids, _ = street()
+    states = cg.entity_states(ids, START)
+    keep, pointer, count = cg._arrays.records_in(states, cg.EntityState, "states")
+    assert keep.ctypes.data == states.ctypes.data and count == 4
+    assert ctypes.cast(pointer, ctypes.c_void_p).value == states.ctypes.data
+    crowd.push_frame(0.0, states)
+    crowd.step(0.0)
+
+    quats = np.tile(np.array([0, 0, 0, 1], np.float32), (10, 1))
+    rows = cg._arrays.float_rows(quats, cg.Quat, "local")
+    assert rows.ctypes.data == quats.ctypes.data  # (n, 4) float32 C-contiguous: no copy
+    copied = cg._arrays.float_rows(quats.astype(np.float64), cg.Quat, "local")
+    assert not np.shares_memory(copied, quats) and copied.dtype == np.float32
+    strided = np.tile(np.array([0, 0, 0, 1, 9], np.float32), (10, 1))[:, :4]
+    assert not np.shares_memory(cg._arrays.float_rows(strided, cg.Quat, "x"), strided)
+    crowd.set_base_pose(ids[0], quats)
+    crowd.set_base_pose(ids[1], quats.astype(np.float64).tolist())  # a list works too
+    crowd.set_base_poses(ids[2:], np.concatenate([quats, strided]))
+
+    # Outputs: written in place when they fit, copied into otherwise.
+    out = np.zeros((40, 4), np.float32)
+    assert crowd.read_joints(out=out) is out
+    np.testing.assert_array_equal(out, crowd.read_joints())
+    out64 = np.zeros((40, 4), np.float64)
+    assert crowd.read_joints(out=out64) is out64
+    np.testing.assert_array_equal(out64, out)
+    gaze = np.zeros(4, cg.GAZE_INFO_DTYPE)
+    assert crowd.read_gaze(out=gaze).base is gaze or np.shares_memory(
+        crowd.read_gaze(out=gaze), gaze
+    )
+    assert list(gaze["character"]) == ids
+    with pytest.raises(ValueError):
+        crowd.read_joints(out=np.zeros((39, 4), np.float32))
+
+    # A ctypes array of EntityState and a list of them work too.
+    array = (cg.EntityState * 2)()
+    for k in range(2):
+        cg.lib.cg_entity_state_init(ctypes.byref(array[k]))
+        array[k].id = ids[k]
+        array[k].position = cg.Vec3(*START[k])
+    crowd.push_frame(0.1, array)
+    crowd.push_frame(0.2, list(array))
+
+
+def test_offline_plan_and_constraints():
+    crowd = cg.Crowd(max_characters=2, max_objects=0, max_recorded_states=600)
+    a = crowd.add_character((-0.8, 0, -8))
+    b = crowd.add_character((0.8, 0, 8), heading=np.pi)
+    for me in (a, b):
+        crowd.set_character_params(me, attention_fraction=0.6)
+        assert abs(crowd.character_params(me).attention_fraction - 0.6) < 1e-6
+    states = cg.entity_states([a, b])
+    for frame in range(300):
+        t = frame / FPS
+        states["position"] = [[-0.8, 0, -8 + 1.6 * t], [0.8, 0, 8 - 1.6 * t]]
+        crowd.push_frame(t, states)
+    crowd.plan()
+    total = 0
+    for me, other in ((a, b), (b, a)):
+        constraints = crowd.read_constraints(me)
+        assert constraints.dtype == cg.CONSTRAINT_DTYPE
+        for c in constraints:
+            assert c["entity"] == other
+            assert 0 <= c["begin"] < c["end"] <= 10
+            assert c["s_max"] > 0
+        total += constraints.size
+    assert total >= 1
+    with pytest.raises(cg.Error) as error:
+        crowd.push_frame(10.0, states)
+    assert error.value.status == cg.Status.WRONG_STATE
+    crowd.step(1 / FPS)
+    crowd.clear_plan()
+    crowd.push_frame(10.0, states)
+
+
+def test_score_and_entities():
+    crowd, ids, lamp = street()
+    score = crowd.score(ids[2], lamp)
+    assert score.distance == pytest.approx(3.0, abs=1e-5)
+    assert score.pruned in (0, 1)
+    assert 0 <= score.total <= 1
+    crowd.set_impact(lamp, 2.0)
+    crowd.remove_entity(ids[0])
+    assert len(crowd) == 3
+    # The last character moved into the removed one's place.
+    assert list(crowd.read_gaze()["character"]) == [ids[3], ids[1], ids[2]]
+    assert crowd.joint_total() == 30
+    config = crowd.config
+    assert config.max_characters == 4 and config.seed == 3
+    assert config.struct_size == ctypes.sizeof(cg.CrowdConfig)
+    with cg.Crowd(crowd_config := cg.crowd_config(max_characters=1)) as small:
+        assert small.config.max_characters == 1 and crowd_config.max_characters == 1
+    with pytest.raises(ValueError):
+        small.step(0.1)
