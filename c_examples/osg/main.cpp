@@ -1,0 +1,495 @@
+// osg_street: crowdgaze in an OpenSceneGraph 3.6 scene.
+//
+// A pedestrian street (Z up, the street along +Y): walkers go up and down, three bystanders
+// stand by, lamps and shop windows line it. Every character is a small articulated figure:
+// legs and arms, and the gaze chain of `cg_chain_desc_init_human` — five spine joints, two
+// neck joints and the head as nested osg::MatrixTransforms, and two eyes under the head.
+//
+// Each frame the root node's update callback moves the walkers, pushes their states and
+// steps the crowd once (`cg_crowd_push_frame`, `cg_crowd_step`); then one update callback
+// per character (an osg::NodeCallback on its root transform) reads that character's chain
+// (`cg_crowd_read_joints`) and writes the quaternions into its MatrixTransforms. The scene
+// is rendered offscreen — into a window of a virtual X server (run it under xvfb-run, with
+// Mesa's software OpenGL), or a pbuffer — and frames are written as PNG files.
+//
+// Usage: osg_street OUTDIR [WIDTHxHEIGHT] [SECONDS]
+// Prints, for every written frame, its file, each character's head rotation in its body
+// frame (x y z w) and yaw, and where the red-nosed bystander's nose is on the image; "ok"
+// last.
+#include "crowdgaze.hpp"
+
+#include <osg/Geode>
+#include <osg/Group>
+#include <osg/Image>
+#include <osg/Material>
+#include <osg/MatrixTransform>
+#include <osg/NodeCallback>
+#include <osg/ShapeDrawable>
+#include <osg/Version>
+#include <osgDB/WriteFile>
+#include <osgViewer/Viewer>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace {
+
+constexpr int kJoints = 10;  // 5 spine, 2 cervical, head, left eye, right eye
+constexpr int kHead = 7;
+constexpr double kFps = 24.0;
+constexpr float kPi = 3.14159265358979f;
+const osg::Vec3 kNose(0.0f, 0.1f, 0.03f);  // the red nose's centre in the head's frame
+
+// ---------------------------------------------------------------------------------------
+// Geometry helpers.
+
+osg::ref_ptr<osg::Geode> box(const osg::Vec3& centre, const osg::Vec3& size, const osg::Vec4& colour) {
+    osg::ref_ptr<osg::ShapeDrawable> shape =
+        new osg::ShapeDrawable(new osg::Box(centre, size.x(), size.y(), size.z()));
+    shape->setColor(colour);
+    osg::ref_ptr<osg::Geode> geode = new osg::Geode;
+    geode->addDrawable(shape);
+    return geode;
+}
+
+osg::ref_ptr<osg::Geode> sphere(const osg::Vec3& centre, float radius, const osg::Vec4& colour) {
+    osg::ref_ptr<osg::TessellationHints> hints = new osg::TessellationHints;
+    hints->setDetailRatio(0.6f);
+    osg::ref_ptr<osg::ShapeDrawable> shape =
+        new osg::ShapeDrawable(new osg::Sphere(centre, radius), hints.get());
+    shape->setColor(colour);
+    osg::ref_ptr<osg::Geode> geode = new osg::Geode;
+    geode->addDrawable(shape);
+    return geode;
+}
+
+osg::ref_ptr<osg::Geode> cylinder(const osg::Vec3& centre, float radius, float height,
+                                  const osg::Vec4& colour) {
+    osg::ref_ptr<osg::ShapeDrawable> shape =
+        new osg::ShapeDrawable(new osg::Cylinder(centre, radius, height));
+    shape->setColor(colour);
+    osg::ref_ptr<osg::Geode> geode = new osg::Geode;
+    geode->addDrawable(shape);
+    return geode;
+}
+
+osg::Matrix local_matrix(const cg_quat& q, const cg_vec3& offset) {
+    // Row vectors: rotate about the joint's origin, then place it in its parent.
+    return osg::Matrix::rotate(osg::Quat(q.x, q.y, q.z, q.w)) *
+           osg::Matrix::translate(offset.x, offset.y, offset.z);
+}
+
+osg::Quat to_osg(const cg_quat& q) { return osg::Quat(q.x, q.y, q.z, q.w); }
+
+// Yaw in degrees (counter-clockwise about +Z from +Y) of the body's forward turned by q.
+double yaw_degrees(const osg::Quat& q) {
+    const osg::Vec3d forward = q * osg::Vec3d(0.0, 1.0, 0.0);
+    return std::atan2(-forward.x(), forward.y()) * 180.0 / kPi;
+}
+
+// ---------------------------------------------------------------------------------------
+// The street.
+
+struct Character {
+    std::uint32_t id = 0;
+    std::uint32_t index = 0;  // place in the crowd's character order
+    osg::Vec3 position;
+    float heading = 0.0f;     // radians, counter-clockwise about +Z, 0 along +Y
+    float speed = 0.0f;       // walkers: metres per second along the heading
+    float turn_at = 20.0f;    // walkers turn round at |y| = turn_at
+    float phase = 0.0f;       // walk cycle
+    osg::ref_ptr<osg::MatrixTransform> root, leg_left, leg_right, arm_left, arm_right;
+    std::array<osg::ref_ptr<osg::MatrixTransform>, kJoints> joints;
+};
+
+struct Street {
+    crowdgaze::Crowd crowd;
+    cg_chain_desc chain{};
+    std::vector<Character> characters;
+    std::vector<cg_entity_state> states;
+    int frame = 0;
+    std::size_t observer = 0;  // the red-nosed bystander
+    std::uint32_t observed_walker = 0;
+
+    void advance() {
+        frame++;
+        const float dt = static_cast<float>(1.0 / kFps);
+        for (std::size_t i = 0; i < characters.size(); i++) {
+            Character& c = characters[i];
+            if (c.speed > 0.0f) {
+                c.position += osg::Vec3(-std::sin(c.heading), std::cos(c.heading), 0.0f) * (c.speed * dt);
+                if (std::fabs(c.position.y()) > c.turn_at) {
+                    c.heading = c.heading > kPi / 2 ? 0.0f : kPi;  // turn round
+                }
+                c.phase += c.speed * dt * 3.2f;
+            }
+            states[i].position = {c.position.x(), c.position.y(), c.position.z()};
+            states[i].heading = c.heading;
+        }
+        crowd.push_frame(frame / kFps, states);
+        crowd.step(dt);
+    }
+};
+
+// The root's update callback: the crowd is stepped once per frame, before any character
+// reads its joints.
+class CrowdStepCallback : public osg::NodeCallback {
+   public:
+    explicit CrowdStepCallback(Street* street) : street_(street) {}
+    void operator()(osg::Node* node, osg::NodeVisitor* visitor) override {
+        street_->advance();
+        traverse(node, visitor);
+    }
+
+   private:
+    Street* street_;
+};
+
+// One per character: writes its place, its gaze chain and its walk into its transforms.
+class GazeCallback : public osg::NodeCallback {
+   public:
+    GazeCallback(Street* street, std::size_t character) : street_(street), character_(character) {}
+    void operator()(osg::Node* node, osg::NodeVisitor* visitor) override {
+        Character& c = street_->characters[character_];
+        c.root->setMatrix(osg::Matrix::rotate(c.heading, osg::Z_AXIS) *
+                          osg::Matrix::translate(c.position));
+        std::array<cg_quat, kJoints> local{};
+        street_->crowd.read_joints(c.index, 1, local);
+        for (int j = 0; j < kJoints; j++) {
+            c.joints[j]->setMatrix(local_matrix(local[j], street_->chain.joints[j].offset));
+        }
+        const float swing = c.speed > 0.0f ? 0.45f * std::sin(c.phase) : 0.0f;
+        const auto hinge = [](float angle, const osg::Vec3& at) {
+            return osg::Matrix::rotate(angle, osg::X_AXIS) * osg::Matrix::translate(at);
+        };
+        c.leg_left->setMatrix(hinge(swing, {-0.1f, 0.0f, 0.9f}));
+        c.leg_right->setMatrix(hinge(-swing, {0.1f, 0.0f, 0.9f}));
+        c.arm_left->setMatrix(hinge(-0.7f * swing, {-0.25f, 0.0f, 0.02f}));
+        c.arm_right->setMatrix(hinge(0.7f * swing, {0.25f, 0.0f, 0.02f}));
+        traverse(node, visitor);
+    }
+
+   private:
+    Street* street_;
+    std::size_t character_;
+};
+
+// The figure of one character: legs and arms, and the gaze chain as nested transforms.
+void build_figure(Character& c, const cg_chain_desc& chain, const osg::Vec4& shirt,
+                  const osg::Vec4& trousers, bool red_nose) {
+    const osg::Vec4 skin(0.93f, 0.76f, 0.62f, 1.0f);
+    const osg::Vec4 hair(0.22f, 0.15f, 0.10f, 1.0f);
+    c.root = new osg::MatrixTransform;
+    c.leg_left = new osg::MatrixTransform;
+    c.leg_right = new osg::MatrixTransform;
+    for (auto* leg : {c.leg_left.get(), c.leg_right.get()}) {
+        leg->addChild(box({0.0f, 0.0f, -0.45f}, {0.13f, 0.15f, 0.9f}, trousers));
+        c.root->addChild(leg);
+    }
+    // The chain root (pelvis) sits at root_offset; each joint is placed by its offset.
+    osg::ref_ptr<osg::MatrixTransform> pelvis = new osg::MatrixTransform(
+        osg::Matrix::translate(chain.root_offset.x, chain.root_offset.y, chain.root_offset.z));
+    pelvis->addChild(box({0.0f, 0.0f, 0.0f}, {0.34f, 0.2f, 0.12f}, trousers));
+    c.root->addChild(pelvis);
+    osg::MatrixTransform* parent = pelvis.get();
+    for (int j = 0; j < kJoints; j++) {
+        c.joints[j] = new osg::MatrixTransform;
+        const std::uint32_t role = chain.joints[j].role;
+        if (role == CG_JOINT_ROLE_SPINE) {
+            const float width = j == 4 ? 0.46f : 0.36f + 0.02f * static_cast<float>(j);
+            c.joints[j]->addChild(box({0.0f, 0.0f, 0.05f}, {width, 0.22f, 0.1f}, shirt));
+        } else if (role == CG_JOINT_ROLE_CERVICAL) {
+            c.joints[j]->addChild(cylinder({0.0f, 0.0f, 0.03f}, 0.05f, 0.07f, skin));
+        } else if (role == CG_JOINT_ROLE_HEAD) {
+            c.joints[j]->addChild(sphere({0.0f, -0.01f, 0.1f}, 0.1f, skin));
+            c.joints[j]->addChild(sphere({0.0f, -0.035f, 0.125f}, 0.1f, hair));
+            osg::ref_ptr<osg::Geode> nose =
+                red_nose ? sphere(kNose, 0.03f, osg::Vec4(1.0f, 0.0f, 0.0f, 1.0f))
+                         : box({0.0f, 0.1f, 0.03f}, {0.03f, 0.05f, 0.04f}, skin);
+            if (red_nose) {  // a clown's nose, unlit: exactly (255, 0, 0) on the image
+                nose->getOrCreateStateSet()->setMode(GL_LIGHTING, osg::StateAttribute::OFF);
+            }
+            c.joints[j]->addChild(nose);
+        } else {  // an eye: white ball, dark pupil along the eye's forward (+Y)
+            c.joints[j]->addChild(sphere({0.0f, 0.0f, 0.0f}, 0.022f, {0.97f, 0.97f, 0.95f, 1.0f}));
+            c.joints[j]->addChild(sphere({0.0f, 0.016f, 0.0f}, 0.011f, {0.05f, 0.05f, 0.08f, 1.0f}));
+        }
+        // Body joints hang one under the other; the eyes hang under the head.
+        osg::MatrixTransform* attach_to =
+            (role == CG_JOINT_ROLE_LEFT_EYE || role == CG_JOINT_ROLE_RIGHT_EYE) ? c.joints[kHead].get()
+                                                                                : parent;
+        attach_to->addChild(c.joints[j]);
+        if (role != CG_JOINT_ROLE_LEFT_EYE && role != CG_JOINT_ROLE_RIGHT_EYE) {
+            parent = c.joints[j].get();
+        }
+        c.joints[j]->setMatrix(local_matrix(chain.joints[j].rest, chain.joints[j].offset));
+    }
+    // Arms swing from the shoulders, on the top spine joint.
+    c.arm_left = new osg::MatrixTransform;
+    c.arm_right = new osg::MatrixTransform;
+    for (auto* arm : {c.arm_left.get(), c.arm_right.get()}) {
+        arm->addChild(box({0.0f, 0.0f, -0.3f}, {0.08f, 0.09f, 0.6f}, shirt));
+        arm->addChild(sphere({0.0f, 0.0f, -0.62f}, 0.045f, skin));
+        c.joints[4]->addChild(arm);
+    }
+}
+
+osg::ref_ptr<osg::Group> build_street_set(const std::vector<osg::Vec3>& lamps) {
+    osg::ref_ptr<osg::Group> set = new osg::Group;
+    set->addChild(box({0.0f, 0.0f, -0.05f}, {14.0f, 60.0f, 0.1f}, {0.62f, 0.6f, 0.57f, 1.0f}));
+    set->addChild(box({0.0f, 0.0f, -0.03f}, {4.0f, 60.0f, 0.08f}, {0.48f, 0.47f, 0.46f, 1.0f}));
+    for (int side = -1; side <= 1; side += 2) {
+        const float x = 7.0f * static_cast<float>(side);
+        for (int block = 0; block < 6; block++) {
+            const float y = -25.0f + 10.0f * static_cast<float>(block);
+            const float height = 7.0f + 2.0f * static_cast<float>((block * 7 + side + 3) % 3);
+            const osg::Vec4 wall = block % 2 == 0 ? osg::Vec4(0.80f, 0.72f, 0.58f, 1.0f)
+                                                  : osg::Vec4(0.66f, 0.70f, 0.74f, 1.0f);
+            set->addChild(box({x + 0.5f * static_cast<float>(side), y, height / 2}, {1.0f, 9.6f, height}, wall));
+            // A shop window and two rows of windows.
+            set->addChild(box({x, y, 1.4f}, {0.1f, 5.0f, 1.8f}, {0.25f, 0.35f, 0.42f, 1.0f}));
+            for (int row = 0; row < 2; row++) {
+                for (int w = -1; w <= 1; w++) {
+                    set->addChild(box({x, y + 2.8f * static_cast<float>(w), 3.8f + 2.2f * static_cast<float>(row)},
+                                      {0.1f, 1.2f, 1.3f}, {0.2f, 0.27f, 0.33f, 1.0f}));
+                }
+            }
+        }
+    }
+    for (const osg::Vec3& lamp : lamps) {
+        set->addChild(cylinder(lamp + osg::Vec3(0.0f, 0.0f, 1.75f), 0.06f, 3.5f, {0.18f, 0.2f, 0.2f, 1.0f}));
+        set->addChild(sphere(lamp + osg::Vec3(0.0f, 0.0f, 3.6f), 0.2f, {0.98f, 0.92f, 0.6f, 1.0f}));
+    }
+    return set;
+}
+
+// Captures the colour buffer of the frames it is armed for, after they are drawn.
+class Capture : public osg::Camera::DrawCallback {
+   public:
+    Capture(int width, int height) : width_(width), height_(height) {}
+    void arm(const std::string& path) { path_ = path; }
+    bool written() const { return written_; }
+    void operator()(osg::RenderInfo&) const override {
+        if (path_.empty()) return;
+        osg::ref_ptr<osg::Image> image = new osg::Image;
+        image->readPixels(0, 0, width_, height_, GL_RGB, GL_UNSIGNED_BYTE);
+        written_ = osgDB::writeImageFile(*image, path_);
+        path_.clear();
+    }
+
+   private:
+    int width_, height_;
+    mutable std::string path_;
+    mutable bool written_ = false;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    if (argc < 2) {
+        std::fprintf(stderr, "usage: osg_street OUTDIR [WIDTHxHEIGHT] [SECONDS]\n");
+        return 2;
+    }
+    const std::string out_dir = argv[1];
+    int width = 960, height = 540;
+    if (argc > 2 && std::sscanf(argv[2], "%dx%d", &width, &height) != 2) {
+        std::fprintf(stderr, "bad size %s\n", argv[2]);
+        return 2;
+    }
+    const double seconds = argc > 3 ? std::atof(argv[3]) : 8.0;
+    std::printf("OpenSceneGraph %s, crowdgaze %s\n", osgGetVersion(), crowdgaze::version_string());
+
+    try {
+        // --- the crowd: Z up, heading 0 along +Y, metres ----------------------------------
+        Street street;
+        cg_crowd_config config = crowdgaze::crowd_config();
+        config.seed = 2009;
+        config.max_characters = 32;
+        config.max_objects = 32;
+        config.up_axis = CG_AXIS_POSITIVE_Z;
+        config.forward_axis = CG_AXIS_POSITIVE_Y;
+        street.crowd = crowdgaze::Crowd(config);
+        street.chain = crowdgaze::chain_desc_human(CG_AXIS_POSITIVE_Z, CG_AXIS_POSITIVE_Y);
+
+        std::vector<osg::Vec3> lamps;
+        for (int i = 0; i < 6; i++) {
+            const float side = i % 2 == 0 ? -5.2f : 5.2f;
+            lamps.emplace_back(side, -20.0f + 8.0f * static_cast<float>(i), 0.0f);
+        }
+        for (const osg::Vec3& lamp : lamps) {
+            cg_object_desc object = crowdgaze::object_desc();
+            object.position = {lamp.x(), lamp.y(), 0.0f};
+            object.look_at_height = 3.6f;
+            object.impact = 0.6f;
+            street.crowd.add_object(object);
+        }
+        for (int i = 0; i < 8; i++) {  // shop windows
+            cg_object_desc object = crowdgaze::object_desc();
+            const float side = i % 2 == 0 ? -1.0f : 1.0f;
+            object.position = {6.9f * side, -25.0f + 10.0f * static_cast<float>(i / 2 + 1), 0.0f};
+            object.heading = side * kPi / 2;  // facing the street
+            object.look_at_height = 1.4f;
+            object.impact = 0.8f;
+            street.crowd.add_object(object);
+        }
+
+        const osg::Vec4 shirts[] = {{0.20f, 0.35f, 0.70f, 1}, {0.25f, 0.55f, 0.30f, 1},
+                                    {0.85f, 0.70f, 0.20f, 1}, {0.50f, 0.30f, 0.60f, 1},
+                                    {0.15f, 0.55f, 0.60f, 1}, {0.90f, 0.90f, 0.88f, 1},
+                                    {0.45f, 0.32f, 0.22f, 1}, {0.30f, 0.30f, 0.35f, 1}};
+        const osg::Vec4 trousers[] = {{0.15f, 0.17f, 0.25f, 1}, {0.30f, 0.27f, 0.22f, 1},
+                                      {0.12f, 0.12f, 0.12f, 1}, {0.40f, 0.42f, 0.45f, 1}};
+        // Walkers: x, y, heading (0 up the street, pi down), speed. The first one passes in
+        // front of the red-nosed bystander.
+        struct Walk { float x, y, heading, speed; };
+        const Walk walks[] = {{1.2f, -19.0f, 0.0f, 1.2f},   {-1.0f, 6.0f, kPi, 1.25f},
+                              {2.4f, 12.0f, kPi, 1.4f},    {-2.6f, -10.0f, 0.0f, 1.2f},
+                              {0.2f, 17.0f, kPi, 1.3f},    {-0.4f, -4.0f, 0.0f, 1.15f},
+                              {3.4f, 2.0f, kPi, 1.45f},    {-3.3f, 9.0f, 0.0f, 1.3f},
+                              {0.9f, -7.0f, 0.0f, 1.5f},   {-1.8f, 15.0f, kPi, 1.2f},
+                              {2.0f, -1.0f, 0.0f, 1.1f},   {-2.2f, 1.0f, kPi, 1.35f}};
+        // Bystanders: x, y, heading (facing the street); the first one has the red nose.
+        const Walk stands[] = {{2.6f, -14.5f, 2.11f, 0.0f}, {-4.0f, -8.0f, -kPi / 2, 0.0f},
+                               {4.3f, 0.0f, kPi / 2 + 0.3f, 0.0f}};
+
+        osg::ref_ptr<osg::Group> root = new osg::Group;
+        root->addChild(build_street_set(lamps));
+        std::size_t n = 0;
+        const auto add = [&](const Walk& w, bool red_nose) {
+            Character c;
+            c.position.set(w.x, w.y, 0.0f);
+            c.heading = w.heading;
+            c.speed = w.speed;
+            cg_character_desc desc = crowdgaze::character_desc({w.x, w.y, 0.0f}, w.heading);
+            desc.chain = &street.chain;
+            c.id = street.crowd.add_character(desc);
+            c.index = static_cast<std::uint32_t>(n);
+            build_figure(c, street.chain, shirts[n % 8], trousers[n % 4], red_nose);
+            cg_entity_state state = crowdgaze::entity_state();  // explicit headings
+            state.id = c.id;
+            street.states.push_back(state);
+            street.characters.push_back(c);
+            n++;
+        };
+        for (const Walk& w : walks) add(w, false);
+        street.observer = n;
+        for (const Walk& s : stands) add(s, n == street.observer);
+        // The red-nosed bystander follows the first walker with its eyes and head as it
+        // passes; the others look where crowdgaze's attention model takes them.
+        street.observed_walker = street.characters[0].id;
+        street.crowd.set_gaze_target(street.characters[street.observer].id,
+                                     crowdgaze::gaze_target_entity(street.observed_walker));
+
+        std::printf("observer %zu follows %u\n", street.observer, street.characters[0].index);
+        for (std::size_t i = 0; i < street.characters.size(); i++) {
+            Character& c = street.characters[i];
+            c.root->setUpdateCallback(new GazeCallback(&street, i));
+            root->addChild(c.root);
+        }
+        root->setUpdateCallback(new CrowdStepCallback(&street));
+        osg::ref_ptr<osg::Material> material = new osg::Material;
+        material->setColorMode(osg::Material::AMBIENT_AND_DIFFUSE);
+        root->getOrCreateStateSet()->setAttributeAndModes(material);
+
+        // --- offscreen rendering ----------------------------------------------------------
+        osgViewer::Viewer viewer;
+        viewer.setThreadingModel(osgViewer::Viewer::SingleThreaded);
+        viewer.setSceneData(root);
+        viewer.setLightingMode(osg::View::SKY_LIGHT);
+        viewer.getLight()->setPosition(osg::Vec4(0.4f, -0.5f, 1.0f, 0.0f));
+        viewer.getLight()->setAmbient(osg::Vec4(0.45f, 0.45f, 0.45f, 1.0f));
+        viewer.getLight()->setDiffuse(osg::Vec4(0.75f, 0.75f, 0.72f, 1.0f));
+
+        osg::ref_ptr<osg::GraphicsContext::Traits> traits = new osg::GraphicsContext::Traits;
+        traits->readDISPLAY();  // the X display from $DISPLAY (xvfb-run sets it)
+        traits->setUndefinedScreenDetailsToDefaultScreen();
+        traits->width = width;
+        traits->height = height;
+        traits->red = traits->green = traits->blue = 8;
+        traits->alpha = 8;
+        traits->depth = 24;
+        traits->windowDecoration = false;
+        // A window on the (virtual, Xvfb) X display, drawn double-buffered and read back
+        // before the swap; OSG_STREET_SURFACE=pbuffer asks for a single-buffered GLX pbuffer
+        // instead (it renders too, but Xvfb's GLX answers each frame with a BadMatch that
+        // OSG prints).
+        const char* wanted = std::getenv("OSG_STREET_SURFACE");
+        traits->pbuffer = wanted != nullptr && std::string(wanted) == "pbuffer";
+        traits->doubleBuffer = !traits->pbuffer;
+        osg::ref_ptr<osg::GraphicsContext> context =
+            osg::GraphicsContext::createGraphicsContext(traits.get());
+        const char* surface = traits->pbuffer ? "pbuffer" : "window";
+        if (!context || !context->valid()) {
+            std::fprintf(stderr, "no OpenGL context: is DISPLAY set (run under xvfb-run)?\n");
+            return 1;
+        }
+        std::printf("rendering %dx%d into a %s\n", width, height, surface);
+        osg::Camera* camera = viewer.getCamera();
+        camera->setGraphicsContext(context.get());
+        camera->setViewport(new osg::Viewport(0, 0, width, height));
+        const GLenum buffer = traits->doubleBuffer ? GL_BACK : GL_FRONT;
+        camera->setDrawBuffer(buffer);
+        camera->setReadBuffer(buffer);
+        camera->setClearColor(osg::Vec4(0.62f, 0.76f, 0.90f, 1.0f));
+        camera->setProjectionMatrixAsPerspective(42.0, static_cast<double>(width) / height, 0.3, 200.0);
+        camera->setViewMatrixAsLookAt(osg::Vec3d(-1.0, -18.5, 2.2), osg::Vec3d(1.6, -9.0, 1.4),
+                                      osg::Vec3d(0.0, 0.0, 1.0));
+        osg::ref_ptr<Capture> capture = new Capture(width, height);
+        camera->setFinalDrawCallback(capture.get());
+        viewer.realize();
+
+        // --- the frames -------------------------------------------------------------------
+        const int frames = static_cast<int>(seconds * kFps + 0.5);
+        const int every = static_cast<int>(kFps);  // one PNG per second
+        int written = 0;
+        for (int frame = 1; frame <= frames; frame++) {
+            char path[512] = "";
+            if (frame % every == 0) {
+                std::snprintf(path, sizeof path, "%s/frame_%04d.png", out_dir.c_str(), frame);
+                capture->arm(path);
+            }
+            viewer.frame(frame / kFps);
+            if (path[0] == '\0') continue;
+            if (!capture->written()) {
+                std::fprintf(stderr, "could not write %s\n", path);
+                return 1;
+            }
+            written++;
+            std::printf("frame %d t %.3f png %s\n", frame, frame / kFps, path);
+            std::vector<cg_quat> joints(street.crowd.joint_total(0, static_cast<std::uint32_t>(n)));
+            street.crowd.read_joints(0, static_cast<std::uint32_t>(n), joints);
+            std::vector<cg_gaze_info> gaze(n);
+            street.crowd.read_gaze(gaze);
+            for (std::size_t i = 0; i < n; i++) {
+                osg::Quat head;  // the head in the body's frame: joints 0..7 composed
+                for (int j = kHead; j >= 0; j--) head = to_osg(joints[i * kJoints + static_cast<std::size_t>(j)]) * head;
+                std::printf("head %zu q %.5f %.5f %.5f %.5f yaw %.2f target %d\n", i, head.x(),
+                            head.y(), head.z(), head.w(), yaw_degrees(head),
+                            gaze[i].target == CG_NO_TARGET ? -1 : static_cast<int>(gaze[i].target));
+            }
+            // Where the red nose is on the image (x from the left, y from the top).
+            const Character& o = street.characters[street.observer];
+            osg::Matrix world = o.joints[kHead]->getMatrix();
+            for (int j = kHead - 1; j >= 0; j--) world = world * o.joints[j]->getMatrix();
+            world = world * osg::Matrix::translate(street.chain.root_offset.x, street.chain.root_offset.y,
+                                                   street.chain.root_offset.z) *
+                    o.root->getMatrix();
+            const osg::Matrix to_window = camera->getViewMatrix() * camera->getProjectionMatrix() *
+                                          camera->getViewport()->computeWindowMatrix();
+            const osg::Vec3 nose = kNose * world * to_window;
+            std::printf("nose %.1f %.1f\n", nose.x(), height - nose.y());
+        }
+        std::printf("frames written: %d\n", written);
+        if (written == 0) return 1;
+    } catch (const crowdgaze::Error& error) {
+        std::fprintf(stderr, "crowdgaze: %s\n", error.what());
+        return 1;
+    }
+    std::printf("ok\n");
+    return 0;
+}
