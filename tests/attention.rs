@@ -274,6 +274,7 @@ fn bad_input_changes_nothing() {
     let params = CharacterParams {
         weights,
         attention_fraction: 1.5,
+        model: Default::default(),
     };
     assert!(crowd.set_character_params(a, &params).is_err());
     crowd.remove_entity(a).unwrap();
