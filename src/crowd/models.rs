@@ -271,11 +271,13 @@ impl Crowd {
     }
 
     /// The baseline for one character: the head turns to the nearest character within the
-    /// proximity radius (never an object); the eyes glance at preset intervals.
+    /// proximity radius in front of it (never an object); the eyes glance at preset
+    /// intervals.
     pub(super) fn attend_baseline(&mut self, character: usize, dt: f32) {
         let entity = self.scene.character_entities()[character] as usize;
         let centre = self.scene.ground_positions()[entity];
         let radius_squared = self.config.baseline.proximity_radius.powi(2);
+        let forward = self.scene.forwards()[entity];
         let mut nearest = (NO_ENTITY, f32::INFINITY);
         self.neighbours
             .grid()
@@ -283,6 +285,7 @@ impl Crowd {
                 let other = other as usize;
                 let distance_squared = (ground - centre).length_squared();
                 if other != entity
+                    && forward.dot(ground - centre) >= 0.0
                     && self.scene.kinds()[other] == EntityKind::Character
                     && distance_squared <= radius_squared
                     && distance_squared < nearest.1
