@@ -230,3 +230,10 @@ fn a_view_blended_pose_is_the_base_of_the_gaze_chain() {
         assert!((finals[joint] - base[joint] * deltas[joint]).length() < 1e-5);
     }
 }
+
+#[test]
+fn state_per_character_is_reported() {
+    let bytes = Crowd::state_bytes_per_character();
+    println!("state per character: {bytes} bytes");
+    assert!(bytes > 500 && bytes < 2048, "{bytes}");
+}

@@ -1048,6 +1048,23 @@ impl Crowd {
         Ok(&self.motions[self.scene.character_index(character_id)?])
     }
 
+    /// Bytes of state the crowd keeps per character: its per-character arrays plus its
+    /// entity's share of the scene and the neighbour index (buffers sized at creation).
+    pub fn state_bytes_per_character() -> usize {
+        use std::mem::size_of;
+        let per_character = size_of::<CharacterParams>()
+            + size_of::<InterestTracker>()
+            + size_of::<u32>() // chain index
+            + size_of::<[Quat; MAX_CHAIN_JOINTS]>()
+            + size_of::<GazeMotion>()
+            + size_of::<Random>() * 2
+            + size_of::<Option<(ExplicitTarget, TargetPriority)>>()
+            + size_of::<Look>()
+            + size_of::<SaliencyState>()
+            + size_of::<BaselineState>();
+        per_character + Scene::bytes_per_entity() + NeighbourIndex::bytes_per_entity()
+    }
+
     /// Plans attention offline over the recorded frames (see the module docs). Requires
     /// `max_recorded_states > 0` and at least one recorded frame.
     pub fn plan(&mut self) -> Result<()> {

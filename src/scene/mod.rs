@@ -93,6 +93,18 @@ impl Scene {
         }
     }
 
+    /// Bytes of state per entity (all the per-entity arrays and the id table).
+    pub fn bytes_per_entity() -> usize {
+        use std::mem::size_of;
+        size_of::<u32>() * 2 // id, character index
+            + size_of::<EntityKind>()
+            + size_of::<Vec3>() // position
+            + size_of::<f32>() * 4 // look-at height, heading, turn rate, impact
+            + size_of::<Vec2>() * 3 // ground, forward, velocity
+            + size_of::<f64>() // last time
+            + size_of::<u32>() * 3 // id table slot
+    }
+
     /// The world conventions.
     pub fn world(&self) -> &World {
         &self.world
