@@ -11,6 +11,9 @@
 //! `Δω = Jᵀ (J Jᵀ + λ² I)⁻¹ (−e)`, applies every joint's rotation and clamps it to its limits,
 //! until the gaze is within the tolerance or the iteration limit is reached.
 
+// The loops index the per-joint arrays (pivots, frames, blocks, deltas) together.
+#![allow(clippy::needless_range_loop)]
+
 use crowdgaze::ik::{CharacterTransform, GazeChain};
 use glam::{Mat3, Quat, Vec3};
 

@@ -52,12 +52,17 @@
 //! `base * delta` (glam's product: the delta acts in the joint's own frame, after its base
 //! rotation).
 
+// The lockstep loops index several per-lane and per-joint arrays with one index.
+#![allow(clippy::needless_range_loop)]
+
 use std::cell::Cell;
 
-use glam::{BVec4A, Quat, Vec3, Vec3A, Vec4};
+use glam::{Quat, Vec3, Vec3A};
 
 use super::chain::{GazeChain, JointGroup, JointLimits, CLAMP_SLACK, MAX_CHAIN_JOINTS};
-use super::lanes::{atan2_upper, gather, mask, sin_cos_quarter, F4, LANES, M4, Q4, V3};
+use super::lanes::{
+    atan2_upper, gather, mask, sin_cos_quarter, Floats, Mask, F4, LANES, M4, Q4, V3,
+};
 use super::CharacterTransform;
 use crate::error::{ensure_all_finite, ensure_finite, Error, Result};
 
@@ -234,22 +239,15 @@ pub fn solve(
     ensure_all_finite(&eye_target.to_array(), "eye_target")?;
     let prepared = Prepared::new(config);
     let mut goals = [IDENTITY_DELTAS; LANES];
-    let ([solved, ..], _) = solve_bodies(
-        &prepared,
-        [
-            Some(BodyLane {
-                chain,
-                character,
-                base,
-                head_target,
-                side: *side,
-            }),
-            None,
-            None,
-            None,
-        ],
-        &mut goals,
-    );
+    let mut lanes = [None; LANES];
+    lanes[0] = Some(BodyLane {
+        chain,
+        character,
+        base,
+        head_target,
+        side: *side,
+    });
+    let ([solved, ..], _) = solve_bodies(&prepared, lanes, &mut goals);
     let (solution, new_side) = solved.ok_or_else(|| Error::Internal("empty solve".into()))?;
     *side = new_side;
     if chain.has_eyes() {
@@ -263,7 +261,7 @@ pub fn solve(
             );
         }
         let target = V3::splat(eye_target.into());
-        let side_sign = Vec4::splat(side.resolved());
+        let side_sign = Floats::splat(side.resolved());
         for eye in 0..2 {
             let frames = EyeFrames::new(&chains, &bases, &heads, eye);
             goals[0][frames.index[0]] = frames.goal(&chains, &prepared, target, side_sign).lane(0);
@@ -330,8 +328,8 @@ pub(crate) struct Prepared {
 /// cos and sin of half of `angle ∈ [0, π]`.
 #[inline]
 fn half_angle(angle: f32) -> (f32, f32) {
-    let (sin, cos) = sin_cos_quarter(Vec4::splat(0.5 * angle));
-    (cos.x, sin.x)
+    let (sin, cos) = sin_cos_quarter(Floats::splat(0.5 * angle));
+    (cos[0], sin[0])
 }
 
 /// Constants of the zone behind the character.
@@ -469,7 +467,7 @@ fn update_side(
 #[inline(always)]
 fn behind_adjusted(to_target: V3, forward: V3, up: V3, side_sign: F4, prepared: &Prepared) -> V3 {
     let ahead = to_target.dot(forward);
-    let behind = ahead.cmplt(Vec4::ZERO);
+    let behind = ahead.cmplt(Floats::ZERO);
     if !behind.any() {
         return to_target;
     }
@@ -479,7 +477,7 @@ fn behind_adjusted(to_target: V3, forward: V3, up: V3, side_sign: F4, prepared: 
     let back = -ahead;
     let in_zone = behind & across.abs().cmplt(zone.tan_hysteresis * back);
     let on_side =
-        (across * side_sign).cmpgt(Vec4::ZERO) & across.abs().cmpge(zone.tan_clearance * back);
+        (across * side_sign).cmpgt(Floats::ZERO) & across.abs().cmpge(zone.tan_clearance * back);
     let replace = in_zone & !on_side;
     if !replace.any() {
         return to_target;
@@ -519,7 +517,7 @@ impl Turn {
             cos: self.cos * reserve_cos + self.sin * reserve_sin,
             sin,
         };
-        (turn, sin.cmpgt(Vec4::ZERO))
+        (turn, sin.cmpgt(Floats::ZERO))
     }
 
     /// The rotation by `t`·θ, `t ∈ (0, 1]`: a normalised lerp from identity with
@@ -535,11 +533,11 @@ impl Turn {
         let cos = 1.0 + u * (self.cos - 1.0);
         let sin = u * self.sin;
         let norm = (cos * cos + sin * sin).sqrt().recip();
-        let whole = t.cmpge(Vec4::ONE);
+        let whole = t.cmpge(Floats::ONE);
         Turn {
             axis: self.axis,
-            cos: Vec4::select(whole, self.cos, cos * norm),
-            sin: Vec4::select(whole, self.sin, sin * norm),
+            cos: Floats::select(whole, self.cos, cos * norm),
+            sin: Floats::select(whole, self.sin, sin * norm),
         }
     }
 }
@@ -554,28 +552,28 @@ fn gaze_rotation(forward: V3, to_target: V3, fallback_axis: V3, prepared: &Prepa
     let cross_squared = cross.length_squared();
     let distance_squared = ahead * ahead + cross_squared;
     // False for NaN too.
-    let valid = distance_squared.cmpgt(Vec4::splat(1e-12));
+    let valid = distance_squared.cmpgt(Floats::splat(1e-12));
     let distance = distance_squared.sqrt();
     let cross_length = cross_squared.sqrt();
     // (|v| + f·v, f × v) is the rotation from f to v, up to its length.
     let w = distance + ahead;
     let norm = (w * w + cross_squared).sqrt().recip();
     let generic = valid & cross_squared.cmpgt(1e-14 * distance_squared);
-    let ahead_positive = ahead.cmpgt(Vec4::ZERO);
+    let ahead_positive = ahead.cmpgt(Floats::ZERO);
     // Degenerate: straight ahead is no turn, straight behind a half turn.
-    let degenerate_cos = Vec4::select(ahead_positive | !valid, Vec4::ONE, Vec4::ZERO);
+    let degenerate_cos = Floats::select(ahead_positive | !valid, Floats::ONE, Floats::ZERO);
     let mut turn = Turn {
         axis: V3::select(generic, cross.scale(cross_length.recip()), fallback_axis),
-        cos: Vec4::select(generic, w * norm, degenerate_cos),
-        sin: Vec4::select(generic, cross_length * norm, 1.0 - degenerate_cos),
+        cos: Floats::select(generic, w * norm, degenerate_cos),
+        sin: Floats::select(generic, cross_length * norm, 1.0 - degenerate_cos),
     };
-    let near = valid & distance.cmplt(Vec4::splat(prepared.near_distance));
+    let near = valid & distance.cmplt(Floats::splat(prepared.near_distance));
     if near.any() {
         let t = distance / prepared.near_distance;
         let faded = turn.angle() * (t * t * (3.0 - 2.0 * t));
         let (sin, cos) = sin_cos_quarter(0.5 * faded);
-        turn.cos = Vec4::select(near, cos, turn.cos);
-        turn.sin = Vec4::select(near, sin, turn.sin);
+        turn.cos = Floats::select(near, cos, turn.cos);
+        turn.sin = Floats::select(near, sin, turn.sin);
     }
     turn
 }
@@ -599,12 +597,12 @@ impl Limits {
         let (cone, min, max) = limits.half_angles();
         Limits {
             axis: V3::splat(limits.twist_axis().into()),
-            min_cos: Vec4::splat(min.0),
-            min_sin: Vec4::splat(min.1),
-            max_cos: Vec4::splat(max.0),
-            max_sin: Vec4::splat(max.1),
-            cone_cos: Vec4::splat(cone.0),
-            cone_sin: Vec4::splat(cone.1),
+            min_cos: Floats::splat(min.0),
+            min_sin: Floats::splat(min.1),
+            max_cos: Floats::splat(max.0),
+            max_sin: Floats::splat(max.1),
+            cone_cos: Floats::splat(cone.0),
+            cone_sin: Floats::splat(cone.1),
         }
     }
 
@@ -649,7 +647,7 @@ impl Limits {
         let projection = rotation.vector().dot(self.axis);
         let w = rotation.w;
         // With a slack of CLAMP_SLACK, so that a rotation clamped before counts as inside.
-        let slack = Vec4::splat(-CLAMP_SLACK);
+        let slack = Floats::splat(-CLAMP_SLACK);
         let twist_inside = (self.min_cos * projection - self.min_sin * w).cmpge(slack)
             & (w * self.max_sin - projection * self.max_cos).cmpge(slack);
         let twist_length_squared = w * w + projection * projection;
@@ -659,35 +657,39 @@ impl Limits {
             return (rotation, inside);
         }
         let length = twist_length_squared.sqrt();
-        let degenerate = length.cmplt(Vec4::splat(1e-9));
+        let degenerate = length.cmplt(Floats::splat(1e-9));
         let inverse = length.recip();
-        let twist_cos = Vec4::select(degenerate, Vec4::ONE, w * inverse);
-        let twist_sin = Vec4::select(degenerate, Vec4::ZERO, projection * inverse);
+        let twist_cos = Floats::select(degenerate, Floats::ONE, w * inverse);
+        let twist_sin = Floats::select(degenerate, Floats::ZERO, projection * inverse);
         let twist = Q4::from_parts(self.axis.scale(twist_sin), twist_cos);
         let swing = rotation.mul(twist.conjugate());
         let to_min = twist_cos * self.min_cos + twist_sin * self.min_sin;
         let to_max = twist_cos * self.max_cos + twist_sin * self.max_sin;
         let nearer_min = to_min.cmpgt(to_max);
-        let twist_cos = Vec4::select(
+        let twist_cos = Floats::select(
             twist_inside,
             twist_cos,
-            Vec4::select(nearer_min, self.min_cos, self.max_cos),
+            Floats::select(nearer_min, self.min_cos, self.max_cos),
         );
-        let twist_sin = Vec4::select(
+        let twist_sin = Floats::select(
             twist_inside,
             twist_sin,
-            Vec4::select(nearer_min, self.min_sin, self.max_sin),
+            Floats::select(nearer_min, self.min_sin, self.max_sin),
         );
         // The swing's scalar part is the twist's length (see above): the swing is out of its
         // cone where the fast test said so.
-        let swing_vector = swing.vector();
-        let swing_sin = swing_vector.length_squared().sqrt();
-        let clamped_swing = Q4::select(
-            swing_sin.cmpgt(Vec4::splat(1e-9)),
-            Q4::from_parts(swing_vector.scale(self.cone_sin / swing_sin), self.cone_cos),
-            Q4::IDENTITY,
-        );
-        let swing = Q4::select(swing_inside, swing, clamped_swing);
+        let swing = if swing_inside.all() {
+            swing
+        } else {
+            let swing_vector = swing.vector();
+            let swing_sin = swing_vector.length_squared().sqrt();
+            let clamped_swing = Q4::select(
+                swing_sin.cmpgt(Floats::splat(1e-9)),
+                Q4::from_parts(swing_vector.scale(self.cone_sin / swing_sin), self.cone_cos),
+                Q4::IDENTITY,
+            );
+            Q4::select(swing_inside, swing, clamped_swing)
+        };
         // Both factors are unit quaternions: so is their product.
         let clamped = swing.mul(Q4::from_parts(self.axis.scale(twist_sin), twist_cos));
         (Q4::select(inside, rotation, clamped), inside)
@@ -792,7 +794,11 @@ pub(crate) fn solve_bodies(
     let same = same_chain(&chains);
     let body: [usize; LANES] = chains.map(GazeChain::body_count);
     let joints = body.iter().copied().max().unwrap_or(0);
+    let shared_base = same && lane.iter().all(|l| std::ptr::eq(l.base, lane[0].base));
     let base = |index: usize| {
+        if shared_base {
+            return Q4::splat(lane[0].base[index]);
+        }
         Q4::gather(|i| {
             if index < body[i] {
                 lane[i].base[index]
@@ -804,8 +810,9 @@ pub(crate) fn solve_bodies(
     // The global eye in the base posture.
     let roots = Frames::roots(&chains, &characters);
     let spine_count = chains[0].spine_count();
+    // The base posture's head frame, and its frame above the spine (where the solve starts
+    // if no spine joint moves).
     let mut frame = roots;
-    // The base posture's frame above the spine: where the solve starts if no spine moves.
     let mut above_spine = roots;
     for index in 0..joints {
         frame.descend(offsets(&chains, same, index), base(index));
@@ -814,13 +821,14 @@ pub(crate) fn solve_bodies(
         }
     }
     let base_head = frame;
+
     let mut eye = frame
         .position
         .add(frame.rotation.rotate(V3::gather(|i| eye_middle(chains[i]))));
     let mut forward = frame
         .rotation
         .rotate(V3::gather(|i| chains[i].eye_forward().into()));
-    let mut up = frame
+    let up = frame
         .rotation
         .rotate(V3::gather(|i| chains[i].eye_up().into()));
     // q_l, θ and the turn side.
@@ -846,10 +854,10 @@ pub(crate) fn solve_bodies(
     let has_eyes = mask(|i| chains[i].has_eyes());
     let (eyes_only_cos, eyes_only_sin) = prepared.eyes_only_half;
     let (spine_reserve_cos, spine_reserve_sin) = prepared.eyes_head_and_neck_half;
-    let head_recruited = !has_eyes | first.cos.cmplt(Vec4::splat(eyes_only_cos));
-    let spine_recruited = first.cos.cmplt(Vec4::splat(spine_reserve_cos));
-    let head_reserve_cos = Vec4::select(has_eyes, Vec4::splat(eyes_only_cos), Vec4::ONE);
-    let head_reserve_sin = Vec4::select(has_eyes, Vec4::splat(eyes_only_sin), Vec4::ZERO);
+    let head_recruited = !has_eyes | first.cos.cmplt(Floats::splat(eyes_only_cos));
+    let spine_recruited = first.cos.cmplt(Floats::splat(spine_reserve_cos));
+    let head_reserve_cos = Floats::select(has_eyes, Floats::splat(eyes_only_cos), Floats::ONE);
+    let head_reserve_sin = Floats::select(has_eyes, Floats::splat(eyes_only_sin), Floats::ZERO);
 
     // Joints below the first that may move keep their base frames: start above them.
     let (first_joint, mut frame) = if !(head_recruited | spine_recruited).any() {
@@ -864,9 +872,13 @@ pub(crate) fn solve_bodies(
             .position
             .add(frame.rotation.rotate(offsets(&chains, same, index)));
         let joint_rotation = frame.rotation.mul(base(index));
-        let in_chain = mask(|i| index < body[i]);
+        let in_chain = if same {
+            Mask::splat(true)
+        } else {
+            mask(|i| index < body[i])
+        };
         let is_spine = if same {
-            BVec4A::splat(index < spine_count)
+            Mask::splat(index < spine_count)
         } else {
             mask(|i| index < chains[i].spine_count())
         };
@@ -880,8 +892,8 @@ pub(crate) fn solve_bodies(
                 gaze_rotation(forward, aimed, up.scale(side_sign), prepared)
             };
             let (budget, some_left) = remaining.less(
-                Vec4::select(is_spine, Vec4::splat(spine_reserve_cos), head_reserve_cos),
-                Vec4::select(is_spine, Vec4::splat(spine_reserve_sin), head_reserve_sin),
+                Floats::select(is_spine, Floats::splat(spine_reserve_cos), head_reserve_cos),
+                Floats::select(is_spine, Floats::splat(spine_reserve_sin), head_reserve_sin),
             );
             let moves = recruited & some_left;
             if moves.any() {
@@ -894,7 +906,7 @@ pub(crate) fn solve_bodies(
                     }
                 };
                 let above = if same {
-                    Vec4::splat(above_in_group(chains[0]))
+                    Floats::splat(above_in_group(chains[0]))
                 } else {
                     gather(|i| above_in_group(chains[i]))
                 };
@@ -906,7 +918,8 @@ pub(crate) fn solve_bodies(
                 let moved_eye = frame.position.add(turn.rotate(eye.sub(frame.position)));
                 eye = V3::select(moves, moved_eye, eye);
                 forward = V3::select(moves, turn.rotate(forward), forward);
-                up = V3::select(moves, turn.rotate(up), up);
+                // `up` stays the head's up in the base posture: it only orients the behind
+                // zone, and the spine and neck mostly turn about it.
                 for i in 0..LANES {
                     if lanes[i].is_some() && moves.test(i) {
                         goals[i][index] = delta.lane(i);
@@ -1011,7 +1024,7 @@ impl EyeFrames {
         let limits = Limits::of_joints(chains, same_chain(chains), self.index);
         let (delta, _) = turn_joint(&limits, self.rotation, turn);
         Q4::select(
-            self.has_eyes & turn.sin.cmpgt(Vec4::ZERO),
+            self.has_eyes & turn.sin.cmpgt(Floats::ZERO),
             delta,
             Q4::IDENTITY,
         )

@@ -38,10 +38,13 @@
 //! the spatial solution, such as a target crossing straight above the character), then
 //! clamped to its limits, so both hold on every frame.
 
-use glam::{Quat, Vec3, Vec3A, Vec4};
+// The lockstep loops index several per-lane and per-joint arrays with one index.
+#![allow(clippy::needless_range_loop)]
+
+use glam::{Quat, Vec3, Vec3A};
 
 use super::chain::{GazeChain, JointGroup, MAX_CHAIN_JOINTS};
-use super::lanes::{gather, interpolate, mask, F4, LANES, M4, Q4, V3};
+use super::lanes::{gather, interpolate, mask, Floats, Mask, F4, LANES, M4, Q4, V3};
 use super::rotation::{angle_between, step_toward};
 use super::spatial::{
     self, BodyLane, EyeFrames, Frames, Limits, Prepared, SpatialConfig, TurnSide,
@@ -491,7 +494,7 @@ impl GazeMotion {
         let same = spatial::same_chain(&lane_chains);
         let body: [usize; LANES] = lane_chains.map(GazeChain::body_count);
         let joints = body.iter().copied().max().unwrap_or(0);
-        let mut at_rest = glam::BVec4A::splat(true);
+        let mut at_rest = Mask::splat(true);
         // Lanes whose every body joint ends exactly on the spatial solution.
         let mut on_goal = mask(|lane| moving[lane]);
         for index in 0..joints {
@@ -514,13 +517,15 @@ impl GazeMotion {
                     0
                 }
             });
-            let start = Q4::gather(|lane| {
-                if used(lane) && index < body[lane] {
-                    motions[lane].start[index]
-                } else {
-                    Quat::IDENTITY
-                }
-            });
+            let start = || {
+                Q4::gather(|lane| {
+                    if used(lane) && index < body[lane] {
+                        motions[lane].start[index]
+                    } else {
+                        Quat::IDENTITY
+                    }
+                })
+            };
             let goal = Q4::gather(|lane| {
                 if moving[lane] {
                     goals[lane][index]
@@ -552,18 +557,30 @@ impl GazeMotion {
         let heads = if all_on_goal {
             solved_heads
         } else {
+            // Multiplied as in the spatial solve, (parent · base) · delta, so that both ways
+            // give the same bits and a character's result never depends on its batch.
             let mut heads = Frames::roots(&lane_chains, &characters);
             for index in 0..joints {
-                let rotation = Q4::gather(|lane| {
-                    if index >= body[lane] {
-                        Quat::IDENTITY
-                    } else if used(lane) {
-                        lane_bases[lane][index] * motions[lane].deltas[index]
-                    } else {
+                let base = Q4::gather(|lane| {
+                    if index < body[lane] {
                         lane_bases[lane][index]
+                    } else {
+                        Quat::IDENTITY
                     }
                 });
-                heads.descend(spatial::offsets(&lane_chains, same, index), rotation);
+                let delta = Q4::gather(|lane| {
+                    if used(lane) && index < body[lane] {
+                        motions[lane].deltas[index]
+                    } else {
+                        Quat::IDENTITY
+                    }
+                });
+                heads.position = heads.position.add(heads.rotation.rotate(spatial::offsets(
+                    &lane_chains,
+                    same,
+                    index,
+                )));
+                heads.rotation = heads.rotation.mul(base).mul(delta);
             }
             heads
         };
@@ -597,13 +614,15 @@ impl GazeMotion {
             if blend.any() {
                 let goal = frames.goal(&lane_chains, &prepared, eye_target, side_sign);
                 let goal = Q4::select(mask(|lane| moving[lane]), goal, Q4::IDENTITY);
-                let start = Q4::gather(|lane| {
-                    if used(lane) && lane_chains[lane].has_eyes() {
-                        motions[lane].start[frames.index[lane]]
-                    } else {
-                        Quat::IDENTITY
-                    }
-                });
+                let start = || {
+                    Q4::gather(|lane| {
+                        if used(lane) && lane_chains[lane].has_eyes() {
+                            motions[lane].start[frames.index[lane]]
+                        } else {
+                            Quat::IDENTITY
+                        }
+                    })
+                };
                 let (settled, rest) = settle(
                     &lane_chains,
                     same,
@@ -704,7 +723,7 @@ impl GazeMotion {
     }
 }
 
-/// Per lane: `interpolate(start, goal, fraction)`, at most `max_step` radians from
+/// Per lane: `interpolate(start(), goal, fraction)`, at most `max_step` radians from
 /// `current`, within the limits of joint `indices[lane]`. Returns the new deltas and where
 /// they are exactly identity.
 #[allow(clippy::too_many_arguments)]
@@ -713,7 +732,7 @@ fn settle(
     chains: &[&GazeChain; LANES],
     same_chain: bool,
     indices: [usize; LANES],
-    start: Q4,
+    start: impl Fn() -> Q4,
     current: Q4,
     goal: Q4,
     fraction: F4,
@@ -721,16 +740,16 @@ fn settle(
 ) -> (Q4, M4) {
     // Once a group has arrived (f_P = 1), its joints follow the goal, which the spatial
     // solve already clamped: no interpolation, no clamping, unless the speed limit binds.
-    let arrived = fraction.cmpge(Vec4::ONE).all();
+    let arrived = fraction.cmpge(Floats::ONE).all();
     let wanted = if arrived {
         goal
     } else {
-        interpolate(start, goal, fraction)
+        interpolate(start(), goal, fraction)
     };
     // Within the speed limit iff 1 − |current·wanted| ≤ 1 − cos(max/2), which is at least
     // h²/2 − h⁴/24 for h = max/2: a test without trigonometry; the rare lanes over the limit
     // are stepped one by one.
-    let dot = current.dot(wanted).abs().min(Vec4::ONE);
+    let dot = current.dot(wanted).abs().min(Floats::ONE);
     let half = 0.5 * max_step;
     let half_squared = half * half;
     let fast = (1.0 - dot).cmple(half_squared * (0.5 - half_squared / 24.0));
