@@ -559,14 +559,21 @@ fn gaze_rotation(forward: V3, to_target: V3, fallback_axis: V3, prepared: &Prepa
     let w = distance + ahead;
     let norm = (w * w + cross_squared).sqrt().recip();
     let generic = valid & cross_squared.cmpgt(1e-14 * distance_squared);
-    let ahead_positive = ahead.cmpgt(Floats::ZERO);
-    // Degenerate: straight ahead is no turn, straight behind a half turn.
-    let degenerate_cos = Floats::select(ahead_positive | !valid, Floats::ONE, Floats::ZERO);
     let mut turn = Turn {
-        axis: V3::select(generic, cross.scale(cross_length.recip()), fallback_axis),
-        cos: Floats::select(generic, w * norm, degenerate_cos),
-        sin: Floats::select(generic, cross_length * norm, 1.0 - degenerate_cos),
+        axis: cross.scale(cross_length.recip()),
+        cos: w * norm,
+        sin: cross_length * norm,
     };
+    if !generic.all() {
+        // Degenerate: straight ahead (or at the eye) is no turn, straight behind a half turn.
+        let ahead_positive = ahead.cmpgt(Floats::ZERO);
+        let degenerate_cos = Floats::select(ahead_positive | !valid, Floats::ONE, Floats::ZERO);
+        turn = Turn {
+            axis: V3::select(generic, turn.axis, fallback_axis),
+            cos: Floats::select(generic, turn.cos, degenerate_cos),
+            sin: Floats::select(generic, turn.sin, 1.0 - degenerate_cos),
+        };
+    }
     let near = valid & distance.cmplt(Floats::splat(prepared.near_distance));
     if near.any() {
         let t = distance / prepared.near_distance;
@@ -795,6 +802,9 @@ pub(crate) fn solve_bodies(
     let body: [usize; LANES] = chains.map(GazeChain::body_count);
     let joints = body.iter().copied().max().unwrap_or(0);
     let shared_base = same && lane.iter().all(|l| std::ptr::eq(l.base, lane[0].base));
+    // Multiplying by an identity base rotation changes no bit: skipped when every lane shares
+    // one base pose and this joint's is identity (a crowd at rest).
+    let identity_base = |index: usize| shared_base && lane[0].base[index] == Quat::IDENTITY;
     let base = |index: usize| {
         if shared_base {
             return Q4::splat(lane[0].base[index]);
@@ -815,7 +825,13 @@ pub(crate) fn solve_bodies(
     let mut frame = roots;
     let mut above_spine = roots;
     for index in 0..joints {
-        frame.descend(offsets(&chains, same, index), base(index));
+        if identity_base(index) {
+            frame.position = frame
+                .position
+                .add(frame.rotation.rotate(offsets(&chains, same, index)));
+        } else {
+            frame.descend(offsets(&chains, same, index), base(index));
+        }
         if index + 1 == spine_count {
             above_spine = frame;
         }
@@ -871,7 +887,11 @@ pub(crate) fn solve_bodies(
         frame.position = frame
             .position
             .add(frame.rotation.rotate(offsets(&chains, same, index)));
-        let joint_rotation = frame.rotation.mul(base(index));
+        let joint_rotation = if identity_base(index) {
+            frame.rotation
+        } else {
+            frame.rotation.mul(base(index))
+        };
         let in_chain = if same {
             Mask::splat(true)
         } else {
@@ -905,12 +925,11 @@ pub(crate) fn solve_bodies(
                         chain.head_index().saturating_sub(index) as f32
                     }
                 };
-                let above = if same {
-                    Floats::splat(above_in_group(chains[0]))
+                let share = if same {
+                    Floats::splat(2.0 / (above_in_group(chains[0]) + 2.0))
                 } else {
-                    gather(|i| above_in_group(chains[i]))
+                    2.0 / (gather(|i| above_in_group(chains[i])) + 2.0)
                 };
-                let share = 2.0 / (above + 2.0);
                 let limits = Limits::of_joints(&chains, same, [index; LANES]);
                 let (turned, turn) = turn_joint(&limits, joint_rotation, budget.fraction(share));
                 delta = Q4::select(moves, turned, Q4::IDENTITY);
