@@ -35,8 +35,14 @@
 //!
 //! **Speed limits and joint limits.** Every frame each joint's change is capped at its
 //! group's [`GazeTiming::max_joint_speed`] × dt (a safety net for the rare discontinuities of
-//! the spatial solution, such as a target crossing straight above the character), then
+//! the spatial solution, such as an eye target crossing straight behind the head), then
 //! clamped to its limits, so both hold on every frame.
+//!
+//! **Batches.** [`GazeMotion::update_batch`] updates up to [`BATCH_LANES`] characters in one
+//! call, one per SIMD lane; [`GazeMotion::update`] is a batch of one (and costs about as much
+//! as a full batch). A character's results are bit for bit the same whatever batch it is in
+//! and wherever, so a crowd stays deterministic however its characters are split between
+//! threads.
 
 // The lockstep loops index several per-lane and per-joint arrays with one index.
 #![allow(clippy::needless_range_loop)]
