@@ -67,7 +67,9 @@ use std::cell::Cell;
 
 use glam::{Quat, Vec3, Vec3A};
 
-use super::chain::{GazeChain, JointGroup, JointLimits, CLAMP_SLACK, MAX_CHAIN_JOINTS};
+use super::chain::{
+    GazeChain, JointGroup, JointLimits, CLAMP_SLACK, MAX_BODY_JOINTS, MAX_CHAIN_JOINTS,
+};
 use super::lanes::{
     atan2_upper, gather, mask, sin_cos_quarter, Floats, Mask, F4, LANES, M4, Q4, V3,
 };
@@ -246,7 +248,7 @@ pub fn solve(
     ensure_all_finite(&head_target.to_array(), "head_target")?;
     ensure_all_finite(&eye_target.to_array(), "eye_target")?;
     let prepared = Prepared::new(config);
-    let mut goals = [IDENTITY_DELTAS; LANES];
+    let mut goals = [Q4::IDENTITY; MAX_BODY_JOINTS];
     let mut lanes = [None; LANES];
     lanes[0] = Some(BodyLane {
         chain,
@@ -255,28 +257,23 @@ pub fn solve(
         head_target,
         side: *side,
     });
-    let ([solved, ..], _) = solve_bodies(&prepared, lanes, &mut goals);
+    let ([solved, ..], heads) = solve_bodies(&prepared, lanes, &mut goals);
     let (solution, new_side) = solved.ok_or_else(|| Error::Internal("empty solve".into()))?;
     *side = new_side;
+    let body = chain.body_count();
+    for (delta, goal) in deltas[..body].iter_mut().zip(&goals) {
+        *delta = goal.lane(0);
+    }
     if chain.has_eyes() {
         let chains = [chain; LANES];
         let bases = [base; LANES];
-        let mut heads = Frames::roots(&chains, &[character; LANES]);
-        for (index, goal) in goals[0][..chain.body_count()].iter().enumerate() {
-            heads.descend(
-                offsets(&chains, true, index),
-                Q4::splat(base[index] * *goal),
-            );
-        }
         let target = V3::splat(eye_target.into());
         let side_sign = Floats::splat(side.resolved());
         for eye in 0..2 {
             let frames = EyeFrames::new(&chains, &bases, &heads, eye);
-            goals[0][frames.index[0]] = frames.goal(&chains, &prepared, target, side_sign).lane(0);
+            deltas[frames.index[0]] = frames.goal(&chains, &prepared, target, side_sign).lane(0);
         }
     }
-    let count = chain.joint_count();
-    deltas[..count].copy_from_slice(&goals[0][..count]);
     Ok(solution)
 }
 
@@ -786,13 +783,13 @@ pub(crate) fn same_chain(chains: &[&GazeChain; LANES]) -> bool {
 
 /// The spatial solve of the body joints (spine, cervicals, head) of up to four characters,
 /// one per lane, each towards its `head_target`: writes the deltas that are not identity
-/// into `goals[lane][..body_count]` (which come in as identity), and returns each lane's
+/// into `goals[joint]` (per lane; they come in as identity), and returns each lane's
 /// solution and turn side, and the heads' final world frames. `None` lanes are skipped.
 /// Inputs are assumed checked.
 pub(crate) fn solve_bodies(
     prepared: &Prepared,
     lanes: [Option<BodyLane<'_>>; LANES],
-    goals: &mut [[Quat; MAX_CHAIN_JOINTS]; LANES],
+    goals: &mut [Q4; MAX_BODY_JOINTS],
 ) -> ([Option<(SpatialSolution, TurnSide)>; LANES], Frames) {
     let Some(filler) = lanes.iter().flatten().next().copied() else {
         return (
@@ -947,11 +944,7 @@ pub(crate) fn solve_bodies(
                 forward = V3::select(moves, turn.rotate(forward), forward);
                 // `up` stays the head's up in the base posture: it only orients the behind
                 // zone, and the spine and neck mostly turn about it.
-                for i in 0..LANES {
-                    if lanes[i].is_some() && moves.test(i) {
-                        goals[i][index] = delta.lane(i);
-                    }
-                }
+                goals[index] = delta;
             }
         }
         frame.rotation = joint_rotation.mul(delta);

@@ -49,7 +49,7 @@
 
 use glam::{Quat, Vec3, Vec3A};
 
-use super::chain::{GazeChain, JointGroup, MAX_CHAIN_JOINTS};
+use super::chain::{GazeChain, JointGroup, MAX_BODY_JOINTS, MAX_CHAIN_JOINTS};
 use super::lanes::{gather, interpolate, mask, Floats, Mask, F4, LANES, M4, Q4, V3};
 use super::rotation::{angle_between, step_toward};
 use super::spatial::{
@@ -426,7 +426,7 @@ impl GazeMotion {
                 }
             }
         }
-        let mut goals = [spatial::IDENTITY_DELTAS; LANES];
+        let mut goals = [Q4::IDENTITY; MAX_BODY_JOINTS];
         let (solved, solved_heads) = spatial::solve_bodies(
             &prepared,
             std::array::from_fn(|lane| {
@@ -462,8 +462,11 @@ impl GazeMotion {
                         motion.start = motion.deltas;
                         motion.elapsed = 0.0;
                         let body = chains[lane].body_count();
-                        let head_angle =
-                            head_turn(input.base, &motion.start[..body], &goals[lane][..body]);
+                        let head_angle = head_turn(
+                            &input.base[..body],
+                            &motion.start[..body],
+                            goals[..body].iter().map(|goal| goal.lane(lane)),
+                        );
                         motion.activation_time =
                             timing.activation_time(head_angle, request.interest_ratio);
                         motion.phase = GazePhase::Shifting;
@@ -495,6 +498,7 @@ impl GazeMotion {
             returning[lane] = motion.phase == GazePhase::Returning;
         }
         let blending = mask(|lane| moving[lane] || returning[lane]);
+        let moving_mask = mask(|lane| moving[lane]);
 
         // 3. Body joints.
         let same = spatial::same_chain(&lane_chains);
@@ -532,13 +536,7 @@ impl GazeMotion {
                     }
                 })
             };
-            let goal = Q4::gather(|lane| {
-                if moving[lane] {
-                    goals[lane][index]
-                } else {
-                    Quat::IDENTITY
-                }
-            });
+            let goal = Q4::select(moving_mask, goals[index], Q4::IDENTITY);
             let (settled, rest) = settle(
                 &lane_chains,
                 same,
@@ -786,13 +784,12 @@ fn eased(ease: &Ease, elapsed: f32, duration: f32) -> f32 {
 
 /// `θ_head`: the angle of the head's rotation, in the chain root's frame, from the pose
 /// `base * from` to the pose `base * to` (body joints).
-fn head_turn(base: &[Quat], from: &[Quat], to: &[Quat]) -> f32 {
-    let body = from.len();
+fn head_turn(base: &[Quat], from: &[Quat], to: impl Iterator<Item = Quat>) -> f32 {
     let mut head_from = Quat::IDENTITY;
     let mut head_to = Quat::IDENTITY;
-    for ((base, from), to) in base[..body].iter().zip(&from[..body]).zip(&to[..body]) {
+    for ((base, from), to) in base.iter().zip(from).zip(to) {
         head_from = head_from * *base * *from;
-        head_to = head_to * *base * *to;
+        head_to = head_to * *base * to;
     }
     angle_between(head_from, head_to)
 }
