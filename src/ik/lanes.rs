@@ -456,9 +456,9 @@ impl Q4 {
             & self.w.cmpeq(Floats::ONE)
     }
 
-    /// Per lane: the two rotations bit for bit equal (well, `==` on each component).
+    /// Per lane: the two rotations equal, component by component (`==`).
     #[inline(always)]
-    pub(crate) fn bits_equal(self, o: Q4) -> M4 {
+    pub(crate) fn equals(self, o: Q4) -> M4 {
         self.x.cmpeq(o.x) & self.y.cmpeq(o.y) & self.z.cmpeq(o.z) & self.w.cmpeq(o.w)
     }
 

@@ -989,39 +989,56 @@ impl EyeFrames {
     ) -> EyeFrames {
         let index = chains.map(|chain| chain.eye_indices().map_or(0, |eyes| eyes[eye]));
         let has_eyes = mask(|i| chains[i].has_eyes());
-        let offset = V3::gather(|i| {
-            if chains[i].has_eyes() {
-                chains[i].joints()[index[i]].offset.into()
-            } else {
-                eye_middle(chains[i])
-            }
-        });
-        let base = Q4::gather(|i| {
-            if chains[i].has_eyes() {
-                bases[i][index[i]]
-            } else {
-                Quat::IDENTITY
-            }
-        });
-        let axes: [(Vec3A, Vec3A); LANES] = std::array::from_fn(|i| {
-            let chain = chains[i];
+        // The eye's offset and its forward and up axes in its own frame.
+        let eye_data = |chain: &GazeChain, index: usize| -> (Vec3A, Vec3A, Vec3A) {
             let (forward, up) = (chain.eye_forward().into(), chain.eye_up().into());
             if !chain.has_eyes() {
-                return (forward, up);
+                return (eye_middle(chain), forward, up);
             }
-            let rest = chain.joints()[index[i]].rest;
-            if rest == Quat::IDENTITY {
-                (forward, up)
+            let joint = &chain.joints()[index];
+            if joint.rest == Quat::IDENTITY {
+                (joint.offset.into(), forward, up)
             } else {
-                let to_eye = rest.conjugate();
-                (to_eye.mul_vec3a(forward), to_eye.mul_vec3a(up))
+                let to_eye = joint.rest.conjugate();
+                (
+                    joint.offset.into(),
+                    to_eye.mul_vec3a(forward),
+                    to_eye.mul_vec3a(up),
+                )
             }
-        });
+        };
+        let (offset, local_forward, local_up) = if same_chain(chains) {
+            let (offset, forward, up) = eye_data(chains[0], index[0]);
+            (V3::splat(offset), V3::splat(forward), V3::splat(up))
+        } else {
+            let data: [(Vec3A, Vec3A, Vec3A); LANES] =
+                std::array::from_fn(|i| eye_data(chains[i], index[i]));
+            (
+                V3::gather(|i| data[i].0),
+                V3::gather(|i| data[i].1),
+                V3::gather(|i| data[i].2),
+            )
+        };
+        let rotation = if bases.iter().all(|base| std::ptr::eq(*base, bases[0]))
+            && same_chain(chains)
+            && (!chains[0].has_eyes() || bases[0][index[0]] == Quat::IDENTITY)
+        {
+            // Every lane's eye rests at identity in its base pose: nothing to multiply.
+            heads.rotation
+        } else {
+            heads.rotation.mul(Q4::gather(|i| {
+                if chains[i].has_eyes() {
+                    bases[i][index[i]]
+                } else {
+                    Quat::IDENTITY
+                }
+            }))
+        };
         EyeFrames {
             position: heads.position.add(heads.rotation.rotate(offset)),
-            rotation: heads.rotation.mul(base),
-            local_forward: V3::gather(|i| axes[i].0),
-            local_up: V3::gather(|i| axes[i].1),
+            rotation,
+            local_forward,
+            local_up,
             has_eyes,
             index,
         }

@@ -40,7 +40,7 @@
 //!
 //! **Batches.** [`GazeMotion::update_batch`] updates up to [`BATCH_LANES`] characters in one
 //! call, one per SIMD lane; [`GazeMotion::update`] is a batch of one (and costs about as much
-//! as a full batch). A character's results are bit for bit the same whatever batch it is in
+//! as a full batch). A character's results are exactly the same whatever batch it is in
 //! and wherever, so a crowd stays deterministic however its characters are split between
 //! threads.
 
@@ -548,7 +548,7 @@ impl GazeMotion {
                 gather(|lane| max_steps[lane][groups[lane]]),
             );
             at_rest &= !blend | rest;
-            on_goal &= !in_chain | settled.bits_equal(goal);
+            on_goal &= !in_chain | settled.equals(goal);
             for lane in 0..N {
                 if blend.test(lane) {
                     motions[lane].deltas[index] = settled.lane(lane);
@@ -562,7 +562,7 @@ impl GazeMotion {
             solved_heads
         } else {
             // Multiplied as in the spatial solve, (parent · base) · delta, so that both ways
-            // give the same bits and a character's result never depends on its batch.
+            // give the same values and a character's result never depends on its batch.
             let mut heads = Frames::roots(&lane_chains, &characters);
             for index in 0..joints {
                 let base = Q4::gather(|lane| {
