@@ -143,8 +143,9 @@ impl Crowd {
         let chain = &self.chains[self.chain_of[character] as usize];
         let deltas = self.motions[character].deltas();
         let mut rotation = self.character_transform(character).rotation;
-        for joint in 0..chain.body_count() {
-            rotation *= self.bases[character][joint] * deltas[joint];
+        let body = chain.body_count();
+        for (base, delta) in self.bases[character][..body].iter().zip(&deltas[..body]) {
+            rotation *= *base * *delta;
         }
         (rotation * chain.eye_forward()).normalize_or_zero()
     }

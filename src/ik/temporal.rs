@@ -35,13 +35,22 @@
 //!
 //! **Speed limits and joint limits.** Every frame each joint's change is capped at its
 //! group's [`GazeTiming::max_joint_speed`] × dt (a safety net for the rare discontinuities of
-//! the spatial solution, such as a target crossing straight above the character), then
+//! the spatial solution, such as an eye target crossing straight behind the head), then
 //! clamped to its limits, so both hold on every frame.
+//!
+//! **Batches.** [`GazeMotion::update_batch`] updates up to [`BATCH_LANES`] characters in one
+//! call, one per SIMD lane; [`GazeMotion::update`] is a batch of one (and costs about as much
+//! as a full batch). A character's results are exactly the same whatever batch it is in
+//! and wherever, so a crowd stays deterministic however its characters are split between
+//! threads.
 
-use glam::{Quat, Vec3, Vec3A, Vec4};
+// The lockstep loops index several per-lane and per-joint arrays with one index.
+#![allow(clippy::needless_range_loop)]
 
-use super::chain::{GazeChain, JointGroup, MAX_CHAIN_JOINTS};
-use super::lanes::{gather, interpolate, mask, F4, LANES, M4, Q4, V3};
+use glam::{Quat, Vec3, Vec3A};
+
+use super::chain::{GazeChain, JointGroup, MAX_BODY_JOINTS, MAX_CHAIN_JOINTS};
+use super::lanes::{gather, interpolate, mask, Floats, Mask, F4, LANES, M4, Q4, V3};
 use super::rotation::{angle_between, step_toward};
 use super::spatial::{
     self, BodyLane, EyeFrames, Frames, Limits, Prepared, SpatialConfig, TurnSide,
@@ -417,7 +426,7 @@ impl GazeMotion {
                 }
             }
         }
-        let mut goals = [spatial::IDENTITY_DELTAS; LANES];
+        let mut goals = [Q4::IDENTITY; MAX_BODY_JOINTS];
         let (solved, solved_heads) = spatial::solve_bodies(
             &prepared,
             std::array::from_fn(|lane| {
@@ -453,8 +462,11 @@ impl GazeMotion {
                         motion.start = motion.deltas;
                         motion.elapsed = 0.0;
                         let body = chains[lane].body_count();
-                        let head_angle =
-                            head_turn(input.base, &motion.start[..body], &goals[lane][..body]);
+                        let head_angle = head_turn(
+                            &input.base[..body],
+                            &motion.start[..body],
+                            goals[..body].iter().map(|goal| goal.lane(lane)),
+                        );
                         motion.activation_time =
                             timing.activation_time(head_angle, request.interest_ratio);
                         motion.phase = GazePhase::Shifting;
@@ -486,12 +498,13 @@ impl GazeMotion {
             returning[lane] = motion.phase == GazePhase::Returning;
         }
         let blending = mask(|lane| moving[lane] || returning[lane]);
+        let moving_mask = mask(|lane| moving[lane]);
 
         // 3. Body joints.
         let same = spatial::same_chain(&lane_chains);
         let body: [usize; LANES] = lane_chains.map(GazeChain::body_count);
         let joints = body.iter().copied().max().unwrap_or(0);
-        let mut at_rest = glam::BVec4A::splat(true);
+        let mut at_rest = Mask::splat(true);
         // Lanes whose every body joint ends exactly on the spatial solution.
         let mut on_goal = mask(|lane| moving[lane]);
         for index in 0..joints {
@@ -514,20 +527,16 @@ impl GazeMotion {
                     0
                 }
             });
-            let start = Q4::gather(|lane| {
-                if used(lane) && index < body[lane] {
-                    motions[lane].start[index]
-                } else {
-                    Quat::IDENTITY
-                }
-            });
-            let goal = Q4::gather(|lane| {
-                if moving[lane] {
-                    goals[lane][index]
-                } else {
-                    Quat::IDENTITY
-                }
-            });
+            let start = || {
+                Q4::gather(|lane| {
+                    if used(lane) && index < body[lane] {
+                        motions[lane].start[index]
+                    } else {
+                        Quat::IDENTITY
+                    }
+                })
+            };
+            let goal = Q4::select(moving_mask, goals[index], Q4::IDENTITY);
             let (settled, rest) = settle(
                 &lane_chains,
                 same,
@@ -539,7 +548,7 @@ impl GazeMotion {
                 gather(|lane| max_steps[lane][groups[lane]]),
             );
             at_rest &= !blend | rest;
-            on_goal &= !in_chain | settled.bits_equal(goal);
+            on_goal &= !in_chain | settled.equals(goal);
             for lane in 0..N {
                 if blend.test(lane) {
                     motions[lane].deltas[index] = settled.lane(lane);
@@ -552,18 +561,30 @@ impl GazeMotion {
         let heads = if all_on_goal {
             solved_heads
         } else {
+            // Multiplied as in the spatial solve, (parent · base) · delta, so that both ways
+            // give the same values and a character's result never depends on its batch.
             let mut heads = Frames::roots(&lane_chains, &characters);
             for index in 0..joints {
-                let rotation = Q4::gather(|lane| {
-                    if index >= body[lane] {
-                        Quat::IDENTITY
-                    } else if used(lane) {
-                        lane_bases[lane][index] * motions[lane].deltas[index]
-                    } else {
+                let base = Q4::gather(|lane| {
+                    if index < body[lane] {
                         lane_bases[lane][index]
+                    } else {
+                        Quat::IDENTITY
                     }
                 });
-                heads.descend(spatial::offsets(&lane_chains, same, index), rotation);
+                let delta = Q4::gather(|lane| {
+                    if used(lane) && index < body[lane] {
+                        motions[lane].deltas[index]
+                    } else {
+                        Quat::IDENTITY
+                    }
+                });
+                heads.position = heads.position.add(heads.rotation.rotate(spatial::offsets(
+                    &lane_chains,
+                    same,
+                    index,
+                )));
+                heads.rotation = heads.rotation.mul(base).mul(delta);
             }
             heads
         };
@@ -597,13 +618,15 @@ impl GazeMotion {
             if blend.any() {
                 let goal = frames.goal(&lane_chains, &prepared, eye_target, side_sign);
                 let goal = Q4::select(mask(|lane| moving[lane]), goal, Q4::IDENTITY);
-                let start = Q4::gather(|lane| {
-                    if used(lane) && lane_chains[lane].has_eyes() {
-                        motions[lane].start[frames.index[lane]]
-                    } else {
-                        Quat::IDENTITY
-                    }
-                });
+                let start = || {
+                    Q4::gather(|lane| {
+                        if used(lane) && lane_chains[lane].has_eyes() {
+                            motions[lane].start[frames.index[lane]]
+                        } else {
+                            Quat::IDENTITY
+                        }
+                    })
+                };
                 let (settled, rest) = settle(
                     &lane_chains,
                     same,
@@ -704,7 +727,7 @@ impl GazeMotion {
     }
 }
 
-/// Per lane: `interpolate(start, goal, fraction)`, at most `max_step` radians from
+/// Per lane: `interpolate(start(), goal, fraction)`, at most `max_step` radians from
 /// `current`, within the limits of joint `indices[lane]`. Returns the new deltas and where
 /// they are exactly identity.
 #[allow(clippy::too_many_arguments)]
@@ -713,7 +736,7 @@ fn settle(
     chains: &[&GazeChain; LANES],
     same_chain: bool,
     indices: [usize; LANES],
-    start: Q4,
+    start: impl Fn() -> Q4,
     current: Q4,
     goal: Q4,
     fraction: F4,
@@ -721,16 +744,16 @@ fn settle(
 ) -> (Q4, M4) {
     // Once a group has arrived (f_P = 1), its joints follow the goal, which the spatial
     // solve already clamped: no interpolation, no clamping, unless the speed limit binds.
-    let arrived = fraction.cmpge(Vec4::ONE).all();
+    let arrived = fraction.cmpge(Floats::ONE).all();
     let wanted = if arrived {
         goal
     } else {
-        interpolate(start, goal, fraction)
+        interpolate(start(), goal, fraction)
     };
     // Within the speed limit iff 1 − |current·wanted| ≤ 1 − cos(max/2), which is at least
     // h²/2 − h⁴/24 for h = max/2: a test without trigonometry; the rare lanes over the limit
     // are stepped one by one.
-    let dot = current.dot(wanted).abs().min(Vec4::ONE);
+    let dot = current.dot(wanted).abs().min(Floats::ONE);
     let half = 0.5 * max_step;
     let half_squared = half * half;
     let fast = (1.0 - dot).cmple(half_squared * (0.5 - half_squared / 24.0));
@@ -761,13 +784,12 @@ fn eased(ease: &Ease, elapsed: f32, duration: f32) -> f32 {
 
 /// `θ_head`: the angle of the head's rotation, in the chain root's frame, from the pose
 /// `base * from` to the pose `base * to` (body joints).
-fn head_turn(base: &[Quat], from: &[Quat], to: &[Quat]) -> f32 {
-    let body = from.len();
+fn head_turn(base: &[Quat], from: &[Quat], to: impl Iterator<Item = Quat>) -> f32 {
     let mut head_from = Quat::IDENTITY;
     let mut head_to = Quat::IDENTITY;
-    for ((base, from), to) in base[..body].iter().zip(&from[..body]).zip(&to[..body]) {
+    for ((base, from), to) in base.iter().zip(from).zip(to) {
         head_from = head_from * *base * *from;
-        head_to = head_to * *base * *to;
+        head_to = head_to * *base * to;
     }
     angle_between(head_from, head_to)
 }
