@@ -678,6 +678,7 @@ fn two_targets_split_body_and_eyes() {
     let head_target = around(60.0, 0.0, 3.0);
     let eye_target = around(75.0, 5.0, 2.0);
     let request = GazeRequest {
+        style: Default::default(),
         target_key: 1,
         head_target,
         eye_target,
@@ -967,4 +968,56 @@ fn a_character_gets_the_same_bits_whatever_its_batch() {
         .flat_map(|f| f.iter().map(|c| format!("{:?}", c.3)))
         .collect();
     assert_eq!(phases.len(), 4, "{phases:?}");
+}
+
+#[test]
+fn saccadic_shifts_land_the_eyes_in_six_frames_and_the_head_along_its_curve() {
+    let mut character = Character::human();
+    let dt = 1.0 / 30.0;
+    // 12° to the side: an eyes-only shift.
+    let target = around(12.0, 0.0, 3.0);
+    let request = GazeRequest {
+        style: crowdgaze::ik::MotionStyle::Saccadic,
+        ..GazeRequest::at(1, target)
+    };
+    let mut errors = Vec::new();
+    for _ in 0..8 {
+        let frame = character.step(Some(request), dt);
+        errors.push(degrees_of(eye_error(frame, target)));
+    }
+    // The shift starts at the first update (elapsed 0); six frames of 1/30 s later the
+    // saccade is complete. Half-way it has not yet done half its path.
+    assert!(errors[2] > 6.0, "too fast: {errors:?}");
+    assert!(errors[5] < 0.5, "within 0.5° after six frames: {errors:?}");
+    assert!(
+        errors[6] < 0.05,
+        "done at the end of the saccade: {errors:?}"
+    );
+    // The saccade's speed peaks in its third frame and is symmetric about it (the profile
+    // 14 e^(−π/4 (x − 3)²), x = 1..6).
+    let moved: Vec<f32> = errors.windows(2).map(|pair| pair[0] - pair[1]).collect();
+    let peak = (0..6)
+        .max_by(|&a, &b| moved[a].total_cmp(&moved[b]))
+        .unwrap();
+    assert_eq!(peak, 2, "speeds per frame {moved:?}");
+    assert!((moved[1] - moved[3]).abs() < 0.1 && (moved[0] - moved[4]).abs() < 0.1);
+
+    // 50° to the side: the head follows over a duration that grows with its turn.
+    let mut character = Character::human();
+    let far = GazeRequest {
+        style: crowdgaze::ik::MotionStyle::Saccadic,
+        ..GazeRequest::at(2, around(50.0, 0.0, 3.0))
+    };
+    character.step(Some(far), dt);
+    let head_duration = character.motion.group_durations()[JointGroup::HeadAndNeck.index()];
+    let timing = GazeConfig::default().timing;
+    assert!(head_duration > timing.head_base_duration && head_duration < 1.5);
+    assert_eq!(
+        character.motion.group_durations()[JointGroup::Eyes.index()],
+        timing.saccade_duration
+    );
+}
+
+fn degrees_of(radians: f32) -> f32 {
+    radians.to_degrees()
 }

@@ -26,7 +26,8 @@ use crate::attention::score::{ScoreBreakdown, Scorer, ScoringConfig};
 use crate::attention::{AttentionModel, CharacterParams, TargetPart};
 use crate::error::{ensure_finite, Error, Result};
 use crate::ik::{
-    CharacterTransform, GazeChain, GazeConfig, GazeInput, GazeMotion, GazeRequest, MAX_CHAIN_JOINTS,
+    CharacterTransform, GazeChain, GazeConfig, GazeInput, GazeMotion, GazeRequest, MotionStyle,
+    MAX_CHAIN_JOINTS,
 };
 use crate::math::random::{stream, Purpose, Random};
 use crate::scene::ids::{EntityKind, NO_ENTITY};
@@ -727,6 +728,7 @@ impl Crowd {
             head_target: point,
             eye_target: point,
             interest_ratio,
+            style: MotionStyle::Eased,
         })
     }
 

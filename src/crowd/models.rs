@@ -7,7 +7,7 @@ use super::{Crowd, ExplicitTarget, TargetPriority};
 use crate::attention::saliency::{saliency, Fixation, FixationChannel, SalientPoint};
 use crate::attention::{AttentionModel, TargetPart};
 use crate::error::{ensure_all_finite, Error, Result};
-use crate::ik::{GazeChain, GazeRequest, JointRole};
+use crate::ik::{GazeChain, GazeRequest, JointRole, MotionStyle};
 use crate::scene::ids::{EntityKind, NO_ENTITY};
 
 /// Most points (entity parts) a saliency query considers per frame; beyond, the farthest
@@ -347,6 +347,10 @@ impl Crowd {
             head_target,
             eye_target,
             interest_ratio: 1.0,
+            style: match self.params[character].model {
+                AttentionModel::Saliency => MotionStyle::Saccadic,
+                _ => MotionStyle::Eased,
+            },
         })
     }
 

@@ -78,7 +78,9 @@ pub use chain::{
     MAX_CHAIN_JOINTS, MAX_SPINE_JOINTS,
 };
 pub use spatial::{RecruitmentBands, SpatialConfig, SpatialSolution, TurnSide};
-pub use temporal::{GazeConfig, GazeInput, GazeMotion, GazePhase, GazeRequest, GazeTiming};
+pub use temporal::{
+    GazeConfig, GazeInput, GazeMotion, GazePhase, GazeRequest, GazeTiming, MotionStyle,
+};
 
 /// Where a character stands and which way it faces: its world transform is
 /// `translation(position) · rotation`.

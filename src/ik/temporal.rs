@@ -57,7 +57,7 @@ use super::spatial::{
 };
 use super::CharacterTransform;
 use crate::error::{ensure_all_finite, ensure_finite, Error, Result};
-use crate::math::ease::Ease;
+use crate::math::ease::{head_progress, saccade_progress, Ease};
 use crate::math::random::Random;
 
 /// How many characters [`GazeMotion::update_batch`] best takes at once.
@@ -87,6 +87,16 @@ pub struct GazeTiming {
     pub max_joint_speed: [f32; 3],
     /// The ease `f_P`.
     pub ease: Ease,
+    /// [`MotionStyle::Saccadic`]: the eye saccade's duration, s. Default 0.2 (the paper's
+    /// six frames of 1/30 s).
+    pub saccade_duration: f32,
+    /// [`MotionStyle::Saccadic`]: the head movement lasts `head_base_duration +
+    /// head_duration_per_radian · θ_head`, s. Default 0.25 (our choice; the paper leaves
+    /// the head's duration to its fitted curve).
+    pub head_base_duration: f32,
+    /// See `head_base_duration`, s per radian of head turn. Default 0.45 (a 60° head turn
+    /// takes about 0.72 s).
+    pub head_duration_per_radian: f32,
 }
 
 impl Default for GazeTiming {
@@ -104,6 +114,9 @@ impl Default for GazeTiming {
                 360f32.to_radians(),
             ],
             ease: Ease::default(),
+            saccade_duration: 0.2,
+            head_base_duration: 0.25,
+            head_duration_per_radian: 0.45,
         }
     }
 }
@@ -125,6 +138,24 @@ impl GazeTiming {
             "gaze timing",
         )?;
         ensure_all_finite(&self.max_joint_speed, "max_joint_speed")?;
+        ensure_all_finite(
+            &[
+                self.saccade_duration,
+                self.head_base_duration,
+                self.head_duration_per_radian,
+            ],
+            "saccadic timing",
+        )?;
+        if self.saccade_duration <= 0.0
+            || self.head_base_duration <= 0.0
+            || self.head_duration_per_radian < 0.0
+        {
+            return Err(Error::InvalidArgument(
+                "gaze timing: saccade_duration and head_base_duration must be > 0, \
+                 head_duration_per_radian ≥ 0"
+                    .into(),
+            ));
+        }
         let bad = |what: &str| Err(Error::InvalidArgument(format!("gaze timing: {what}")));
         if self.head_speed <= 0.0 {
             return bad("head_speed must be > 0");
@@ -176,6 +207,20 @@ impl GazeConfig {
     }
 }
 
+/// How a gaze shift unfolds in time.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum MotionStyle {
+    /// Grillon & Thalmann 2009: eyes over `t_a/2`, head and neck over `t_a`, spine over
+    /// `2 t_a`, each eased by `f_P`.
+    #[default]
+    Eased,
+    /// Kokkinara, Oyekoya & Steed 2011: the eyes jump in a saccade of six frames with the
+    /// profile `14 e^(−π/4 (x − 3)²)`; the head (and, over 1.5 times as long, the spine)
+    /// follows `θ_h(u) = e^(0.027u)(sin(πu/2))^1.90` over a duration that grows with the
+    /// head's turn ([`GazeTiming::head_base_duration`]).
+    Saccadic,
+}
+
 /// What a character should look at this frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct GazeRequest {
@@ -188,6 +233,8 @@ pub struct GazeRequest {
     /// `S_max / S_MAX` in (0, 1]: how interesting the target is relative to the most
     /// interesting thing possible; 1 for explicit targets. Values above 1 count as 1.
     pub interest_ratio: f32,
+    /// How the shift to this target unfolds (taken when a shift starts).
+    pub style: MotionStyle,
 }
 
 impl GazeRequest {
@@ -198,6 +245,7 @@ impl GazeRequest {
             head_target: target,
             eye_target: target,
             interest_ratio: 1.0,
+            style: MotionStyle::Eased,
         }
     }
 }
@@ -230,7 +278,7 @@ pub enum GazePhase {
     Returning,
 }
 
-/// A character's gaze motion state: plain fixed-size data, no heap, 576 bytes
+/// A character's gaze motion state: plain fixed-size data, no heap, 592 bytes
 /// (`size_of::<GazeMotion>()`, checked by a test).
 ///
 /// Not safe for concurrent mutation; each character owns one.
@@ -257,6 +305,10 @@ pub struct GazeMotion {
     joint_count: u8,
     phase: GazePhase,
     side: TurnSide,
+    /// The style of the current shift.
+    style: MotionStyle,
+    /// The eye saccade's duration of a saccadic shift, s.
+    saccade_duration: f32,
 }
 
 impl GazeMotion {
@@ -276,6 +328,8 @@ impl GazeMotion {
             joint_count: chain.joint_count() as u8,
             phase: GazePhase::Idle,
             side: TurnSide::UNDECIDED,
+            style: MotionStyle::Eased,
+            saccade_duration: 0.0,
         }
     }
 
@@ -340,9 +394,35 @@ impl GazeMotion {
             }
             _ => {
                 let t = self.activation_time;
-                [0.5 * t, t, 2.0 * t]
+                match self.style {
+                    MotionStyle::Eased => [0.5 * t, t, 2.0 * t],
+                    // t_a holds the head's duration; the eyes' saccade is kept apart.
+                    MotionStyle::Saccadic => [self.saccade_duration, t, 1.5 * t],
+                }
             }
         }
+    }
+
+    /// The fraction of its motion each group has done (eyes, head and neck, spine): `f_P`,
+    /// or for a saccadic shift the saccade and head curves.
+    fn group_fractions(&self, ease: &Ease) -> [f32; 3] {
+        let durations = self.group_durations();
+        let elapsed = self.elapsed;
+        if self.phase == GazePhase::Returning || self.style == MotionStyle::Eased {
+            return durations.map(|duration| eased(ease, elapsed, duration));
+        }
+        let progress = |duration: f32| {
+            if duration > 0.0 {
+                elapsed / duration
+            } else {
+                1.0
+            }
+        };
+        [
+            saccade_progress(6.0 * progress(durations[0])),
+            head_progress(progress(durations[1])),
+            head_progress(progress(durations[2])),
+        ]
     }
 
     /// Advances the motion by `input.dt` and computes this frame's deltas.
@@ -467,8 +547,17 @@ impl GazeMotion {
                             &motion.start[..body],
                             goals[..body].iter().map(|goal| goal.lane(lane)),
                         );
-                        motion.activation_time =
-                            timing.activation_time(head_angle, request.interest_ratio);
+                        motion.style = request.style;
+                        motion.saccade_duration = timing.saccade_duration;
+                        motion.activation_time = match request.style {
+                            MotionStyle::Eased => {
+                                timing.activation_time(head_angle, request.interest_ratio)
+                            }
+                            MotionStyle::Saccadic => {
+                                timing.head_base_duration
+                                    + timing.head_duration_per_radian * head_angle
+                            }
+                        };
                         motion.phase = GazePhase::Shifting;
                     } else {
                         motion.elapsed += input.dt;
@@ -489,10 +578,7 @@ impl GazeMotion {
                     GazePhase::Idle => {}
                 },
             }
-            let elapsed = motion.elapsed;
-            fractions[lane] = motion
-                .group_durations()
-                .map(|duration| eased(&timing.ease, elapsed, duration));
+            fractions[lane] = motion.group_fractions(&timing.ease);
             max_steps[lane] = timing.max_joint_speed.map(|speed| speed * input.dt);
             moving[lane] = matches!(motion.phase, GazePhase::Shifting | GazePhase::Holding);
             returning[lane] = motion.phase == GazePhase::Returning;
@@ -800,7 +886,7 @@ mod tests {
 
     #[test]
     fn motion_state_is_small() {
-        assert_eq!(std::mem::size_of::<GazeMotion>(), 576);
+        assert_eq!(std::mem::size_of::<GazeMotion>(), 592);
         assert!(std::mem::size_of::<GazeMotion>() < 1024);
     }
 
