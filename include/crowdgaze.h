@@ -594,6 +594,16 @@ typedef struct cg_crowd_config {
     // Baseline model: a character closer than this (your units) turns the head.
     // Default 2.5 m.
     float proximity_radius;
+    // Level of detail: each character's attention is updated every `attention_period`
+    // steps (1 to 64, staggered across the crowd); gaze IK still runs every step.
+    // Default 1.
+    uint32_t attention_period;
+    // Level of detail by distance: beyond `lod_distance` (your units) from the viewer
+    // (`cg_crowd_set_viewer`), every `far_attention_period` steps. 0 turns it off
+    // (default).
+    float lod_distance;
+    // See `lod_distance`; 1 to 64. Default 4.
+    uint32_t far_attention_period;
 } cg_crowd_config;
 
 // A target set by game logic for one character (top-down attention). Fill it with
@@ -788,6 +798,17 @@ cg_status cg_crowd_set_viewer(struct cg_crowd *crowd,
                               const struct cg_vec3 *position,
                               float impact,
                               uint32_t *out_id);
+
+// Sets how often `character`'s attention is updated: every `period` steps (1 to 64), or 0
+// for the crowd's level of detail (`cg_crowd_config.attention_period`, or
+// `far_attention_period` beyond `lod_distance` from the viewer). Its gaze still moves
+// every step.
+//
+// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NOT_FOUND`, `CG_STATUS_INVALID_ARGUMENT`
+// (period > 64, an object's id). Not thread-safe.
+cg_status cg_crowd_set_attention_period(struct cg_crowd *crowd,
+                                        uint32_t character,
+                                        uint32_t period);
 
 // Builds the unit dual quaternion of the rigid transform "rotate by `rotation`, then
 // translate by `translation`" (`x ↦ R x + t`) into `*out`.

@@ -35,6 +35,17 @@ use crate::scene::{EntityUpdate, Scene};
 use crate::world::World;
 use models::{social_parts, SaliencyState};
 
+/// A character's level-of-detail state for attention updates.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct AttentionLod {
+    /// Offset of this character's updates within the period.
+    stagger: u32,
+    /// Its own period (0: the crowd's, by distance to the viewer).
+    period: u32,
+    /// Seconds since its last attention update.
+    pending: f32,
+}
+
 /// Gaze-request key of explicit point targets (entity ids are below 2³²).
 const EXPLICIT_POINT_KEY: u64 = 1 << 32;
 
@@ -70,6 +81,16 @@ pub struct CrowdConfig {
     pub saliency: SaliencyConfig,
     /// The baseline's settings (characters using [`AttentionModel::Baseline`]).
     pub baseline: BaselineConfig,
+    /// Level of detail: attention (not gaze IK, which runs every frame) is updated every
+    /// `attention_period` steps per character, staggered so that each step updates an
+    /// equal share of the crowd. 1 to 64; default 1 (every step).
+    pub attention_period: u32,
+    /// Level of detail by distance: characters farther than `lod_distance` (metres) from
+    /// the viewer update attention every `far_attention_period` steps. 0 (default) turns
+    /// this off.
+    pub lod_distance: f32,
+    /// See `lod_distance`. 1 to 64; default 4.
+    pub far_attention_period: u32,
 }
 
 impl Default for CrowdConfig {
@@ -86,6 +107,9 @@ impl Default for CrowdConfig {
             gaze: GazeConfig::default(),
             saliency: SaliencyConfig::default(),
             baseline: BaselineConfig::default(),
+            attention_period: 1,
+            lod_distance: 0.0,
+            far_attention_period: 4,
         }
     }
 }
@@ -154,6 +178,17 @@ impl CrowdConfig {
             check_range(field.half_horizontal, 0.0, std::f32::consts::PI, what)?;
             check_range(field.half_vertical, 0.0, std::f32::consts::FRAC_PI_2, what)?;
         }
+        for (period, what) in [
+            (self.attention_period, "attention_period"),
+            (self.far_attention_period, "far_attention_period"),
+        ] {
+            if !(1..=64).contains(&period) {
+                return Err(Error::InvalidArgument(format!(
+                    "{what} is {period}, must be 1..=64"
+                )));
+            }
+        }
+        check_range(self.lod_distance, 0.0, 1e6, "lod_distance")?;
         let baseline = &self.baseline;
         check_range(baseline.proximity_radius, 0.0, 1000.0, "proximity_radius")?;
         check_range(
@@ -320,6 +355,10 @@ pub struct Crowd {
     model_randoms: Vec<Random>,
     /// The viewer's entity id, once set.
     viewer: Option<u32>,
+    /// Per character: level-of-detail state of its attention updates.
+    lod: Vec<AttentionLod>,
+    /// Steps taken so far (staggers the level-of-detail updates).
+    steps: u64,
     /// Per character: index into `chains`.
     chain_of: Vec<u32>,
     /// Per character: base local rotations of its chain joints (rest or pushed pose).
@@ -358,6 +397,8 @@ impl Crowd {
             baseline: Vec::with_capacity(config.max_characters as usize),
             model_randoms: Vec::with_capacity(config.max_characters as usize),
             viewer: None,
+            lod: Vec::with_capacity(config.max_characters as usize),
+            steps: 0,
             chain_of: Vec::with_capacity(config.max_characters as usize),
             bases: Vec::with_capacity(config.max_characters as usize),
             motions: Vec::with_capacity(config.max_characters as usize),
@@ -465,6 +506,11 @@ impl Crowd {
             Purpose::Saliency,
             self.characters_created,
         ));
+        self.lod.push(AttentionLod {
+            stagger: (self.characters_created % 64) as u32,
+            period: 0,
+            pending: 0.0,
+        });
         self.characters_created += 1;
         self.params.push(params);
         self.trackers.push(InterestTracker::new(
@@ -515,6 +561,7 @@ impl Crowd {
             self.saliency.swap_remove(slot);
             self.baseline.swap_remove(slot);
             self.model_randoms.swap_remove(slot);
+            self.lod.swap_remove(slot);
         }
         if self.viewer == Some(id) {
             self.viewer = None;
@@ -637,7 +684,36 @@ impl Crowd {
     fn attend(&mut self, dt: f32) {
         let max_score = self.scene.max_impact();
         let planned = self.plan.is_some();
+        let steps = self.steps;
+        self.steps += 1;
+        let viewer = self
+            .viewer
+            .and_then(|id| self.scene.index_of(id))
+            .map(|index| self.scene.ground_positions()[index]);
         for character in 0..self.scene.character_count() {
+            // Level of detail: attention runs every `period` steps, on the elapsed time.
+            let period = match self.lod[character].period {
+                0 => {
+                    let entity = self.scene.character_entities()[character] as usize;
+                    let far = self.config.lod_distance > 0.0
+                        && viewer.is_some_and(|viewer| {
+                            viewer.distance(self.scene.ground_positions()[entity])
+                                > self.config.lod_distance
+                        });
+                    if far {
+                        self.config.far_attention_period
+                    } else {
+                        self.config.attention_period
+                    }
+                }
+                period => period,
+            };
+            let lod = &mut self.lod[character];
+            lod.pending += dt;
+            if (steps + u64::from(lod.stagger)) % u64::from(period) != 0 {
+                continue;
+            }
+            let dt = std::mem::take(&mut lod.pending);
             match self.params[character].model {
                 AttentionModel::Crowd if planned => {}
                 AttentionModel::Crowd => {
@@ -1050,6 +1126,20 @@ impl Crowd {
         Ok(&self.motions[self.scene.character_index(character_id)?])
     }
 
+    /// Sets how often a character's attention is updated: every `period` steps (1 to 64),
+    /// or 0 for the crowd's level of detail (`attention_period`, or `far_attention_period`
+    /// beyond `lod_distance` from the viewer). Gaze IK still runs every step.
+    pub fn set_attention_period(&mut self, character_id: u32, period: u32) -> Result<()> {
+        let character = self.scene.character_index(character_id)?;
+        if period > 64 {
+            return Err(Error::InvalidArgument(format!(
+                "period is {period}, must be 0..=64"
+            )));
+        }
+        self.lod[character].period = period;
+        Ok(())
+    }
+
     /// Bytes of state the crowd keeps per character: its per-character arrays plus its
     /// entity's share of the scene and the neighbour index (buffers sized at creation).
     pub fn state_bytes_per_character() -> usize {
@@ -1063,7 +1153,8 @@ impl Crowd {
             + size_of::<Option<(ExplicitTarget, TargetPriority)>>()
             + size_of::<Look>()
             + size_of::<SaliencyState>()
-            + size_of::<BaselineState>();
+            + size_of::<BaselineState>()
+            + size_of::<AttentionLod>();
         per_character + Scene::bytes_per_entity() + NeighbourIndex::bytes_per_entity()
     }
 

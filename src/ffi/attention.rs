@@ -779,3 +779,23 @@ pub extern "C" fn cg_crowd_set_viewer(
         Ok(())
     })
 }
+
+/// Sets how often `character`'s attention is updated: every `period` steps (1 to 64), or 0
+/// for the crowd's level of detail (`cg_crowd_config.attention_period`, or
+/// `far_attention_period` beyond `lod_distance` from the viewer). Its gaze still moves
+/// every step.
+///
+/// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NOT_FOUND`, `CG_STATUS_INVALID_ARGUMENT`
+/// (period > 64, an object's id). Not thread-safe.
+#[no_mangle]
+pub extern "C" fn cg_crowd_set_attention_period(
+    crowd: *mut cg_crowd,
+    character: u32,
+    period: u32,
+) -> cg_status {
+    ffi_boundary!({
+        // SAFETY: handle contract of cg_crowd.
+        let crowd = unsafe { crowd_mut(crowd) }?;
+        crowd.set_attention_period(character, period)
+    })
+}

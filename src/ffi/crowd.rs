@@ -108,6 +108,16 @@ pub struct cg_crowd_config {
     /// Baseline model: a character closer than this (your units) turns the head.
     /// Default 2.5 m.
     pub proximity_radius: f32,
+    /// Level of detail: each character's attention is updated every `attention_period`
+    /// steps (1 to 64, staggered across the crowd); gaze IK still runs every step.
+    /// Default 1.
+    pub attention_period: u32,
+    /// Level of detail by distance: beyond `lod_distance` (your units) from the viewer
+    /// (`cg_crowd_set_viewer`), every `far_attention_period` steps. 0 turns it off
+    /// (default).
+    pub lod_distance: f32,
+    /// See `lod_distance`; 1 to 64. Default 4.
+    pub far_attention_period: u32,
 }
 
 impl Versioned for cg_crowd_config {
@@ -155,6 +165,9 @@ impl cg_crowd_config {
             random_pick_probability: core.saliency.random_pick_probability,
             social_weight: core.saliency.social_weight,
             proximity_radius: core.baseline.proximity_radius * units,
+            attention_period: core.attention_period,
+            lod_distance: core.lod_distance * units,
+            far_attention_period: core.far_attention_period,
         }
     }
 
@@ -211,6 +224,9 @@ impl cg_crowd_config {
                 proximity_radius: self.proximity_radius * metres,
                 ..BaselineConfig::default()
             },
+            attention_period: self.attention_period,
+            lod_distance: self.lod_distance * metres,
+            far_attention_period: self.far_attention_period,
         };
         config.validate()?;
         Ok(config)
