@@ -1,7 +1,8 @@
 //! Attention cost per character-frame at a fixed pedestrian density (0.25 people/m², random
-//! walkers in a square plaza, d_m = 10 m): the crowd step (attention and gaze IK) at 1 000,
-//! 10 000 and 100 000 characters, the naive all-pairs scoring at 1 000 and 10 000, and the
-//! step with attention every 4th frame (level of detail) at 10 000, in the same run.
+//! walkers in a square plaza, d_m = 10 m): attention alone and the whole step (attention
+//! and gaze IK) at 1 000, 10 000 and 100 000 characters, the naive all-pairs scoring at
+//! 1 000 and 10 000, and attention every 4th frame (level of detail) at 10 000, in the same
+//! run.
 //!
 //! Run: `cargo bench --bench attention`. Criterion reports time per character-frame
 //! (throughput in elements = characters).
@@ -46,7 +47,10 @@ fn attention(c: &mut Criterion) {
     for characters in [1_000usize, 10_000, 100_000] {
         let mut crowd = plaza(characters);
         group.throughput(Throughput::Elements(characters as u64));
-        group.bench_function(BenchmarkId::new("grid_step", characters), |b| {
+        group.bench_function(BenchmarkId::new("grid", characters), |b| {
+            b.iter(|| crowd.step_attention(black_box(DT)).expect("attention"))
+        });
+        group.bench_function(BenchmarkId::new("grid_and_gaze_ik", characters), |b| {
             b.iter(|| crowd.step(black_box(DT)).expect("step"))
         });
         if characters <= 10_000 {
@@ -64,8 +68,8 @@ fn attention(c: &mut Criterion) {
     // Level of detail: attention every 4th step (gaze IK every step), at 10 000.
     let mut crowd = plaza_with(10_000, 4);
     group.throughput(Throughput::Elements(10_000));
-    group.bench_function(BenchmarkId::new("grid_step_lod4", 10_000), |b| {
-        b.iter(|| crowd.step(black_box(DT)).expect("step"))
+    group.bench_function(BenchmarkId::new("grid_lod4", 10_000), |b| {
+        b.iter(|| crowd.step_attention(black_box(DT)).expect("attention"))
     });
     group.finish();
 }

@@ -678,6 +678,21 @@ impl Crowd {
         Ok(())
     }
 
+    /// Runs attention alone, without moving any gaze chain: what [`step`](Self::step) does
+    /// first. For tools and benchmarks that only need who looks at what.
+    pub fn step_attention(&mut self, dt: f32) -> Result<()> {
+        ensure_finite(dt, "dt")?;
+        if dt < 0.0 {
+            return Err(Error::InvalidArgument(format!("dt is {dt}, must be >= 0")));
+        }
+        if let Some(plan) = &mut self.plan {
+            plan.advance(dt, &mut self.scene);
+        }
+        self.neighbours.rebuild(&self.scene);
+        self.attend(dt);
+        Ok(())
+    }
+
     /// Attention for every character, by its model: the crowd model's best entities,
     /// threshold and interest point (online; a plan replaces them), or the saliency and
     /// baseline models' eye and head targets.
