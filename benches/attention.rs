@@ -1,6 +1,8 @@
 //! Attention cost per character-frame at a fixed pedestrian density (0.25 people/m², random
-//! walkers in a square plaza, d_m = 10 m): the spatial-grid step at 1 000, 10 000 and
-//! 100 000 characters, and the naive all-pairs scoring at 1 000 and 10 000 in the same run.
+//! walkers in a square plaza, d_m = 10 m): attention alone and the whole step (attention
+//! and gaze IK) at 1 000, 10 000 and 100 000 characters, the naive all-pairs scoring at
+//! 1 000 and 10 000, and attention every 4th frame (level of detail) at 10 000, in the same
+//! run.
 //!
 //! Run: `cargo bench --bench attention`. Criterion reports time per character-frame
 //! (throughput in elements = characters).
@@ -14,9 +16,15 @@ const DENSITY: f32 = 0.25;
 const DT: f32 = 1.0 / 30.0;
 
 fn plaza(characters: usize) -> Crowd {
+    plaza_with(characters, 1)
+}
+
+/// A plaza whose characters update attention every `period` steps (level of detail).
+fn plaza_with(characters: usize, period: u32) -> Crowd {
     let mut crowd = Crowd::new(CrowdConfig {
         max_characters: characters as u32,
         max_objects: 0,
+        attention_period: period,
         ..CrowdConfig::default()
     })
     .expect("crowd");
@@ -39,7 +47,10 @@ fn attention(c: &mut Criterion) {
     for characters in [1_000usize, 10_000, 100_000] {
         let mut crowd = plaza(characters);
         group.throughput(Throughput::Elements(characters as u64));
-        group.bench_function(BenchmarkId::new("grid_step", characters), |b| {
+        group.bench_function(BenchmarkId::new("grid", characters), |b| {
+            b.iter(|| crowd.step_attention(black_box(DT)).expect("attention"))
+        });
+        group.bench_function(BenchmarkId::new("grid_and_gaze_ik", characters), |b| {
             b.iter(|| crowd.step(black_box(DT)).expect("step"))
         });
         if characters <= 10_000 {
@@ -54,6 +65,12 @@ fn attention(c: &mut Criterion) {
             group.sample_size(20);
         }
     }
+    // Level of detail: attention every 4th step (gaze IK every step), at 10 000.
+    let mut crowd = plaza_with(10_000, 4);
+    group.throughput(Throughput::Elements(10_000));
+    group.bench_function(BenchmarkId::new("grid_lod4", 10_000), |b| {
+        b.iter(|| crowd.step_attention(black_box(DT)).expect("attention"))
+    });
     group.finish();
 }
 

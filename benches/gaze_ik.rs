@@ -1,10 +1,15 @@
-//! Cost of the gaze IK per character-frame: `GazeMotion::update` on the paper's 10-joint
-//! human chain, for 1 000 characters following moving targets (with new targets and
-//! deactivations now and then), the spatial solve alone, and, in the same run, the
-//! damped-least-squares Jacobian IK baseline reaching the same gaze direction from rest.
+//! Cost of the gaze IK per character-frame on the paper's 10-joint human chain, 1 000
+//! characters, and in the same run the damped-least-squares Jacobian IK baseline (the paper's
+//! comparison) reaching the same gaze direction.
 //!
-//! Each criterion iteration is one character-frame. `cargo bench --bench gaze_ik` also
-//! prints a summary table of medians and the Jacobian / ours ratio.
+//! Two scenes:
+//! - **tracking**: every character follows one moving target (a pedestrian walking past at
+//!   1.4 m/s, 1.5–6 m away, within ±100° of its heading, eye level ± 0.4 m);
+//! - **crowd mix**: the same, but a new target every 3 s (staggered, on alternate sides, so
+//!   a shift is always under way somewhere) and no target one time in ten (deactivation).
+//!
+//! One criterion iteration is one crowd frame (1 000 character-frames). `cargo bench --bench
+//! gaze_ik` ends with a summary table of medians per character-frame and the ratios.
 
 mod support;
 
@@ -23,18 +28,17 @@ use support::jacobian::JacobianIk;
 
 const CHARACTERS: usize = 1000;
 const DT: f32 = 1.0 / 30.0;
+const FRAMES_PER_TARGET: u32 = 90;
 
 /// Where one character stands and what it looks at.
 struct Setup {
     transform: CharacterTransform,
-    /// The target's position at time 0 of its current segment, its velocity, and its key.
-    target_start: Vec3,
+    /// The target's offset from the character at the middle of its walk, and its velocity.
+    target_offset: Vec3,
     target_velocity: Vec3,
 }
 
-/// A crowd of characters on a 2 m grid, each following a target walking past at 1.4 m/s,
-/// 1.5–6 m away within ±100° of its heading, a new target every 3 s (staggered), and no
-/// target one segment in ten.
+/// A crowd of characters on a 2 m grid with random headings, each with its target.
 struct Scene {
     chain: GazeChain,
     config: GazeConfig,
@@ -42,12 +46,14 @@ struct Scene {
     setups: Vec<Setup>,
     motions: Vec<GazeMotion>,
     randoms: Vec<Random>,
+    /// New targets and deactivations (crowd mix) or one target each (tracking).
+    mix: bool,
     frame: u32,
     next: usize,
 }
 
 impl Scene {
-    fn new() -> Scene {
+    fn new(mix: bool) -> Scene {
         let chain = GazeChain::human(Vec3::Y, Vec3::Z);
         let mut random = stream(1, Purpose::Scene, 0);
         let setups = (0..CHARACTERS)
@@ -59,11 +65,11 @@ impl Scene {
                 let distance = random.range(1.5, 6.0);
                 let height = random.range(1.2, 2.0);
                 let local = Vec3::new(yaw.sin() * distance, height, yaw.cos() * distance);
-                let across =
-                    Vec3::new(yaw.cos(), 0.0, -yaw.sin()) * if index % 2 == 0 { 1.4 } else { -1.4 };
+                let speed = if index % 2 == 0 { 1.4 } else { -1.4 };
+                let across = Vec3::new(yaw.cos(), 0.0, -yaw.sin()) * speed;
                 Setup {
                     transform,
-                    target_start: position + transform.rotation * local,
+                    target_offset: transform.rotation * local,
                     target_velocity: transform.rotation * across,
                 }
             })
@@ -77,6 +83,7 @@ impl Scene {
             chain,
             config: GazeConfig::default(),
             setups,
+            mix,
             frame: 0,
             next: 0,
         }
@@ -85,43 +92,60 @@ impl Scene {
     /// The request of character `index` at the current frame.
     fn request(&self, index: usize) -> Option<GazeRequest> {
         let setup = &self.setups[index];
-        let frames_per_segment = 90;
-        let shifted = self.frame + (index as u32 * 7) % frames_per_segment;
-        let segment = shifted / frames_per_segment;
+        if !self.mix {
+            // Walking back and forth across the character's view, 6 s each way.
+            let period = 360;
+            let phase = (self.frame + index as u32 * 13) % (2 * period);
+            let walked = if phase < period {
+                phase
+            } else {
+                2 * period - phase
+            };
+            let time = walked as f32 * DT - 3.0;
+            let target =
+                setup.transform.position + setup.target_offset + setup.target_velocity * time;
+            return Some(GazeRequest::at(1, target));
+        }
+        let shifted = self.frame + (index as u32 * 7) % FRAMES_PER_TARGET;
+        let segment = shifted / FRAMES_PER_TARGET;
         if (segment + index as u32) % 10 == 0 {
             return None;
         }
-        let time = (shifted % frames_per_segment) as f32 * DT - 1.5;
-        // Alternate sides from one segment to the next: a new target elsewhere.
+        let time = (shifted % FRAMES_PER_TARGET) as f32 * DT - 1.5;
+        // Alternate sides from one target to the next.
+        let offset = setup.target_offset;
         let flip = if segment % 2 == 0 { 1.0 } else { -1.0 };
-        let offset = setup.target_start - setup.transform.position;
-        let mirrored = Vec3::new(offset.x * flip, offset.y, offset.z);
+        let mirrored = setup.transform.rotation
+            * (setup.transform.rotation.conjugate() * offset * Vec3::new(flip, 1.0, 1.0));
         let target = setup.transform.position + mirrored + setup.target_velocity * time;
         Some(GazeRequest::at(u64::from(segment), target))
     }
 
-    /// Updates the next character; one call is one character-frame.
-    fn step(&mut self) {
-        let index = self.next;
-        let request = self.request(index);
-        let input = GazeInput {
-            character: self.setups[index].transform,
-            base: &self.base,
-            request,
-            dt: DT,
-        };
-        self.motions[index]
-            .update(&self.chain, &self.config, &input, &mut self.randoms[index])
-            .expect("valid frame");
-        self.next += 1;
+    fn advance(&mut self, characters: usize) {
+        self.next += characters;
         if self.next == CHARACTERS {
             self.next = 0;
             self.frame += 1;
         }
     }
 
+    /// Updates the next character with `GazeMotion::update`.
+    fn step(&mut self) {
+        let index = self.next;
+        let input = GazeInput {
+            character: self.setups[index].transform,
+            base: &self.base,
+            request: self.request(index),
+            dt: DT,
+        };
+        self.motions[index]
+            .update(&self.chain, &self.config, &input, &mut self.randoms[index])
+            .expect("valid frame");
+        self.advance(1);
+    }
+
     /// Updates the next `BATCH_LANES` characters with one `GazeMotion::update_batch` call
-    /// (`CHARACTERS` is a multiple of `BATCH_LANES`).
+    /// (`CHARACTERS` is a multiple of `BATCH_LANES`): how a crowd updates its characters.
     fn step_batch(&mut self) {
         let first = self.next;
         let requests: [Option<GazeRequest>; BATCH_LANES] =
@@ -132,30 +156,25 @@ impl Scene {
             request: requests[lane],
             dt: DT,
         });
-        let [a, b, c, d] = &mut self.motions[first..first + BATCH_LANES] else {
-            unreachable!("BATCH_LANES is 4")
-        };
-        let [ra, rb, rc, rd] = &mut self.randoms[first..first + BATCH_LANES] else {
-            unreachable!("BATCH_LANES is 4")
-        };
+        let range = first..first + BATCH_LANES;
+        let motions = <&mut [GazeMotion; BATCH_LANES]>::try_from(&mut self.motions[range.clone()])
+            .expect("a whole batch");
+        let randoms = <&mut [Random; BATCH_LANES]>::try_from(&mut self.randoms[range])
+            .expect("a whole batch");
         let results = GazeMotion::update_batch(
-            [a, b, c, d],
+            motions.each_mut(),
             [&self.chain; BATCH_LANES],
             &self.config,
-            std::array::from_fn(|lane| &inputs[lane]),
-            [ra, rb, rc, rd],
+            inputs.each_ref(),
+            randoms.each_mut(),
         );
         for result in results {
             result.expect("valid frame");
         }
-        self.next += BATCH_LANES;
-        if self.next == CHARACTERS {
-            self.next = 0;
-            self.frame += 1;
-        }
+        self.advance(BATCH_LANES);
     }
 
-    /// The spatial solve alone for the next character.
+    /// The spatial solve alone (one posture, no timing) for the next character's target.
     fn solve(&mut self, deltas: &mut [Quat; 10], side: &mut TurnSide) {
         let index = self.next;
         let target = self
@@ -172,7 +191,7 @@ impl Scene {
             deltas,
         )
         .expect("valid frame");
-        self.next = (self.next + 1) % CHARACTERS;
+        self.advance(1);
     }
 
     /// The Jacobian baseline for the next character: from rest to the same gaze target.
@@ -182,51 +201,53 @@ impl Scene {
             .request(index)
             .map_or(Vec3::new(0.0, 1.6, 3.0), |r| r.head_target);
         *deltas = [Quat::IDENTITY; 10];
-        let outcome = solver.solve(
-            &self.chain,
-            &self.setups[index].transform,
-            &self.base,
-            target,
-            deltas,
-        );
-        self.next = (self.next + 1) % CHARACTERS;
+        let transform = self.setups[index].transform;
+        let outcome = solver.solve(&self.chain, &transform, &self.base, target, deltas);
+        self.advance(1);
         outcome
     }
 
-    /// Runs a few seconds so that the motions are in their steady mix of phases.
-    fn warmed_up() -> Scene {
-        let mut scene = Scene::new();
-        for _ in 0..CHARACTERS * 60 {
-            scene.step();
+    /// A scene after 2 s, so that the motions are in their steady mix of phases.
+    fn warmed_up(mix: bool) -> Scene {
+        let mut scene = Scene::new(mix);
+        for _ in 0..60 * CHARACTERS / BATCH_LANES {
+            scene.step_batch();
         }
         scene
     }
+
+    /// One crowd frame with `update_batch`.
+    fn frame_batched(&mut self) {
+        for _ in 0..CHARACTERS / BATCH_LANES {
+            self.step_batch();
+        }
+    }
+
+    /// One crowd frame with `update`, one character per call.
+    fn frame_single(&mut self) {
+        for _ in 0..CHARACTERS {
+            self.step();
+        }
+    }
 }
 
-/// One criterion iteration is one crowd frame: every character updated once.
 fn benches(criterion: &mut Criterion) {
     let mut group = criterion.benchmark_group("gaze_ik");
     group.throughput(Throughput::Elements(CHARACTERS as u64));
-    let mut scene = Scene::warmed_up();
-    group.bench_function("GazeMotion::update, 1000 characters", |b| {
-        b.iter(|| {
-            for _ in 0..CHARACTERS {
-                scene.step();
-            }
-        })
+    for (mix, name) in [(false, "tracking"), (true, "crowd mix")] {
+        let mut scene = Scene::warmed_up(mix);
+        group.bench_function(format!("update_batch, {name}, 1000 characters"), |b| {
+            b.iter(|| scene.frame_batched())
+        });
+    }
+    let mut scene = Scene::warmed_up(false);
+    group.bench_function("update (one per call), tracking, 1000 characters", |b| {
+        b.iter(|| scene.frame_single())
     });
-    let mut scene = Scene::warmed_up();
-    group.bench_function("GazeMotion::update_batch (4 lanes), 1000 characters", |b| {
-        b.iter(|| {
-            for _ in 0..CHARACTERS / BATCH_LANES {
-                scene.step_batch();
-            }
-        })
-    });
-    let mut scene = Scene::warmed_up();
+    let mut scene = Scene::warmed_up(false);
     let mut deltas = [Quat::IDENTITY; 10];
     let mut side = TurnSide::default();
-    group.bench_function("spatial::solve, 1000 characters", |b| {
+    group.bench_function("spatial::solve, tracking, 1000 characters", |b| {
         b.iter(|| {
             for _ in 0..CHARACTERS {
                 scene.solve(&mut deltas, &mut side);
@@ -235,9 +256,9 @@ fn benches(criterion: &mut Criterion) {
         })
     });
     group.sample_size(10);
-    let mut scene = Scene::warmed_up();
+    let mut scene = Scene::warmed_up(false);
     let solver = JacobianIk::default();
-    group.bench_function("Jacobian DLS IK, 1000 characters", |b| {
+    group.bench_function("Jacobian DLS IK, tracking, 1000 characters", |b| {
         b.iter(|| {
             for _ in 0..CHARACTERS {
                 black_box(scene.jacobian(&solver, &mut deltas));
@@ -262,31 +283,25 @@ fn median_ns(samples: usize, mut frame: impl FnMut()) -> f64 {
 
 /// The table for the README: medians over crowd frames of 1 000 characters.
 fn summary() {
-    let mut scene = Scene::warmed_up();
-    let update = median_ns(301, || {
-        for _ in 0..CHARACTERS {
-            scene.step();
-        }
-    });
-    let mut scene = Scene::warmed_up();
-    let batch = median_ns(301, || {
-        for _ in 0..CHARACTERS / BATCH_LANES {
-            scene.step_batch();
-        }
-    });
-    let mut scene = Scene::warmed_up();
+    let mut scene = Scene::warmed_up(false);
+    let tracking = median_ns(301, || scene.frame_batched());
+    let mut scene = Scene::warmed_up(true);
+    let mix = median_ns(301, || scene.frame_batched());
+    let mut scene = Scene::warmed_up(false);
+    let single = median_ns(101, || scene.frame_single());
+    let mut scene = Scene::warmed_up(false);
     let mut deltas = [Quat::IDENTITY; 10];
     let mut side = TurnSide::default();
-    let solve = median_ns(301, || {
+    let solve = median_ns(101, || {
         for _ in 0..CHARACTERS {
             scene.solve(&mut deltas, &mut side);
             black_box(&deltas);
         }
     });
-    let mut scene = Scene::warmed_up();
+    let mut scene = Scene::warmed_up(false);
     let solver = JacobianIk::default();
     let (mut iterations, mut converged, mut calls) = (0u64, 0u64, 0u64);
-    let jacobian = median_ns(31, || {
+    let jacobian = median_ns(21, || {
         for _ in 0..CHARACTERS {
             let (used, reached) = black_box(scene.jacobian(&solver, &mut deltas));
             iterations += u64::from(used);
@@ -295,19 +310,23 @@ fn summary() {
         }
     });
     println!();
-    println!("| 10-joint human chain, {CHARACTERS} characters, moving targets | median ns per character-frame |");
+    println!("| 10-joint human chain, {CHARACTERS} characters | median ns per character-frame |");
     println!("|---|---:|");
-    println!("| `GazeMotion::update_batch`, {BATCH_LANES} characters per call | {batch:.0} |");
-    println!("| `GazeMotion::update`, one character per call | {update:.0} |");
-    println!("| `spatial::solve` alone (one posture, no timing) | {solve:.0} |");
+    println!("| `GazeMotion::update_batch` ({BATCH_LANES} per call), tracking | {tracking:.0} |");
+    println!("| `GazeMotion::update_batch` ({BATCH_LANES} per call), crowd mix | {mix:.0} |");
+    println!("| `GazeMotion::update` (1 per call), tracking | {single:.0} |");
+    println!("| `spatial::solve` (1 per call, one posture), tracking | {solve:.0} |");
     println!(
-        "| Jacobian DLS IK from rest to 0.5° ({:.1} iterations on average, {:.0}% within 0.5°) | {jacobian:.0} |",
+        "| Jacobian DLS IK from rest to 0.5°, tracking ({:.1} iterations on average, {:.0}% within 0.5°) | {jacobian:.0} |",
         iterations as f64 / calls as f64,
         100.0 * converged as f64 / calls as f64
     );
     println!();
-    println!("Jacobian / `update_batch`: {:.0}×", jacobian / batch);
-    println!("Jacobian / `update`: {:.0}×", jacobian / update);
+    println!(
+        "Jacobian / `update_batch` (tracking): {:.0}×",
+        jacobian / tracking
+    );
+    println!("Jacobian / `update`: {:.0}×", jacobian / single);
     println!("Jacobian / `spatial::solve`: {:.0}×", jacobian / solve);
 }
 

@@ -1,51 +1,25 @@
 /* street.c: the second example of Grillon & Thalmann 2009 — 130 characters walking up and
  * down a street, standing, or sitting on benches, with 60 scene objects and d_m = 10 m —
- * generated deterministically and run for 60 s at 30 fps. Prints each character's
- * attentive fraction (against its attention percentage a) and interest-point count, and the
- * mean cost per character-frame. */
+ * generated deterministically (street_scene.h) and run for 60 s at 30 fps. Prints each
+ * character's attentive fraction (against its attention percentage a) and interest-point
+ * count, and the mean cost per character-frame of attention and gaze IK. */
 #include <math.h>
-#include <stdio.h>
-#include <stdlib.h>
 #include <time.h>
 
-#include "crowdgaze.h"
+#include "street_scene.h"
 
 #define CHARACTERS 130
 #define OBJECTS 60
 #define FPS 30
 #define SECONDS 60
-#define STREET_LENGTH 120.0f
-#define STREET_WIDTH 14.0f
-
-/* A small deterministic generator (xorshift32), so the scene is the same everywhere. */
-static uint32_t rng_state = 2009u;
-static float uniform(float low, float high) {
-    rng_state ^= rng_state << 13;
-    rng_state ^= rng_state >> 17;
-    rng_state ^= rng_state << 5;
-    return low + (high - low) * (float)(rng_state >> 8) / 16777216.0f;
-}
-
-typedef struct {
-    float x, z, vx, vz; /* ground position and velocity, metres: x along the street */
-    int walking;
-} person;
-
-static int check(cg_status status, const char *what) {
-    if (status != CG_STATUS_OK) {
-        char message[256];
-        cg_last_error_message(message, sizeof message);
-        fprintf(stderr, "%s failed: %s (%s)\n", what, cg_status_str(status), message);
-        exit(1);
-    }
-    return 0;
-}
 
 int main(void) {
-    static person people[CHARACTERS];
+    static street_person people[CHARACTERS];
     static cg_entity_state states[CHARACTERS];
+    static uint32_t ids[CHARACTERS];
     static cg_gaze_info gaze[CHARACTERS];
     static float attention_fraction[CHARACTERS];
+    street_scene scene;
     cg_crowd_config config;
     cg_crowd *crowd = NULL;
     int i, frame, standing = 0, sitting = 0;
@@ -54,79 +28,34 @@ int main(void) {
     float min_fraction = 1.0f, max_fraction = 0.0f;
     uint32_t total_interests = 0;
 
-    check(cg_crowd_config_init(&config), "cg_crowd_config_init");
+    street_check(cg_crowd_config_init(&config), "cg_crowd_config_init");
     config.seed = 130;
     config.max_characters = CHARACTERS;
     config.max_objects = OBJECTS;
     config.max_distance = 10.0f; /* d_m */
-    /* Y up, heading 0 along +Z: the street runs along Z, its width along X. */
-    check(cg_crowd_create(&config, &crowd), "cg_crowd_create");
-
-    for (i = 0; i < OBJECTS; i++) {
-        cg_object_desc object;
-        uint32_t id;
-        int left = i % 2 == 0;
-        check(cg_object_desc_init(&object), "cg_object_desc_init");
-        object.position.z = (float)(i / 2) * STREET_LENGTH / (OBJECTS / 2 + 1) + uniform(0.0f, 2.0f);
-        object.position.x = left ? 0.3f : STREET_WIDTH - 0.3f;
-        object.heading = left ? 1.5708f : -1.5708f; /* facing the street */
-        object.look_at_height = (i % 4 == 2) ? 3.5f : 1.5f; /* lamps, windows */
-        object.impact = uniform(0.3f, 1.0f);
-        check(cg_crowd_add_object(crowd, &object, &id), "cg_crowd_add_object");
-    }
+    street_check(cg_crowd_create(&config, &crowd), "cg_crowd_create");
+    scene.people = people;
+    scene.states = states;
+    scene.ids = ids;
+    street_populate(&scene, crowd, CHARACTERS, OBJECTS, CG_ATTENTION_MODEL_CROWD);
     for (i = 0; i < CHARACTERS; i++) {
-        cg_character_desc desc;
         cg_character_params params;
-        float roll = uniform(0.0f, 1.0f);
-        person *p = &people[i];
-        p->z = uniform(0.0f, STREET_LENGTH);
-        p->x = uniform(1.5f, STREET_WIDTH - 1.5f);
-        p->vx = 0.0f;
-        p->vz = 0.0f;
-        p->walking = roll < 0.75f;
-        check(cg_character_desc_init(&desc), "cg_character_desc_init");
-        check(cg_entity_state_init(&states[i]), "cg_entity_state_init");
-        if (p->walking) {
-            p->vz = (uniform(0.0f, 1.0f) < 0.5f ? -1.0f : 1.0f) * uniform(0.9f, 1.6f);
-            p->vx = uniform(-0.1f, 0.1f);
-            states[i].flags = CG_STATE_HEADING_FROM_MOTION;
-        } else if (roll < 0.9f) {
-            standing++;
-            desc.heading = uniform(-3.14159f, 3.14159f);
-        } else {
-            sitting++;
-            p->x = roll < 0.95f ? 1.0f : STREET_WIDTH - 1.0f;
-            desc.heading = p->x < 2.0f ? 1.5708f : -1.5708f;
-        }
-        desc.position.x = p->x;
-        desc.position.z = p->z;
-        check(cg_crowd_add_character(crowd, &desc, &states[i].id), "cg_crowd_add_character");
-        states[i].heading = desc.heading;
-        check(cg_crowd_get_character_params(crowd, states[i].id, &params), "get params");
+        street_check(cg_crowd_get_character_params(crowd, ids[i], &params), "get params");
         attention_fraction[i] = params.attention_fraction;
+        standing += !people[i].walking && !people[i].sitting;
+        sitting += people[i].sitting;
     }
 
     for (frame = 1; frame <= FPS * SECONDS; frame++) {
         const float dt = 1.0f / FPS;
         clock_t start;
-        for (i = 0; i < CHARACTERS; i++) {
-            person *p = &people[i];
-            if (p->walking) {
-                p->x += p->vx * dt;
-                p->z += p->vz * dt;
-                if (p->z < 0.0f || p->z > STREET_LENGTH) p->vz = -p->vz; /* turn back */
-                if (p->x < 1.0f || p->x > STREET_WIDTH - 1.0f) p->vx = -p->vx;
-            }
-            states[i].position.x = p->x;
-            states[i].position.z = p->z;
-        }
-        check(cg_crowd_push_frame(crowd, frame * (double)dt, states, CHARACTERS), "push_frame");
+        street_advance(&scene, crowd, frame * (double)dt, dt);
         start = clock();
-        check(cg_crowd_step(crowd, dt), "cg_crowd_step");
+        street_check(cg_crowd_step(crowd, dt), "cg_crowd_step");
         seconds_in_step += (double)(clock() - start) / CLOCKS_PER_SEC;
     }
 
-    check(cg_crowd_read_gaze(crowd, gaze, CHARACTERS, &written), "cg_crowd_read_gaze");
+    street_check(cg_crowd_read_gaze(crowd, gaze, CHARACTERS, &written), "cg_crowd_read_gaze");
     if (written != CHARACTERS) {
         fprintf(stderr, "read %zu gaze records\n", written);
         return 1;
@@ -136,7 +65,7 @@ int main(void) {
     printf("character   a     attentive  interest points\n");
     for (i = 0; i < CHARACTERS; i++) {
         float fraction = gaze[i].attentive_fraction;
-        if (gaze[i].character != states[i].id) {
+        if (gaze[i].character != ids[i]) {
             fprintf(stderr, "character order changed\n");
             return 1;
         }
@@ -153,9 +82,9 @@ int main(void) {
     printf("... (%d more)\n", CHARACTERS - 10);
     printf("attentive fraction: min %.2f, max %.2f; mean |attentive - a| = %.3f\n", min_fraction,
            max_fraction, mean_error);
-    printf("interest points: %u in all, %.1f per character per minute\n", (unsigned)total_interests,
-           total_interests / (double)CHARACTERS / (SECONDS / 60.0));
-    printf("attention step: %.2f us per character-frame (this build)\n",
+    printf("interest points: %u in all, %.1f per character per minute\n",
+           (unsigned)total_interests, total_interests / (double)CHARACTERS / (SECONDS / 60.0));
+    printf("attention + gaze IK step: %.2f us per character-frame (this build)\n",
            1e6 * seconds_in_step / ((double)CHARACTERS * FPS * SECONDS));
     cg_crowd_destroy(crowd);
     if (mean_error > 0.15 || total_interests < CHARACTERS) {

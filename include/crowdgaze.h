@@ -193,6 +193,55 @@ typedef uint32_t cg_view_distance;
 #endif // __STDC_VERSION__ >= 202311L
 #endif // __cplusplus
 
+// Which model decides where a character looks (`cg_character_desc.attention_model`,
+// `cg_character_params.attention_model`).
+enum cg_attention_model
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+    // Grillon & Thalmann 2009: one interest point for the whole gaze chain (default).
+    CG_ATTENTION_MODEL_CROWD = 0,
+    // Kokkinara, Oyekoya & Steed 2011: separate saliency-driven targets for eyes and head.
+    CG_ATTENTION_MODEL_SALIENCY = 1,
+    // The stock virtual-world behaviour: glances, and the head turns to people close by.
+    CG_ATTENTION_MODEL_BASELINE = 2,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum cg_attention_model cg_attention_model;
+#else
+typedef uint32_t cg_attention_model;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
+// Which part of an entity a character looks at (`cg_gaze_info.target_part`).
+enum cg_target_part
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+    // The entity's look-at point (objects; characters under the crowd model).
+    CG_TARGET_PART_WHOLE = 0,
+    // A character's head.
+    CG_TARGET_PART_HEAD = 1,
+    // A character's left eye.
+    CG_TARGET_PART_LEFT_EYE = 2,
+    // A character's right eye.
+    CG_TARGET_PART_RIGHT_EYE = 3,
+    // A character's chest.
+    CG_TARGET_PART_CHEST = 4,
+    // A character's torso.
+    CG_TARGET_PART_TORSO = 5,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum cg_target_part cg_target_part;
+#else
+typedef uint32_t cg_target_part;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
 // A crowd of characters and the objects they may look at (opaque).
 //
 // Created by `cg_crowd_create`, destroyed by `cg_crowd_destroy`. Not safe for concurrent
@@ -304,6 +353,8 @@ typedef struct cg_character_desc {
     // The character's gaze chain (read during the call, not kept), or NULL (default) for
     // the human chain of `cg_chain_desc_init_human` in the crowd's axes and units.
     const struct cg_chain_desc *chain;
+    // A `cg_attention_model`. Default `CG_ATTENTION_MODEL_CROWD`.
+    uint32_t attention_model;
 } cg_character_desc;
 
 // A new scene object: something characters may look at. Fill it with
@@ -345,8 +396,14 @@ typedef struct cg_entity_state {
 typedef struct cg_gaze_info {
     // The character's id.
     uint32_t character;
-    // The interest point's entity id, or `CG_NO_TARGET` when looking ahead.
+    // What the eyes look at: the interest point's (or eye target's) entity id, or
+    // `CG_NO_TARGET` when looking ahead or at an explicit point.
     uint32_t target;
+    // Which part of `target`, a `cg_target_part`.
+    uint32_t target_part;
+    // What the head looks at: equal to `target` except under the saliency and baseline
+    // models, whose eyes and head have separate targets.
+    uint32_t head_target;
     // 1 if the character attends to an interest point, else 0.
     uint32_t attending;
     // Interest points started so far (online), or planned constraints (offline).
@@ -400,6 +457,8 @@ typedef struct cg_character_params {
     float weight_periphery;
     // `a`/100: the fraction of time the character attends to something, in [0, 1].
     float attention_fraction;
+    // A `cg_attention_model`; may be changed at any time.
+    uint32_t attention_model;
 } cg_character_params;
 
 // A planned gaze constraint: look at `entity` from `begin` to `end` (seconds).
@@ -522,6 +581,29 @@ typedef struct cg_crowd_config {
     float min_deactivation_time;
     // See `min_deactivation_time`. Default 1.5.
     float max_deactivation_time;
+    // Saliency model: longest eye fixation (s). Default 0.3.
+    float eye_fixation_time;
+    // Saliency model: longest head fixation (s). Default 1.0.
+    float head_fixation_time;
+    // Saliency model: probability that a new target is drawn at random among those in
+    // view, in [0, 1]. Default 0.25.
+    float random_pick_probability;
+    // Saliency model: multiplier of the score of characters' parts over objects (>= 0).
+    // Default 1.5.
+    float social_weight;
+    // Baseline model: a character closer than this (your units) turns the head.
+    // Default 2.5 m.
+    float proximity_radius;
+    // Level of detail: each character's attention is updated every `attention_period`
+    // steps (1 to 64, staggered across the crowd); gaze IK still runs every step.
+    // Default 1.
+    uint32_t attention_period;
+    // Level of detail by distance: beyond `lod_distance` (your units) from the viewer
+    // (`cg_crowd_set_viewer`), every `far_attention_period` steps. 0 turns it off
+    // (default).
+    float lod_distance;
+    // See `lod_distance`; 1 to 64. Default 4.
+    uint32_t far_attention_period;
 } cg_crowd_config;
 
 // A target set by game logic for one character (top-down attention). Fill it with
@@ -703,6 +785,30 @@ cg_status cg_crowd_read_constraints(const struct cg_crowd *crowd,
                                     struct cg_constraint *out,
                                     size_t count,
                                     size_t *out_total);
+
+// Makes the viewer (the user or the camera) an entity that characters may look at, or
+// moves it: `position` in your units is the point looked at, `impact` its `I_E` (>= 0).
+// The first call adds it (it has its own slot, beyond `max_objects`) and writes its id to
+// `*out_id` (which may be NULL); later calls move it (velocity and heading come from its
+// motion between frames). Remove it with `cg_crowd_remove_entity`.
+//
+// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE`, `CG_STATUS_INVALID_ARGUMENT`
+// (negative impact), `CG_STATUS_WRONG_STATE` (a plan is active). Not thread-safe.
+cg_status cg_crowd_set_viewer(struct cg_crowd *crowd,
+                              const struct cg_vec3 *position,
+                              float impact,
+                              uint32_t *out_id);
+
+// Sets how often `character`'s attention is updated: every `period` steps (1 to 64), or 0
+// for the crowd's level of detail (`cg_crowd_config.attention_period`, or
+// `far_attention_period` beyond `lod_distance` from the viewer). Its gaze still moves
+// every step.
+//
+// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NOT_FOUND`, `CG_STATUS_INVALID_ARGUMENT`
+// (period > 64, an object's id). Not thread-safe.
+cg_status cg_crowd_set_attention_period(struct cg_crowd *crowd,
+                                        uint32_t character,
+                                        uint32_t period);
 
 // Builds the unit dual quaternion of the rigid transform "rotate by `rotation`, then
 // translate by `translation`" (`x ↦ R x + t`) into `*out`.

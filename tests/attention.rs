@@ -274,6 +274,7 @@ fn bad_input_changes_nothing() {
     let params = CharacterParams {
         weights,
         attention_fraction: 1.5,
+        model: Default::default(),
     };
     assert!(crowd.set_character_params(a, &params).is_err());
     crowd.remove_entity(a).unwrap();
@@ -394,4 +395,56 @@ fn real_eth_trajectories_run_through() {
         "mean S_max {mean_s_max}"
     );
     assert!(targets.len() > 50);
+}
+
+#[test]
+fn level_of_detail_spreads_attention_updates_and_keeps_the_attention_percentage() {
+    let config = CrowdConfig {
+        attention_period: 4,
+        ..CrowdConfig::default()
+    };
+    let (mut crowd, mut scenario) = street_crowd(11, config);
+    let ids = scenario.character_ids().to_vec();
+    for &id in &ids {
+        let params = crowd.character_params(id).unwrap();
+        let params = CharacterParams {
+            attention_fraction: 0.4,
+            ..params
+        };
+        crowd.set_character_params(id, &params).unwrap();
+    }
+    run(&mut crowd, &mut scenario, 300, |_| {});
+    let mut previous: Vec<f32> = ids
+        .iter()
+        .map(|&id| crowd.gaze(id).unwrap().s_max)
+        .collect();
+    let mut changes_per_character = vec![0usize; ids.len()];
+    let mut most_per_step = 0;
+    let (mut attending, mut samples) = (0usize, 0usize);
+    run(&mut crowd, &mut scenario, 1800, |crowd| {
+        let mut changed = 0;
+        for (slot, &id) in ids.iter().enumerate() {
+            let gaze = crowd.gaze(id).unwrap();
+            if gaze.s_max != previous[slot] {
+                changes_per_character[slot] += 1;
+                changed += 1;
+            }
+            previous[slot] = gaze.s_max;
+            attending += usize::from(gaze.attending);
+            samples += 1;
+        }
+        most_per_step = most_per_step.max(changed);
+    });
+    // Each character is re-scored once every 4 steps, a quarter of the crowd at a time.
+    assert!(changes_per_character.iter().all(|&c| c <= 1800 / 4 + 1));
+    assert!(
+        most_per_step <= ids.len() / 4 + 2,
+        "{most_per_step} updated in one step"
+    );
+    let fraction = attending as f32 / samples as f32;
+    println!("attention every 4th step: attentive {fraction:.3} for a = 0.4");
+    assert!((fraction - 0.4).abs() <= 0.05, "attentive {fraction}");
+    // A character's own period overrides the crowd's.
+    crowd.set_attention_period(ids[0], 1).unwrap();
+    assert!(crowd.set_attention_period(ids[0], 65).is_err());
 }

@@ -185,3 +185,55 @@ fn when_idle_targets_yield_to_interest_points() {
     crowd.push_frame(1.0, &[moved]).unwrap();
     crowd.step(DT).unwrap();
 }
+
+#[test]
+fn a_view_blended_pose_is_the_base_of_the_gaze_chain() {
+    use crowdgaze::blend::{ViewBlender, ViewBlenderConfig};
+    use crowdgaze::math::dualquat::DualQuat;
+
+    // Two static key poses of the 10 chain joints: spine bent left, spine bent right; one
+    // key camera each (left and right of the character).
+    let mut blender = ViewBlender::new(ViewBlenderConfig::new(10, 2)).unwrap();
+    let pose = |angle: f32| {
+        [DualQuat::from_rotation_translation(Quat::from_rotation_z(angle), Vec3::ZERO); 10]
+    };
+    blender.set_key_pose(0, &pose(0.1)).unwrap();
+    blender.set_key_pose(1, &pose(-0.1)).unwrap();
+    blender.add_camera(Vec3::X, 0).unwrap();
+    blender.add_camera(Vec3::NEG_X, 1).unwrap();
+
+    let mut crowd = Crowd::new(CrowdConfig::default()).unwrap();
+    let id = crowd.add_character(&CharacterDesc::default()).unwrap();
+    let character = DualQuat::IDENTITY;
+    let mut blended = [DualQuat::IDENTITY; 10];
+    // The viewer stands on the left key camera: the left pose alone.
+    blender
+        .evaluate(character, Vec3::new(3.0, 0.0, 0.0), 0.0, &mut blended)
+        .unwrap();
+    let base: Vec<Quat> = blended.iter().map(|q| q.rotation()).collect();
+    assert!(base[0].angle_between(Quat::from_rotation_z(0.1)) < 1e-5);
+    crowd.set_base_pose(id, &base).unwrap();
+    crowd
+        .set_gaze_target(
+            id,
+            ExplicitTarget::Point(Vec3::new(0.5, 1.6, 3.0)),
+            TargetPriority::Override,
+        )
+        .unwrap();
+    for _ in 0..30 {
+        crowd.step(DT).unwrap();
+    }
+    let (mut finals, mut deltas) = ([Quat::IDENTITY; 10], [Quat::IDENTITY; 10]);
+    crowd.read_joints(0, 1, false, &mut finals).unwrap();
+    crowd.read_joints(0, 1, true, &mut deltas).unwrap();
+    for joint in 0..10 {
+        assert!((finals[joint] - base[joint] * deltas[joint]).length() < 1e-5);
+    }
+}
+
+#[test]
+fn state_per_character_is_reported() {
+    let bytes = Crowd::state_bytes_per_character();
+    println!("state per character: {bytes} bytes");
+    assert!(bytes > 500 && bytes < 2048, "{bytes}");
+}

@@ -678,6 +678,7 @@ fn two_targets_split_body_and_eyes() {
     let head_target = around(60.0, 0.0, 3.0);
     let eye_target = around(75.0, 5.0, 2.0);
     let request = GazeRequest {
+        style: Default::default(),
         target_key: 1,
         head_target,
         eye_target,
@@ -791,4 +792,232 @@ fn a_new_target_behind_turns_the_short_way_whatever_the_last_side() {
             .swing_twist_angles(frame.deltas[7]);
         assert_eq!(head_yaw > 0.0, behind > 0.0, "from {first} to {behind}");
     }
+}
+
+/// A scripted character for the batch tests: chain, base pose, and what it looks at when.
+struct Script {
+    chain: GazeChain,
+    base: Vec<Quat>,
+    transform: CharacterTransform,
+    seed: u64,
+}
+
+impl Script {
+    fn request(&self, frame: usize) -> Option<GazeRequest> {
+        let phase = (frame + 37 * self.seed as usize) % 150;
+        if phase >= 120 {
+            return None;
+        }
+        let key = (frame / 50) as u64 + self.seed;
+        let yaw = (self.seed as f32 * 71.0 + key as f32 * 97.0) % 300.0 - 150.0;
+        let drift = Vec3::X * (frame as f32 * 0.01);
+        let up = self.chain.eye_up();
+        let forward = self.chain.eye_forward();
+        let direction = forward * degrees(yaw).cos() + up.cross(forward) * degrees(yaw).sin();
+        let target = self.transform.position
+            + self.transform.rotation * (self.chain.rest_eye_position() + direction * 2.5)
+            + drift;
+        Some(GazeRequest::at(key, target))
+    }
+}
+
+fn scripts() -> Vec<Script> {
+    let human = GazeChain::human(Vec3::Y, Vec3::Z);
+    let rest: Vec<Quat> = human.joints().iter().map(|j| j.rest).collect();
+    let animated: Vec<Quat> = (0..10)
+        .map(|i| Quat::from_rotation_x(0.02 * i as f32) * Quat::from_rotation_y(-0.03 * i as f32))
+        .collect();
+    let zombie = bvh_like_chain();
+    let zombie_rest: Vec<Quat> = zombie.joints().iter().map(|j| j.rest).collect();
+    vec![
+        Script {
+            chain: human,
+            base: rest.clone(),
+            transform: CharacterTransform::IDENTITY,
+            seed: 1,
+        },
+        Script {
+            chain: human,
+            base: animated,
+            transform: CharacterTransform::from_heading(Vec3::new(2.0, 0.0, 1.0), Vec3::Y, 1.0),
+            seed: 2,
+        },
+        Script {
+            chain: zombie,
+            base: zombie_rest,
+            transform: CharacterTransform::IDENTITY,
+            seed: 3,
+        },
+        Script {
+            chain: human,
+            base: rest,
+            transform: CharacterTransform::from_heading(Vec3::new(-1.0, 0.0, 3.0), Vec3::Y, -2.5),
+            seed: 4,
+        },
+    ]
+}
+
+type Snapshot = Vec<(Vec<Quat>, [Vec3; 2], [Vec3; 2], GazePhase)>;
+
+/// Runs the scripts for `frames` frames, updating them in the given groups (indices into
+/// the scripts); returns every character's state after every frame.
+fn run_grouped(groups: &[&[usize]], frames: usize) -> Vec<Snapshot> {
+    let scripts = scripts();
+    let config = GazeConfig::default();
+    let mut motions: Vec<GazeMotion> = scripts.iter().map(|s| GazeMotion::new(&s.chain)).collect();
+    let mut randoms: Vec<Random> = (0..scripts.len())
+        .map(|i| stream(9, Purpose::GazeTiming, i as u64))
+        .collect();
+    let mut history = Vec::new();
+    for frame in 0..frames {
+        let inputs: Vec<GazeInput<'_>> = scripts
+            .iter()
+            .map(|s| GazeInput {
+                character: s.transform,
+                base: &s.base,
+                request: s.request(frame),
+                dt: 1.0 / 30.0,
+            })
+            .collect();
+        for group in groups {
+            let mut picked_motions: Vec<&mut GazeMotion> = Vec::new();
+            let mut picked_randoms: Vec<&mut Random> = Vec::new();
+            for (index, (motion, random)) in motions.iter_mut().zip(randoms.iter_mut()).enumerate()
+            {
+                if group.contains(&index) {
+                    picked_motions.push(motion);
+                    picked_randoms.push(random);
+                }
+            }
+            // Keep the group's order.
+            let order: Vec<usize> = {
+                let mut sorted = group.to_vec();
+                sorted.sort();
+                group
+                    .iter()
+                    .map(|i| sorted.iter().position(|j| j == i).unwrap())
+                    .collect()
+            };
+            let mut motions_in_order: Vec<Option<&mut GazeMotion>> =
+                picked_motions.into_iter().map(Some).collect();
+            let mut randoms_in_order: Vec<Option<&mut Random>> =
+                picked_randoms.into_iter().map(Some).collect();
+            macro_rules! batch {
+                ($n:literal) => {{
+                    let motions: [&mut GazeMotion; $n] =
+                        std::array::from_fn(|k| motions_in_order[order[k]].take().unwrap());
+                    let randoms: [&mut Random; $n] =
+                        std::array::from_fn(|k| randoms_in_order[order[k]].take().unwrap());
+                    let chains: [&GazeChain; $n] =
+                        std::array::from_fn(|k| &scripts[group[k]].chain);
+                    let batch_inputs: [&GazeInput<'_>; $n] =
+                        std::array::from_fn(|k| &inputs[group[k]]);
+                    for result in
+                        GazeMotion::update_batch(motions, chains, &config, batch_inputs, randoms)
+                    {
+                        result.unwrap();
+                    }
+                }};
+            }
+            match group.len() {
+                1 => batch!(1),
+                2 => batch!(2),
+                3 => batch!(3),
+                4 => batch!(4),
+                _ => unreachable!(),
+            }
+        }
+        history.push(
+            motions
+                .iter()
+                .map(|m| {
+                    (
+                        m.deltas().to_vec(),
+                        m.eye_origins(),
+                        m.eye_directions(),
+                        m.phase(),
+                    )
+                })
+                .collect(),
+        );
+    }
+    history
+}
+
+#[test]
+fn a_character_gets_the_same_bits_whatever_its_batch() {
+    let frames = 400;
+    let alone = run_grouped(&[&[0], &[1], &[2], &[3]], frames);
+    for groups in [
+        &[&[0usize, 1, 2, 3][..]][..],
+        &[&[3, 2, 1, 0][..]],
+        &[&[1, 3][..], &[0, 2][..]],
+        &[&[2, 0, 3][..], &[1][..]],
+    ] {
+        let batched = run_grouped(groups, frames);
+        for frame in 0..frames {
+            assert_eq!(
+                batched[frame], alone[frame],
+                "frame {frame}, groups {groups:?}"
+            );
+        }
+    }
+    // The scripts did exercise shifts, holds, returns and rests.
+    let phases: std::collections::HashSet<_> = alone
+        .iter()
+        .flat_map(|f| f.iter().map(|c| format!("{:?}", c.3)))
+        .collect();
+    assert_eq!(phases.len(), 4, "{phases:?}");
+}
+
+#[test]
+fn saccadic_shifts_land_the_eyes_in_six_frames_and_the_head_along_its_curve() {
+    let mut character = Character::human();
+    let dt = 1.0 / 30.0;
+    // 12° to the side: an eyes-only shift.
+    let target = around(12.0, 0.0, 3.0);
+    let request = GazeRequest {
+        style: crowdgaze::ik::MotionStyle::Saccadic,
+        ..GazeRequest::at(1, target)
+    };
+    let mut errors = Vec::new();
+    for _ in 0..8 {
+        let frame = character.step(Some(request), dt);
+        errors.push(degrees_of(eye_error(frame, target)));
+    }
+    // The shift starts at the first update (elapsed 0); six frames of 1/30 s later the
+    // saccade is complete. Half-way it has not yet done half its path.
+    assert!(errors[2] > 6.0, "too fast: {errors:?}");
+    assert!(errors[5] < 0.5, "within 0.5° after six frames: {errors:?}");
+    assert!(
+        errors[6] < 0.05,
+        "done at the end of the saccade: {errors:?}"
+    );
+    // The saccade's speed peaks in its third frame and is symmetric about it (the profile
+    // 14 e^(−π/4 (x − 3)²), x = 1..6).
+    let moved: Vec<f32> = errors.windows(2).map(|pair| pair[0] - pair[1]).collect();
+    let peak = (0..6)
+        .max_by(|&a, &b| moved[a].total_cmp(&moved[b]))
+        .unwrap();
+    assert_eq!(peak, 2, "speeds per frame {moved:?}");
+    assert!((moved[1] - moved[3]).abs() < 0.1 && (moved[0] - moved[4]).abs() < 0.1);
+
+    // 50° to the side: the head follows over a duration that grows with its turn.
+    let mut character = Character::human();
+    let far = GazeRequest {
+        style: crowdgaze::ik::MotionStyle::Saccadic,
+        ..GazeRequest::at(2, around(50.0, 0.0, 3.0))
+    };
+    character.step(Some(far), dt);
+    let head_duration = character.motion.group_durations()[JointGroup::HeadAndNeck.index()];
+    let timing = GazeConfig::default().timing;
+    assert!(head_duration > timing.head_base_duration && head_duration < 1.5);
+    assert_eq!(
+        character.motion.group_durations()[JointGroup::Eyes.index()],
+        timing.saccade_duration
+    );
+}
+
+fn degrees_of(radians: f32) -> f32 {
+    radians.to_degrees()
 }

@@ -314,3 +314,45 @@ fn view_blending_does_not_allocate_per_frame() {
         cg_view_blender_destroy(blender);
     }
 }
+
+#[test]
+fn every_attention_model_and_gaze_ik_step_without_allocating() {
+    use crowdgaze::attention::{AttentionModel, CharacterParams};
+    use crowdgaze::scenario::Scenario;
+    use crowdgaze::{Crowd, CrowdConfig};
+
+    let mut crowd = Crowd::new(CrowdConfig::default()).unwrap();
+    let mut scenario = Scenario::street(90, 30, 6);
+    scenario.populate(&mut crowd).unwrap();
+    let models = [
+        AttentionModel::Crowd,
+        AttentionModel::Saliency,
+        AttentionModel::Baseline,
+    ];
+    for (i, &id) in scenario.character_ids().iter().enumerate() {
+        let params = crowd.character_params(id).unwrap();
+        let model = models[i % 3];
+        crowd
+            .set_character_params(id, &CharacterParams { model, ..params })
+            .unwrap();
+    }
+    let viewer_at = |frame: usize| glam::Vec3::new(5.0, 1.7, frame as f32 * 0.01);
+    let mut frame = 0usize;
+    let mut advance = |crowd: &mut Crowd, scenario: &mut Scenario| {
+        frame += 1;
+        scenario.advance(1.0 / 30.0);
+        scenario.push(crowd, frame as f64 / 30.0).unwrap();
+        crowd.set_viewer(viewer_at(frame), 2.0).unwrap();
+        crowd.step(1.0 / 30.0).unwrap();
+        let mut joints = [glam::Quat::IDENTITY; 900];
+        crowd.read_joints(0, 90, false, &mut joints).unwrap();
+    };
+    for _ in 0..30 {
+        advance(&mut crowd, &mut scenario);
+    }
+    assert_no_alloc("crowd, saliency and baseline models with gaze IK", || {
+        for _ in 0..120 {
+            advance(&mut crowd, &mut scenario);
+        }
+    });
+}

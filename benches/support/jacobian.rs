@@ -2,14 +2,18 @@
 //! turning the same gaze chain until the gaze ray points at the target. Bench code only —
 //! the library never iterates.
 //!
-//! Task: the error `e = d × v̂` between the cyclopean gaze direction `d` (the mean of the two
-//! eyes' directions, from their mid-point `p`) and the unit direction `v̂` from `p` to the
-//! target (`|e| = sin θ`). Every joint has 3 rotational DOF (a small world rotation `ω` about
-//! its pivot); its 3×3 Jacobian block is
-//! `J_j = [v̂]ₓ[d]ₓ + [d]ₓ(I − v̂v̂ᵀ)[r_j]ₓ / L` for a body joint (`r_j = p − pivot_j`,
-//! `L = |t − p|`), and `½ [v̂]ₓ[d]ₓ` for an eye. Each iteration solves
-//! `Δω = Jᵀ (J Jᵀ + λ² I)⁻¹ (−e)`, applies every joint's rotation and clamps it to its limits,
+//! Task: the error `e = θ a`, the rotation vector from the cyclopean gaze direction `d` (the
+//! mean of the two eyes' directions, from their mid-point `p`) to the unit direction `v̂` from
+//! `p` to the target. Every joint has 3 rotational DOF (a small world rotation `ω` about its
+//! pivot); its 3×3 Jacobian block is `J_j = −(I − d dᵀ) + [d]ₓ(I − v̂v̂ᵀ)[r_j]ₓ / L` for a body
+//! joint (the turn of the gaze, and the parallax of the eye moving by `ω × r_j`,
+//! `r_j = p − pivot_j`, `L = |t − p|`), and `−½ (I − d dᵀ)` for an eye. Each iteration solves
+//! `Δω = Jᵀ (J Jᵀ + λ² I)⁻¹ (−e)`, applies every joint's rotation and clamps it to its limits
+//! (a joint stopped by a limit leaves the Jacobian: the clamping loop of Baerlocher & Boulic),
 //! until the gaze is within the tolerance or the iteration limit is reached.
+
+// The loops index the per-joint arrays (pivots, frames, blocks, deltas) together.
+#![allow(clippy::needless_range_loop)]
 
 use crowdgaze::ik::{CharacterTransform, GazeChain};
 use glam::{Mat3, Quat, Vec3};
@@ -23,6 +27,8 @@ pub struct JacobianIk {
     pub tolerance: f32,
     /// Most iterations.
     pub max_iterations: u32,
+    /// Largest error (radians) corrected in one iteration.
+    pub max_step: f32,
 }
 
 impl Default for JacobianIk {
@@ -31,6 +37,7 @@ impl Default for JacobianIk {
             damping: 0.05,
             tolerance: 0.5f32.to_radians(),
             max_iterations: 100,
+            max_step: 0.3,
         }
     }
 }
@@ -105,6 +112,9 @@ impl JacobianIk {
         let count = chain.joint_count();
         let body = chain.body_count();
         let damping = Mat3::from_diagonal(Vec3::splat(self.damping * self.damping));
+        // Joints stopped by their limits leave the Jacobian (Baerlocher & Boulic's clamping
+        // loop), so that the others take over.
+        let mut saturated = [false; 15];
         for iteration in 0..self.max_iterations {
             let pose = forward(chain, character, base, deltas);
             let to_target = target - pose.eye;
@@ -114,15 +124,28 @@ impl JacobianIk {
             if cos.acos() <= self.tolerance {
                 return (iteration, true);
             }
-            let error = pose.gaze.cross(direction);
+            // The error is the rotation vector θ·axis from the gaze to the target direction
+            // (linear in a turn about the axis, unlike sin θ, whose slope vanishes at 90°).
+            let cross = pose.gaze.cross(direction);
+            let sin = cross.length();
+            let angle = sin.atan2(cos);
+            let error = if sin > 1e-9 {
+                cross * (angle / sin)
+            } else {
+                Vec3::ZERO
+            };
             let gaze_x = skew(pose.gaze);
-            let direction_x = skew(direction);
-            let turn = direction_x * gaze_x;
+            // A turn ω of the gaze changes the error by −(I − d dᵀ) ω.
+            let turn = outer(pose.gaze, pose.gaze) - Mat3::IDENTITY;
             let projector = Mat3::IDENTITY - outer(direction, direction);
             let parallax = gaze_x * projector * (1.0 / distance);
             let mut blocks = [Mat3::ZERO; 15];
             let mut normal = damping;
             for index in 0..count {
+                if std::mem::take(&mut saturated[index]) {
+                    blocks[index] = Mat3::ZERO;
+                    continue;
+                }
                 let block = if index < body {
                     turn + parallax * skew(pose.eye - pose.pivots[index])
                 } else {
@@ -131,6 +154,14 @@ impl JacobianIk {
                 normal += block * block.transpose();
                 blocks[index] = block;
             }
+            // Buss & Kim's error clamping: at most `max_step` radians per iteration, so that
+            // the linear model stays valid for large turns.
+            let length = error.length();
+            let error = if length > self.max_step {
+                error * (self.max_step / length)
+            } else {
+                error
+            };
             let solved = normal.inverse() * -error;
             for index in 0..count {
                 let world = blocks[index].transpose() * solved;
@@ -139,7 +170,11 @@ impl JacobianIk {
                 if angle > 1e-9 {
                     let step = Quat::from_axis_angle(local / angle, angle);
                     let limits = chain.joints()[index].limits;
-                    deltas[index] = limits.clamp((step * deltas[index]).normalize());
+                    let wanted = (step * deltas[index]).normalize();
+                    let clamped = limits.clamp(wanted);
+                    // Stopped by a limit this time: left out of the next iteration only.
+                    saturated[index] = clamped != wanted;
+                    deltas[index] = clamped;
                 }
             }
         }

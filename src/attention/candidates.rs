@@ -60,6 +60,14 @@ impl NeighbourIndex {
         }
     }
 
+    /// Bytes of state per entity (grid-ordered copies and the grid's own arrays).
+    pub fn bytes_per_entity() -> usize {
+        use std::mem::size_of;
+        // forward, velocity and grid point; impact; id, grid entry and its cell; and the
+        // grid's four cell starts per entity.
+        size_of::<Vec2>() * 3 + size_of::<f32>() + size_of::<u32>() * 3 + size_of::<u32>() * 4
+    }
+
     /// The grid.
     pub fn grid(&self) -> &SpatialGrid {
         &self.grid

@@ -17,6 +17,18 @@ pub mod score;
 use crate::math::random::Random;
 use score::SubscoreWeights;
 
+/// Which model decides where a character looks.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum AttentionModel {
+    /// Grillon & Thalmann 2009: one interest point for the whole gaze chain.
+    #[default]
+    Crowd,
+    /// Kokkinara, Oyekoya & Steed 2011: separate saliency-driven targets for eyes and head.
+    Saliency,
+    /// The stock virtual-world behaviour the saliency paper compares against.
+    Baseline,
+}
+
 /// Which part of an entity a character looks at.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[repr(u8)]
@@ -53,6 +65,8 @@ pub struct CharacterParams {
     pub weights: SubscoreWeights,
     /// `a`/100: the fraction of time the character attends to something, in [0, 1].
     pub attention_fraction: f32,
+    /// The model deciding where the character looks.
+    pub model: AttentionModel,
 }
 
 impl CharacterParams {
@@ -66,6 +80,7 @@ impl CharacterParams {
         CharacterParams {
             weights,
             attention_fraction: random.range(fraction_range.0, fraction_range.1),
+            model: AttentionModel::Crowd,
         }
     }
 }

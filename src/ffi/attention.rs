@@ -8,7 +8,7 @@ use super::crowd::{cg_crowd, crowd_mut, crowd_ref};
 use super::types::cg_vec3;
 use super::{cg_status, ffi_boundary, read_versioned, Versioned};
 use crate::attention::score::SubscoreWeights;
-use crate::attention::CharacterParams;
+use crate::attention::{AttentionModel, CharacterParams};
 use crate::crowd::{CharacterDesc, ObjectDesc};
 use crate::error::{ensure_finite, Error, Result};
 use crate::scene::EntityUpdate;
@@ -23,6 +23,58 @@ pub const CG_STATE_HEADING_FROM_MOTION: u32 = 1;
 /// `cg_entity_state.flags`: `velocity` is given; otherwise it is the difference with the
 /// entity's previous pushed position divided by the elapsed time.
 pub const CG_STATE_HAS_VELOCITY: u32 = 2;
+
+/// Which model decides where a character looks (`cg_character_desc.attention_model`,
+/// `cg_character_params.attention_model`).
+#[repr(u32)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum cg_attention_model {
+    /// Grillon & Thalmann 2009: one interest point for the whole gaze chain (default).
+    Crowd = 0,
+    /// Kokkinara, Oyekoya & Steed 2011: separate saliency-driven targets for eyes and head.
+    Saliency = 1,
+    /// The stock virtual-world behaviour: glances, and the head turns to people close by.
+    Baseline = 2,
+}
+
+impl cg_attention_model {
+    pub(crate) fn parse(value: u32) -> Result<AttentionModel> {
+        match value {
+            0 => Ok(AttentionModel::Crowd),
+            1 => Ok(AttentionModel::Saliency),
+            2 => Ok(AttentionModel::Baseline),
+            other => Err(Error::InvalidArgument(format!(
+                "attention_model is {other}, not a cg_attention_model"
+            ))),
+        }
+    }
+
+    pub(crate) fn from_model(model: AttentionModel) -> u32 {
+        (match model {
+            AttentionModel::Crowd => cg_attention_model::Crowd,
+            AttentionModel::Saliency => cg_attention_model::Saliency,
+            AttentionModel::Baseline => cg_attention_model::Baseline,
+        }) as u32
+    }
+}
+
+/// Which part of an entity a character looks at (`cg_gaze_info.target_part`).
+#[repr(u32)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum cg_target_part {
+    /// The entity's look-at point (objects; characters under the crowd model).
+    Whole = 0,
+    /// A character's head.
+    Head = 1,
+    /// A character's left eye.
+    LeftEye = 2,
+    /// A character's right eye.
+    RightEye = 3,
+    /// A character's chest.
+    Chest = 4,
+    /// A character's torso.
+    Torso = 5,
+}
 
 /// A new character. Fill it with `cg_character_desc_init`, then set what you need.
 #[repr(C)]
@@ -39,6 +91,8 @@ pub struct cg_character_desc {
     /// The character's gaze chain (read during the call, not kept), or NULL (default) for
     /// the human chain of `cg_chain_desc_init_human` in the crowd's axes and units.
     pub chain: *const cg_chain_desc,
+    /// A `cg_attention_model`. Default `CG_ATTENTION_MODEL_CROWD`.
+    pub attention_model: u32,
 }
 
 /// A new scene object: something characters may look at. Fill it with
@@ -96,6 +150,8 @@ pub struct cg_character_params {
     pub weight_periphery: f32,
     /// `a`/100: the fraction of time the character attends to something, in [0, 1].
     pub attention_fraction: f32,
+    /// A `cg_attention_model`; may be changed at any time.
+    pub attention_model: u32,
 }
 
 /// Where a character looks, as read by `cg_crowd_read_gaze`.
@@ -104,8 +160,14 @@ pub struct cg_character_params {
 pub struct cg_gaze_info {
     /// The character's id.
     pub character: u32,
-    /// The interest point's entity id, or `CG_NO_TARGET` when looking ahead.
+    /// What the eyes look at: the interest point's (or eye target's) entity id, or
+    /// `CG_NO_TARGET` when looking ahead or at an explicit point.
     pub target: u32,
+    /// Which part of `target`, a `cg_target_part`.
+    pub target_part: u32,
+    /// What the head looks at: equal to `target` except under the saliency and baseline
+    /// models, whose eyes and head have separate targets.
+    pub head_target: u32,
     /// 1 if the character attends to an interest point, else 0.
     pub attending: u32,
     /// Interest points started so far (online), or planned constraints (offline).
@@ -171,6 +233,7 @@ impl Versioned for cg_character_desc {
             impact: 1.0,
             position: cg_vec3::default(),
             chain: std::ptr::null(),
+            attention_model: cg_attention_model::Crowd as u32,
         }
     }
 }
@@ -216,6 +279,7 @@ impl Versioned for cg_character_params {
             weight_orientation: weights.orientation,
             weight_periphery: weights.periphery,
             attention_fraction: 0.4,
+            attention_model: cg_attention_model::Crowd as u32,
         }
     }
 }
@@ -289,6 +353,7 @@ pub extern "C" fn cg_crowd_add_character(
             impact: desc.impact,
             params: None,
             chain,
+            model: cg_attention_model::parse(desc.attention_model)?,
         };
         let id = crowd.add_character(&core)?;
         // SAFETY: checked non-null above; the caller provides a writable u32.
@@ -479,6 +544,8 @@ pub extern "C" fn cg_crowd_read_gaze(
             *slot = cg_gaze_info {
                 character: gaze.character,
                 target: gaze.target,
+                target_part: u32::from(gaze.target_part as u8),
+                head_target: gaze.head_target,
                 attending: u32::from(gaze.attending),
                 interest_count: gaze.interest_count,
                 target_position: (gaze.target_position * units).into(),
@@ -556,6 +623,7 @@ pub extern "C" fn cg_crowd_get_character_params(
             weight_orientation: params.weights.orientation,
             weight_periphery: params.weights.periphery,
             attention_fraction: params.attention_fraction,
+            attention_model: cg_attention_model::from_model(params.model),
         };
         Ok(())
     })
@@ -595,6 +663,7 @@ pub extern "C" fn cg_crowd_set_character_params(
             &CharacterParams {
                 weights,
                 attention_fraction: params.attention_fraction,
+                model: cg_attention_model::parse(params.attention_model)?,
             },
         )
     })
@@ -677,5 +746,56 @@ pub extern "C" fn cg_crowd_read_constraints(
             unsafe { out_total.write_unaligned(constraints.len()) };
         }
         Ok(())
+    })
+}
+
+/// Makes the viewer (the user or the camera) an entity that characters may look at, or
+/// moves it: `position` in your units is the point looked at, `impact` its `I_E` (>= 0).
+/// The first call adds it (it has its own slot, beyond `max_objects`) and writes its id to
+/// `*out_id` (which may be NULL); later calls move it (velocity and heading come from its
+/// motion between frames). Remove it with `cg_crowd_remove_entity`.
+///
+/// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE`, `CG_STATUS_INVALID_ARGUMENT`
+/// (negative impact), `CG_STATUS_WRONG_STATE` (a plan is active). Not thread-safe.
+#[no_mangle]
+pub extern "C" fn cg_crowd_set_viewer(
+    crowd: *mut cg_crowd,
+    position: *const cg_vec3,
+    impact: f32,
+    out_id: *mut u32,
+) -> cg_status {
+    ffi_boundary!({
+        // SAFETY: handle contract of cg_crowd.
+        let crowd = unsafe { crowd_mut(crowd) }?;
+        // SAFETY: the caller passes a readable cg_vec3 (or NULL, rejected).
+        let position = unsafe { super::borrow(position, "position") }?;
+        let position = metres(&crowd.config().world, *position, "position")?;
+        ensure_finite(impact, "impact")?;
+        let id = crowd.set_viewer(position, impact)?;
+        if !out_id.is_null() {
+            // SAFETY: non-null; the caller provides a writable u32.
+            unsafe { out_id.write_unaligned(id) };
+        }
+        Ok(())
+    })
+}
+
+/// Sets how often `character`'s attention is updated: every `period` steps (1 to 64), or 0
+/// for the crowd's level of detail (`cg_crowd_config.attention_period`, or
+/// `far_attention_period` beyond `lod_distance` from the viewer). Its gaze still moves
+/// every step.
+///
+/// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NOT_FOUND`, `CG_STATUS_INVALID_ARGUMENT`
+/// (period > 64, an object's id). Not thread-safe.
+#[no_mangle]
+pub extern "C" fn cg_crowd_set_attention_period(
+    crowd: *mut cg_crowd,
+    character: u32,
+    period: u32,
+) -> cg_status {
+    ffi_boundary!({
+        // SAFETY: handle contract of cg_crowd.
+        let crowd = unsafe { crowd_mut(crowd) }?;
+        crowd.set_attention_period(character, period)
     })
 }

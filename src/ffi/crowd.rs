@@ -2,7 +2,9 @@
 
 use super::types::cg_axis;
 use super::{ffi_boundary, read_versioned, Versioned};
+use crate::attention::baseline::BaselineConfig;
 use crate::attention::interest::InterestConfig;
+use crate::attention::saliency::SaliencyConfig;
 use crate::attention::score::ScoringConfig;
 use crate::crowd::{Crowd, CrowdConfig};
 use crate::error::Result;
@@ -93,6 +95,29 @@ pub struct cg_crowd_config {
     pub min_deactivation_time: f32,
     /// See `min_deactivation_time`. Default 1.5.
     pub max_deactivation_time: f32,
+    /// Saliency model: longest eye fixation (s). Default 0.3.
+    pub eye_fixation_time: f32,
+    /// Saliency model: longest head fixation (s). Default 1.0.
+    pub head_fixation_time: f32,
+    /// Saliency model: probability that a new target is drawn at random among those in
+    /// view, in [0, 1]. Default 0.25.
+    pub random_pick_probability: f32,
+    /// Saliency model: multiplier of the score of characters' parts over objects (>= 0).
+    /// Default 1.5.
+    pub social_weight: f32,
+    /// Baseline model: a character closer than this (your units) turns the head.
+    /// Default 2.5 m.
+    pub proximity_radius: f32,
+    /// Level of detail: each character's attention is updated every `attention_period`
+    /// steps (1 to 64, staggered across the crowd); gaze IK still runs every step.
+    /// Default 1.
+    pub attention_period: u32,
+    /// Level of detail by distance: beyond `lod_distance` (your units) from the viewer
+    /// (`cg_crowd_set_viewer`), every `far_attention_period` steps. 0 turns it off
+    /// (default).
+    pub lod_distance: f32,
+    /// See `lod_distance`; 1 to 64. Default 4.
+    pub far_attention_period: u32,
 }
 
 impl Versioned for cg_crowd_config {
@@ -135,6 +160,14 @@ impl cg_crowd_config {
             restart_distance: core.gaze.timing.restart_distance * units,
             min_deactivation_time: core.gaze.timing.min_deactivation_time,
             max_deactivation_time: core.gaze.timing.max_deactivation_time,
+            eye_fixation_time: core.saliency.eye_fixation,
+            head_fixation_time: core.saliency.head_fixation,
+            random_pick_probability: core.saliency.random_pick_probability,
+            social_weight: core.saliency.social_weight,
+            proximity_radius: core.baseline.proximity_radius * units,
+            attention_period: core.attention_period,
+            lod_distance: core.lod_distance * units,
+            far_attention_period: core.far_attention_period,
         }
     }
 
@@ -180,6 +213,20 @@ impl cg_crowd_config {
             attention_fraction_range: (self.attention_fraction_min, self.attention_fraction_max),
             max_recorded_states: self.max_recorded_states,
             gaze: self.gaze_config(metres),
+            saliency: SaliencyConfig {
+                eye_fixation: self.eye_fixation_time,
+                head_fixation: self.head_fixation_time,
+                random_pick_probability: self.random_pick_probability,
+                social_weight: self.social_weight,
+                ..SaliencyConfig::default()
+            },
+            baseline: BaselineConfig {
+                proximity_radius: self.proximity_radius * metres,
+                ..BaselineConfig::default()
+            },
+            attention_period: self.attention_period,
+            lod_distance: self.lod_distance * metres,
+            far_attention_period: self.far_attention_period,
         };
         config.validate()?;
         Ok(config)

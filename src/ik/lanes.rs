@@ -7,26 +7,233 @@
 //! same instructions run at nearly the cost of one. Branches become lane masks: both sides
 //! are computed when the lanes disagree and the right one is selected per lane.
 
+use std::ops::{Add, BitAnd, BitAndAssign, BitOr, Div, Index, Mul, Neg, Not, Sub};
+
 use glam::{BVec4A, Quat, Vec3A, Vec4};
 
+/// Number of 4-wide SIMD registers per lane group (two would interleave the dependency
+/// chains of two groups of four characters, but costs as much as it gains).
+const HALVES: usize = 1;
+
 /// Number of characters processed together.
-pub(crate) const LANES: usize = 4;
+pub(crate) const LANES: usize = 4 * HALVES;
 
 /// One float per lane.
-pub(crate) type F4 = Vec4;
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Floats([Vec4; HALVES]);
+
 /// One boolean per lane.
-pub(crate) type M4 = BVec4A;
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Mask([BVec4A; HALVES]);
+
+impl Floats {
+    pub(crate) const ZERO: Floats = Floats([Vec4::ZERO; HALVES]);
+    pub(crate) const ONE: Floats = Floats([Vec4::ONE; HALVES]);
+    pub(crate) const NEG_ONE: Floats = Floats([Vec4::NEG_ONE; HALVES]);
+
+    #[inline(always)]
+    fn map(self, f: impl Fn(Vec4) -> Vec4) -> Floats {
+        Floats(self.0.map(f))
+    }
+
+    #[inline(always)]
+    fn zip(self, o: Floats, f: impl Fn(Vec4, Vec4) -> Vec4) -> Floats {
+        Floats(std::array::from_fn(|h| f(self.0[h], o.0[h])))
+    }
+
+    #[inline(always)]
+    fn compare(self, o: Floats, f: impl Fn(Vec4, Vec4) -> BVec4A) -> Mask {
+        Mask(std::array::from_fn(|h| f(self.0[h], o.0[h])))
+    }
+
+    /// The same value in every lane.
+    #[inline(always)]
+    pub(crate) fn splat(value: f32) -> Floats {
+        Floats([Vec4::splat(value); HALVES])
+    }
+
+    /// Per lane: `a` where `m`, else `b`.
+    #[inline(always)]
+    pub(crate) fn select(m: Mask, a: Floats, b: Floats) -> Floats {
+        Floats(std::array::from_fn(|h| {
+            Vec4::select(m.0[h], a.0[h], b.0[h])
+        }))
+    }
+
+    #[inline(always)]
+    pub(crate) fn sqrt(self) -> Floats {
+        self.map(Vec4::sqrt)
+    }
+
+    #[inline(always)]
+    pub(crate) fn recip(self) -> Floats {
+        self.map(Vec4::recip)
+    }
+
+    #[inline(always)]
+    pub(crate) fn abs(self) -> Floats {
+        self.map(Vec4::abs)
+    }
+
+    #[inline(always)]
+    pub(crate) fn min(self, o: Floats) -> Floats {
+        self.zip(o, Vec4::min)
+    }
+
+    #[inline(always)]
+    pub(crate) fn clamp(self, low: Floats, high: Floats) -> Floats {
+        self.zip(low, Vec4::max).zip(high, Vec4::min)
+    }
+
+    #[inline(always)]
+    pub(crate) fn cmplt(self, o: Floats) -> Mask {
+        self.compare(o, Vec4::cmplt)
+    }
+
+    #[inline(always)]
+    pub(crate) fn cmple(self, o: Floats) -> Mask {
+        self.compare(o, Vec4::cmple)
+    }
+
+    #[inline(always)]
+    pub(crate) fn cmpgt(self, o: Floats) -> Mask {
+        self.compare(o, Vec4::cmpgt)
+    }
+
+    #[inline(always)]
+    pub(crate) fn cmpge(self, o: Floats) -> Mask {
+        self.compare(o, Vec4::cmpge)
+    }
+
+    #[inline(always)]
+    pub(crate) fn cmpeq(self, o: Floats) -> Mask {
+        self.compare(o, Vec4::cmpeq)
+    }
+}
+
+impl Index<usize> for Floats {
+    type Output = f32;
+
+    #[inline(always)]
+    fn index(&self, lane: usize) -> &f32 {
+        &self.0[lane / 4][lane % 4]
+    }
+}
+
+macro_rules! float_ops {
+    ($($trait:ident $method:ident),*) => {$(
+        impl $trait for Floats {
+            type Output = Floats;
+            #[inline(always)]
+            fn $method(self, o: Floats) -> Floats {
+                self.zip(o, |a, b| a.$method(b))
+            }
+        }
+        impl $trait<f32> for Floats {
+            type Output = Floats;
+            #[inline(always)]
+            fn $method(self, o: f32) -> Floats {
+                self.map(|a| a.$method(o))
+            }
+        }
+        impl $trait<Floats> for f32 {
+            type Output = Floats;
+            #[inline(always)]
+            fn $method(self, o: Floats) -> Floats {
+                o.map(|b| self.$method(b))
+            }
+        }
+    )*};
+}
+float_ops!(Add add, Sub sub, Mul mul, Div div);
+
+impl Neg for Floats {
+    type Output = Floats;
+
+    #[inline(always)]
+    fn neg(self) -> Floats {
+        self.map(|a| -a)
+    }
+}
+
+impl Mask {
+    /// The same value in every lane.
+    #[inline(always)]
+    pub(crate) fn splat(value: bool) -> Mask {
+        Mask([BVec4A::splat(value); HALVES])
+    }
+
+    /// True if any lane is true.
+    #[inline(always)]
+    pub(crate) fn any(self) -> bool {
+        self.0.iter().fold(0, |bits, half| bits | half.bitmask()) != 0
+    }
+
+    /// True if every lane is true.
+    #[inline(always)]
+    pub(crate) fn all(self) -> bool {
+        self.0.iter().fold(0xF, |bits, half| bits & half.bitmask()) == 0xF
+    }
+
+    /// Lane `lane`'s value.
+    #[inline(always)]
+    pub(crate) fn test(self, lane: usize) -> bool {
+        self.0[lane / 4].test(lane % 4)
+    }
+}
+
+impl BitAnd for Mask {
+    type Output = Mask;
+
+    #[inline(always)]
+    fn bitand(self, o: Mask) -> Mask {
+        Mask(std::array::from_fn(|h| self.0[h] & o.0[h]))
+    }
+}
+
+impl BitAndAssign for Mask {
+    #[inline(always)]
+    fn bitand_assign(&mut self, o: Mask) {
+        *self = *self & o;
+    }
+}
+
+impl BitOr for Mask {
+    type Output = Mask;
+
+    #[inline(always)]
+    fn bitor(self, o: Mask) -> Mask {
+        Mask(std::array::from_fn(|h| self.0[h] | o.0[h]))
+    }
+}
+
+impl Not for Mask {
+    type Output = Mask;
+
+    #[inline(always)]
+    fn not(self) -> Mask {
+        Mask(self.0.map(|half| !half))
+    }
+}
+
+/// The old names of the lane types.
+pub(crate) type F4 = Floats;
+pub(crate) type M4 = Mask;
 
 /// A lane mask from a function of the lane index.
 #[inline(always)]
-pub(crate) fn mask(f: impl Fn(usize) -> bool) -> M4 {
-    BVec4A::new(f(0), f(1), f(2), f(3))
+pub(crate) fn mask(f: impl Fn(usize) -> bool) -> Mask {
+    Mask(std::array::from_fn(|h| {
+        BVec4A::new(f(4 * h), f(4 * h + 1), f(4 * h + 2), f(4 * h + 3))
+    }))
 }
 
 /// One float per lane from a function of the lane index.
 #[inline(always)]
-pub(crate) fn gather(f: impl Fn(usize) -> f32) -> F4 {
-    Vec4::new(f(0), f(1), f(2), f(3))
+pub(crate) fn gather(f: impl Fn(usize) -> f32) -> Floats {
+    Floats(std::array::from_fn(|h| {
+        Vec4::new(f(4 * h), f(4 * h + 1), f(4 * h + 2), f(4 * h + 3))
+    }))
 }
 
 /// One 3-vector per lane.
@@ -39,29 +246,29 @@ pub(crate) struct V3 {
 
 impl V3 {
     pub(crate) const ZERO: V3 = V3 {
-        x: Vec4::ZERO,
-        y: Vec4::ZERO,
-        z: Vec4::ZERO,
+        x: Floats::ZERO,
+        y: Floats::ZERO,
+        z: Floats::ZERO,
     };
 
     /// The same vector in every lane.
     #[inline(always)]
     pub(crate) fn splat(v: Vec3A) -> V3 {
         V3 {
-            x: Vec4::splat(v.x),
-            y: Vec4::splat(v.y),
-            z: Vec4::splat(v.z),
+            x: Floats::splat(v.x),
+            y: Floats::splat(v.y),
+            z: Floats::splat(v.z),
         }
     }
 
     /// Lane `i` gets `f(i)`.
     #[inline(always)]
     pub(crate) fn gather(f: impl Fn(usize) -> Vec3A) -> V3 {
-        let (a, b, c, d) = (f(0), f(1), f(2), f(3));
+        let lanes: [Vec3A; LANES] = std::array::from_fn(f);
         V3 {
-            x: Vec4::new(a.x, b.x, c.x, d.x),
-            y: Vec4::new(a.y, b.y, c.y, d.y),
-            z: Vec4::new(a.z, b.z, c.z, d.z),
+            x: gather(|i| lanes[i].x),
+            y: gather(|i| lanes[i].y),
+            z: gather(|i| lanes[i].z),
         }
     }
 
@@ -121,9 +328,9 @@ impl V3 {
     #[inline(always)]
     pub(crate) fn select(m: M4, a: V3, b: V3) -> V3 {
         V3 {
-            x: Vec4::select(m, a.x, b.x),
-            y: Vec4::select(m, a.y, b.y),
-            z: Vec4::select(m, a.z, b.z),
+            x: Floats::select(m, a.x, b.x),
+            y: Floats::select(m, a.y, b.y),
+            z: Floats::select(m, a.z, b.z),
         }
     }
 }
@@ -139,32 +346,32 @@ pub(crate) struct Q4 {
 
 impl Q4 {
     pub(crate) const IDENTITY: Q4 = Q4 {
-        x: Vec4::ZERO,
-        y: Vec4::ZERO,
-        z: Vec4::ZERO,
-        w: Vec4::ONE,
+        x: Floats::ZERO,
+        y: Floats::ZERO,
+        z: Floats::ZERO,
+        w: Floats::ONE,
     };
 
     /// The same rotation in every lane.
     #[inline(always)]
     pub(crate) fn splat(q: Quat) -> Q4 {
         Q4 {
-            x: Vec4::splat(q.x),
-            y: Vec4::splat(q.y),
-            z: Vec4::splat(q.z),
-            w: Vec4::splat(q.w),
+            x: Floats::splat(q.x),
+            y: Floats::splat(q.y),
+            z: Floats::splat(q.z),
+            w: Floats::splat(q.w),
         }
     }
 
     /// Lane `i` gets `f(i)`.
     #[inline(always)]
     pub(crate) fn gather(f: impl Fn(usize) -> Quat) -> Q4 {
-        let (a, b, c, d) = (f(0), f(1), f(2), f(3));
+        let lanes: [Quat; LANES] = std::array::from_fn(f);
         Q4 {
-            x: Vec4::new(a.x, b.x, c.x, d.x),
-            y: Vec4::new(a.y, b.y, c.y, d.y),
-            z: Vec4::new(a.z, b.z, c.z, d.z),
-            w: Vec4::new(a.w, b.w, c.w, d.w),
+            x: gather(|i| lanes[i].x),
+            y: gather(|i| lanes[i].y),
+            z: gather(|i| lanes[i].z),
+            w: gather(|i| lanes[i].w),
         }
     }
 
@@ -224,7 +431,7 @@ impl Q4 {
     #[inline(always)]
     pub(crate) fn rotate(self, v: V3) -> V3 {
         let u = self.vector();
-        let t = u.cross(v).scale(Vec4::splat(2.0));
+        let t = u.cross(v).scale(Floats::splat(2.0));
         v.add(t.scale(self.w)).add(u.cross(t))
     }
 
@@ -243,15 +450,15 @@ impl Q4 {
     /// Per lane: exactly the identity.
     #[inline(always)]
     pub(crate) fn is_identity(self) -> M4 {
-        self.x.cmpeq(Vec4::ZERO)
-            & self.y.cmpeq(Vec4::ZERO)
-            & self.z.cmpeq(Vec4::ZERO)
-            & self.w.cmpeq(Vec4::ONE)
+        self.x.cmpeq(Floats::ZERO)
+            & self.y.cmpeq(Floats::ZERO)
+            & self.z.cmpeq(Floats::ZERO)
+            & self.w.cmpeq(Floats::ONE)
     }
 
-    /// Per lane: the two rotations bit for bit equal (well, `==` on each component).
+    /// Per lane: the two rotations equal, component by component (`==`).
     #[inline(always)]
-    pub(crate) fn bits_equal(self, o: Q4) -> M4 {
+    pub(crate) fn equals(self, o: Q4) -> M4 {
         self.x.cmpeq(o.x) & self.y.cmpeq(o.y) & self.z.cmpeq(o.z) & self.w.cmpeq(o.w)
     }
 
@@ -259,10 +466,10 @@ impl Q4 {
     #[inline(always)]
     pub(crate) fn select(m: M4, a: Q4, b: Q4) -> Q4 {
         Q4 {
-            x: Vec4::select(m, a.x, b.x),
-            y: Vec4::select(m, a.y, b.y),
-            z: Vec4::select(m, a.z, b.z),
-            w: Vec4::select(m, a.w, b.w),
+            x: Floats::select(m, a.x, b.x),
+            y: Floats::select(m, a.y, b.y),
+            z: Floats::select(m, a.z, b.z),
+            w: Floats::select(m, a.w, b.w),
         }
     }
 }
@@ -273,26 +480,26 @@ impl Q4 {
 pub(crate) fn atan2_upper(y: F4, x: F4) -> F4 {
     let ax = x.abs();
     let swap = y.cmpgt(ax);
-    let small = Vec4::select(swap, ax, y);
-    let large = Vec4::select(swap, y, ax);
+    let small = Floats::select(swap, ax, y);
+    let large = Floats::select(swap, y, ax);
     let t = small / large;
-    let t = Vec4::select(large.cmpgt(Vec4::ZERO), t, Vec4::ZERO);
+    let t = Floats::select(large.cmpgt(Floats::ZERO), t, Floats::ZERO);
     let t2 = t * t;
     let mut angle = t
         * (0.999_977_26
             + t2 * (-0.332_623_47
                 + t2 * (0.193_543_46
                     + t2 * (-0.116_432_87 + t2 * (0.052_653_32 - t2 * 0.011_721_2)))));
-    angle = Vec4::select(swap, std::f32::consts::FRAC_PI_2 - angle, angle);
-    angle = Vec4::select(x.cmplt(Vec4::ZERO), std::f32::consts::PI - angle, angle);
-    Vec4::select(large.cmpgt(Vec4::ZERO), angle, Vec4::ZERO)
+    angle = Floats::select(swap, std::f32::consts::FRAC_PI_2 - angle, angle);
+    angle = Floats::select(x.cmplt(Floats::ZERO), std::f32::consts::PI - angle, angle);
+    Floats::select(large.cmpgt(Floats::ZERO), angle, Floats::ZERO)
 }
 
 /// `(sin x, cos x)` per lane for `x ∈ [0, π/2]` (clamped), errors < 5·10⁻⁶ (Taylor
 /// polynomials of degree 9 and 10).
 #[inline(always)]
 pub(crate) fn sin_cos_quarter(x: F4) -> (F4, F4) {
-    let x = x.clamp(Vec4::ZERO, Vec4::splat(std::f32::consts::FRAC_PI_2));
+    let x = x.clamp(Floats::ZERO, Floats::splat(std::f32::consts::FRAC_PI_2));
     let x2 = x * x;
     let sin = x
         * (1.0
@@ -312,8 +519,8 @@ pub(crate) fn sin_cos_quarter(x: F4) -> (F4, F4) {
 #[inline(always)]
 pub(crate) fn interpolate(a: Q4, b: Q4, t: F4) -> Q4 {
     let dot = a.dot(b);
-    let flip = dot.cmplt(Vec4::ZERO);
-    let sign = Vec4::select(flip, Vec4::NEG_ONE, Vec4::ONE);
+    let flip = dot.cmplt(Floats::ZERO);
+    let sign = Floats::select(flip, Floats::NEG_ONE, Floats::ONE);
     let d = dot.abs();
     let k_a = 1.0904 + d * (-3.2452 + d * (3.55645 - d * 1.43519));
     let k_b = 0.848_013 + d * (-1.06021 + d * 0.215_638);
@@ -327,8 +534,8 @@ pub(crate) fn interpolate(a: Q4, b: Q4, t: F4) -> Q4 {
         w: a.w + (b.w * sign - a.w) * u,
     }
     .normalize();
-    let mixed = Q4::select(t.cmple(Vec4::ZERO), a, mixed);
-    Q4::select(t.cmpge(Vec4::ONE), b, mixed)
+    let mixed = Q4::select(t.cmple(Floats::ZERO), a, mixed);
+    Q4::select(t.cmpge(Floats::ONE), b, mixed)
 }
 
 #[cfg(test)]
@@ -338,37 +545,40 @@ mod tests {
 
     #[test]
     fn lanes_match_glam() {
-        let rotations = [
-            Quat::from_rotation_y(0.3),
-            Quat::from_axis_angle(Vec3::new(1.0, 2.0, 3.0).normalize(), 2.0),
-            Quat::from_rotation_x(-1.0),
-            Quat::IDENTITY,
-        ];
-        let vectors = [Vec3A::X, Vec3A::new(0.3, -2.0, 5.0), Vec3A::Z, Vec3A::ONE];
+        let rotations: [Quat; LANES] = std::array::from_fn(|i| {
+            let axis = Vec3::new(1.0, 2.0 - i as f32, 3.0 + i as f32).normalize();
+            Quat::from_axis_angle(axis, 0.4 * i as f32 - 1.0)
+        });
+        let vectors: [Vec3A; LANES] =
+            std::array::from_fn(|i| Vec3A::new(0.3 * i as f32, -2.0, 5.0 - i as f32));
+        let mirror = |i: usize| LANES - 1 - i;
         let q = Q4::gather(|i| rotations[i]);
-        let p = Q4::gather(|i| rotations[3 - i]);
+        let p = Q4::gather(|i| rotations[mirror(i)]);
         let v = V3::gather(|i| vectors[i]);
         for i in 0..LANES {
-            assert!(q
-                .rotate(v)
-                .lane(i)
-                .abs_diff_eq(rotations[i] * vectors[i], 1e-5));
-            assert!(q
-                .mul(p)
-                .lane(i)
-                .abs_diff_eq(rotations[i] * rotations[3 - i], 1e-6));
+            let rotated = q.rotate(v).lane(i);
+            assert!(rotated.abs_diff_eq(rotations[i] * vectors[i], 1e-5));
+            let product = q.mul(p).lane(i);
+            assert!(product.abs_diff_eq(rotations[i] * rotations[mirror(i)], 1e-6));
             let cross = v.cross(V3::splat(Vec3A::Y)).lane(i);
             assert!(cross.abs_diff_eq(vectors[i].cross(Vec3A::Y), 1e-6));
         }
-        let t = Vec4::new(0.0, 0.3, 1.0, 0.7);
+        let t = gather(|i| [0.0, 0.3, 1.0, 0.7][i % 4]);
         let mixed = interpolate(q, p, t);
-        assert_eq!(mixed.lane(0), rotations[0]);
-        assert_eq!(mixed.lane(2), rotations[1]);
-        for i in [1, 3] {
-            let expected = rotations[i].slerp(rotations[3 - i], t[i]);
-            assert!(mixed.lane(i).angle_between(expected) < 2e-3, "lane {i}");
+        for i in 0..LANES {
+            match i % 4 {
+                0 => assert_eq!(mixed.lane(i), rotations[i]),
+                2 => assert_eq!(mixed.lane(i), rotations[mirror(i)]),
+                _ => {
+                    let expected = rotations[i].slerp(rotations[mirror(i)], t[i]);
+                    assert!(mixed.lane(i).angle_between(expected) < 2e-3, "lane {i}");
+                }
+            }
         }
         assert!(Q4::IDENTITY.is_identity().all());
+        let m = mask(|i| i == 2);
+        assert!(m.any() && !m.all() && m.test(2) && !m.test(1));
+        assert!((!Mask::splat(false)).all());
     }
 
     #[test]
@@ -378,8 +588,8 @@ mod tests {
             let angle = std::f32::consts::PI * i as f32 / 5_000.0;
             let (y, x) = (angle.sin().max(0.0), angle.cos());
             let approx = atan2_upper(
-                Vec4::new(y, y * 1e-3, y * 250.0, 0.0),
-                Vec4::new(x, x * 1e-3, x * 250.0, 0.0),
+                gather(|i| [y, y * 1e-3, y * 250.0, 0.0][i % 4]),
+                gather(|i| [x, x * 1e-3, x * 250.0, 0.0][i % 4]),
             );
             for lane in 0..3 {
                 worst = worst.max((approx[lane] - y.atan2(x)).abs());
@@ -390,7 +600,7 @@ mod tests {
         let mut worst: f32 = 0.0;
         for i in 0..=5_000 {
             let x = std::f32::consts::FRAC_PI_2 * i as f32 / 5_000.0;
-            let (sin, cos) = sin_cos_quarter(Vec4::splat(x));
+            let (sin, cos) = sin_cos_quarter(Floats::splat(x));
             worst = worst
                 .max((sin[0] - x.sin()).abs())
                 .max((cos[0] - x.cos()).abs());

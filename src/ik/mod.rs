@@ -2,13 +2,14 @@
 //! resolution that spreads one gaze rotation over it, and the temporal resolution that
 //! plays it out with human timing.
 //!
-//! - [`chain`]: [`GazeChain`], the spine, neck, head and eye joints, bottom to top, with
-//!   their offsets, rest rotations and limits.
-//! - [`spatial`]: one frame's displacement map — the delta rotation of every joint that
-//!   makes the eyes look at a target ([`spatial::solve`]).
-//! - [`temporal`]: [`GazeMotion`], a character's gaze state from frame to frame: activation
-//!   time, eyes → head → spine desynchronisation, the ease `f_P`, moving targets, restarts and
-//!   deactivation.
+//! - [`chain`](crate::ik::chain): [`GazeChain`](crate::ik::GazeChain), the spine, neck, head
+//!   and eye joints, bottom to top, with their offsets, rest rotations and limits.
+//! - [`spatial`](crate::ik::spatial): one frame's displacement map — the delta rotation of
+//!   every joint that makes the eyes look at a target
+//!   ([`spatial::solve`](crate::ik::spatial::solve)).
+//! - [`temporal`](crate::ik::temporal): [`GazeMotion`](crate::ik::GazeMotion), a character's
+//!   gaze state from frame to frame: activation time, eyes → head → spine desynchronisation,
+//!   the ease `f_P`, moving targets, restarts and deactivation.
 //!
 //! Every output is a *delta* (displacement) local rotation per chain joint: the joint's final
 //! local rotation is `base * delta` (glam's product: the delta acts in the joint's own frame,
@@ -16,7 +17,53 @@
 //!
 //! Units: metres, radians, seconds. The chain is expressed in the world's axes for a
 //! character at heading 0; a character's world transform is
-//! `translation(position) · rotation(heading about world up)` ([`CharacterTransform`]).
+//! `translation(position) · rotation(heading about world up)`
+//! ([`CharacterTransform`](crate::ik::CharacterTransform)).
+//!
+//! A crowd's frame, four characters per call:
+//!
+//! ```
+//! use crowdgaze::ik::temporal::BATCH_LANES;
+//! use crowdgaze::ik::{CharacterTransform, GazeChain, GazeConfig, GazeInput, GazeMotion, GazeRequest};
+//! use crowdgaze::math::random::{stream, Purpose, Random};
+//! use glam::{Quat, Vec3};
+//!
+//! let chain = GazeChain::human(Vec3::Y, Vec3::Z);
+//! let rest: Vec<Quat> = chain.joints().iter().map(|joint| joint.rest).collect();
+//! let config = GazeConfig::default();
+//! let mut motions = vec![GazeMotion::new(&chain); 8];
+//! let mut randoms: Vec<Random> = (0..8).map(|i| stream(42, Purpose::GazeTiming, i)).collect();
+//! for (chunk, (motions, randoms)) in motions
+//!     .chunks_exact_mut(BATCH_LANES)
+//!     .zip(randoms.chunks_exact_mut(BATCH_LANES))
+//!     .enumerate()
+//! {
+//!     let inputs: [GazeInput<'_>; BATCH_LANES] = std::array::from_fn(|lane| GazeInput {
+//!         character: CharacterTransform::from_heading(
+//!             Vec3::new((chunk * BATCH_LANES + lane) as f32, 0.0, 0.0),
+//!             Vec3::Y,
+//!             0.0,
+//!         ),
+//!         base: &rest,
+//!         request: Some(GazeRequest::at(7, Vec3::new(2.0, 1.6, 3.0))),
+//!         dt: 1.0 / 30.0,
+//!     });
+//!     let motions = <&mut [GazeMotion; BATCH_LANES]>::try_from(motions).unwrap();
+//!     let randoms = <&mut [Random; BATCH_LANES]>::try_from(randoms).unwrap();
+//!     let results = GazeMotion::update_batch(
+//!         motions.each_mut(),
+//!         [&chain; BATCH_LANES],
+//!         &config,
+//!         inputs.each_ref(),
+//!         randoms.each_mut(),
+//!     );
+//!     for result in results {
+//!         result.unwrap();
+//!     }
+//! }
+//! // Final local rotation of joint i: rest[i] * motions[c].deltas()[i].
+//! assert_eq!(motions[0].deltas().len(), 10);
+//! ```
 
 pub mod chain;
 mod lanes;
@@ -31,7 +78,9 @@ pub use chain::{
     MAX_CHAIN_JOINTS, MAX_SPINE_JOINTS,
 };
 pub use spatial::{RecruitmentBands, SpatialConfig, SpatialSolution, TurnSide};
-pub use temporal::{GazeConfig, GazeInput, GazeMotion, GazePhase, GazeRequest, GazeTiming};
+pub use temporal::{
+    GazeConfig, GazeInput, GazeMotion, GazePhase, GazeRequest, GazeTiming, MotionStyle,
+};
 
 /// Where a character stands and which way it faces: its world transform is
 /// `translation(position) · rotation`.

@@ -39,7 +39,8 @@
 //!   [`SpatialConfig::behind_hysteresis`] of straight behind (measured about the head's up
 //!   axis), a target on the other side is aimed at as if it were
 //!   [`SpatialConfig::behind_clearance`] short of straight behind on the remembered side, so
-//!   the character keeps turning the same way. The side changes only once the target is
+//!   the character keeps turning the same way (the zone is oriented by the head's up axis in
+//!   the base posture). The side changes only once the target is
 //!   clearly on the other side; the solution then jumps, which [`SpatialSolution::side_switched`]
 //!   reports so the temporal layer restarts a smooth shift. A new character with a target
 //!   exactly behind turns left (counter-clockwise, like headings).
@@ -51,13 +52,27 @@
 //! **Output**: the delta local rotation of each chain joint; the final local rotation is
 //! `base * delta` (glam's product: the delta acts in the joint's own frame, after its base
 //! rotation).
+//!
+//! **Cost.** No trigonometry in the common case: rotations are kept as the cosine and sine of
+//! their half-angle, the fractional turn is Kapoulkine's corrected nlerp (within about 10⁻³ of
+//! the angle: the joints above correct it, the eyes end exactly on target), and clamping to
+//! the limits is a few multiplications. The solver runs four characters at a time, one per
+//! SIMD lane ([`solve`] is the one-character entry; the crowd goes through
+//! [`crate::ik::GazeMotion::update_batch`]).
+
+// The lockstep loops index several per-lane and per-joint arrays with one index.
+#![allow(clippy::needless_range_loop)]
 
 use std::cell::Cell;
 
-use glam::{BVec4A, Quat, Vec3, Vec3A, Vec4};
+use glam::{Quat, Vec3, Vec3A};
 
-use super::chain::{GazeChain, JointGroup, JointLimits, CLAMP_SLACK, MAX_CHAIN_JOINTS};
-use super::lanes::{atan2_upper, gather, mask, sin_cos_quarter, F4, LANES, M4, Q4, V3};
+use super::chain::{
+    GazeChain, JointGroup, JointLimits, CLAMP_SLACK, MAX_BODY_JOINTS, MAX_CHAIN_JOINTS,
+};
+use super::lanes::{
+    atan2_upper, gather, mask, sin_cos_quarter, Floats, Mask, F4, LANES, M4, Q4, V3,
+};
 use super::CharacterTransform;
 use crate::error::{ensure_all_finite, ensure_finite, Error, Result};
 
@@ -233,44 +248,32 @@ pub fn solve(
     ensure_all_finite(&head_target.to_array(), "head_target")?;
     ensure_all_finite(&eye_target.to_array(), "eye_target")?;
     let prepared = Prepared::new(config);
-    let mut goals = [IDENTITY_DELTAS; LANES];
-    let ([solved, ..], _) = solve_bodies(
-        &prepared,
-        [
-            Some(BodyLane {
-                chain,
-                character,
-                base,
-                head_target,
-                side: *side,
-            }),
-            None,
-            None,
-            None,
-        ],
-        &mut goals,
-    );
+    let mut goals = [Q4::IDENTITY; MAX_BODY_JOINTS];
+    let mut lanes = [None; LANES];
+    lanes[0] = Some(BodyLane {
+        chain,
+        character,
+        base,
+        head_target,
+        side: *side,
+    });
+    let ([solved, ..], heads) = solve_bodies(&prepared, lanes, &mut goals);
     let (solution, new_side) = solved.ok_or_else(|| Error::Internal("empty solve".into()))?;
     *side = new_side;
+    let body = chain.body_count();
+    for (delta, goal) in deltas[..body].iter_mut().zip(&goals) {
+        *delta = goal.lane(0);
+    }
     if chain.has_eyes() {
         let chains = [chain; LANES];
         let bases = [base; LANES];
-        let mut heads = Frames::roots(&chains, &[character; LANES]);
-        for (index, goal) in goals[0][..chain.body_count()].iter().enumerate() {
-            heads.descend(
-                offsets(&chains, true, index),
-                Q4::splat(base[index] * *goal),
-            );
-        }
         let target = V3::splat(eye_target.into());
-        let side_sign = Vec4::splat(side.resolved());
+        let side_sign = Floats::splat(side.resolved());
         for eye in 0..2 {
             let frames = EyeFrames::new(&chains, &bases, &heads, eye);
-            goals[0][frames.index[0]] = frames.goal(&chains, &prepared, target, side_sign).lane(0);
+            deltas[frames.index[0]] = frames.goal(&chains, &prepared, target, side_sign).lane(0);
         }
     }
-    let count = chain.joint_count();
-    deltas[..count].copy_from_slice(&goals[0][..count]);
     Ok(solution)
 }
 
@@ -330,8 +333,8 @@ pub(crate) struct Prepared {
 /// cos and sin of half of `angle ∈ [0, π]`.
 #[inline]
 fn half_angle(angle: f32) -> (f32, f32) {
-    let (sin, cos) = sin_cos_quarter(Vec4::splat(0.5 * angle));
-    (cos.x, sin.x)
+    let (sin, cos) = sin_cos_quarter(Floats::splat(0.5 * angle));
+    (cos[0], sin[0])
 }
 
 /// Constants of the zone behind the character.
@@ -469,7 +472,7 @@ fn update_side(
 #[inline(always)]
 fn behind_adjusted(to_target: V3, forward: V3, up: V3, side_sign: F4, prepared: &Prepared) -> V3 {
     let ahead = to_target.dot(forward);
-    let behind = ahead.cmplt(Vec4::ZERO);
+    let behind = ahead.cmplt(Floats::ZERO);
     if !behind.any() {
         return to_target;
     }
@@ -479,7 +482,7 @@ fn behind_adjusted(to_target: V3, forward: V3, up: V3, side_sign: F4, prepared: 
     let back = -ahead;
     let in_zone = behind & across.abs().cmplt(zone.tan_hysteresis * back);
     let on_side =
-        (across * side_sign).cmpgt(Vec4::ZERO) & across.abs().cmpge(zone.tan_clearance * back);
+        (across * side_sign).cmpgt(Floats::ZERO) & across.abs().cmpge(zone.tan_clearance * back);
     let replace = in_zone & !on_side;
     if !replace.any() {
         return to_target;
@@ -519,7 +522,7 @@ impl Turn {
             cos: self.cos * reserve_cos + self.sin * reserve_sin,
             sin,
         };
-        (turn, sin.cmpgt(Vec4::ZERO))
+        (turn, sin.cmpgt(Floats::ZERO))
     }
 
     /// The rotation by `t`·θ, `t ∈ (0, 1]`: a normalised lerp from identity with
@@ -535,11 +538,11 @@ impl Turn {
         let cos = 1.0 + u * (self.cos - 1.0);
         let sin = u * self.sin;
         let norm = (cos * cos + sin * sin).sqrt().recip();
-        let whole = t.cmpge(Vec4::ONE);
+        let whole = t.cmpge(Floats::ONE);
         Turn {
             axis: self.axis,
-            cos: Vec4::select(whole, self.cos, cos * norm),
-            sin: Vec4::select(whole, self.sin, sin * norm),
+            cos: Floats::select(whole, self.cos, cos * norm),
+            sin: Floats::select(whole, self.sin, sin * norm),
         }
     }
 }
@@ -554,28 +557,35 @@ fn gaze_rotation(forward: V3, to_target: V3, fallback_axis: V3, prepared: &Prepa
     let cross_squared = cross.length_squared();
     let distance_squared = ahead * ahead + cross_squared;
     // False for NaN too.
-    let valid = distance_squared.cmpgt(Vec4::splat(1e-12));
+    let valid = distance_squared.cmpgt(Floats::splat(1e-12));
     let distance = distance_squared.sqrt();
     let cross_length = cross_squared.sqrt();
     // (|v| + f·v, f × v) is the rotation from f to v, up to its length.
     let w = distance + ahead;
     let norm = (w * w + cross_squared).sqrt().recip();
     let generic = valid & cross_squared.cmpgt(1e-14 * distance_squared);
-    let ahead_positive = ahead.cmpgt(Vec4::ZERO);
-    // Degenerate: straight ahead is no turn, straight behind a half turn.
-    let degenerate_cos = Vec4::select(ahead_positive | !valid, Vec4::ONE, Vec4::ZERO);
     let mut turn = Turn {
-        axis: V3::select(generic, cross.scale(cross_length.recip()), fallback_axis),
-        cos: Vec4::select(generic, w * norm, degenerate_cos),
-        sin: Vec4::select(generic, cross_length * norm, 1.0 - degenerate_cos),
+        axis: cross.scale(cross_length.recip()),
+        cos: w * norm,
+        sin: cross_length * norm,
     };
-    let near = valid & distance.cmplt(Vec4::splat(prepared.near_distance));
+    if !generic.all() {
+        // Degenerate: straight ahead (or at the eye) is no turn, straight behind a half turn.
+        let ahead_positive = ahead.cmpgt(Floats::ZERO);
+        let degenerate_cos = Floats::select(ahead_positive | !valid, Floats::ONE, Floats::ZERO);
+        turn = Turn {
+            axis: V3::select(generic, turn.axis, fallback_axis),
+            cos: Floats::select(generic, turn.cos, degenerate_cos),
+            sin: Floats::select(generic, turn.sin, 1.0 - degenerate_cos),
+        };
+    }
+    let near = valid & distance.cmplt(Floats::splat(prepared.near_distance));
     if near.any() {
         let t = distance / prepared.near_distance;
         let faded = turn.angle() * (t * t * (3.0 - 2.0 * t));
         let (sin, cos) = sin_cos_quarter(0.5 * faded);
-        turn.cos = Vec4::select(near, cos, turn.cos);
-        turn.sin = Vec4::select(near, sin, turn.sin);
+        turn.cos = Floats::select(near, cos, turn.cos);
+        turn.sin = Floats::select(near, sin, turn.sin);
     }
     turn
 }
@@ -599,12 +609,12 @@ impl Limits {
         let (cone, min, max) = limits.half_angles();
         Limits {
             axis: V3::splat(limits.twist_axis().into()),
-            min_cos: Vec4::splat(min.0),
-            min_sin: Vec4::splat(min.1),
-            max_cos: Vec4::splat(max.0),
-            max_sin: Vec4::splat(max.1),
-            cone_cos: Vec4::splat(cone.0),
-            cone_sin: Vec4::splat(cone.1),
+            min_cos: Floats::splat(min.0),
+            min_sin: Floats::splat(min.1),
+            max_cos: Floats::splat(max.0),
+            max_sin: Floats::splat(max.1),
+            cone_cos: Floats::splat(cone.0),
+            cone_sin: Floats::splat(cone.1),
         }
     }
 
@@ -649,7 +659,7 @@ impl Limits {
         let projection = rotation.vector().dot(self.axis);
         let w = rotation.w;
         // With a slack of CLAMP_SLACK, so that a rotation clamped before counts as inside.
-        let slack = Vec4::splat(-CLAMP_SLACK);
+        let slack = Floats::splat(-CLAMP_SLACK);
         let twist_inside = (self.min_cos * projection - self.min_sin * w).cmpge(slack)
             & (w * self.max_sin - projection * self.max_cos).cmpge(slack);
         let twist_length_squared = w * w + projection * projection;
@@ -659,35 +669,39 @@ impl Limits {
             return (rotation, inside);
         }
         let length = twist_length_squared.sqrt();
-        let degenerate = length.cmplt(Vec4::splat(1e-9));
+        let degenerate = length.cmplt(Floats::splat(1e-9));
         let inverse = length.recip();
-        let twist_cos = Vec4::select(degenerate, Vec4::ONE, w * inverse);
-        let twist_sin = Vec4::select(degenerate, Vec4::ZERO, projection * inverse);
+        let twist_cos = Floats::select(degenerate, Floats::ONE, w * inverse);
+        let twist_sin = Floats::select(degenerate, Floats::ZERO, projection * inverse);
         let twist = Q4::from_parts(self.axis.scale(twist_sin), twist_cos);
         let swing = rotation.mul(twist.conjugate());
         let to_min = twist_cos * self.min_cos + twist_sin * self.min_sin;
         let to_max = twist_cos * self.max_cos + twist_sin * self.max_sin;
         let nearer_min = to_min.cmpgt(to_max);
-        let twist_cos = Vec4::select(
+        let twist_cos = Floats::select(
             twist_inside,
             twist_cos,
-            Vec4::select(nearer_min, self.min_cos, self.max_cos),
+            Floats::select(nearer_min, self.min_cos, self.max_cos),
         );
-        let twist_sin = Vec4::select(
+        let twist_sin = Floats::select(
             twist_inside,
             twist_sin,
-            Vec4::select(nearer_min, self.min_sin, self.max_sin),
+            Floats::select(nearer_min, self.min_sin, self.max_sin),
         );
         // The swing's scalar part is the twist's length (see above): the swing is out of its
         // cone where the fast test said so.
-        let swing_vector = swing.vector();
-        let swing_sin = swing_vector.length_squared().sqrt();
-        let clamped_swing = Q4::select(
-            swing_sin.cmpgt(Vec4::splat(1e-9)),
-            Q4::from_parts(swing_vector.scale(self.cone_sin / swing_sin), self.cone_cos),
-            Q4::IDENTITY,
-        );
-        let swing = Q4::select(swing_inside, swing, clamped_swing);
+        let swing = if swing_inside.all() {
+            swing
+        } else {
+            let swing_vector = swing.vector();
+            let swing_sin = swing_vector.length_squared().sqrt();
+            let clamped_swing = Q4::select(
+                swing_sin.cmpgt(Floats::splat(1e-9)),
+                Q4::from_parts(swing_vector.scale(self.cone_sin / swing_sin), self.cone_cos),
+                Q4::IDENTITY,
+            );
+            Q4::select(swing_inside, swing, clamped_swing)
+        };
         // Both factors are unit quaternions: so is their product.
         let clamped = swing.mul(Q4::from_parts(self.axis.scale(twist_sin), twist_cos));
         (Q4::select(inside, rotation, clamped), inside)
@@ -769,13 +783,13 @@ pub(crate) fn same_chain(chains: &[&GazeChain; LANES]) -> bool {
 
 /// The spatial solve of the body joints (spine, cervicals, head) of up to four characters,
 /// one per lane, each towards its `head_target`: writes the deltas that are not identity
-/// into `goals[lane][..body_count]` (which come in as identity), and returns each lane's
+/// into `goals[joint]` (per lane; they come in as identity), and returns each lane's
 /// solution and turn side, and the heads' final world frames. `None` lanes are skipped.
 /// Inputs are assumed checked.
 pub(crate) fn solve_bodies(
     prepared: &Prepared,
     lanes: [Option<BodyLane<'_>>; LANES],
-    goals: &mut [[Quat; MAX_CHAIN_JOINTS]; LANES],
+    goals: &mut [Q4; MAX_BODY_JOINTS],
 ) -> ([Option<(SpatialSolution, TurnSide)>; LANES], Frames) {
     let Some(filler) = lanes.iter().flatten().next().copied() else {
         return (
@@ -792,7 +806,14 @@ pub(crate) fn solve_bodies(
     let same = same_chain(&chains);
     let body: [usize; LANES] = chains.map(GazeChain::body_count);
     let joints = body.iter().copied().max().unwrap_or(0);
+    let shared_base = same && lane.iter().all(|l| std::ptr::eq(l.base, lane[0].base));
+    // Multiplying by an identity base rotation changes no bit: skipped when every lane shares
+    // one base pose and this joint's is identity (a crowd at rest).
+    let identity_base = |index: usize| shared_base && lane[0].base[index] == Quat::IDENTITY;
     let base = |index: usize| {
+        if shared_base {
+            return Q4::splat(lane[0].base[index]);
+        }
         Q4::gather(|i| {
             if index < body[i] {
                 lane[i].base[index]
@@ -804,23 +825,31 @@ pub(crate) fn solve_bodies(
     // The global eye in the base posture.
     let roots = Frames::roots(&chains, &characters);
     let spine_count = chains[0].spine_count();
+    // The base posture's head frame, and its frame above the spine (where the solve starts
+    // if no spine joint moves).
     let mut frame = roots;
-    // The base posture's frame above the spine: where the solve starts if no spine moves.
     let mut above_spine = roots;
     for index in 0..joints {
-        frame.descend(offsets(&chains, same, index), base(index));
+        if identity_base(index) {
+            frame.position = frame
+                .position
+                .add(frame.rotation.rotate(offsets(&chains, same, index)));
+        } else {
+            frame.descend(offsets(&chains, same, index), base(index));
+        }
         if index + 1 == spine_count {
             above_spine = frame;
         }
     }
     let base_head = frame;
+
     let mut eye = frame
         .position
         .add(frame.rotation.rotate(V3::gather(|i| eye_middle(chains[i]))));
     let mut forward = frame
         .rotation
         .rotate(V3::gather(|i| chains[i].eye_forward().into()));
-    let mut up = frame
+    let up = frame
         .rotation
         .rotate(V3::gather(|i| chains[i].eye_up().into()));
     // q_l, θ and the turn side.
@@ -846,10 +875,10 @@ pub(crate) fn solve_bodies(
     let has_eyes = mask(|i| chains[i].has_eyes());
     let (eyes_only_cos, eyes_only_sin) = prepared.eyes_only_half;
     let (spine_reserve_cos, spine_reserve_sin) = prepared.eyes_head_and_neck_half;
-    let head_recruited = !has_eyes | first.cos.cmplt(Vec4::splat(eyes_only_cos));
-    let spine_recruited = first.cos.cmplt(Vec4::splat(spine_reserve_cos));
-    let head_reserve_cos = Vec4::select(has_eyes, Vec4::splat(eyes_only_cos), Vec4::ONE);
-    let head_reserve_sin = Vec4::select(has_eyes, Vec4::splat(eyes_only_sin), Vec4::ZERO);
+    let head_recruited = !has_eyes | first.cos.cmplt(Floats::splat(eyes_only_cos));
+    let spine_recruited = first.cos.cmplt(Floats::splat(spine_reserve_cos));
+    let head_reserve_cos = Floats::select(has_eyes, Floats::splat(eyes_only_cos), Floats::ONE);
+    let head_reserve_sin = Floats::select(has_eyes, Floats::splat(eyes_only_sin), Floats::ZERO);
 
     // Joints below the first that may move keep their base frames: start above them.
     let (first_joint, mut frame) = if !(head_recruited | spine_recruited).any() {
@@ -863,10 +892,18 @@ pub(crate) fn solve_bodies(
         frame.position = frame
             .position
             .add(frame.rotation.rotate(offsets(&chains, same, index)));
-        let joint_rotation = frame.rotation.mul(base(index));
-        let in_chain = mask(|i| index < body[i]);
+        let joint_rotation = if identity_base(index) {
+            frame.rotation
+        } else {
+            frame.rotation.mul(base(index))
+        };
+        let in_chain = if same {
+            Mask::splat(true)
+        } else {
+            mask(|i| index < body[i])
+        };
         let is_spine = if same {
-            BVec4A::splat(index < spine_count)
+            Mask::splat(index < spine_count)
         } else {
             mask(|i| index < chains[i].spine_count())
         };
@@ -880,8 +917,8 @@ pub(crate) fn solve_bodies(
                 gaze_rotation(forward, aimed, up.scale(side_sign), prepared)
             };
             let (budget, some_left) = remaining.less(
-                Vec4::select(is_spine, Vec4::splat(spine_reserve_cos), head_reserve_cos),
-                Vec4::select(is_spine, Vec4::splat(spine_reserve_sin), head_reserve_sin),
+                Floats::select(is_spine, Floats::splat(spine_reserve_cos), head_reserve_cos),
+                Floats::select(is_spine, Floats::splat(spine_reserve_sin), head_reserve_sin),
             );
             let moves = recruited & some_left;
             if moves.any() {
@@ -893,12 +930,11 @@ pub(crate) fn solve_bodies(
                         chain.head_index().saturating_sub(index) as f32
                     }
                 };
-                let above = if same {
-                    Vec4::splat(above_in_group(chains[0]))
+                let share = if same {
+                    Floats::splat(2.0 / (above_in_group(chains[0]) + 2.0))
                 } else {
-                    gather(|i| above_in_group(chains[i]))
+                    2.0 / (gather(|i| above_in_group(chains[i])) + 2.0)
                 };
-                let share = 2.0 / (above + 2.0);
                 let limits = Limits::of_joints(&chains, same, [index; LANES]);
                 let (turned, turn) = turn_joint(&limits, joint_rotation, budget.fraction(share));
                 delta = Q4::select(moves, turned, Q4::IDENTITY);
@@ -906,12 +942,9 @@ pub(crate) fn solve_bodies(
                 let moved_eye = frame.position.add(turn.rotate(eye.sub(frame.position)));
                 eye = V3::select(moves, moved_eye, eye);
                 forward = V3::select(moves, turn.rotate(forward), forward);
-                up = V3::select(moves, turn.rotate(up), up);
-                for i in 0..LANES {
-                    if lanes[i].is_some() && moves.test(i) {
-                        goals[i][index] = delta.lane(i);
-                    }
-                }
+                // `up` stays the head's up in the base posture: it only orients the behind
+                // zone, and the spine and neck mostly turn about it.
+                goals[index] = delta;
             }
         }
         frame.rotation = joint_rotation.mul(delta);
@@ -956,39 +989,56 @@ impl EyeFrames {
     ) -> EyeFrames {
         let index = chains.map(|chain| chain.eye_indices().map_or(0, |eyes| eyes[eye]));
         let has_eyes = mask(|i| chains[i].has_eyes());
-        let offset = V3::gather(|i| {
-            if chains[i].has_eyes() {
-                chains[i].joints()[index[i]].offset.into()
-            } else {
-                eye_middle(chains[i])
-            }
-        });
-        let base = Q4::gather(|i| {
-            if chains[i].has_eyes() {
-                bases[i][index[i]]
-            } else {
-                Quat::IDENTITY
-            }
-        });
-        let axes: [(Vec3A, Vec3A); LANES] = std::array::from_fn(|i| {
-            let chain = chains[i];
+        // The eye's offset and its forward and up axes in its own frame.
+        let eye_data = |chain: &GazeChain, index: usize| -> (Vec3A, Vec3A, Vec3A) {
             let (forward, up) = (chain.eye_forward().into(), chain.eye_up().into());
             if !chain.has_eyes() {
-                return (forward, up);
+                return (eye_middle(chain), forward, up);
             }
-            let rest = chain.joints()[index[i]].rest;
-            if rest == Quat::IDENTITY {
-                (forward, up)
+            let joint = &chain.joints()[index];
+            if joint.rest == Quat::IDENTITY {
+                (joint.offset.into(), forward, up)
             } else {
-                let to_eye = rest.conjugate();
-                (to_eye.mul_vec3a(forward), to_eye.mul_vec3a(up))
+                let to_eye = joint.rest.conjugate();
+                (
+                    joint.offset.into(),
+                    to_eye.mul_vec3a(forward),
+                    to_eye.mul_vec3a(up),
+                )
             }
-        });
+        };
+        let (offset, local_forward, local_up) = if same_chain(chains) {
+            let (offset, forward, up) = eye_data(chains[0], index[0]);
+            (V3::splat(offset), V3::splat(forward), V3::splat(up))
+        } else {
+            let data: [(Vec3A, Vec3A, Vec3A); LANES] =
+                std::array::from_fn(|i| eye_data(chains[i], index[i]));
+            (
+                V3::gather(|i| data[i].0),
+                V3::gather(|i| data[i].1),
+                V3::gather(|i| data[i].2),
+            )
+        };
+        let rotation = if bases.iter().all(|base| std::ptr::eq(*base, bases[0]))
+            && same_chain(chains)
+            && (!chains[0].has_eyes() || bases[0][index[0]] == Quat::IDENTITY)
+        {
+            // Every lane's eye rests at identity in its base pose: nothing to multiply.
+            heads.rotation
+        } else {
+            heads.rotation.mul(Q4::gather(|i| {
+                if chains[i].has_eyes() {
+                    bases[i][index[i]]
+                } else {
+                    Quat::IDENTITY
+                }
+            }))
+        };
         EyeFrames {
             position: heads.position.add(heads.rotation.rotate(offset)),
-            rotation: heads.rotation.mul(base),
-            local_forward: V3::gather(|i| axes[i].0),
-            local_up: V3::gather(|i| axes[i].1),
+            rotation,
+            local_forward,
+            local_up,
             has_eyes,
             index,
         }
@@ -1011,7 +1061,7 @@ impl EyeFrames {
         let limits = Limits::of_joints(chains, same_chain(chains), self.index);
         let (delta, _) = turn_joint(&limits, self.rotation, turn);
         Q4::select(
-            self.has_eyes & turn.sin.cmpgt(Vec4::ZERO),
+            self.has_eyes & turn.sin.cmpgt(Floats::ZERO),
             delta,
             Q4::IDENTITY,
         )

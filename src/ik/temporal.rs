@@ -35,20 +35,29 @@
 //!
 //! **Speed limits and joint limits.** Every frame each joint's change is capped at its
 //! group's [`GazeTiming::max_joint_speed`] × dt (a safety net for the rare discontinuities of
-//! the spatial solution, such as a target crossing straight above the character), then
+//! the spatial solution, such as an eye target crossing straight behind the head), then
 //! clamped to its limits, so both hold on every frame.
+//!
+//! **Batches.** [`GazeMotion::update_batch`] updates up to [`BATCH_LANES`] characters in one
+//! call, one per SIMD lane; [`GazeMotion::update`] is a batch of one (and costs about as much
+//! as a full batch). A character's results are exactly the same whatever batch it is in
+//! and wherever, so a crowd stays deterministic however its characters are split between
+//! threads.
 
-use glam::{Quat, Vec3, Vec3A, Vec4};
+// The lockstep loops index several per-lane and per-joint arrays with one index.
+#![allow(clippy::needless_range_loop)]
 
-use super::chain::{GazeChain, JointGroup, MAX_CHAIN_JOINTS};
-use super::lanes::{gather, interpolate, mask, F4, LANES, M4, Q4, V3};
+use glam::{Quat, Vec3, Vec3A};
+
+use super::chain::{GazeChain, JointGroup, MAX_BODY_JOINTS, MAX_CHAIN_JOINTS};
+use super::lanes::{gather, interpolate, mask, Floats, Mask, F4, LANES, M4, Q4, V3};
 use super::rotation::{angle_between, step_toward};
 use super::spatial::{
     self, BodyLane, EyeFrames, Frames, Limits, Prepared, SpatialConfig, TurnSide,
 };
 use super::CharacterTransform;
 use crate::error::{ensure_all_finite, ensure_finite, Error, Result};
-use crate::math::ease::Ease;
+use crate::math::ease::{head_progress, saccade_progress, Ease};
 use crate::math::random::Random;
 
 /// How many characters [`GazeMotion::update_batch`] best takes at once.
@@ -78,6 +87,16 @@ pub struct GazeTiming {
     pub max_joint_speed: [f32; 3],
     /// The ease `f_P`.
     pub ease: Ease,
+    /// [`MotionStyle::Saccadic`]: the eye saccade's duration, s. Default 0.2 (the paper's
+    /// six frames of 1/30 s).
+    pub saccade_duration: f32,
+    /// [`MotionStyle::Saccadic`]: the head movement lasts `head_base_duration +
+    /// head_duration_per_radian · θ_head`, s. Default 0.25 (our choice; the paper leaves
+    /// the head's duration to its fitted curve).
+    pub head_base_duration: f32,
+    /// See `head_base_duration`, s per radian of head turn. Default 0.45 (a 60° head turn
+    /// takes about 0.72 s).
+    pub head_duration_per_radian: f32,
 }
 
 impl Default for GazeTiming {
@@ -95,6 +114,9 @@ impl Default for GazeTiming {
                 360f32.to_radians(),
             ],
             ease: Ease::default(),
+            saccade_duration: 0.2,
+            head_base_duration: 0.25,
+            head_duration_per_radian: 0.45,
         }
     }
 }
@@ -116,6 +138,24 @@ impl GazeTiming {
             "gaze timing",
         )?;
         ensure_all_finite(&self.max_joint_speed, "max_joint_speed")?;
+        ensure_all_finite(
+            &[
+                self.saccade_duration,
+                self.head_base_duration,
+                self.head_duration_per_radian,
+            ],
+            "saccadic timing",
+        )?;
+        if self.saccade_duration <= 0.0
+            || self.head_base_duration <= 0.0
+            || self.head_duration_per_radian < 0.0
+        {
+            return Err(Error::InvalidArgument(
+                "gaze timing: saccade_duration and head_base_duration must be > 0, \
+                 head_duration_per_radian ≥ 0"
+                    .into(),
+            ));
+        }
         let bad = |what: &str| Err(Error::InvalidArgument(format!("gaze timing: {what}")));
         if self.head_speed <= 0.0 {
             return bad("head_speed must be > 0");
@@ -167,6 +207,20 @@ impl GazeConfig {
     }
 }
 
+/// How a gaze shift unfolds in time.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum MotionStyle {
+    /// Grillon & Thalmann 2009: eyes over `t_a/2`, head and neck over `t_a`, spine over
+    /// `2 t_a`, each eased by `f_P`.
+    #[default]
+    Eased,
+    /// Kokkinara, Oyekoya & Steed 2011: the eyes jump in a saccade of six frames with the
+    /// profile `14 e^(−π/4 (x − 3)²)`; the head (and, over 1.5 times as long, the spine)
+    /// follows `θ_h(u) = e^(0.027u)(sin(πu/2))^1.90` over a duration that grows with the
+    /// head's turn ([`GazeTiming::head_base_duration`]).
+    Saccadic,
+}
+
 /// What a character should look at this frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct GazeRequest {
@@ -179,6 +233,8 @@ pub struct GazeRequest {
     /// `S_max / S_MAX` in (0, 1]: how interesting the target is relative to the most
     /// interesting thing possible; 1 for explicit targets. Values above 1 count as 1.
     pub interest_ratio: f32,
+    /// How the shift to this target unfolds (taken when a shift starts).
+    pub style: MotionStyle,
 }
 
 impl GazeRequest {
@@ -189,6 +245,7 @@ impl GazeRequest {
             head_target: target,
             eye_target: target,
             interest_ratio: 1.0,
+            style: MotionStyle::Eased,
         }
     }
 }
@@ -221,7 +278,7 @@ pub enum GazePhase {
     Returning,
 }
 
-/// A character's gaze motion state: plain fixed-size data, no heap, 576 bytes
+/// A character's gaze motion state: plain fixed-size data, no heap, 592 bytes
 /// (`size_of::<GazeMotion>()`, checked by a test).
 ///
 /// Not safe for concurrent mutation; each character owns one.
@@ -248,6 +305,10 @@ pub struct GazeMotion {
     joint_count: u8,
     phase: GazePhase,
     side: TurnSide,
+    /// The style of the current shift.
+    style: MotionStyle,
+    /// The eye saccade's duration of a saccadic shift, s.
+    saccade_duration: f32,
 }
 
 impl GazeMotion {
@@ -267,6 +328,8 @@ impl GazeMotion {
             joint_count: chain.joint_count() as u8,
             phase: GazePhase::Idle,
             side: TurnSide::UNDECIDED,
+            style: MotionStyle::Eased,
+            saccade_duration: 0.0,
         }
     }
 
@@ -331,9 +394,35 @@ impl GazeMotion {
             }
             _ => {
                 let t = self.activation_time;
-                [0.5 * t, t, 2.0 * t]
+                match self.style {
+                    MotionStyle::Eased => [0.5 * t, t, 2.0 * t],
+                    // t_a holds the head's duration; the eyes' saccade is kept apart.
+                    MotionStyle::Saccadic => [self.saccade_duration, t, 1.5 * t],
+                }
             }
         }
+    }
+
+    /// The fraction of its motion each group has done (eyes, head and neck, spine): `f_P`,
+    /// or for a saccadic shift the saccade and head curves.
+    fn group_fractions(&self, ease: &Ease) -> [f32; 3] {
+        let durations = self.group_durations();
+        let elapsed = self.elapsed;
+        if self.phase == GazePhase::Returning || self.style == MotionStyle::Eased {
+            return durations.map(|duration| eased(ease, elapsed, duration));
+        }
+        let progress = |duration: f32| {
+            if duration > 0.0 {
+                elapsed / duration
+            } else {
+                1.0
+            }
+        };
+        [
+            saccade_progress(6.0 * progress(durations[0])),
+            head_progress(progress(durations[1])),
+            head_progress(progress(durations[2])),
+        ]
     }
 
     /// Advances the motion by `input.dt` and computes this frame's deltas.
@@ -417,7 +506,7 @@ impl GazeMotion {
                 }
             }
         }
-        let mut goals = [spatial::IDENTITY_DELTAS; LANES];
+        let mut goals = [Q4::IDENTITY; MAX_BODY_JOINTS];
         let (solved, solved_heads) = spatial::solve_bodies(
             &prepared,
             std::array::from_fn(|lane| {
@@ -453,10 +542,22 @@ impl GazeMotion {
                         motion.start = motion.deltas;
                         motion.elapsed = 0.0;
                         let body = chains[lane].body_count();
-                        let head_angle =
-                            head_turn(input.base, &motion.start[..body], &goals[lane][..body]);
-                        motion.activation_time =
-                            timing.activation_time(head_angle, request.interest_ratio);
+                        let head_angle = head_turn(
+                            &input.base[..body],
+                            &motion.start[..body],
+                            goals[..body].iter().map(|goal| goal.lane(lane)),
+                        );
+                        motion.style = request.style;
+                        motion.saccade_duration = timing.saccade_duration;
+                        motion.activation_time = match request.style {
+                            MotionStyle::Eased => {
+                                timing.activation_time(head_angle, request.interest_ratio)
+                            }
+                            MotionStyle::Saccadic => {
+                                timing.head_base_duration
+                                    + timing.head_duration_per_radian * head_angle
+                            }
+                        };
                         motion.phase = GazePhase::Shifting;
                     } else {
                         motion.elapsed += input.dt;
@@ -477,21 +578,19 @@ impl GazeMotion {
                     GazePhase::Idle => {}
                 },
             }
-            let elapsed = motion.elapsed;
-            fractions[lane] = motion
-                .group_durations()
-                .map(|duration| eased(&timing.ease, elapsed, duration));
+            fractions[lane] = motion.group_fractions(&timing.ease);
             max_steps[lane] = timing.max_joint_speed.map(|speed| speed * input.dt);
             moving[lane] = matches!(motion.phase, GazePhase::Shifting | GazePhase::Holding);
             returning[lane] = motion.phase == GazePhase::Returning;
         }
         let blending = mask(|lane| moving[lane] || returning[lane]);
+        let moving_mask = mask(|lane| moving[lane]);
 
         // 3. Body joints.
         let same = spatial::same_chain(&lane_chains);
         let body: [usize; LANES] = lane_chains.map(GazeChain::body_count);
         let joints = body.iter().copied().max().unwrap_or(0);
-        let mut at_rest = glam::BVec4A::splat(true);
+        let mut at_rest = Mask::splat(true);
         // Lanes whose every body joint ends exactly on the spatial solution.
         let mut on_goal = mask(|lane| moving[lane]);
         for index in 0..joints {
@@ -514,20 +613,16 @@ impl GazeMotion {
                     0
                 }
             });
-            let start = Q4::gather(|lane| {
-                if used(lane) && index < body[lane] {
-                    motions[lane].start[index]
-                } else {
-                    Quat::IDENTITY
-                }
-            });
-            let goal = Q4::gather(|lane| {
-                if moving[lane] {
-                    goals[lane][index]
-                } else {
-                    Quat::IDENTITY
-                }
-            });
+            let start = || {
+                Q4::gather(|lane| {
+                    if used(lane) && index < body[lane] {
+                        motions[lane].start[index]
+                    } else {
+                        Quat::IDENTITY
+                    }
+                })
+            };
+            let goal = Q4::select(moving_mask, goals[index], Q4::IDENTITY);
             let (settled, rest) = settle(
                 &lane_chains,
                 same,
@@ -539,7 +634,7 @@ impl GazeMotion {
                 gather(|lane| max_steps[lane][groups[lane]]),
             );
             at_rest &= !blend | rest;
-            on_goal &= !in_chain | settled.bits_equal(goal);
+            on_goal &= !in_chain | settled.equals(goal);
             for lane in 0..N {
                 if blend.test(lane) {
                     motions[lane].deltas[index] = settled.lane(lane);
@@ -552,18 +647,30 @@ impl GazeMotion {
         let heads = if all_on_goal {
             solved_heads
         } else {
+            // Multiplied as in the spatial solve, (parent · base) · delta, so that both ways
+            // give the same values and a character's result never depends on its batch.
             let mut heads = Frames::roots(&lane_chains, &characters);
             for index in 0..joints {
-                let rotation = Q4::gather(|lane| {
-                    if index >= body[lane] {
-                        Quat::IDENTITY
-                    } else if used(lane) {
-                        lane_bases[lane][index] * motions[lane].deltas[index]
-                    } else {
+                let base = Q4::gather(|lane| {
+                    if index < body[lane] {
                         lane_bases[lane][index]
+                    } else {
+                        Quat::IDENTITY
                     }
                 });
-                heads.descend(spatial::offsets(&lane_chains, same, index), rotation);
+                let delta = Q4::gather(|lane| {
+                    if used(lane) && index < body[lane] {
+                        motions[lane].deltas[index]
+                    } else {
+                        Quat::IDENTITY
+                    }
+                });
+                heads.position = heads.position.add(heads.rotation.rotate(spatial::offsets(
+                    &lane_chains,
+                    same,
+                    index,
+                )));
+                heads.rotation = heads.rotation.mul(base).mul(delta);
             }
             heads
         };
@@ -597,13 +704,15 @@ impl GazeMotion {
             if blend.any() {
                 let goal = frames.goal(&lane_chains, &prepared, eye_target, side_sign);
                 let goal = Q4::select(mask(|lane| moving[lane]), goal, Q4::IDENTITY);
-                let start = Q4::gather(|lane| {
-                    if used(lane) && lane_chains[lane].has_eyes() {
-                        motions[lane].start[frames.index[lane]]
-                    } else {
-                        Quat::IDENTITY
-                    }
-                });
+                let start = || {
+                    Q4::gather(|lane| {
+                        if used(lane) && lane_chains[lane].has_eyes() {
+                            motions[lane].start[frames.index[lane]]
+                        } else {
+                            Quat::IDENTITY
+                        }
+                    })
+                };
                 let (settled, rest) = settle(
                     &lane_chains,
                     same,
@@ -704,7 +813,7 @@ impl GazeMotion {
     }
 }
 
-/// Per lane: `interpolate(start, goal, fraction)`, at most `max_step` radians from
+/// Per lane: `interpolate(start(), goal, fraction)`, at most `max_step` radians from
 /// `current`, within the limits of joint `indices[lane]`. Returns the new deltas and where
 /// they are exactly identity.
 #[allow(clippy::too_many_arguments)]
@@ -713,7 +822,7 @@ fn settle(
     chains: &[&GazeChain; LANES],
     same_chain: bool,
     indices: [usize; LANES],
-    start: Q4,
+    start: impl Fn() -> Q4,
     current: Q4,
     goal: Q4,
     fraction: F4,
@@ -721,16 +830,16 @@ fn settle(
 ) -> (Q4, M4) {
     // Once a group has arrived (f_P = 1), its joints follow the goal, which the spatial
     // solve already clamped: no interpolation, no clamping, unless the speed limit binds.
-    let arrived = fraction.cmpge(Vec4::ONE).all();
+    let arrived = fraction.cmpge(Floats::ONE).all();
     let wanted = if arrived {
         goal
     } else {
-        interpolate(start, goal, fraction)
+        interpolate(start(), goal, fraction)
     };
     // Within the speed limit iff 1 − |current·wanted| ≤ 1 − cos(max/2), which is at least
     // h²/2 − h⁴/24 for h = max/2: a test without trigonometry; the rare lanes over the limit
     // are stepped one by one.
-    let dot = current.dot(wanted).abs().min(Vec4::ONE);
+    let dot = current.dot(wanted).abs().min(Floats::ONE);
     let half = 0.5 * max_step;
     let half_squared = half * half;
     let fast = (1.0 - dot).cmple(half_squared * (0.5 - half_squared / 24.0));
@@ -761,13 +870,12 @@ fn eased(ease: &Ease, elapsed: f32, duration: f32) -> f32 {
 
 /// `θ_head`: the angle of the head's rotation, in the chain root's frame, from the pose
 /// `base * from` to the pose `base * to` (body joints).
-fn head_turn(base: &[Quat], from: &[Quat], to: &[Quat]) -> f32 {
-    let body = from.len();
+fn head_turn(base: &[Quat], from: &[Quat], to: impl Iterator<Item = Quat>) -> f32 {
     let mut head_from = Quat::IDENTITY;
     let mut head_to = Quat::IDENTITY;
-    for ((base, from), to) in base[..body].iter().zip(&from[..body]).zip(&to[..body]) {
+    for ((base, from), to) in base.iter().zip(from).zip(to) {
         head_from = head_from * *base * *from;
-        head_to = head_to * *base * *to;
+        head_to = head_to * *base * to;
     }
     angle_between(head_from, head_to)
 }
@@ -778,7 +886,7 @@ mod tests {
 
     #[test]
     fn motion_state_is_small() {
-        assert_eq!(std::mem::size_of::<GazeMotion>(), 576);
+        assert_eq!(std::mem::size_of::<GazeMotion>(), 592);
         assert!(std::mem::size_of::<GazeMotion>() < 1024);
     }
 

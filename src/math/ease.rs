@@ -1,4 +1,6 @@
-//! The gaze ease curve of Grillon & Thalmann 2009: `f_P(u) = ½ (1 + erf(s (u − ½)) / erf(s / 2))`.
+//! Progress curves of gaze motions: the ease of Grillon & Thalmann 2009,
+//! `f_P(u) = ½ (1 + erf(s (u − ½)) / erf(s / 2))`, and the eye saccade and head movement
+//! curves used by Kokkinara, Oyekoya & Steed 2011.
 //!
 //! It maps a motion's normalised progress `u ∈ [0, 1]` to the fraction of the rotation done:
 //! exactly 0 at `u = 0` and 1 at `u = 1`, with a bell-shaped (gaussian) velocity. The
@@ -54,6 +56,40 @@ impl Default for Ease {
     fn default() -> Self {
         Ease::new(DEFAULT_STEEPNESS)
     }
+}
+
+/// The eye saccade of Lee et al. as used by the paper (Kokkinara et al. 2011, eq. 7): the share of the eye's
+/// rotation done in each of the six frames, `14 e^(−π/4 (x − 3)²)` for x = 1..6,
+/// normalised to sum to 1.
+pub fn saccade_profile() -> [f32; 6] {
+    let mut weights = [0.0f32; 6];
+    for (i, weight) in weights.iter_mut().enumerate() {
+        let x = (i + 1) as f32 - 3.0;
+        *weight = 14.0 * (-std::f32::consts::FRAC_PI_4 * x * x).exp();
+    }
+    let sum: f32 = weights.iter().sum();
+    weights.map(|w| w / sum)
+}
+
+/// Fraction of the eye saccade done after `frames` frames (0 to 6) of 1/30 s.
+pub fn saccade_progress(frames: f32) -> f32 {
+    let profile = saccade_profile();
+    let whole = frames.clamp(0.0, 6.0);
+    let done = whole.floor() as usize;
+    let mut sum: f32 = profile[..done].iter().sum();
+    if done < 6 {
+        sum += profile[done] * (whole - done as f32);
+    }
+    sum.min(1.0)
+}
+
+/// The head's saccadic transition (Kokkinara et al. 2011, eq. 8), `θ_h(u) = e^(0.027u)(sin(πu/2))^1.90` on
+/// normalised time u ∈ [0, 1], divided by its end value so that it goes exactly from 0
+/// to 1.
+pub fn head_progress(u: f32) -> f32 {
+    let u = u.clamp(0.0, 1.0);
+    let curve = |u: f32| (0.027 * u).exp() * (std::f32::consts::FRAC_PI_2 * u).sin().powf(1.90);
+    curve(u) / curve(1.0)
 }
 
 #[cfg(test)]

@@ -55,6 +55,8 @@ pub struct Scene {
     heading: Vec<f32>,
     forward: Vec<Vec2>,
     velocity: Vec<Vec2>,
+    /// Turn rate about up (rad/s), from successive headings.
+    turn_rate: Vec<f32>,
     impact: Vec<f32>,
     last_time: Vec<f64>,
     // Per character (dense).
@@ -83,11 +85,24 @@ impl Scene {
             heading: Vec::with_capacity(capacity),
             forward: Vec::with_capacity(capacity),
             velocity: Vec::with_capacity(capacity),
+            turn_rate: Vec::with_capacity(capacity),
             impact: Vec::with_capacity(capacity),
             last_time: Vec::with_capacity(capacity),
             character_entity: Vec::with_capacity(max_characters as usize),
             max_impact: 0.0,
         }
+    }
+
+    /// Bytes of state per entity (all the per-entity arrays and the id table).
+    pub fn bytes_per_entity() -> usize {
+        use std::mem::size_of;
+        size_of::<u32>() * 2 // id, character index
+            + size_of::<EntityKind>()
+            + size_of::<Vec3>() // position
+            + size_of::<f32>() * 4 // look-at height, heading, turn rate, impact
+            + size_of::<Vec2>() * 3 // ground, forward, velocity
+            + size_of::<f64>() // last time
+            + size_of::<u32>() * 3 // id table slot
     }
 
     /// The world conventions.
@@ -145,6 +160,7 @@ impl Scene {
         self.heading.push(heading);
         self.forward.push(Vec2::from_angle(heading));
         self.velocity.push(Vec2::ZERO);
+        self.turn_rate.push(0.0);
         self.impact.push(impact);
         self.last_time.push(f64::NEG_INFINITY);
         match kind {
@@ -187,6 +203,7 @@ impl Scene {
         self.heading.swap_remove(index);
         self.forward.swap_remove(index);
         self.velocity.swap_remove(index);
+        self.turn_rate.swap_remove(index);
         self.impact.swap_remove(index);
         self.last_time.swap_remove(index);
         match kind {
@@ -217,6 +234,12 @@ impl Scene {
     #[inline]
     pub fn index_of(&self, id: u32) -> Option<usize> {
         self.ids.lookup(id).map(|(_, index)| index as usize)
+    }
+
+    /// Dense character index of the character at entity index `index`, if it is one.
+    pub fn character_at(&self, index: usize) -> Option<usize> {
+        let character = self.character[index];
+        (character != NO_ENTITY).then_some(character as usize)
     }
 
     /// Dense character index of a live character id.
@@ -282,6 +305,12 @@ impl Scene {
             } else {
                 update.heading
             };
+            if elapsed > 0.0 && elapsed.is_finite() {
+                let turn = (heading - self.heading[index] + std::f32::consts::PI)
+                    .rem_euclid(std::f32::consts::TAU)
+                    - std::f32::consts::PI;
+                self.turn_rate[index] = turn / elapsed as f32;
+            }
             self.position[index] = update.position;
             self.ground[index] = ground;
             self.velocity[index] = velocity;
@@ -333,6 +362,10 @@ impl Scene {
     /// Ground velocities (m/s), by entity index.
     pub fn velocities(&self) -> &[Vec2] {
         &self.velocity
+    }
+    /// Turn rates about up (rad/s), by entity index.
+    pub fn turn_rates(&self) -> &[f32] {
+        &self.turn_rate
     }
     /// Impact factors, by entity index.
     pub fn impacts(&self) -> &[f32] {

@@ -9,23 +9,42 @@
 //! character's exact percentile threshold and its list of constraints
 //! (`entity, t_b, t_e`), and stepping replays the recording following that plan.
 
+mod models;
+
+pub use models::{Look, LookTarget};
+
 use glam::{Quat, Vec3};
 
+use crate::attention::baseline::{BaselineConfig, BaselineState};
 use crate::attention::candidates::{
     all_pairs_candidates, nearby_candidates, CandidateBatch, NeighbourIndex,
 };
 use crate::attention::interest::{Candidate, InterestConfig, InterestTracker};
 use crate::attention::plan::{Constraint, Plan, Recording};
+use crate::attention::saliency::SaliencyConfig;
 use crate::attention::score::{ScoreBreakdown, Scorer, ScoringConfig};
-use crate::attention::CharacterParams;
+use crate::attention::{AttentionModel, CharacterParams, TargetPart};
 use crate::error::{ensure_finite, Error, Result};
 use crate::ik::{
-    CharacterTransform, GazeChain, GazeConfig, GazeInput, GazeMotion, GazeRequest, MAX_CHAIN_JOINTS,
+    CharacterTransform, GazeChain, GazeConfig, GazeInput, GazeMotion, GazeRequest, MotionStyle,
+    MAX_CHAIN_JOINTS,
 };
 use crate::math::random::{stream, Purpose, Random};
 use crate::scene::ids::{EntityKind, NO_ENTITY};
 use crate::scene::{EntityUpdate, Scene};
 use crate::world::World;
+use models::{social_parts, SaliencyState};
+
+/// A character's level-of-detail state for attention updates.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct AttentionLod {
+    /// Offset of this character's updates within the period.
+    stagger: u32,
+    /// Its own period (0: the crowd's, by distance to the viewer).
+    period: u32,
+    /// Seconds since its last attention update.
+    pending: f32,
+}
 
 /// Gaze-request key of explicit point targets (entity ids are below 2³²).
 const EXPLICIT_POINT_KEY: u64 = 1 << 32;
@@ -58,6 +77,20 @@ pub struct CrowdConfig {
     pub max_recorded_states: u32,
     /// Gaze IK settings: recruitment bands and timing.
     pub gaze: GazeConfig,
+    /// The saliency model's settings (characters using [`AttentionModel::Saliency`]).
+    pub saliency: SaliencyConfig,
+    /// The baseline's settings (characters using [`AttentionModel::Baseline`]).
+    pub baseline: BaselineConfig,
+    /// Level of detail: attention (not gaze IK, which runs every frame) is updated every
+    /// `attention_period` steps per character, staggered so that each step updates an
+    /// equal share of the crowd. 1 to 64; default 1 (every step).
+    pub attention_period: u32,
+    /// Level of detail by distance: characters farther than `lod_distance` (metres) from
+    /// the viewer update attention every `far_attention_period` steps. 0 (default) turns
+    /// this off.
+    pub lod_distance: f32,
+    /// See `lod_distance`. 1 to 64; default 4.
+    pub far_attention_period: u32,
 }
 
 impl Default for CrowdConfig {
@@ -72,6 +105,11 @@ impl Default for CrowdConfig {
             attention_fraction_range: (0.2, 0.6),
             max_recorded_states: 0,
             gaze: GazeConfig::default(),
+            saliency: SaliencyConfig::default(),
+            baseline: BaselineConfig::default(),
+            attention_period: 1,
+            lod_distance: 0.0,
+            far_attention_period: 4,
         }
     }
 }
@@ -123,6 +161,54 @@ impl CrowdConfig {
         check_range(interest.warmup, 0.0, 3600.0, "warmup")?;
         check_range(interest.initial_threshold, 0.0, 1e6, "initial_threshold")?;
         let (low, high) = self.attention_fraction_range;
+        let saliency = &self.saliency;
+        check_range(saliency.eye_fixation, 1e-3, 60.0, "eye_fixation")?;
+        check_range(saliency.head_fixation, 1e-3, 60.0, "head_fixation")?;
+        check_range(
+            saliency.random_pick_probability,
+            0.0,
+            1.0,
+            "random_pick_probability",
+        )?;
+        check_range(saliency.social_weight, 0.0, 100.0, "social_weight")?;
+        for (field, what) in [
+            (saliency.eye_field, "eye field"),
+            (saliency.head_field, "head field"),
+        ] {
+            check_range(field.half_horizontal, 0.0, std::f32::consts::PI, what)?;
+            check_range(field.half_vertical, 0.0, std::f32::consts::FRAC_PI_2, what)?;
+        }
+        for (period, what) in [
+            (self.attention_period, "attention_period"),
+            (self.far_attention_period, "far_attention_period"),
+        ] {
+            if !(1..=64).contains(&period) {
+                return Err(Error::InvalidArgument(format!(
+                    "{what} is {period}, must be 1..=64"
+                )));
+            }
+        }
+        check_range(self.lod_distance, 0.0, 1e6, "lod_distance")?;
+        let baseline = &self.baseline;
+        check_range(baseline.proximity_radius, 0.0, 1000.0, "proximity_radius")?;
+        check_range(
+            baseline.glance_interval_min,
+            0.01,
+            3600.0,
+            "glance_interval_min",
+        )?;
+        check_range(
+            baseline.glance_interval_max,
+            baseline.glance_interval_min,
+            3600.0,
+            "glance_interval_max",
+        )?;
+        check_range(
+            baseline.glance_away_probability,
+            0.0,
+            1.0,
+            "glance_away_probability",
+        )?;
         check_range(low, 0.0, 1.0, "attention_fraction_min")?;
         check_range(high, low, 1.0, "attention_fraction_max")?;
         self.gaze.validate()
@@ -134,10 +220,16 @@ impl CrowdConfig {
 pub struct GazeInfo {
     /// The character's id.
     pub character: u32,
-    /// The interest point's entity id, or [`NO_ENTITY`] when looking ahead.
+    /// What the eyes look at: the interest point's (or the eye target's) entity id, or
+    /// [`NO_ENTITY`] when looking ahead or at an explicit point.
     pub target: u32,
-    /// The interest point's look-at position (metres), or the point 10 m ahead at eye
-    /// height when there is none.
+    /// Which part of `target` (always [`TargetPart::Whole`] for the crowd model).
+    pub target_part: TargetPart,
+    /// What the head looks at (the same as `target` but for the saliency and baseline
+    /// models, whose head and eyes have separate targets).
+    pub head_target: u32,
+    /// The point the eyes are sent to (metres): the target's look-at point (or part), an
+    /// explicit point, or the point 10 m ahead at eye height when there is none.
     pub target_position: Vec3,
     /// `S_max` this frame.
     pub s_max: f32,
@@ -165,6 +257,8 @@ pub struct CharacterDesc {
     /// The gaze chain (metres, world axes at heading 0); `None` is the human chain of
     /// [`GazeChain::human`] for the crowd's axes.
     pub chain: Option<GazeChain>,
+    /// The attention model (used when `params` is `None`; otherwise `params.model`).
+    pub model: AttentionModel,
 }
 
 impl Default for CharacterDesc {
@@ -175,6 +269,7 @@ impl Default for CharacterDesc {
             impact: 1.0,
             params: None,
             chain: None,
+            model: AttentionModel::Crowd,
         }
     }
 }
@@ -247,6 +342,23 @@ pub struct Crowd {
     trackers: Vec<InterestTracker>,
     /// Distinct gaze chains; characters share equal ones.
     chains: Vec<GazeChain>,
+    /// Per chain: the five social target points (head, eyes, chest, torso) in the
+    /// character's frame at rest.
+    chain_parts: Vec<[Vec3; 5]>,
+    /// Per character: where the saliency or baseline model wants the eyes and head.
+    looks: Vec<Look>,
+    /// Per character: saliency fixations.
+    saliency: Vec<SaliencyState>,
+    /// Per character: baseline glances.
+    baseline: Vec<BaselineState>,
+    /// Per character: random stream of the saliency and baseline choices.
+    model_randoms: Vec<Random>,
+    /// The viewer's entity id, once set.
+    viewer: Option<u32>,
+    /// Per character: level-of-detail state of its attention updates.
+    lod: Vec<AttentionLod>,
+    /// Steps taken so far (staggers the level-of-detail updates).
+    steps: u64,
     /// Per character: index into `chains`.
     chain_of: Vec<u32>,
     /// Per character: base local rotations of its chain joints (rest or pushed pose).
@@ -272,12 +384,21 @@ impl Crowd {
         let capacity = (config.max_characters + config.max_objects) as usize;
         Ok(Crowd {
             scorer: Scorer::new(config.scoring),
-            scene: Scene::new(config.world, config.max_characters, config.max_objects),
+            // One object slot more than asked for: the viewer's.
+            scene: Scene::new(config.world, config.max_characters, config.max_objects + 1),
             neighbours: NeighbourIndex::new(capacity, config.scoring.max_distance),
             batch: Box::default(),
             params: Vec::with_capacity(config.max_characters as usize),
             trackers: Vec::with_capacity(config.max_characters as usize),
             chains: Vec::new(),
+            chain_parts: Vec::new(),
+            looks: Vec::with_capacity(config.max_characters as usize),
+            saliency: Vec::with_capacity(config.max_characters as usize),
+            baseline: Vec::with_capacity(config.max_characters as usize),
+            model_randoms: Vec::with_capacity(config.max_characters as usize),
+            viewer: None,
+            lod: Vec::with_capacity(config.max_characters as usize),
+            steps: 0,
             chain_of: Vec::with_capacity(config.max_characters as usize),
             bases: Vec::with_capacity(config.max_characters as usize),
             motions: Vec::with_capacity(config.max_characters as usize),
@@ -336,7 +457,10 @@ impl Crowd {
                 Purpose::CharacterParams,
                 self.characters_created,
             );
-            CharacterParams::random(&mut random, self.config.attention_fraction_range)
+            let mut params =
+                CharacterParams::random(&mut random, self.config.attention_fraction_range);
+            params.model = desc.model;
+            params
         });
         let world = self.config.world;
         let chain = match desc.chain {
@@ -357,6 +481,7 @@ impl Crowd {
             Some(index) => index,
             None => {
                 self.chains.push(chain);
+                self.chain_parts.push(social_parts(&chain, world.up));
                 self.chains.len() - 1
             }
         };
@@ -373,6 +498,19 @@ impl Crowd {
             self.characters_created,
         ));
         self.explicit.push(None);
+        self.looks.push(Look::NONE);
+        self.saliency.push(SaliencyState::default());
+        self.baseline.push(BaselineState::default());
+        self.model_randoms.push(stream(
+            self.config.seed,
+            Purpose::Saliency,
+            self.characters_created,
+        ));
+        self.lod.push(AttentionLod {
+            stagger: (self.characters_created % 64) as u32,
+            period: 0,
+            pending: 0.0,
+        });
         self.characters_created += 1;
         self.params.push(params);
         self.trackers.push(InterestTracker::new(
@@ -389,6 +527,14 @@ impl Crowd {
         check_range(desc.look_at_height, -1e6, 1e6, "look_at_height")?;
         Self::check_impact(desc.impact)?;
         self.ensure_online("add an object")?;
+        let objects =
+            self.scene.len() - self.character_count() - usize::from(self.viewer.is_some());
+        if objects >= self.config.max_objects as usize {
+            return Err(Error::Capacity(format!(
+                "the crowd already holds max_objects = {} objects",
+                self.config.max_objects
+            )));
+        }
         self.scene.add(
             EntityKind::Object,
             desc.position,
@@ -411,6 +557,17 @@ impl Crowd {
             self.motions.swap_remove(slot);
             self.gaze_randoms.swap_remove(slot);
             self.explicit.swap_remove(slot);
+            self.looks.swap_remove(slot);
+            self.saliency.swap_remove(slot);
+            self.baseline.swap_remove(slot);
+            self.model_randoms.swap_remove(slot);
+            self.lod.swap_remove(slot);
+        }
+        if self.viewer == Some(id) {
+            self.viewer = None;
+        }
+        for look in &mut self.looks {
+            look.forget(id);
         }
         for tracker in &mut self.trackers {
             tracker.forget(id);
@@ -516,29 +673,87 @@ impl Crowd {
             plan.advance(dt, &mut self.scene);
         }
         self.neighbours.rebuild(&self.scene);
-        if self.plan.is_none() {
-            self.attend(dt);
-        }
+        self.attend(dt);
         self.move_gaze(dt);
         Ok(())
     }
 
-    /// Online attention: every character's best entities, threshold and interest point.
+    /// Runs attention alone, without moving any gaze chain: what [`step`](Self::step) does
+    /// first. For tools and benchmarks that only need who looks at what.
+    pub fn step_attention(&mut self, dt: f32) -> Result<()> {
+        ensure_finite(dt, "dt")?;
+        if dt < 0.0 {
+            return Err(Error::InvalidArgument(format!("dt is {dt}, must be >= 0")));
+        }
+        if let Some(plan) = &mut self.plan {
+            plan.advance(dt, &mut self.scene);
+        }
+        self.neighbours.rebuild(&self.scene);
+        self.attend(dt);
+        Ok(())
+    }
+
+    /// Attention for every character, by its model: the crowd model's best entities,
+    /// threshold and interest point (online; a plan replaces them), or the saliency and
+    /// baseline models' eye and head targets.
     fn attend(&mut self, dt: f32) {
         let max_score = self.scene.max_impact();
-        let ids = self.scene.ids();
+        let planned = self.plan.is_some();
+        let steps = self.steps;
+        self.steps += 1;
+        let viewer = self
+            .viewer
+            .and_then(|id| self.scene.index_of(id))
+            .map(|index| self.scene.ground_positions()[index]);
         for character in 0..self.scene.character_count() {
-            let tracker = &self.trackers[character];
-            let (best, second) = nearby_candidates(
-                &self.scene,
-                &self.neighbours,
-                &self.scorer,
-                character,
-                &self.params[character].weights,
-                &mut self.batch,
-                |other| tracker.is_cooling(ids[other]),
-            );
-            self.trackers[character].update(best, second, max_score, dt, &self.config.interest);
+            // Level of detail: attention runs every `period` steps, on the elapsed time.
+            let period = match self.lod[character].period {
+                0 => {
+                    let entity = self.scene.character_entities()[character] as usize;
+                    let far = self.config.lod_distance > 0.0
+                        && viewer.is_some_and(|viewer| {
+                            viewer.distance(self.scene.ground_positions()[entity])
+                                > self.config.lod_distance
+                        });
+                    if far {
+                        self.config.far_attention_period
+                    } else {
+                        self.config.attention_period
+                    }
+                }
+                period => period,
+            };
+            let lod = &mut self.lod[character];
+            lod.pending += dt;
+            if (steps + u64::from(lod.stagger)) % u64::from(period) != 0 {
+                continue;
+            }
+            let dt = std::mem::take(&mut lod.pending);
+            match self.params[character].model {
+                AttentionModel::Crowd if planned => {}
+                AttentionModel::Crowd => {
+                    let tracker = &self.trackers[character];
+                    let ids = self.scene.ids();
+                    let (best, second) = nearby_candidates(
+                        &self.scene,
+                        &self.neighbours,
+                        &self.scorer,
+                        character,
+                        &self.params[character].weights,
+                        &mut self.batch,
+                        |other| tracker.is_cooling(ids[other]),
+                    );
+                    self.trackers[character].update(
+                        best,
+                        second,
+                        max_score,
+                        dt,
+                        &self.config.interest,
+                    );
+                }
+                AttentionModel::Saliency => self.attend_saliency(character, dt),
+                AttentionModel::Baseline => self.attend_baseline(character, dt),
+            }
         }
     }
 
@@ -557,16 +772,25 @@ impl Crowd {
     }
 
     /// What a character (dense index) should look at this frame: its explicit target if
-    /// one applies, else its interest point, as a gaze request.
+    /// one applies, else what its attention model chose, as a gaze request.
     fn gaze_request(&self, character: usize) -> Option<GazeRequest> {
-        let (automatic, s_max) = self.automatic_target(character);
+        let model = self.params[character].model;
+        let (automatic, s_max) = match model {
+            AttentionModel::Crowd => self.automatic_target(character),
+            _ => (NO_ENTITY, 0.0),
+        };
         let automatic = self
             .scene
             .index_of(automatic)
             .map(|index| (automatic, index));
+        let model_request = match model {
+            AttentionModel::Crowd => None,
+            _ => self.model_request(character),
+        };
+        let idle = automatic.is_none() && model_request.is_none();
         let explicit = match self.explicit[character] {
             Some((target, TargetPriority::Override)) => Some(target),
-            Some((target, TargetPriority::WhenIdle)) if automatic.is_none() => Some(target),
+            Some((target, TargetPriority::WhenIdle)) if idle => Some(target),
             _ => None,
         };
         let (key, point, interest_ratio) = match (explicit, automatic) {
@@ -588,13 +812,14 @@ impl Crowd {
                     ratio.clamp(0.05, 1.0),
                 )
             }
-            (None, None) => return None,
+            (None, None) => return model_request,
         };
         Some(GazeRequest {
             target_key: key,
             head_target: point,
             eye_target: point,
             interest_ratio,
+            style: MotionStyle::Eased,
         })
     }
 
@@ -752,9 +977,9 @@ impl Crowd {
                 )
             }
         };
-        let target_index = self.scene.index_of(target);
-        let target_position = match target_index {
-            Some(index) => self.scene.look_at_point(index),
+        let look = self.current_look(character);
+        let target_position = match self.gaze_request(character) {
+            Some(request) => request.eye_target,
             None => {
                 let ahead = self
                     .config
@@ -763,17 +988,21 @@ impl Crowd {
                 self.scene.look_at_point(entity) + ahead * 10.0
             }
         };
+        let exists = |id: u32| self.scene.index_of(id).is_some();
+        let known = |id: u32| if exists(id) { id } else { NO_ENTITY };
+        let attending = match self.params[character].model {
+            AttentionModel::Crowd => exists(target),
+            _ => exists(look.eye.entity) || exists(look.head.entity),
+        };
         GazeInfo {
             character: self.scene.ids()[entity],
-            target: if target_index.is_some() {
-                target
-            } else {
-                NO_ENTITY
-            },
+            target: known(look.eye.entity),
+            target_part: look.eye.part,
+            head_target: known(look.head.entity),
             target_position,
             s_max,
             threshold,
-            attending: target_index.is_some(),
+            attending,
             attentive_fraction,
             interest_count,
         }
@@ -910,6 +1139,38 @@ impl Crowd {
     /// A character's gaze motion (phase, timing), by id.
     pub fn gaze_motion(&self, character_id: u32) -> Result<&GazeMotion> {
         Ok(&self.motions[self.scene.character_index(character_id)?])
+    }
+
+    /// Sets how often a character's attention is updated: every `period` steps (1 to 64),
+    /// or 0 for the crowd's level of detail (`attention_period`, or `far_attention_period`
+    /// beyond `lod_distance` from the viewer). Gaze IK still runs every step.
+    pub fn set_attention_period(&mut self, character_id: u32, period: u32) -> Result<()> {
+        let character = self.scene.character_index(character_id)?;
+        if period > 64 {
+            return Err(Error::InvalidArgument(format!(
+                "period is {period}, must be 0..=64"
+            )));
+        }
+        self.lod[character].period = period;
+        Ok(())
+    }
+
+    /// Bytes of state the crowd keeps per character: its per-character arrays plus its
+    /// entity's share of the scene and the neighbour index (buffers sized at creation).
+    pub fn state_bytes_per_character() -> usize {
+        use std::mem::size_of;
+        let per_character = size_of::<CharacterParams>()
+            + size_of::<InterestTracker>()
+            + size_of::<u32>() // chain index
+            + size_of::<[Quat; MAX_CHAIN_JOINTS]>()
+            + size_of::<GazeMotion>()
+            + size_of::<Random>() * 2
+            + size_of::<Option<(ExplicitTarget, TargetPriority)>>()
+            + size_of::<Look>()
+            + size_of::<SaliencyState>()
+            + size_of::<BaselineState>()
+            + size_of::<AttentionLod>();
+        per_character + Scene::bytes_per_entity() + NeighbourIndex::bytes_per_entity()
     }
 
     /// Plans attention offline over the recorded frames (see the module docs). Requires
