@@ -184,6 +184,14 @@ void crowd_gaze() {
     CHECK(thrown);
     CHECK(crowd.character_count() == 3);  // failed calls changed nothing
 
+    // The viewer as an entity, and a slower attention update for one character.
+    const std::uint32_t viewer = crowd.set_viewer({0.0f, 1.7f, 2.0f}, 2.0f);
+    CHECK(viewer != CG_NO_TARGET && viewer != watcher && viewer != lamp_id);
+    crowd.set_viewer({0.5f, 1.7f, 2.0f});
+    crowd.set_attention_period(left, 2);
+    CHECK(crowd.try_set_attention_period(left, 65) == CG_STATUS_INVALID_ARGUMENT);
+    crowd.step(dt);
+
     // Ownership: moves, release and adoption.
     crowdgaze::Crowd moved = std::move(crowd);
     CHECK(!crowd && moved && moved.character_count() == 3);  // NOLINT: use after move on purpose

@@ -342,6 +342,27 @@ class Crowd {
         check(try_set_character_params(character, params));
     }
 
+    // Adds the viewer as an entity characters may look at (first call; returns its id) or
+    // moves it (later calls).
+    [[nodiscard]] cg_status try_set_viewer(const cg_vec3& position, float impact,
+                                           std::uint32_t& out_id) noexcept {
+        return cg_crowd_set_viewer(crowd_, &position, impact, &out_id);
+    }
+    std::uint32_t set_viewer(const cg_vec3& position, float impact = 1.0f) {
+        std::uint32_t id = CG_NO_TARGET;
+        check(try_set_viewer(position, impact, id));
+        return id;
+    }
+
+    // Attention every `period` steps for this character (0: the crowd's level of detail).
+    [[nodiscard]] cg_status try_set_attention_period(std::uint32_t character,
+                                                     std::uint32_t period) noexcept {
+        return cg_crowd_set_attention_period(crowd_, character, period);
+    }
+    void set_attention_period(std::uint32_t character, std::uint32_t period) {
+        check(try_set_attention_period(character, period));
+    }
+
     [[nodiscard]] cg_status try_set_impact(std::uint32_t entity, float impact) noexcept {
         return cg_crowd_set_impact(crowd_, entity, impact);
     }

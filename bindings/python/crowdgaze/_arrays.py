@@ -34,6 +34,8 @@ GAZE_INFO_DTYPE = np.dtype(
     [
         ("character", "<u4"),
         ("target", "<u4"),
+        ("target_part", "<u4"),
+        ("head_target", "<u4"),
         ("attending", "<u4"),
         ("interest_count", "<u4"),
         ("target_position", "<f4", (3,)),

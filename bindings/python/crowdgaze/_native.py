@@ -94,6 +94,25 @@ class ViewDistance(enum.IntEnum):
     CHORDAL = 1
 
 
+class AttentionModel(enum.IntEnum):
+    """``cg_attention_model``: how a character chooses where to look."""
+
+    CROWD = 0
+    SALIENCY = 1
+    BASELINE = 2
+
+
+class TargetPart(enum.IntEnum):
+    """``cg_target_part``: which part of a target entity is looked at."""
+
+    WHOLE = 0
+    HEAD = 1
+    LEFT_EYE = 2
+    RIGHT_EYE = 3
+    CHEST = 4
+    TORSO = 5
+
+
 #: C enum name -> Python enum, for the declaration test and for users who read the header.
 ENUMS = {
     "cg_status": Status,
@@ -101,6 +120,8 @@ ENUMS = {
     "cg_joint_role": JointRole,
     "cg_blend_method": BlendMethod,
     "cg_view_distance": ViewDistance,
+    "cg_attention_model": AttentionModel,
+    "cg_target_part": TargetPart,
 }
 
 # Every enum value also under its C name (CG_STATUS_OK, CG_AXIS_POSITIVE_Y, ...).
@@ -173,6 +194,7 @@ class CharacterDesc(Structure):
         ("impact", c_float),
         ("position", Vec3),
         ("chain", POINTER(ChainDesc)),
+        ("attention_model", c_uint32),
     ]
 
 
@@ -207,6 +229,8 @@ class GazeInfo(Structure):
     _fields_ = [
         ("character", c_uint32),
         ("target", c_uint32),
+        ("target_part", c_uint32),
+        ("head_target", c_uint32),
         ("attending", c_uint32),
         ("interest_count", c_uint32),
         ("target_position", Vec3),
@@ -243,6 +267,7 @@ class CharacterParams(Structure):
         ("weight_orientation", c_float),
         ("weight_periphery", c_float),
         ("attention_fraction", c_float),
+        ("attention_model", c_uint32),
     ]
 
 
@@ -308,6 +333,14 @@ class CrowdConfig(Structure):
         ("restart_distance", c_float),
         ("min_deactivation_time", c_float),
         ("max_deactivation_time", c_float),
+        ("eye_fixation_time", c_float),
+        ("head_fixation_time", c_float),
+        ("random_pick_probability", c_float),
+        ("social_weight", c_float),
+        ("proximity_radius", c_float),
+        ("attention_period", c_uint32),
+        ("lod_distance", c_float),
+        ("far_attention_period", c_uint32),
     ]
 
 
@@ -399,6 +432,8 @@ FUNCTIONS = {
         _status,
         [_P(CrowdHandle), c_uint32, _P(Constraint), c_size_t, _P(c_size_t)],
     ),
+    "cg_crowd_set_viewer": (_status, [_P(CrowdHandle), _P(Vec3), c_float, _P(c_uint32)]),
+    "cg_crowd_set_attention_period": (_status, [_P(CrowdHandle), c_uint32, c_uint32]),
     "cg_dualquat_from_rt": (_status, [_P(Quat), _P(Vec3), _P(DualQuat)]),
     "cg_dualquat_to_rt": (_status, [_P(DualQuat), _P(Quat), _P(Vec3)]),
     "cg_dualquat_from_matrix": (_status, [_P(c_float), _P(DualQuat)]),

@@ -186,6 +186,26 @@ class Crowd:
             "cg_crowd_set_character_params",
         )
 
+    def set_viewer(self, position, impact: float = 1.0) -> int:
+        """Adds the viewer (user or camera) as an entity characters may look at, or moves
+        it; returns its id."""
+        out = c_uint32(n.CG_NO_TARGET)
+        check(
+            lib.cg_crowd_set_viewer(
+                self.handle, byref(a.vec3(position, "position")), impact, byref(out)
+            ),
+            "cg_crowd_set_viewer",
+        )
+        return out.value
+
+    def set_attention_period(self, character: int, period: int) -> None:
+        """Updates ``character``'s attention every ``period`` steps (1 to 64; 0: the crowd's
+        level of detail)."""
+        check(
+            lib.cg_crowd_set_attention_period(self.handle, character, period),
+            "cg_crowd_set_attention_period",
+        )
+
     def set_impact(self, entity: int, impact: float) -> None:
         check(lib.cg_crowd_set_impact(self.handle, entity, impact), "cg_crowd_set_impact")
 

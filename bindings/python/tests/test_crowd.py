@@ -264,3 +264,50 @@ def test_score_and_entities():
         assert small.config.max_characters == 1 and crowd_config.max_characters == 1
     with pytest.raises(ValueError):
         small.step(0.1)
+
+
+def test_characters_look_at_the_viewer():
+    crowd = cg.Crowd(max_characters=2, max_objects=0, seed=1)
+    me = crowd.add_character((0, 0, 0))
+    viewer = crowd.set_viewer((0.3, 1.7, 2.0), impact=3.0)
+    assert viewer != me
+    for _ in range(3 * FPS):
+        crowd.step(1 / FPS)
+    gaze = crowd.read_gaze()[0]
+    assert (gaze["target"], gaze["head_target"], gaze["attending"]) == (viewer, viewer, 1)
+    np.testing.assert_allclose(gaze["target_position"], [0.3, 1.7, 2.0], atol=1e-5)
+    # Moved: the same entity, looked at where it now is.
+    assert crowd.set_viewer((-0.3, 1.7, 2.0), impact=3.0) == viewer
+    crowd.step(1 / FPS)
+    np.testing.assert_allclose(crowd.read_gaze()[0]["target_position"], [-0.3, 1.7, 2.0], atol=1e-5)
+    for _ in range(FPS):
+        crowd.step(1 / FPS)
+    eyes = crowd.read_eyes()[0]
+    target = np.array([-0.3, 1.7, 2.0])
+    assert angle_degrees(eyes["left_direction"], target - eyes["left_origin"]) < 1.0
+    crowd.remove_entity(viewer)
+    crowd.step(1 / FPS)
+    assert crowd.read_gaze()[0]["target"] != viewer
+
+
+def test_attention_models_and_periods():
+    crowd = cg.Crowd(max_characters=3, max_objects=2, seed=4)
+    models = [cg.AttentionModel.CROWD, cg.AttentionModel.SALIENCY, cg.AttentionModel.BASELINE]
+    ids = [
+        crowd.add_character((2.0 * k, 0, 0), attention_model=model)
+        for k, model in enumerate(models)
+    ]
+    for k, model in enumerate(models):
+        assert crowd.character_params(ids[k]).attention_model == model
+    crowd.set_character_params(ids[0], attention_model=cg.AttentionModel.SALIENCY)
+    assert crowd.character_params(ids[0]).attention_model == cg.AttentionModel.SALIENCY
+    crowd.add_object((1, 0, 3), look_at_height=1.5)
+    crowd.set_attention_period(ids[2], 4)
+    with pytest.raises(cg.Error) as error:
+        crowd.set_attention_period(ids[2], 65)
+    assert error.value.status == cg.Status.INVALID_ARGUMENT
+    for _ in range(2 * FPS):
+        crowd.step(1 / FPS)
+    gaze = crowd.read_gaze()
+    assert set(gaze["target_part"]) <= {int(p) for p in cg.TargetPart}
+    assert np.all(np.isfinite(crowd.read_joints()))
