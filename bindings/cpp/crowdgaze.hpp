@@ -6,7 +6,9 @@
 // - Every call exists twice: `name(...)` throws `crowdgaze::Error` (the status and the
 //   library's `cg_last_error_message`), `try_name(...)` is `noexcept` and returns the
 //   `cg_status` (`[[nodiscard]]`). The wrapper allocates nothing in either, except where a
-//   function returns a `std::vector` or `std::string` (said on each).
+//   function returns a `std::vector` or `std::string` (said on each). Built without
+//   exceptions (-fno-exceptions), the throwing forms abort with the message on an error:
+//   use the `try_` forms.
 // - Bulk calls take `crowdgaze::Span<T>`: a pointer and a count, built implicitly from a
 //   `std::vector`, a `std::array`, a C array, or `{pointer, count}`. Nothing is copied.
 // - The plain C structs (`cg_vec3`, `cg_quat`, `cg_entity_state`, ...) are used as they are.
@@ -21,6 +23,8 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <iterator>
 #include <stdexcept>
 #include <string>
@@ -104,10 +108,23 @@ class Error : public std::runtime_error {
     std::string message_;
 };
 
+namespace detail {
+#if defined(__cpp_exceptions) || defined(__EXCEPTIONS) || defined(_CPPUNWIND)
+[[noreturn]] inline void fail(const Error& error) { throw error; }
+#else
+[[noreturn]] inline void fail(const Error& error) {
+    std::fprintf(stderr, "crowdgaze: %s\n", error.what());
+    std::abort();
+}
+#endif
+}  // namespace detail
+
 // Throws `Error` with the thread's last error message unless `status` is `CG_STATUS_OK`.
+// Built without exceptions (-fno-exceptions, as Unreal modules are by default), it prints
+// the message to stderr and aborts instead: use the `try_` forms there.
 inline void check(cg_status status) {
     if (status != CG_STATUS_OK) {
-        throw Error(status, last_error_message());
+        detail::fail(Error(status, last_error_message()));
     }
 }
 
@@ -126,7 +143,7 @@ namespace detail {
 // status without a library message; the exception's message says what did not match.
 inline void check_sizes(bool good, const char* what) {
     if (!good) {
-        throw Error(CG_STATUS_INVALID_ARGUMENT, what);
+        fail(Error(CG_STATUS_INVALID_ARGUMENT, what));
     }
 }
 }  // namespace detail

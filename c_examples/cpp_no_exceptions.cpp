@@ -1,0 +1,91 @@
+// cpp_no_exceptions.cpp: the C++ wrapper built with -fno-exceptions, as engine modules
+// (Unreal's by default) are: only the `try_` forms, which return the cg_status. A crowd of
+// two characters facing each other, each looking at the other; a failing call reports its
+// status and message and changes nothing.
+#include "crowdgaze.hpp"
+
+#include <array>
+#include <cstdio>
+#include <vector>
+
+namespace {
+
+bool ok(cg_status status, const char* what) {
+    if (status != CG_STATUS_OK) {
+        std::fprintf(stderr, "%s: %s\n", what, crowdgaze::last_error_message().c_str());
+        return false;
+    }
+    return true;
+}
+
+}  // namespace
+
+int main() {
+    static_assert(noexcept(std::declval<crowdgaze::Crowd&>().try_step(0.0f)), "try_ is noexcept");
+    cg_crowd_config config = crowdgaze::crowd_config();
+    config.max_characters = 2;
+    config.units_per_metre = 100.0f;  // Unreal: centimetres, Z up, X forward
+    config.up_axis = CG_AXIS_POSITIVE_Z;
+    config.forward_axis = CG_AXIS_POSITIVE_X;
+    crowdgaze::Crowd crowd;
+    if (!ok(crowdgaze::Crowd::try_create(config, crowd), "create")) return 1;
+
+    std::array<std::uint32_t, 2> ids{};
+    const std::array<cg_vec3, 2> positions{cg_vec3{0.0f, 0.0f, 0.0f}, cg_vec3{300.0f, 0.0f, 0.0f}};
+    const std::array<float, 2> headings{0.0f, 3.14159265f};
+    for (std::size_t i = 0; i < 2; i++) {
+        if (!ok(crowd.try_add_character(crowdgaze::character_desc(positions[i], headings[i]), ids[i]),
+                "add")) {
+            return 1;
+        }
+    }
+    for (std::size_t i = 0; i < 2; i++) {
+        if (!ok(crowd.try_set_gaze_target(ids[i], crowdgaze::gaze_target_entity(ids[1 - i])),
+                "target")) {
+            return 1;
+        }
+    }
+    std::vector<cg_entity_state> states;
+    for (std::size_t i = 0; i < 2; i++) {
+        cg_entity_state state = crowdgaze::entity_state();
+        state.id = ids[i];
+        state.position = positions[i];
+        state.heading = headings[i];
+        states.push_back(state);
+    }
+    std::size_t total = 0;
+    if (!ok(crowd.try_joint_total(0, 2, total), "joint total")) return 1;
+    std::vector<cg_quat> joints(total);
+    std::array<cg_eye_info, 2> eyes{};
+    for (int frame = 1; frame <= 30; frame++) {
+        if (!ok(crowd.try_push_frame(frame / 30.0, states), "push") ||
+            !ok(crowd.try_step(1.0f / 30.0f), "step") ||
+            !ok(crowd.try_read_joints(0, 2, joints), "joints") ||
+            !ok(crowd.try_read_eyes(0, 2, eyes), "eyes")) {
+            return 1;
+        }
+    }
+    std::printf("joints %zu, eye directions x %+.2f and %+.2f\n", joints.size(),
+                static_cast<double>(eyes[0].left_direction.x),
+                static_cast<double>(eyes[1].left_direction.x));
+    if (joints.size() != 20 || eyes[0].left_direction.x < 0.99f || eyes[1].left_direction.x > -0.99f) {
+        return 1;
+    }
+    // A failure is a status and a message; the crowd is unchanged.
+    const cg_status status = crowd.try_step(-1.0f);
+    std::printf("try_step(-1): %s (%s)\n", crowdgaze::status_string(status),
+                crowdgaze::last_error_message().c_str());
+    std::size_t count = 0;
+    if (status != CG_STATUS_INVALID_ARGUMENT || !ok(crowd.try_character_count(count), "count") ||
+        count != 2) {
+        return 1;
+    }
+    crowdgaze::ViewBlender blender;
+    if (crowdgaze::ViewBlender::try_create(crowdgaze::view_blender_config(0, 1), blender) !=
+            CG_STATUS_INVALID_ARGUMENT ||
+        blender) {
+        return 1;
+    }
+    std::printf("ok\n");
+    return 0;
+}
