@@ -286,7 +286,10 @@ impl Bvh {
             .filter(|(_, l)| !l.trim().is_empty());
         let header = |entry: Option<(usize, &&str)>, name: &str| -> Result<(usize, String)> {
             let (i, line) = entry.ok_or_else(|| {
-                anyhow!("{}: unexpected end of file, expected '{name}'", path.display())
+                anyhow!(
+                    "{}: unexpected end of file, expected '{name}'",
+                    path.display()
+                )
             })?;
             let trimmed = line.trim();
             let value = trimmed
@@ -298,7 +301,11 @@ impl Bvh {
                         .then(|| &trimmed[name.len()..])
                 })
                 .ok_or_else(|| {
-                    anyhow!("{}:{}: expected '{name}', found '{trimmed}'", path.display(), i + 1)
+                    anyhow!(
+                        "{}:{}: expected '{name}', found '{trimmed}'",
+                        path.display(),
+                        i + 1
+                    )
                 })?;
             Ok((i + 1, value.trim().to_string()))
         };
@@ -374,7 +381,9 @@ impl Bvh {
     /// The file as text: the same hierarchy, channel orders and layout conventions
     /// (tab-indented), values with 6 decimals.
     pub fn to_text(&self) -> String {
-        let mut out = String::with_capacity(64 * self.joints.len() + 12 * self.channel_count * self.frames.len());
+        let mut out = String::with_capacity(
+            64 * self.joints.len() + 12 * self.channel_count * self.frames.len(),
+        );
         out.push_str("HIERARCHY\n");
         self.write_joint(&mut out, 0, 0);
         for (index, joint) in self.joints.iter().enumerate().skip(1) {
@@ -402,7 +411,11 @@ impl Bvh {
     fn write_joint(&self, out: &mut String, index: usize, depth: usize) {
         let joint = &self.joints[index];
         let indent = "\t".repeat(depth);
-        let keyword = if joint.parent.is_none() { "ROOT" } else { "JOINT" };
+        let keyword = if joint.parent.is_none() {
+            "ROOT"
+        } else {
+            "JOINT"
+        };
         let _ = writeln!(out, "{indent}{keyword} {}", joint.name);
         let _ = writeln!(out, "{indent}{{");
         let _ = writeln!(out, "{indent}\tOFFSET {}", format_vector(joint.offset));
@@ -568,6 +581,6 @@ mod tests {
         let error = Bvh::parse(&SMALL.replace("1.5 2 3", "1.5 2"), path)
             .unwrap_err()
             .to_string();
-        assert!(error.starts_with("bad.bvh:19:"), "{error}");
+        assert!(error.starts_with("bad.bvh:20:"), "{error}");
     }
 }

@@ -87,14 +87,16 @@ pub struct TimeArgs {
 
 /// `crowdgaze annotate`.
 #[derive(Debug, Args)]
-#[command(after_help = "Input: CSV with a header naming the columns frame,id,x,y (and \
+#[command(
+    after_help = "Input: CSV with a header naming the columns frame,id,x,y (and \
 optionally z), in any order; x and y in metres on the ground. Tracks are resampled to --fps with \
 a cubic Hermite (Catmull-Rom) spline, headings follow the motion, each person enters when \
 their track starts and leaves when it ends.\n\nOutput, one row per output frame and person \
 present: time,id,target,part,attending,s_max,threshold,gaze_x,gaze_y,gaze_z, then \
 <joint>_qx,_qy,_qz,_qw for each joint of the gaze chain (spine1-5, neck1-2, head, eye_l, \
 eye_r: final local rotations, base * delta). target is the id of the person looked at (empty \
-when looking ahead); the gaze direction is in the file's (x, y, up) axes.")]
+when looking ahead); the gaze direction is in the file's (x, y, up) axes."
+)]
 pub struct AnnotateArgs {
     /// The trajectory file (frame,id,x,y[,z]).
     #[arg(long)]
@@ -175,7 +177,8 @@ pub struct PlotArgs {
 
 /// `crowdgaze bvh`.
 #[derive(Debug, Args)]
-#[command(after_help = "Default joint map (case-insensitive, any 'namespace:' prefix ignored): \
+#[command(
+    after_help = "Default joint map (case-insensitive, any 'namespace:' prefix ignored): \
 Hips=root, Spine=spine, Spine1=spine, Spine2=spine, Spine3=spine, Chest=spine, \
 UpperChest=spine, LowerBack=spine, Neck=neck, Neck1=neck, Head=head. The chain runs from the \
 head down through neck and spine joints; its root is the first joint below them.\n\nThe \
@@ -183,7 +186,8 @@ trajectory's x runs along the skeleton's rest facing direction (--forward) and y
 left; the clip loops if the track is longer. Output: the same hierarchy and channel orders; \
 the root follows the trajectory (keeping the clip's height), turns with the walking \
 direction, and the chain joints get the gaze on top of the clip's pose (final = clip * \
-delta).")]
+delta)."
+)]
 pub struct BvhArgs {
     /// The BVH clip (its pose is the base motion).
     #[arg(long)]
@@ -225,5 +229,6 @@ pub struct BvhArgs {
 }
 
 fn parse_axis_arg(text: &str) -> Result<crowdgaze::world::Axis, String> {
-    crate::skeleton::parse_axis(text).ok_or_else(|| format!("'{text}' is not an axis (x, y, z, -x, -y or -z)"))
+    crate::skeleton::parse_axis(text)
+        .ok_or_else(|| format!("'{text}' is not an axis (x, y, z, -x, -y or -z)"))
 }

@@ -14,9 +14,7 @@ use crate::bvh::Bvh;
 use crate::cli::{AnnotateArgs, BvhArgs, DemoArgs, PlotArgs, PlotKind, StreetArgs, TimeArgs};
 use crate::output::AtomicFile;
 use crate::plot::{save, Collector, Figure3};
-use crate::sim::{
-    run_street, run_tracks, Frame, GazeStats, Model, Observer, StreetRun, TrackRun,
-};
+use crate::sim::{run_street, run_tracks, Frame, GazeStats, Model, Observer, StreetRun, TrackRun};
 use crate::skeleton::{global_rotation, joint_map, SkeletonChain};
 use crate::traj::{TimeOptions, Trajectories};
 
@@ -116,7 +114,7 @@ pub fn demo(args: &DemoArgs) -> Result<()> {
     }
     let mut written = Vec::new();
     for snapshot in &collector.snapshots {
-        let stem = args.out.join(format!("topdown_{:.0}s", snapshot.time));
+        let stem = args.out.join(format!("topdown_{:.1}s", snapshot.time));
         written.extend(save(snapshot, &stem)?);
     }
     // Figure 1 comes from the offline plan: the same street again, recorded and planned.
@@ -130,7 +128,9 @@ pub fn demo(args: &DemoArgs) -> Result<()> {
     planned.figure1.span = 20.0;
     written.extend(save(
         &planned.figure1,
-        &args.out.join(format!("figure1_character{}", planned.figure1.label)),
+        &args
+            .out
+            .join(format!("figure1_character{}", planned.figure1.label)),
     )?);
     written.extend(save(
         &Figure3::simulate(6.0, 60.0)?,
@@ -216,9 +216,8 @@ pub fn annotate(args: &AnnotateArgs) -> Result<()> {
     let trajectories = Trajectories::read(&args.input, &time_options(&args.time))?;
     let world = trajectory_world();
     let mut out = AtomicFile::create(&args.out)?;
-    let mut header = String::from(
-        "time,id,target,part,attending,s_max,threshold,gaze_x,gaze_y,gaze_z",
-    );
+    let mut header =
+        String::from("time,id,target,part,attending,s_max,threshold,gaze_x,gaze_y,gaze_z");
     for name in joint_names(&GazeChain::human(world.up, world.forward)) {
         for component in ["qx", "qy", "qz", "qw"] {
             header.push_str(&format!(",{name}_{component}"));
@@ -361,9 +360,10 @@ pub fn plot(args: &PlotArgs) -> Result<()> {
         }
         if wants(PlotKind::Figure1) {
             collector.figure1.span = args.span;
-            let stem = args
-                .out
-                .join(format!("figure1_{}", collector.figure1.what.replace(' ', "")));
+            let stem = args.out.join(format!(
+                "figure1_{}",
+                collector.figure1.what.replace(' ', "")
+            ));
             written.extend(save(&collector.figure1, &stem)?);
         }
     }
@@ -389,8 +389,10 @@ fn snapshot_times(wanted: &[f64], first: f64, last: f64) -> Vec<f64> {
 }
 
 fn file_name(path: &Path) -> String {
-    path.file_name()
-        .map_or_else(|| path.display().to_string(), |n| n.to_string_lossy().into_owned())
+    path.file_name().map_or_else(
+        || path.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    )
 }
 
 // ---------------------------------------------------------------------------------------
@@ -446,7 +448,8 @@ impl Observer for BvhGaze<'_> {
         let up = self.world.up.as_dvec3();
         let yaw = self.clip_yaw(clip);
         // The chain root's rotation in the character's frame: the clip's, less its facing.
-        let root = DQuat::from_axis_angle(up, -yaw) * global_rotation(self.bvh, self.skeleton.root, clip);
+        let root =
+            DQuat::from_axis_angle(up, -yaw) * global_rotation(self.bvh, self.skeleton.root, clip);
         self.base.clear();
         for (k, &joint) in self.skeleton.joints.iter().enumerate() {
             let local = self.bvh.joints[joint].rotation(clip);
@@ -467,7 +470,9 @@ impl Observer for BvhGaze<'_> {
         let heading = self.heading(crowd, person.id)?;
         let yaw = self.clip_yaw(&clip);
         let scene = crowd.scene();
-        let index = scene.index_of(person.id).context("the walking character left")?;
+        let index = scene
+            .index_of(person.id)
+            .context("the walking character left")?;
         let position = scene.positions()[index].as_dvec3() * self.units_per_metre;
         // The root: on the trajectory, at the clip's height, turned to the walking direction.
         let root = &self.bvh.joints[0];
@@ -518,8 +523,16 @@ pub fn bvh(args: &BvhArgs) -> Result<()> {
     let world = World::new(skeleton.up, skeleton.forward, 1.0)
         .with_context(|| format!("{}: axes", args.skeleton.display()))?;
     let fps = 1.0 / clip.frame_time;
-    let start = args.time.start.unwrap_or(f64::NEG_INFINITY).max(track.first_time());
-    let end = args.time.end.unwrap_or(f64::INFINITY).min(track.last_time());
+    let start = args
+        .time
+        .start
+        .unwrap_or(f64::NEG_INFINITY)
+        .max(track.first_time());
+    let end = args
+        .time
+        .end
+        .unwrap_or(f64::INFINITY)
+        .min(track.last_time());
     if end < start {
         bail!(
             "{}: person {} is not in the file between --start and --end (their track spans {:.2} s to {:.2} s)",

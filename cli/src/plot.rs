@@ -64,7 +64,12 @@ pub fn save<F: Figure>(figure: &F, stem: &Path) -> Result<[PathBuf; 2]> {
         let mut writer = encoder.write_header().context("encoding PNG")?;
         writer.write_image_data(&pixels).context("encoding PNG")?;
     }
-    let png_path = stem.with_extension("png");
+    let with_extension = |extension: &str| {
+        let mut path = stem.as_os_str().to_owned();
+        path.push(extension);
+        PathBuf::from(path)
+    };
+    let png_path = with_extension(".png");
     write_file(&png_path, &png_bytes)?;
     let mut svg = String::new();
     {
@@ -72,7 +77,7 @@ pub fn save<F: Figure>(figure: &F, stem: &Path) -> Result<[PathBuf; 2]> {
         figure.draw(&root)?;
         root.present().map_err(drawing)?;
     }
-    let svg_path = stem.with_extension("svg");
+    let svg_path = with_extension(".svg");
     write_file(&svg_path, svg.as_bytes())?;
     Ok([png_path, svg_path])
 }
@@ -119,17 +124,14 @@ impl Snapshot {
         let world = *scene.world();
         let mut people = Vec::with_capacity(frame.people.len());
         for person in frame.people {
-            let (Some(index), Ok(gaze)) = (scene.index_of(person.id), crowd.gaze(person.id))
-            else {
+            let (Some(index), Ok(gaze)) = (scene.index_of(person.id), crowd.gaze(person.id)) else {
                 continue;
             };
             people.push(PersonMark {
                 label: person.label,
                 position: world.ground(scene.positions()[index]),
                 heading: scene.headings()[index],
-                target: gaze
-                    .attending
-                    .then(|| world.ground(gaze.target_position)),
+                target: gaze.attending.then(|| world.ground(gaze.target_position)),
             });
         }
         let objects = scene
@@ -252,7 +254,11 @@ impl Figure for Snapshot {
             }))
             .map_err(drawing)?;
         chart
-            .draw_series(std::iter::once(Circle::new((low.x, low.y), 0, blue.filled())))
+            .draw_series(std::iter::once(Circle::new(
+                (low.x, low.y),
+                0,
+                blue.filled(),
+            )))
             .map_err(drawing)?
             .label("person (orange: attending)")
             .legend(move |(x, y)| Circle::new((x, y), 4, blue.filled()));
@@ -290,10 +296,22 @@ pub struct Figure1 {
 
 impl Figure1 {
     /// Adds this frame of character `id` (call after each step of a planned crowd).
-    pub fn record(&mut self, crowd: &Crowd, id: u32, time: f64) -> Result<()> {
+    /// `present(entity)` tells whether an entity counts this frame (people of a trajectory
+    /// file count only within their track, as in the plan).
+    pub fn record(
+        &mut self,
+        crowd: &Crowd,
+        id: u32,
+        time: f64,
+        present: impl Fn(u32) -> bool,
+    ) -> Result<()> {
         let gaze = crowd.gaze(id)?;
-        let best = crowd.best_nearby_by_id(id)?.0;
-        self.series.push((time, gaze.s_max.max(0.0), best.id));
+        let (first, second) = crowd.best_nearby_by_id(id)?;
+        let best = [first, second]
+            .into_iter()
+            .find(|c| present(c.id))
+            .map_or(u32::MAX, |c| c.id);
+        self.series.push((time, gaze.s_max.max(0.0), best));
         if self.constraints.is_empty() && crowd.is_planned() {
             self.threshold = crowd.planned_threshold(id)?;
             self.constraints = crowd
@@ -363,7 +381,10 @@ impl Figure for Figure1 {
         // Constraint bands.
         chart
             .draw_series(constraints.iter().map(|&(entity, begin, end)| {
-                Rectangle::new([(begin, 0.0), (end, top)], entity_colour(entity).mix(0.15).filled())
+                Rectangle::new(
+                    [(begin, 0.0), (end, top)],
+                    entity_colour(entity).mix(0.15).filled(),
+                )
             }))
             .map_err(drawing)?;
         for &(entity, begin, end) in &constraints {
@@ -418,7 +439,10 @@ impl Figure for Figure1 {
                 BLACK.stroke_width(2),
             )))
             .map_err(drawing)?
-            .label(format!("A = {:.3} (planned, exact percentile)", self.threshold))
+            .label(format!(
+                "A = {:.3} (planned, exact percentile)",
+                self.threshold
+            ))
             .legend(|(x, y)| PathElement::new(vec![(x - 8, y), (x + 8, y)], BLACK.stroke_width(2)));
         chart
             .configure_series_labels()
@@ -560,7 +584,9 @@ impl Figure for Figure3 {
             .legend(|(x, y)| PathElement::new(vec![(x - 8, y), (x + 8, y)], BLACK));
         let lines: [(&str, RGBColor, fn(&(f64, f32, f32, f32, f32)) -> f32); 3] = [
             ("eyes", RGBColor(30, 80, 200), |s| s.2),
-            ("head (spine + neck + head)", RGBColor(230, 120, 20), |s| s.3),
+            ("head (spine + neck + head)", RGBColor(230, 120, 20), |s| {
+                s.3
+            }),
             ("torso (spine)", RGBColor(40, 150, 60), |s| s.4),
         ];
         for (name, colour, value) in lines {
@@ -645,7 +671,11 @@ impl Observer for Collector {
         }
         if let Some(label) = self.figure1_label {
             if let Some(person) = frame.people.iter().find(|p| p.label == label) {
-                self.figure1.record(crowd, person.id, frame.time)?;
+                let present = |entity: u32| {
+                    !frame.labels.contains_key(&entity)
+                        || frame.people.iter().any(|p| p.id == entity)
+                };
+                self.figure1.record(crowd, person.id, frame.time, present)?;
             }
         }
         Ok(())

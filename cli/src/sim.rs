@@ -252,7 +252,13 @@ pub fn run_tracks(
                 let track = tracks[next];
                 next += 1;
                 if track.covers(t) {
-                    let id = add(&mut crowd, &mut labels, track, t, observer.chain(track.person))?;
+                    let id = add(
+                        &mut crowd,
+                        &mut labels,
+                        track,
+                        t,
+                        observer.chain(track.person),
+                    )?;
                     active.push((track, id));
                     added.push(id);
                 }
@@ -311,7 +317,13 @@ pub fn run_tracks(
     let mut all: Vec<(&Track, u32)> = Vec::with_capacity(tracks.len());
     for &track in &tracks {
         let t = times[frame_of(track)];
-        let id = add(&mut crowd, &mut labels, track, t, observer.chain(track.person))?;
+        let id = add(
+            &mut crowd,
+            &mut labels,
+            track,
+            t,
+            observer.chain(track.person),
+        )?;
         all.push((track, id));
     }
     let ids: Vec<u32> = all.iter().map(|&(_, id)| id).collect();

@@ -187,11 +187,17 @@ impl SkeletonChain {
             }
         }
         let root = parent.ok_or_else(|| {
-            anyhow!("joint {} has no parent to hang the gaze chain from", bvh.joints[chain[chain.len() - 1]].name)
+            anyhow!(
+                "joint {} has no parent to hang the gaze chain from",
+                bvh.joints[chain[chain.len() - 1]].name
+            )
         })?;
         chain.reverse();
         let chain_roles: Vec<Role> = chain.iter().map(|&i| roles[i]).collect();
-        let spine = chain_roles.iter().take_while(|r| **r == Role::Spine).count();
+        let spine = chain_roles
+            .iter()
+            .take_while(|r| **r == Role::Spine)
+            .count();
         let neck = chain_roles[spine..]
             .iter()
             .take_while(|r| **r == Role::Neck)

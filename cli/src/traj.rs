@@ -347,9 +347,7 @@ impl Trajectories {
         }
         let first = ((low - anchor) * fps - 1e-6).ceil().max(0.0) as u64;
         let last = ((high - anchor) * fps + 1e-6).floor() as u64;
-        (first..=last)
-            .map(|k| anchor + k as f64 / fps)
-            .collect()
+        (first..=last).map(|k| anchor + k as f64 / fps).collect()
     }
 }
 
@@ -391,7 +389,12 @@ mod tests {
 
     #[test]
     fn interpolation_passes_through_samples_and_is_smooth() {
-        let t = track(&[(0.0, 0.0, 0.0), (0.4, 0.5, 0.0), (0.8, 1.0, 0.2), (1.2, 1.5, 0.6)]);
+        let t = track(&[
+            (0.0, 0.0, 0.0),
+            (0.4, 0.5, 0.0),
+            (0.8, 1.0, 0.2),
+            (1.2, 1.5, 0.6),
+        ]);
         for s in &t.samples {
             let (p, _) = t.evaluate(s.time);
             assert!((p - s.position).length() < 1e-12);
