@@ -4,6 +4,7 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context, Result};
+use crowdgaze::attention::TargetPart;
 use crowdgaze::ik::{GazeChain, JointRole};
 use crowdgaze::scene::ids::NO_ENTITY;
 use crowdgaze::world::Axis;
@@ -155,6 +156,18 @@ pub fn trajectory_world() -> World {
     World::new(Axis::PositiveZ, Axis::PositiveX, 1.0).expect("valid axes")
 }
 
+/// The name of a target part in the output.
+pub fn part_name(part: TargetPart) -> &'static str {
+    match part {
+        TargetPart::Whole => "whole",
+        TargetPart::Head => "head",
+        TargetPart::LeftEye => "left_eye",
+        TargetPart::RightEye => "right_eye",
+        TargetPart::Chest => "chest",
+        TargetPart::Torso => "torso",
+    }
+}
+
 struct AnnotateWriter {
     out: AtomicFile,
     stats: GazeStats,
@@ -190,7 +203,11 @@ impl Observer for AnnotateWriter {
                 frame.time,
                 person.label,
                 target,
-                if gaze.attending { "whole" } else { "" },
+                if gaze.attending {
+                    part_name(gaze.target_part)
+                } else {
+                    ""
+                },
                 u8::from(gaze.attending),
                 gaze.s_max,
                 gaze.threshold,

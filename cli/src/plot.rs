@@ -459,11 +459,26 @@ impl Figure for Figure1 {
 // ---------------------------------------------------------------------------------------
 // Figure 3.
 
+/// Yaws (degrees, left positive) at one time of Figure 3.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Yaws {
+    /// Time (s).
+    pub time: f64,
+    /// Direction of the target.
+    pub target: f32,
+    /// The eyes' gaze.
+    pub eyes: f32,
+    /// The head (spine, neck and head joints accumulated).
+    pub head: f32,
+    /// The torso (spine joints accumulated).
+    pub torso: f32,
+}
+
 /// The paper's Figure 3: yaw of eyes, head and torso during gaze shifts.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Figure3 {
-    /// `(t, target, eyes, head, torso)` yaws in degrees.
-    pub series: Vec<(f64, f32, f32, f32, f32)>,
+    /// One sample per frame.
+    pub series: Vec<Yaws>,
 }
 
 /// Yaw (degrees) of a world direction about `world.up`, from `world.forward`.
@@ -539,9 +554,13 @@ impl Figure3 {
             let head = yaw(&world, rotation * chain.eye_forward());
             let eyes = crowd.eyes_dense(0);
             let eyes = yaw(&world, eyes.directions[0] + eyes.directions[1]);
-            figure
-                .series
-                .push((t, current.unwrap_or(0.0), eyes, head, torso));
+            figure.series.push(Yaws {
+                time: t,
+                target: current.unwrap_or(0.0),
+                eyes,
+                head,
+                torso,
+            });
         }
         Ok(figure)
     }
@@ -554,7 +573,7 @@ impl Figure for Figure3 {
 
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<()> {
         root.fill(&WHITE).map_err(drawing)?;
-        let t1 = self.series.last().map_or(1.0, |s| s.0);
+        let t1 = self.series.last().map_or(1.0, |s| s.time);
         let mut chart = ChartBuilder::on(root)
             .caption(
                 "Figure 3: eyes lead, head follows, torso last (yaw during two gaze shifts)",
@@ -574,7 +593,7 @@ impl Figure for Figure3 {
             .map_err(drawing)?;
         chart
             .draw_series(DashedLineSeries::new(
-                self.series.iter().map(|s| (s.0, s.1)),
+                self.series.iter().map(|s| (s.time, s.target)),
                 6,
                 4,
                 BLACK.into(),
@@ -582,17 +601,18 @@ impl Figure for Figure3 {
             .map_err(drawing)?
             .label("target direction")
             .legend(|(x, y)| PathElement::new(vec![(x - 8, y), (x + 8, y)], BLACK));
-        let lines: [(&str, RGBColor, fn(&(f64, f32, f32, f32, f32)) -> f32); 3] = [
-            ("eyes", RGBColor(30, 80, 200), |s| s.2),
+        type Line = (&'static str, RGBColor, fn(&Yaws) -> f32);
+        let lines: [Line; 3] = [
+            ("eyes", RGBColor(30, 80, 200), |s| s.eyes),
             ("head (spine + neck + head)", RGBColor(230, 120, 20), |s| {
-                s.3
+                s.head
             }),
-            ("torso (spine)", RGBColor(40, 150, 60), |s| s.4),
+            ("torso (spine)", RGBColor(40, 150, 60), |s| s.torso),
         ];
         for (name, colour, value) in lines {
             chart
                 .draw_series(LineSeries::new(
-                    self.series.iter().map(|s| (s.0, value(s))),
+                    self.series.iter().map(|s| (s.time, value(s))),
                     colour.stroke_width(3),
                 ))
                 .map_err(drawing)?
