@@ -1,0 +1,234 @@
+//! The command line: `demo`, `annotate`, `plot` and `bvh`.
+
+use std::path::PathBuf;
+
+use clap::{Args, Parser, Subcommand};
+
+use crate::sim::Model;
+
+/// Believable gaze for crowd characters: attention (who looks at what, Grillon & Thalmann
+/// 2009), gaze IK with human timing, from the command line.
+#[derive(Debug, Parser)]
+#[command(name = "crowdgaze", version, about, long_about = None)]
+pub struct Cli {
+    /// The command.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The commands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// The paper's street scene (130 characters walking, standing or sitting, 60 scene
+    /// objects): prints a summary and writes pictures.
+    Demo(DemoArgs),
+    /// Adds gaze to pedestrian trajectories: who each person looks at, and the joint
+    /// rotations of their gaze chain, per output frame.
+    Annotate(AnnotateArgs),
+    /// Writes pictures (PNG and SVG): top-down views, the paper's Figure 1 and Figure 3.
+    Plot(PlotArgs),
+    /// Adds gaze to a BVH clip walking the trajectory of one person of a trajectory file.
+    Bvh(BvhArgs),
+}
+
+/// The street scene's settings.
+#[derive(Debug, Clone, Args)]
+pub struct StreetArgs {
+    /// Simulated seconds.
+    #[arg(long, default_value_t = 60.0)]
+    pub seconds: f64,
+    /// Number of characters.
+    #[arg(long, default_value_t = 130)]
+    pub characters: usize,
+    /// Number of scene objects (shop windows, benches, lamps, posters).
+    #[arg(long, default_value_t = 60)]
+    pub objects: usize,
+    /// Seed of the scene and of every random choice: same seed, same output.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+}
+
+/// `crowdgaze demo`.
+#[derive(Debug, Args)]
+pub struct DemoArgs {
+    /// The street.
+    #[command(flatten)]
+    pub street: StreetArgs,
+    /// Directory of the pictures.
+    #[arg(long, default_value = "target/demo")]
+    pub out: PathBuf,
+    /// Do not write pictures.
+    #[arg(long)]
+    pub no_plots: bool,
+    /// Hide the progress bar.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+/// How frame numbers of a trajectory file become seconds.
+#[derive(Debug, Clone, Args)]
+pub struct TimeArgs {
+    /// Seconds per frame number. Default: detected. The most common step between a
+    /// person's consecutive frame numbers is taken as one sample period at --sample-rate
+    /// (2.5 Hz, the ETH and UCY annotation rate: seq_eth steps 6 frame numbers, so 1/15 s
+    /// each; zara01 steps 10, so 1/25 s).
+    #[arg(long, value_name = "S")]
+    pub time_per_frame: Option<f64>,
+    /// Samples per second assumed when detecting the time per frame number.
+    #[arg(long, value_name = "HZ", default_value_t = 2.5)]
+    pub sample_rate: f64,
+    /// First time to use, seconds on the file's clock (frame × time per frame).
+    #[arg(long, value_name = "S")]
+    pub start: Option<f64>,
+    /// Last time to use, seconds on the file's clock.
+    #[arg(long, value_name = "S")]
+    pub end: Option<f64>,
+}
+
+/// `crowdgaze annotate`.
+#[derive(Debug, Args)]
+#[command(
+    after_help = "Input: CSV with a header naming the columns frame,id,x,y (and \
+optionally z), in any order; x and y in metres on the ground. Tracks are resampled to --fps with \
+a cubic Hermite (Catmull-Rom) spline, headings follow the motion, each person enters when \
+their track starts and leaves when it ends.\n\nOutput, one row per output frame and person \
+present: time,id,target,part,attending,s_max,threshold,gaze_x,gaze_y,gaze_z, then \
+<joint>_qx,_qy,_qz,_qw for each joint of the gaze chain (spine1-5, neck1-2, head, eye_l, \
+eye_r: final local rotations, base * delta). target is the id of the person looked at (empty \
+when looking ahead); the gaze direction is in the file's (x, y, up) axes."
+)]
+pub struct AnnotateArgs {
+    /// The trajectory file (frame,id,x,y[,z]).
+    #[arg(long)]
+    pub input: PathBuf,
+    /// The output CSV.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// The attention model.
+    #[arg(long, value_enum, default_value_t = Model::Crowd)]
+    pub model: Model,
+    /// Output frames per second.
+    #[arg(long, default_value_t = 30.0)]
+    pub fps: f64,
+    /// Plan offline with the exact percentile (the paper's pipeline: every frame recorded,
+    /// each person's threshold from their whole track), instead of frame by frame.
+    #[arg(long)]
+    pub offline: bool,
+    /// Time conversion and window.
+    #[command(flatten)]
+    pub time: TimeArgs,
+    /// Seed of every random choice.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Hide the progress bar.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+/// Which pictures `plot` writes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum PlotKind {
+    /// Top-down views at --times.
+    Topdown,
+    /// The paper's Figure 1 for --character.
+    Figure1,
+    /// The paper's Figure 3.
+    Figure3,
+    /// All three.
+    All,
+}
+
+/// `crowdgaze plot`.
+#[derive(Debug, Args)]
+pub struct PlotArgs {
+    /// Which pictures.
+    #[arg(long, value_enum, default_value_t = PlotKind::All)]
+    pub what: PlotKind,
+    /// A trajectory file to show instead of the street scene.
+    #[arg(long)]
+    pub input: Option<PathBuf>,
+    /// Times of the top-down views (seconds; on the file's clock with --input), comma
+    /// separated. Default: the middle and the end.
+    #[arg(long, value_delimiter = ',')]
+    pub times: Vec<f64>,
+    /// The character of Figure 1: its index in the street (0-based), or its id in --input.
+    /// Default: the one with the most planned constraints.
+    #[arg(long)]
+    pub character: Option<u64>,
+    /// Seconds of Figure 1 shown, from the character's first frame (0: all).
+    #[arg(long, default_value_t = 20.0)]
+    pub span: f64,
+    /// The street scene (without --input).
+    #[command(flatten)]
+    pub street: StreetArgs,
+    /// Time conversion and window (with --input).
+    #[command(flatten)]
+    pub time: TimeArgs,
+    /// Frames per second (with --input; the street runs at 30).
+    #[arg(long, default_value_t = 10.0)]
+    pub fps: f64,
+    /// Directory of the pictures.
+    #[arg(long, default_value = "target/plots")]
+    pub out: PathBuf,
+    /// Hide the progress bar.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+/// `crowdgaze bvh`.
+#[derive(Debug, Args)]
+#[command(
+    after_help = "Default joint map (case-insensitive, any 'namespace:' prefix ignored): \
+Hips=root, Spine=spine, Spine1=spine, Spine2=spine, Spine3=spine, Chest=spine, \
+UpperChest=spine, LowerBack=spine, Neck=neck, Neck1=neck, Head=head. The chain runs from the \
+head down through neck and spine joints; its root is the first joint below them.\n\nThe \
+trajectory's x runs along the skeleton's rest facing direction (--forward) and y along its \
+left; the clip loops if the track is longer. Output: the same hierarchy and channel orders; \
+the root follows the trajectory (keeping the clip's height), turns with the walking \
+direction, and the chain joints get the gaze on top of the clip's pose (final = clip * \
+delta)."
+)]
+pub struct BvhArgs {
+    /// The BVH clip (its pose is the base motion).
+    #[arg(long)]
+    pub skeleton: PathBuf,
+    /// The trajectory file (frame,id,x,y[,z]).
+    #[arg(long)]
+    pub trajectory: PathBuf,
+    /// The person of the trajectory file the clip follows; the others are the crowd it
+    /// looks at.
+    #[arg(long)]
+    pub id: u64,
+    /// The output BVH.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// The clip's length unit: how many make a metre. The default, 39.37, is inches, which
+    /// fits the test clips (undocumented units, a child-sized skeleton of ~45 units).
+    #[arg(long, value_name = "U", default_value_t = 39.37)]
+    pub units_per_metre: f64,
+    /// The clip's up axis (x, y, z, -x, ...). Default: along its rest-pose spine.
+    #[arg(long, value_parser = parse_axis_arg)]
+    pub up: Option<crowdgaze::world::Axis>,
+    /// The direction the skeleton faces in its rest pose. Default: left × up, left from
+    /// its Left*/Right* joints.
+    #[arg(long, value_parser = parse_axis_arg, allow_hyphen_values = true)]
+    pub forward: Option<crowdgaze::world::Axis>,
+    /// Joint map overrides, NAME=ROLE comma separated (roles: root, spine, neck, head,
+    /// none).
+    #[arg(long, value_name = "MAP")]
+    pub map: Option<String>,
+    /// Time conversion and window.
+    #[command(flatten)]
+    pub time: TimeArgs,
+    /// Seed of every random choice.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Hide the progress bar.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+fn parse_axis_arg(text: &str) -> Result<crowdgaze::world::Axis, String> {
+    crate::skeleton::parse_axis(text)
+        .ok_or_else(|| format!("'{text}' is not an axis (x, y, z, -x, -y or -z)"))
+}

@@ -1,0 +1,703 @@
+//! Pictures, each written as PNG and SVG with plotters:
+//!
+//! - a top-down view of the scene at a moment: people, their headings, and a line from each
+//!   one that attends to what it looks at;
+//! - the paper's Figure 1 for one character: `S_max(t)` coloured by the entity that gives it,
+//!   the threshold `A`, and the `t_b`, `t_e` of each planned constraint;
+//! - the paper's Figure 3: eye, head and torso yaw against time during gaze shifts (one
+//!   character, an explicit target that jumps).
+
+use std::path::{Path, PathBuf};
+use std::sync::Once;
+
+use anyhow::{anyhow, Context, Result};
+use crowdgaze::crowd::{ExplicitTarget, TargetPriority};
+use crowdgaze::scene::ids::EntityKind;
+use crowdgaze::{CharacterDesc, Crowd, CrowdConfig, World};
+use glam::{Quat, Vec2, Vec3};
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use crate::output::write_file;
+use crate::sim::{Frame, Observer};
+
+fn drawing<E: std::fmt::Debug>(error: E) -> anyhow::Error {
+    anyhow!("drawing failed: {error:?}")
+}
+
+/// Registers the embedded font (DejaVu Sans) as plotters' "sans-serif", once.
+fn register_font() {
+    static FONT: Once = Once::new();
+    FONT.call_once(|| {
+        let _ = plotters::style::register_font(
+            "sans-serif",
+            FontStyle::Normal,
+            dejavu::sans::regular(),
+        );
+    });
+}
+
+/// A picture that can be drawn on any plotters backend.
+pub trait Figure {
+    /// Size in pixels.
+    fn size(&self) -> (u32, u32);
+    /// Draws the picture.
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<()>;
+}
+
+/// Writes `figure` as `<stem>.png` and `<stem>.svg`; returns both paths.
+pub fn save<F: Figure>(figure: &F, stem: &Path) -> Result<[PathBuf; 2]> {
+    register_font();
+    let (width, height) = figure.size();
+    let mut pixels = vec![0u8; width as usize * height as usize * 3];
+    {
+        let root = BitMapBackend::with_buffer(&mut pixels, (width, height)).into_drawing_area();
+        figure.draw(&root)?;
+        root.present().map_err(drawing)?;
+    }
+    let mut png_bytes = Vec::new();
+    {
+        let mut encoder = png::Encoder::new(&mut png_bytes, width, height);
+        encoder.set_color(png::ColorType::Rgb);
+        encoder.set_depth(png::BitDepth::Eight);
+        encoder.set_compression(png::Compression::High);
+        let mut writer = encoder.write_header().context("encoding PNG")?;
+        writer.write_image_data(&pixels).context("encoding PNG")?;
+    }
+    let with_extension = |extension: &str| {
+        let mut path = stem.as_os_str().to_owned();
+        path.push(extension);
+        PathBuf::from(path)
+    };
+    let png_path = with_extension(".png");
+    write_file(&png_path, &png_bytes)?;
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (width, height)).into_drawing_area();
+        figure.draw(&root)?;
+        root.present().map_err(drawing)?;
+    }
+    let svg_path = with_extension(".svg");
+    write_file(&svg_path, svg.as_bytes())?;
+    Ok([png_path, svg_path])
+}
+
+/// A colour per entity id, stable across pictures.
+fn entity_colour(id: u32) -> RGBColor {
+    let colour = Palette99::pick((id as usize).wrapping_mul(7) % 99).to_rgba();
+    RGBColor(colour.0, colour.1, colour.2)
+}
+
+// ---------------------------------------------------------------------------------------
+// Top-down view.
+
+/// One person in a top-down view (ground coordinates, metres).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PersonMark {
+    /// The person's label.
+    pub label: u64,
+    /// Ground position.
+    pub position: Vec2,
+    /// Heading (radians, counter-clockwise from the first ground axis).
+    pub heading: f32,
+    /// Where it looks, if it attends to something.
+    pub target: Option<Vec2>,
+}
+
+/// The scene at one moment, seen from above.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Snapshot {
+    /// Time (s).
+    pub time: f64,
+    /// The people present.
+    pub people: Vec<PersonMark>,
+    /// Scene objects.
+    pub objects: Vec<Vec2>,
+    /// A title.
+    pub title: String,
+}
+
+impl Snapshot {
+    /// Takes the crowd's state after a step.
+    pub fn take(crowd: &Crowd, frame: &Frame, title: &str) -> Snapshot {
+        let scene = crowd.scene();
+        let world = *scene.world();
+        let mut people = Vec::with_capacity(frame.people.len());
+        for person in frame.people {
+            let (Some(index), Ok(gaze)) = (scene.index_of(person.id), crowd.gaze(person.id)) else {
+                continue;
+            };
+            people.push(PersonMark {
+                label: person.label,
+                position: world.ground(scene.positions()[index]),
+                heading: scene.headings()[index],
+                target: gaze.attending.then(|| world.ground(gaze.target_position)),
+            });
+        }
+        let objects = scene
+            .kinds()
+            .iter()
+            .zip(scene.positions())
+            .filter(|(kind, _)| **kind == EntityKind::Object)
+            .map(|(_, p)| world.ground(*p))
+            .collect();
+        Snapshot {
+            time: frame.time,
+            people,
+            objects,
+            title: title.to_string(),
+        }
+    }
+
+    fn bounds(&self) -> (Vec2, Vec2) {
+        let points = self
+            .people
+            .iter()
+            .map(|p| p.position)
+            .chain(self.people.iter().filter_map(|p| p.target))
+            .chain(self.objects.iter().copied());
+        let (mut low, mut high) = (Vec2::splat(f32::INFINITY), Vec2::splat(f32::NEG_INFINITY));
+        for p in points {
+            low = low.min(p);
+            high = high.max(p);
+        }
+        if !low.is_finite() {
+            return (Vec2::splat(-5.0), Vec2::splat(5.0));
+        }
+        let pad = Vec2::splat(1.5);
+        let (low, high) = (low - pad, high + pad);
+        // At least 10 m across each way.
+        let centre = 0.5 * (low + high);
+        let half = (0.5 * (high - low)).max(Vec2::splat(5.0));
+        (centre - half, centre + half)
+    }
+}
+
+impl Figure for Snapshot {
+    fn size(&self) -> (u32, u32) {
+        let (low, high) = self.bounds();
+        let extent = high - low;
+        let width = 1400.0;
+        let height = (width * extent.y / extent.x).clamp(260.0, 1100.0) + 70.0;
+        (width as u32, height as u32)
+    }
+
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<()> {
+        root.fill(&WHITE).map_err(drawing)?;
+        let (low, high) = self.bounds();
+        let attending = self.people.iter().filter(|p| p.target.is_some()).count();
+        let caption = format!(
+            "{} at t = {:.1} s: {} people, {} attending",
+            self.title,
+            self.time,
+            self.people.len(),
+            attending
+        );
+        let mut chart = ChartBuilder::on(root)
+            .caption(caption, ("sans-serif", 22))
+            .margin(12)
+            .x_label_area_size(36)
+            .y_label_area_size(44)
+            .build_cartesian_2d(low.x..high.x, low.y..high.y)
+            .map_err(drawing)?;
+        chart
+            .configure_mesh()
+            .x_desc("x (m)")
+            .y_desc("y (m)")
+            .light_line_style(WHITE.mix(0.0))
+            .draw()
+            .map_err(drawing)?;
+        let grey = RGBColor(150, 150, 150);
+        chart
+            .draw_series(self.objects.iter().map(|p| {
+                Rectangle::new(
+                    [(p.x - 0.25, p.y - 0.25), (p.x + 0.25, p.y + 0.25)],
+                    grey.filled(),
+                )
+            }))
+            .map_err(drawing)?
+            .label("scene object")
+            .legend(move |(x, y)| Rectangle::new([(x - 4, y - 4), (x + 4, y + 4)], grey.filled()));
+        let orange = RGBColor(230, 120, 20);
+        chart
+            .draw_series(self.people.iter().filter_map(|p| {
+                p.target.map(|target| {
+                    PathElement::new(
+                        vec![(p.position.x, p.position.y), (target.x, target.y)],
+                        orange.stroke_width(2),
+                    )
+                })
+            }))
+            .map_err(drawing)?
+            .label("gaze: line to what it looks at")
+            .legend(move |(x, y)| PathElement::new(vec![(x - 8, y), (x + 8, y)], orange));
+        let blue = RGBColor(30, 80, 200);
+        chart
+            .draw_series(self.people.iter().map(|p| {
+                let ahead = p.position + Vec2::from_angle(p.heading) * 0.9;
+                PathElement::new(
+                    vec![(p.position.x, p.position.y), (ahead.x, ahead.y)],
+                    BLACK.stroke_width(2),
+                )
+            }))
+            .map_err(drawing)?
+            .label("heading")
+            .legend(|(x, y)| PathElement::new(vec![(x - 8, y), (x + 8, y)], BLACK));
+        chart
+            .draw_series(self.people.iter().map(|p| {
+                let style = if p.target.is_some() {
+                    orange.filled()
+                } else {
+                    blue.filled()
+                };
+                Circle::new((p.position.x, p.position.y), 4, style)
+            }))
+            .map_err(drawing)?;
+        chart
+            .draw_series(std::iter::once(Circle::new(
+                (low.x, low.y),
+                0,
+                blue.filled(),
+            )))
+            .map_err(drawing)?
+            .label("person (orange: attending)")
+            .legend(move |(x, y)| Circle::new((x, y), 4, blue.filled()));
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperRight)
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .label_font(("sans-serif", 14))
+            .draw()
+            .map_err(drawing)?;
+        Ok(())
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// Figure 1.
+
+/// The paper's Figure 1 for one character.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Figure1 {
+    /// The character's label.
+    pub label: u64,
+    /// `(t, S_max, entity giving S_max)` per frame.
+    pub series: Vec<(f64, f32, u32)>,
+    /// The planned threshold `A`.
+    pub threshold: f32,
+    /// The planned constraints `(entity, t_b, t_e)`.
+    pub constraints: Vec<(u32, f64, f64)>,
+    /// What the character is (for the title).
+    pub what: String,
+    /// Seconds shown from the first sample (0: all).
+    pub span: f64,
+}
+
+impl Figure1 {
+    /// Adds this frame of character `id` (call after each step of a planned crowd).
+    /// `present(entity)` tells whether an entity counts this frame (people of a trajectory
+    /// file count only within their track, as in the plan).
+    pub fn record(
+        &mut self,
+        crowd: &Crowd,
+        id: u32,
+        time: f64,
+        present: impl Fn(u32) -> bool,
+    ) -> Result<()> {
+        let gaze = crowd.gaze(id)?;
+        let (first, second) = crowd.best_nearby_by_id(id)?;
+        let best = [first, second]
+            .into_iter()
+            .find(|c| present(c.id))
+            .map_or(u32::MAX, |c| c.id);
+        self.series.push((time, gaze.s_max.max(0.0), best));
+        if self.constraints.is_empty() && crowd.is_planned() {
+            self.threshold = crowd.planned_threshold(id)?;
+            self.constraints = crowd
+                .constraints(id)?
+                .iter()
+                .map(|k| (k.entity, k.begin, k.end))
+                .collect();
+        }
+        Ok(())
+    }
+}
+
+impl Figure for Figure1 {
+    fn size(&self) -> (u32, u32) {
+        (1400, 520)
+    }
+
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<()> {
+        root.fill(&WHITE).map_err(drawing)?;
+        let (t0, mut t1) = match (self.series.first(), self.series.last()) {
+            (Some(a), Some(b)) if b.0 > a.0 => (a.0, b.0),
+            (Some(a), _) => (a.0, a.0 + 1.0),
+            _ => (0.0, 1.0),
+        };
+        if self.span > 0.0 {
+            t1 = t1.min(t0 + self.span);
+        }
+        let series: Vec<(f64, f32, u32)> = self
+            .series
+            .iter()
+            .copied()
+            .filter(|s| s.0 <= t1 + 1e-9)
+            .collect();
+        let constraints: Vec<(u32, f64, f64)> = self
+            .constraints
+            .iter()
+            .filter(|k| k.1 < t1)
+            .map(|&(entity, begin, end)| (entity, begin.max(t0), end.min(t1)))
+            .collect();
+        let width = f64::from(self.size().0) - 100.0;
+        let top = series
+            .iter()
+            .map(|s| s.1)
+            .fold(self.threshold.max(0.1), f32::max)
+            * 1.15;
+        let mut chart = ChartBuilder::on(root)
+            .caption(
+                format!(
+                    "Figure 1: S_max(t) of {}, coloured by the entity that scores best; \
+                     threshold A; planned constraints [t_b, t_e] shaded",
+                    self.what
+                ),
+                ("sans-serif", 20),
+            )
+            .margin(12)
+            .x_label_area_size(36)
+            .y_label_area_size(50)
+            .build_cartesian_2d(t0..t1, 0f32..top)
+            .map_err(drawing)?;
+        chart
+            .configure_mesh()
+            .x_desc("t (s)")
+            .y_desc("S_max")
+            .light_line_style(WHITE.mix(0.0))
+            .draw()
+            .map_err(drawing)?;
+        // Constraint bands.
+        chart
+            .draw_series(constraints.iter().map(|&(entity, begin, end)| {
+                Rectangle::new(
+                    [(begin, 0.0), (end, top)],
+                    entity_colour(entity).mix(0.15).filled(),
+                )
+            }))
+            .map_err(drawing)?;
+        for &(entity, begin, end) in &constraints {
+            let colour = entity_colour(entity);
+            let labelled = (end - begin) / (t1 - t0) * width > 36.0;
+            for (t, name) in [(begin, "t_b"), (end, "t_e")] {
+                chart
+                    .draw_series(std::iter::once(PathElement::new(
+                        vec![(t, 0.0), (t, top * 0.93)],
+                        colour.stroke_width(1),
+                    )))
+                    .map_err(drawing)?;
+                if !labelled {
+                    continue;
+                }
+                let dx = if name == "t_b" { -0.012 } else { 0.002 } * (t1 - t0);
+                chart
+                    .draw_series(std::iter::once(Text::new(
+                        name,
+                        (t + dx, top * 0.985),
+                        ("sans-serif", 12).into_font().color(&colour),
+                    )))
+                    .map_err(drawing)?;
+            }
+        }
+        // S_max, one run per entity.
+        let mut start = 0;
+        while start < series.len() {
+            let entity = series[start].2;
+            let mut end = start + 1;
+            while end < series.len() && series[end].2 == entity {
+                end += 1;
+            }
+            // Join to the next run's first point so the curve is continuous.
+            let stop = (end + 1).min(series.len());
+            let colour = if entity == u32::MAX {
+                RGBColor(160, 160, 160)
+            } else {
+                entity_colour(entity)
+            };
+            chart
+                .draw_series(LineSeries::new(
+                    series[start..stop].iter().map(|s| (s.0, s.1)),
+                    colour.stroke_width(2),
+                ))
+                .map_err(drawing)?;
+            start = end;
+        }
+        chart
+            .draw_series(std::iter::once(PathElement::new(
+                vec![(t0, self.threshold), (t1, self.threshold)],
+                BLACK.stroke_width(2),
+            )))
+            .map_err(drawing)?
+            .label(format!(
+                "A = {:.3} (planned, exact percentile)",
+                self.threshold
+            ))
+            .legend(|(x, y)| PathElement::new(vec![(x - 8, y), (x + 8, y)], BLACK.stroke_width(2)));
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperRight)
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .label_font(("sans-serif", 14))
+            .draw()
+            .map_err(drawing)?;
+        Ok(())
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// Figure 3.
+
+/// Yaws (degrees, left positive) at one time of Figure 3.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Yaws {
+    /// Time (s).
+    pub time: f64,
+    /// Direction of the target.
+    pub target: f32,
+    /// The eyes' gaze.
+    pub eyes: f32,
+    /// The head (spine, neck and head joints accumulated).
+    pub head: f32,
+    /// The torso (spine joints accumulated).
+    pub torso: f32,
+}
+
+/// The paper's Figure 3: yaw of eyes, head and torso during gaze shifts.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Figure3 {
+    /// One sample per frame.
+    pub series: Vec<Yaws>,
+}
+
+/// Yaw (degrees) of a world direction about `world.up`, from `world.forward`.
+fn yaw(world: &World, direction: Vec3) -> f32 {
+    direction
+        .dot(world.side)
+        .atan2(direction.dot(world.forward))
+        .to_degrees()
+}
+
+impl Figure3 {
+    /// Runs one character at rest for `seconds` at `fps`: no target for 0.5 s, then a point
+    /// 60° to its left, then at 3 s a point 40° to its right, both 2 m away at eye height.
+    /// Each frame the chain's joints are read and accumulated: the spine gives the torso
+    /// yaw, neck and head add to give the head yaw, and the eyes' gaze gives the eye yaw.
+    pub fn simulate(seconds: f64, fps: f64) -> Result<Figure3> {
+        let mut crowd = Crowd::new(CrowdConfig {
+            max_characters: 1,
+            max_objects: 0,
+            ..CrowdConfig::default()
+        })?;
+        let world = crowd.config().world;
+        let id = crowd.add_character(&CharacterDesc::default())?;
+        let chain = *crowd.chain(id)?;
+        let eye_height = chain.look_at_height(world.up);
+        let point = |degrees: f32| {
+            world.heading_direction(degrees.to_radians()) * 2.0 + world.up * eye_height
+        };
+        let targets = [(0.5, 60.0f32), (3.0, -40.0f32)];
+        let mut joints = vec![Quat::IDENTITY; chain.joint_count()];
+        let frames = (seconds * fps).round() as usize;
+        let dt = (1.0 / fps) as f32;
+        let mut figure = Figure3::default();
+        let mut current: Option<f32> = None;
+        for k in 0..=frames {
+            let t = k as f64 / fps;
+            let wanted = targets
+                .iter()
+                .rev()
+                .find(|(start, _)| t >= *start)
+                .map(|&(_, degrees)| degrees);
+            if wanted != current {
+                match wanted {
+                    Some(degrees) => crowd.set_gaze_target(
+                        id,
+                        ExplicitTarget::Point(point(degrees)),
+                        TargetPriority::Override,
+                    )?,
+                    None => crowd.clear_gaze_target(id)?,
+                }
+                current = wanted;
+            }
+            crowd.push_frame(
+                t,
+                &[crowdgaze::scene::EntityUpdate {
+                    id,
+                    position: Vec3::ZERO,
+                    heading: 0.0,
+                    heading_from_motion: false,
+                    velocity: None,
+                }],
+            )?;
+            crowd.step(dt)?;
+            crowd.read_joints(0, 1, false, &mut joints)?;
+            let mut rotation = Quat::IDENTITY;
+            let mut torso = 0.0;
+            for (joint, local) in chain.joints()[..chain.body_count()].iter().zip(&joints) {
+                rotation *= *local;
+                if joint.role == crowdgaze::ik::JointRole::Spine {
+                    torso = yaw(&world, rotation * world.forward);
+                }
+            }
+            let head = yaw(&world, rotation * chain.eye_forward());
+            let eyes = crowd.eyes_dense(0);
+            let eyes = yaw(&world, eyes.directions[0] + eyes.directions[1]);
+            figure.series.push(Yaws {
+                time: t,
+                target: current.unwrap_or(0.0),
+                eyes,
+                head,
+                torso,
+            });
+        }
+        Ok(figure)
+    }
+}
+
+impl Figure for Figure3 {
+    fn size(&self) -> (u32, u32) {
+        (1100, 560)
+    }
+
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<()> {
+        root.fill(&WHITE).map_err(drawing)?;
+        let t1 = self.series.last().map_or(1.0, |s| s.time);
+        let mut chart = ChartBuilder::on(root)
+            .caption(
+                "Figure 3: eyes lead, head follows, torso last (yaw during two gaze shifts)",
+                ("sans-serif", 20),
+            )
+            .margin(12)
+            .x_label_area_size(36)
+            .y_label_area_size(50)
+            .build_cartesian_2d(0.0..t1, -60f32..80f32)
+            .map_err(drawing)?;
+        chart
+            .configure_mesh()
+            .x_desc("t (s)")
+            .y_desc("yaw (degrees, left positive)")
+            .light_line_style(RGBColor(235, 235, 235))
+            .draw()
+            .map_err(drawing)?;
+        chart
+            .draw_series(DashedLineSeries::new(
+                self.series.iter().map(|s| (s.time, s.target)),
+                6,
+                4,
+                BLACK.into(),
+            ))
+            .map_err(drawing)?
+            .label("target direction")
+            .legend(|(x, y)| PathElement::new(vec![(x - 8, y), (x + 8, y)], BLACK));
+        type Line = (&'static str, RGBColor, fn(&Yaws) -> f32);
+        let lines: [Line; 3] = [
+            ("eyes", RGBColor(30, 80, 200), |s| s.eyes),
+            ("head (spine + neck + head)", RGBColor(230, 120, 20), |s| {
+                s.head
+            }),
+            ("torso (spine)", RGBColor(40, 150, 60), |s| s.torso),
+        ];
+        for (name, colour, value) in lines {
+            chart
+                .draw_series(LineSeries::new(
+                    self.series.iter().map(|s| (s.time, value(s))),
+                    colour.stroke_width(3),
+                ))
+                .map_err(drawing)?
+                .label(name)
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x - 8, y), (x + 8, y)], colour.stroke_width(3))
+                });
+        }
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperRight)
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .label_font(("sans-serif", 14))
+            .draw()
+            .map_err(drawing)?;
+        Ok(())
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// Collecting what the pictures need while a crowd runs.
+
+/// An observer that takes top-down snapshots at chosen times and records one character's
+/// Figure 1 series.
+#[derive(Debug, Default)]
+pub struct Collector {
+    /// Times of the wanted snapshots (s), ascending.
+    pub snapshot_times: Vec<f64>,
+    /// The snapshots taken.
+    pub snapshots: Vec<Snapshot>,
+    /// Title of the snapshots.
+    pub title: String,
+    /// The label of the character of Figure 1, if wanted.
+    pub figure1_label: Option<u64>,
+    /// Pick the character of Figure 1 (the one with the most planned constraints) when the
+    /// run is planned.
+    pub figure1_auto: bool,
+    /// Figure 1's data.
+    pub figure1: Figure1,
+    /// Gaze statistics.
+    pub stats: crate::sim::GazeStats,
+    /// Number of frames in the run (to pick the last one for a snapshot time past the end).
+    pub frame_count: usize,
+}
+
+impl Observer for Collector {
+    fn before_step(&mut self, crowd: &mut Crowd, frame: &Frame) -> Result<()> {
+        if frame.index == 0 && self.figure1_auto && crowd.is_planned() {
+            let mut best: Option<(usize, u64)> = None;
+            for person in frame.labels.iter().map(|(&id, &label)| (id, label)) {
+                let count = crowd.constraints(person.0)?.len();
+                if best.is_none_or(|(c, l)| count > c || (count == c && person.1 < l)) {
+                    best = Some((count, person.1));
+                }
+            }
+            self.figure1_label = best.map(|(_, label)| label);
+        }
+        if let Some(label) = self.figure1_label {
+            self.figure1.label = label;
+        }
+        Ok(())
+    }
+
+    fn after_step(&mut self, crowd: &Crowd, frame: &Frame) -> Result<()> {
+        for person in frame.people {
+            self.stats.add(person.id, &crowd.gaze(person.id)?, frame.dt);
+        }
+        let next = self.snapshots.len();
+        if let Some(&wanted) = self.snapshot_times.get(next) {
+            let last = frame.index + 1 == self.frame_count;
+            if frame.time + 1e-9 >= wanted || last {
+                self.snapshots
+                    .push(Snapshot::take(crowd, frame, &self.title));
+            }
+        }
+        if let Some(label) = self.figure1_label {
+            if let Some(person) = frame.people.iter().find(|p| p.label == label) {
+                let present = |entity: u32| {
+                    !frame.labels.contains_key(&entity)
+                        || frame.people.iter().any(|p| p.id == entity)
+                };
+                self.figure1.record(crowd, person.id, frame.time, present)?;
+            }
+        }
+        Ok(())
+    }
+}

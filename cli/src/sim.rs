@@ -1,0 +1,559 @@
+//! Running a crowd over a scene, frame by frame, for the commands: the street scenario of the
+//! paper, or the people of a trajectory file, online (frame by frame) or offline (the
+//! paper's pipeline: record everything, plan with the exact percentile, then replay).
+//!
+//! An [`Observer`] sees every frame after the step (and may act before it: set a base pose).
+
+use std::collections::HashMap;
+use std::time::{Duration, Instant};
+
+use anyhow::{bail, Context, Result};
+use crowdgaze::attention::{AttentionModel, CharacterParams};
+use crowdgaze::ik::GazeChain;
+use crowdgaze::scenario::Scenario;
+use crowdgaze::scene::EntityUpdate;
+use crowdgaze::{CharacterDesc, Crowd, CrowdConfig, World};
+use glam::{DVec3, Vec3};
+
+use crate::output::progress;
+use crate::traj::{Track, Trajectories, TIME_EPSILON};
+
+/// The attention model of the characters.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Model {
+    /// Grillon & Thalmann 2009: scores of proximity, speed, orientation and periphery, an
+    /// attention threshold per character, interest points held 1/3 s to 4 s.
+    Crowd,
+    /// Kokkinara, Oyekoya & Steed 2011: separate eye and head targets from saliency.
+    Saliency,
+    /// The stock behaviour the papers compare against.
+    Baseline,
+}
+
+impl Model {
+    /// The model's name on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Model::Crowd => "crowd",
+            Model::Saliency => "saliency",
+            Model::Baseline => "baseline",
+        }
+    }
+}
+
+/// Gives the characters `ids` of `crowd` the attention model `model`. Called after each
+/// batch of characters is added.
+pub fn configure_model(crowd: &mut Crowd, ids: &[u32], model: Model) -> Result<()> {
+    let model = match model {
+        Model::Crowd => AttentionModel::Crowd,
+        Model::Saliency => AttentionModel::Saliency,
+        Model::Baseline => AttentionModel::Baseline,
+    };
+    for &id in ids {
+        let params = crowd.character_params(id)?;
+        crowd.set_character_params(id, &CharacterParams { model, ..params })?;
+    }
+    Ok(())
+}
+
+/// A character present in a frame.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Present {
+    /// The person's label: the id in the trajectory file, or the person's index in the
+    /// street scenario.
+    pub label: u64,
+    /// The character's id in the crowd.
+    pub id: u32,
+}
+
+/// One frame, as the observer sees it.
+#[derive(Debug)]
+pub struct Frame<'a> {
+    /// Frame index from 0.
+    pub index: usize,
+    /// Time (s).
+    pub time: f64,
+    /// Time since the previous frame (s).
+    pub dt: f32,
+    /// The characters present in this frame.
+    pub people: &'a [Present],
+    /// The label of every character ever added, by crowd id.
+    pub labels: &'a HashMap<u32, u64>,
+}
+
+/// What a command does with each frame.
+pub trait Observer {
+    /// The gaze chain of person `label` (`None`: the human chain).
+    fn chain(&self, _label: u64) -> Option<GazeChain> {
+        None
+    }
+
+    /// Called after the frame's states are pushed, before the step.
+    fn before_step(&mut self, _crowd: &mut Crowd, _frame: &Frame) -> Result<()> {
+        Ok(())
+    }
+
+    /// Called after the step.
+    fn after_step(&mut self, crowd: &Crowd, frame: &Frame) -> Result<()>;
+}
+
+/// What a run measured.
+#[derive(Debug, Clone, Default)]
+pub struct RunStats {
+    /// Frames stepped.
+    pub frames: usize,
+    /// Character-frames stepped (characters present, summed over frames).
+    pub character_frames: usize,
+    /// Time spent in `push_frame` and `step` (and `plan`, offline).
+    pub crowd_time: Duration,
+}
+
+/// How to run a trajectory file.
+#[derive(Debug, Clone)]
+pub struct TrackRun {
+    /// Axes of the crowd; the file's `x, y` lie along `forward` and `up × forward`, `z`
+    /// along `up`. Metres.
+    pub world: World,
+    /// Output rate (frames per second).
+    pub fps: f64,
+    /// First time to run (s, the file's clock), default the file's start.
+    pub start: Option<f64>,
+    /// Last time to run (s), default the file's end.
+    pub end: Option<f64>,
+    /// Plan offline with the exact percentile.
+    pub offline: bool,
+    /// The attention model.
+    pub model: Model,
+    /// Seed of every random choice.
+    pub seed: u64,
+    /// Hide the progress bar.
+    pub quiet: bool,
+}
+
+fn world_point(world: &World, p: DVec3) -> Vec3 {
+    world.forward * p.x as f32 + world.side * p.y as f32 + world.up * p.z as f32
+}
+
+/// The crowd's state for a track at time `t`.
+fn track_update(world: &World, track: &Track, id: u32, t: f64) -> EntityUpdate {
+    let (position, velocity) = track.evaluate(t);
+    EntityUpdate {
+        id,
+        position: world_point(world, position),
+        heading: 0.0,
+        heading_from_motion: true,
+        velocity: Some(world_point(world, velocity)),
+    }
+}
+
+fn initial_heading(track: &Track) -> f32 {
+    track
+        .initial_direction()
+        .map_or(0.0, |(x, y)| y.atan2(x) as f32)
+}
+
+/// Small positive `dt` steps that keep the offline replay clock (which adds `f32` steps)
+/// at or past each frame time, so that each step replays exactly its frame.
+struct ReplayClock {
+    clock: f64,
+}
+
+impl ReplayClock {
+    fn step_to(&mut self, time: f64) -> f32 {
+        let mut dt = ((time - self.clock).max(0.0)) as f32;
+        while self.clock + f64::from(dt) < time {
+            dt = f32::from_bits(dt.to_bits() + 1);
+        }
+        self.clock += f64::from(dt);
+        dt
+    }
+}
+
+/// Runs the people of `trajectories` through a crowd at `run.fps`, adding each person when
+/// their track starts and removing them when it ends (online), or recording everything and
+/// planning first (offline).
+pub fn run_tracks(
+    trajectories: &Trajectories,
+    run: &TrackRun,
+    observer: &mut dyn Observer,
+) -> Result<RunStats> {
+    if !(run.fps.is_finite() && run.fps > 0.0) {
+        bail!("--fps is {}, must be positive", run.fps);
+    }
+    let times = trajectories.output_times(run.fps, run.start, run.end);
+    if times.is_empty() {
+        bail!(
+            "{}: no sample between --start and --end (the file spans {:.2} s to {:.2} s)",
+            trajectories.path.display(),
+            trajectories.first_time(),
+            trajectories.last_time()
+        );
+    }
+    // Tracks present in at least one output frame, by first time.
+    let mut tracks: Vec<&Track> = trajectories
+        .tracks
+        .iter()
+        .filter(|track| times.iter().any(|&t| track.covers(t)))
+        .collect();
+    tracks.sort_by(|a, b| a.first_time().total_cmp(&b.first_time()));
+    let frame_of = |track: &Track| times.iter().position(|&t| track.covers(t)).unwrap_or(0);
+    let person_frames: usize = tracks
+        .iter()
+        .map(|track| times.iter().filter(|&&t| track.covers(t)).count())
+        .sum();
+    let config = CrowdConfig {
+        seed: run.seed,
+        max_characters: tracks.len().max(1) as u32,
+        max_objects: 0,
+        world: run.world,
+        max_recorded_states: if run.offline {
+            (person_frames + times.len() + 1) as u32
+        } else {
+            0
+        },
+        ..CrowdConfig::default()
+    };
+    let mut crowd = Crowd::new(config).context("creating the crowd")?;
+    let world = run.world;
+    let mut labels: HashMap<u32, u64> = HashMap::new();
+    let mut stats = RunStats::default();
+    let dt_of = |k: usize| -> f32 {
+        if k == 0 {
+            (1.0 / run.fps) as f32
+        } else {
+            (times[k] - times[k - 1]) as f32
+        }
+    };
+
+    let add = |crowd: &mut Crowd,
+               labels: &mut HashMap<u32, u64>,
+               track: &Track,
+               t: f64,
+               chain: Option<GazeChain>|
+     -> Result<u32> {
+        let update = track_update(&world, track, 0, t);
+        let id = crowd
+            .add_character(&CharacterDesc {
+                position: update.position,
+                heading: initial_heading(track),
+                chain,
+                ..CharacterDesc::default()
+            })
+            .with_context(|| format!("adding person {}", track.person))?;
+        labels.insert(id, track.person);
+        Ok(id)
+    };
+
+    let mut present: Vec<Present> = Vec::new();
+    let mut updates: Vec<EntityUpdate> = Vec::new();
+    if !run.offline {
+        let bar = progress(times.len() as u64, "annotating", run.quiet);
+        // (track, crowd id) of the people in the scene.
+        let mut active: Vec<(&Track, u32)> = Vec::new();
+        let mut next = 0;
+        for (k, &t) in times.iter().enumerate() {
+            let mut added = Vec::new();
+            while next < tracks.len() && tracks[next].first_time() <= t + TIME_EPSILON {
+                let track = tracks[next];
+                next += 1;
+                if track.covers(t) {
+                    let id = add(
+                        &mut crowd,
+                        &mut labels,
+                        track,
+                        t,
+                        observer.chain(track.person),
+                    )?;
+                    active.push((track, id));
+                    added.push(id);
+                }
+            }
+            if !added.is_empty() {
+                configure_model(&mut crowd, &added, run.model)?;
+            }
+            updates.clear();
+            updates.extend(
+                active
+                    .iter()
+                    .map(|&(track, id)| track_update(&world, track, id, t)),
+            );
+            present.clear();
+            present.extend(active.iter().map(|&(track, id)| Present {
+                label: track.person,
+                id,
+            }));
+            let frame = Frame {
+                index: k,
+                time: t,
+                dt: dt_of(k),
+                people: &present,
+                labels: &labels,
+            };
+            let started = Instant::now();
+            crowd.push_frame(t, &updates).context("pushing a frame")?;
+            stats.crowd_time += started.elapsed();
+            observer.before_step(&mut crowd, &frame)?;
+            let started = Instant::now();
+            crowd.step(frame.dt).context("stepping the crowd")?;
+            stats.crowd_time += started.elapsed();
+            observer.after_step(&crowd, &frame)?;
+            stats.frames += 1;
+            stats.character_frames += present.len();
+            // People whose track ends before the next frame leave.
+            if let Some(&next_time) = times.get(k + 1) {
+                let mut kept = Vec::with_capacity(active.len());
+                for (track, id) in active.drain(..) {
+                    if track.covers(next_time) {
+                        kept.push((track, id));
+                    } else {
+                        crowd.remove_entity(id).context("removing a person")?;
+                    }
+                }
+                active = kept;
+            }
+            bar.inc(1);
+        }
+        bar.finish_and_clear();
+        return Ok(stats);
+    }
+
+    // Offline: everyone is added first (each counts only within its own span), every frame
+    // recorded, then planned and replayed.
+    let mut all: Vec<(&Track, u32)> = Vec::with_capacity(tracks.len());
+    for &track in &tracks {
+        let t = times[frame_of(track)];
+        let id = add(
+            &mut crowd,
+            &mut labels,
+            track,
+            t,
+            observer.chain(track.person),
+        )?;
+        all.push((track, id));
+    }
+    let ids: Vec<u32> = all.iter().map(|&(_, id)| id).collect();
+    configure_model(&mut crowd, &ids, run.model)?;
+    let bar = progress(2 * times.len() as u64, "planning", run.quiet);
+    let started = Instant::now();
+    for &t in &times {
+        updates.clear();
+        updates.extend(
+            all.iter()
+                .filter(|(track, _)| track.covers(t))
+                .map(|&(track, id)| track_update(&world, track, id, t)),
+        );
+        crowd.push_frame(t, &updates).context("recording a frame")?;
+        bar.inc(1);
+    }
+    crowd.plan().context("planning")?;
+    stats.crowd_time += started.elapsed();
+    let mut clock = ReplayClock { clock: times[0] };
+    for (k, &t) in times.iter().enumerate() {
+        let dt = if k == 0 { dt_of(0) } else { clock.step_to(t) };
+        present.clear();
+        present.extend(
+            all.iter()
+                .filter(|(track, _)| track.covers(t))
+                .map(|&(track, id)| Present {
+                    label: track.person,
+                    id,
+                }),
+        );
+        let frame = Frame {
+            index: k,
+            time: t,
+            dt,
+            people: &present,
+            labels: &labels,
+        };
+        observer.before_step(&mut crowd, &frame)?;
+        let started = Instant::now();
+        crowd.step(dt).context("stepping the crowd")?;
+        stats.crowd_time += started.elapsed();
+        observer.after_step(&crowd, &frame)?;
+        stats.frames += 1;
+        stats.character_frames += present.len();
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    Ok(stats)
+}
+
+/// How to run the paper's street scene.
+#[derive(Debug, Clone, Copy)]
+pub struct StreetRun {
+    /// Simulated seconds.
+    pub seconds: f64,
+    /// Frames per second.
+    pub fps: f64,
+    /// Characters.
+    pub characters: usize,
+    /// Scene objects.
+    pub objects: usize,
+    /// Seed of the scene and of every random choice of the crowd.
+    pub seed: u64,
+    /// Plan offline with the exact percentile.
+    pub offline: bool,
+    /// Hide the progress bar.
+    pub quiet: bool,
+}
+
+impl StreetRun {
+    /// Number of frames.
+    pub fn frame_count(&self) -> usize {
+        (self.seconds * self.fps).round().max(1.0) as usize
+    }
+
+    /// The crowd's configuration for the street.
+    pub fn config(&self) -> CrowdConfig {
+        let frames = self.frame_count();
+        CrowdConfig {
+            seed: self.seed,
+            max_characters: self.characters.max(1) as u32,
+            max_objects: self.objects as u32,
+            max_recorded_states: if self.offline {
+                (self.characters * frames + frames + 1) as u32
+            } else {
+                0
+            },
+            ..CrowdConfig::default()
+        }
+    }
+}
+
+/// Runs the street scene (`Scenario::street`) through a crowd, online or offline.
+pub fn run_street(run: &StreetRun, observer: &mut dyn Observer) -> Result<RunStats> {
+    if !(run.seconds.is_finite() && run.seconds > 0.0) {
+        bail!("--seconds is {}, must be positive", run.seconds);
+    }
+    if run.characters == 0 {
+        bail!("--characters must be at least 1");
+    }
+    let mut scenario = Scenario::street(run.characters, run.objects, run.seed);
+    let mut crowd = Crowd::new(run.config()).context("creating the crowd")?;
+    scenario
+        .populate(&mut crowd)
+        .context("populating the street")?;
+    let ids = scenario.character_ids().to_vec();
+    configure_model(&mut crowd, &ids, Model::Crowd)?;
+    let present: Vec<Present> = ids
+        .iter()
+        .enumerate()
+        .map(|(i, &id)| Present {
+            label: i as u64,
+            id,
+        })
+        .collect();
+    let labels: HashMap<u32, u64> = present.iter().map(|p| (p.id, p.label)).collect();
+    let frames = run.frame_count();
+    let dt = (1.0 / run.fps) as f32;
+    let mut stats = RunStats::default();
+    let bar = progress(
+        frames as u64 * if run.offline { 2 } else { 1 },
+        if run.offline { "planning" } else { "street" },
+        run.quiet,
+    );
+    let time_of = |k: usize| k as f64 / run.fps;
+    if run.offline {
+        let started = Instant::now();
+        for k in 0..frames {
+            if k > 0 {
+                scenario.advance(dt);
+            }
+            scenario
+                .push(&mut crowd, time_of(k))
+                .context("recording a frame")?;
+            bar.inc(1);
+        }
+        crowd.plan().context("planning")?;
+        stats.crowd_time += started.elapsed();
+    }
+    let mut clock = ReplayClock { clock: 0.0 };
+    for k in 0..frames {
+        let t = time_of(k);
+        let step_dt = if run.offline && k > 0 {
+            clock.step_to(t)
+        } else {
+            dt
+        };
+        let frame = Frame {
+            index: k,
+            time: t,
+            dt: step_dt,
+            people: &present,
+            labels: &labels,
+        };
+        if !run.offline {
+            if k > 0 {
+                scenario.advance(dt);
+            }
+            let started = Instant::now();
+            scenario.push(&mut crowd, t).context("pushing a frame")?;
+            stats.crowd_time += started.elapsed();
+        }
+        observer.before_step(&mut crowd, &frame)?;
+        let started = Instant::now();
+        crowd.step(step_dt).context("stepping the crowd")?;
+        stats.crowd_time += started.elapsed();
+        observer.after_step(&crowd, &frame)?;
+        stats.frames += 1;
+        stats.character_frames += present.len();
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    Ok(stats)
+}
+
+/// Gaze statistics gathered frame by frame.
+#[derive(Debug, Clone, Default)]
+pub struct GazeStats {
+    /// Character-frames seen.
+    pub samples: usize,
+    /// Character-frames attending to an interest point.
+    pub attending: usize,
+    /// Sum of `S_max`.
+    pub s_max_sum: f64,
+    /// Character-seconds seen.
+    pub seconds: f64,
+    /// Times a character started looking at a new interest point.
+    pub shifts: usize,
+    /// Each character's last target.
+    last_target: HashMap<u32, u32>,
+}
+
+impl GazeStats {
+    /// Adds a character's gaze of this frame.
+    pub fn add(&mut self, id: u32, gaze: &crowdgaze::GazeInfo, dt: f32) {
+        self.samples += 1;
+        self.seconds += f64::from(dt);
+        self.s_max_sum += f64::from(gaze.s_max);
+        if gaze.attending {
+            self.attending += 1;
+            let previous = self.last_target.insert(id, gaze.target);
+            if previous != Some(gaze.target) {
+                self.shifts += 1;
+            }
+        } else {
+            self.last_target.remove(&id);
+        }
+    }
+
+    /// Share of character-frames attending.
+    pub fn attentive_fraction(&self) -> f64 {
+        self.attending as f64 / self.samples.max(1) as f64
+    }
+
+    /// Mean `S_max`.
+    pub fn mean_s_max(&self) -> f64 {
+        self.s_max_sum / self.samples.max(1) as f64
+    }
+
+    /// Gaze shifts (new interest points) per character per minute.
+    pub fn shifts_per_minute(&self) -> f64 {
+        if self.seconds > 0.0 {
+            self.shifts as f64 / (self.seconds / 60.0)
+        } else {
+            0.0
+        }
+    }
+}

@@ -1,0 +1,697 @@
+//! The `crowdgaze` command-line tool, run as a program: the demo and its pictures,
+//! annotation of the real ETH and UCY trajectories, BVH round trips and gaze added to a real
+//! clip, plots, and bad input (one clear line naming file and line, non-zero exit, no
+//! output file left behind).
+
+use std::collections::{BTreeSet, HashMap};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use crowdgaze_cli::bvh::Bvh;
+use crowdgaze_cli::skeleton::global_rotation;
+use glam::DVec3;
+
+fn crowdgaze(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_crowdgaze"))
+        .args(args)
+        .output()
+        .expect("run crowdgaze")
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+fn succeed(args: &[&str]) -> String {
+    let output = crowdgaze(args);
+    assert!(
+        output.status.success(),
+        "crowdgaze {args:?} failed: {}{}",
+        text(&output.stdout),
+        text(&output.stderr)
+    );
+    text(&output.stdout)
+}
+
+/// The shared data directory (`../shared/data` from the repository), if present.
+fn data(relative: &str) -> Option<PathBuf> {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../shared/data")
+        .join(relative);
+    if path.exists() {
+        Some(path)
+    } else {
+        println!("skipping: {} not found", path.display());
+        None
+    }
+}
+
+fn entries(directory: &Path) -> BTreeSet<String> {
+    std::fs::read_dir(directory)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect()
+}
+
+fn check_png(path: &Path) {
+    let bytes = std::fs::read(path).unwrap();
+    assert!(
+        bytes.starts_with(b"\x89PNG\r\n\x1a\n"),
+        "{} is not a PNG",
+        path.display()
+    );
+    let decoder = png::Decoder::new(std::io::Cursor::new(bytes));
+    let mut reader = decoder.read_info().expect("PNG header");
+    let (width, height) = (reader.info().width, reader.info().height);
+    assert!(width >= 400 && height >= 200, "{width}x{height}");
+    let mut pixels = vec![0; reader.output_buffer_size().expect("size")];
+    let frame = reader.next_frame(&mut pixels).expect("PNG data");
+    let pixels = &pixels[..frame.buffer_size()];
+    // Not blank: more than a handful of distinct colours.
+    let colours: BTreeSet<&[u8]> = pixels.chunks(3).collect();
+    assert!(colours.len() > 5, "{} looks blank", path.display());
+}
+
+fn check_svg(path: &Path) {
+    let svg = std::fs::read_to_string(path).unwrap();
+    let document = roxmltree::Document::parse(&svg)
+        .unwrap_or_else(|e| panic!("{} is not XML: {e}", path.display()));
+    assert_eq!(document.root_element().tag_name().name(), "svg");
+    let drawing = document
+        .descendants()
+        .filter(|n| {
+            matches!(
+                n.tag_name().name(),
+                "line" | "polyline" | "path" | "rect" | "circle" | "text" | "polygon"
+            )
+        })
+        .count();
+    assert!(
+        drawing > 20,
+        "{} has {drawing} drawing elements",
+        path.display()
+    );
+}
+
+#[test]
+fn demo_prints_a_summary_and_writes_valid_pictures() {
+    let directory = tempfile::tempdir().unwrap();
+    let out = directory.path().join("demo");
+    let stdout = succeed(&[
+        "demo",
+        "--seconds",
+        "3",
+        "--seed",
+        "7",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    println!("{stdout}");
+    for needle in ["attentive:", "gaze shifts:", "µs per character-frame"] {
+        assert!(stdout.contains(needle), "no '{needle}' in {stdout}");
+    }
+    let files = entries(&out);
+    let pngs: Vec<&String> = files.iter().filter(|f| f.ends_with(".png")).collect();
+    let svgs: Vec<&String> = files.iter().filter(|f| f.ends_with(".svg")).collect();
+    assert!(pngs.len() >= 4, "{files:?}");
+    assert_eq!(pngs.len(), svgs.len(), "{files:?}");
+    for kind in ["topdown_", "figure1_", "figure3_"] {
+        assert!(
+            files.iter().any(|f| f.starts_with(kind)),
+            "no {kind} in {files:?}"
+        );
+    }
+    assert!(
+        files.iter().all(|f| !f.starts_with('.')),
+        "temporary files left: {files:?}"
+    );
+    for file in pngs {
+        check_png(&out.join(file));
+    }
+    for file in svgs {
+        check_svg(&out.join(file));
+    }
+    // Same seed, same summary (the timing line aside).
+    let again = succeed(&[
+        "demo",
+        "--seconds",
+        "3",
+        "--seed",
+        "7",
+        "--no-plots",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let without_cost = |s: &str| {
+        s.lines()
+            .filter(|l| !l.contains("cost:") && !l.contains(".png") && !l.contains(".svg"))
+            .filter(|l| !l.contains("pictures:"))
+            .collect::<Vec<_>>()
+            .join("\n")
+    };
+    assert_eq!(without_cost(&stdout), without_cost(&again));
+}
+
+/// `frame,id,x,y` rows of a trajectory file.
+fn read_rows(path: &Path) -> Vec<(f64, u64)> {
+    std::fs::read_to_string(path)
+        .unwrap()
+        .lines()
+        .skip(1)
+        .map(|line| {
+            let fields: Vec<&str> = line.split(',').collect();
+            (fields[0].parse().unwrap(), fields[1].parse().unwrap())
+        })
+        .collect()
+}
+
+/// Runs `annotate` on a window of a real file and checks every person-frame is there, with
+/// no NaN; returns the attentive fraction.
+fn annotate_window(
+    file: &str,
+    seconds_per_frame: f64,
+    start: f64,
+    end: f64,
+    fps: f64,
+    offline: bool,
+) -> Option<f64> {
+    let input = data(&format!("pedestrians/{file}"))?;
+    let directory = tempfile::tempdir().unwrap();
+    let out = directory.path().join("gaze.csv");
+    let mut args = vec![
+        "annotate".to_string(),
+        "--input".into(),
+        input.to_str().unwrap().into(),
+        "--out".into(),
+        out.to_str().unwrap().into(),
+        "--fps".into(),
+        fps.to_string(),
+        "--start".into(),
+        start.to_string(),
+        "--end".into(),
+        end.to_string(),
+    ];
+    if offline {
+        args.push("--offline".into());
+    }
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let stdout = succeed(&args);
+    println!("{stdout}");
+
+    // Expected person-frames: the output grid (anchored at the file's first sample) within
+    // the window and within each person's track.
+    let rows = read_rows(&input);
+    let mut spans: HashMap<u64, (f64, f64)> = HashMap::new();
+    for &(frame, id) in &rows {
+        let t = frame * seconds_per_frame;
+        let span = spans.entry(id).or_insert((t, t));
+        span.0 = span.0.min(t);
+        span.1 = span.1.max(t);
+    }
+    let anchor = spans.values().map(|s| s.0).fold(f64::INFINITY, f64::min);
+    let last = spans
+        .values()
+        .map(|s| s.1)
+        .fold(f64::NEG_INFINITY, f64::max);
+    let mut expected = BTreeSet::new();
+    let mut k = 0u64;
+    loop {
+        let t = anchor + k as f64 / fps;
+        k += 1;
+        if t > end.min(last) + 1e-6 {
+            break;
+        }
+        if t < start - 1e-6 {
+            continue;
+        }
+        for (&id, &(first, last)) in &spans {
+            if first - 1e-6 <= t && t <= last + 1e-6 {
+                expected.insert(((t * 1e3).round() as i64, id));
+            }
+        }
+    }
+
+    let csv = std::fs::read_to_string(&out).unwrap();
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    assert_eq!(
+        &header[..10],
+        &[
+            "time",
+            "id",
+            "target",
+            "part",
+            "attending",
+            "s_max",
+            "threshold",
+            "gaze_x",
+            "gaze_y",
+            "gaze_z"
+        ]
+    );
+    assert_eq!(header.len(), 10 + 4 * 10, "10 chain joints of 4 components");
+    let mut got = BTreeSet::new();
+    let (mut attending, mut count) = (0usize, 0usize);
+    for line in lines {
+        let fields: Vec<&str> = line.split(',').collect();
+        assert_eq!(fields.len(), header.len(), "{line}");
+        let t: f64 = fields[0].parse().unwrap();
+        let id: u64 = fields[1].parse().unwrap();
+        assert!(
+            got.insert(((t * 1e3).round() as i64, id)),
+            "duplicate row {line}"
+        );
+        for (name, value) in header.iter().zip(&fields).skip(5) {
+            let value: f64 = value
+                .parse()
+                .unwrap_or_else(|_| panic!("{name} = {value} in {line}"));
+            assert!(value.is_finite(), "{name} = {value} in {line}");
+        }
+        let flag = fields[4] == "1";
+        assert_eq!(flag, !fields[2].is_empty(), "{line}");
+        attending += usize::from(flag);
+        count += 1;
+        // Unit quaternions and gaze direction.
+        for joint in 0..10 {
+            let q: Vec<f64> = (0..4)
+                .map(|c| fields[10 + 4 * joint + c].parse().unwrap())
+                .collect();
+            let norm = q.iter().map(|v| v * v).sum::<f64>().sqrt();
+            assert!((norm - 1.0).abs() < 1e-3, "{line}");
+        }
+    }
+    assert_eq!(got.len(), expected.len(), "person-frames");
+    assert_eq!(got, expected, "every person-frame in range, and only those");
+    let fraction = attending as f64 / count as f64;
+    println!(
+        "{file} [{start} s, {end} s] at {fps} fps{}: {count} person-frames, attentive {:.1}%",
+        if offline { " offline" } else { "" },
+        100.0 * fraction
+    );
+    Some(fraction)
+}
+
+#[test]
+fn annotate_eth_seq_eth_covers_every_person_frame() {
+    // seq_eth: 6 frame numbers per 0.4 s sample, 1/15 s each.
+    if let Some(fraction) =
+        annotate_window("eth_seq_eth.csv", 1.0 / 15.0, 100.0, 400.0, 10.0, false)
+    {
+        // Attention percentages are drawn in [20%, 60%); online, people attend about that.
+        assert!((0.15..0.6).contains(&fraction), "attentive {fraction}");
+    }
+}
+
+#[test]
+fn annotate_ucy_zara01_covers_every_person_frame_online_and_offline() {
+    // zara01: 10 frame numbers per 0.4 s sample, 1/25 s each.
+    if let Some(fraction) = annotate_window("ucy_zara01.csv", 1.0 / 25.0, 0.0, 200.0, 10.0, false) {
+        assert!((0.15..0.6).contains(&fraction), "attentive {fraction}");
+    }
+    if let Some(fraction) = annotate_window("ucy_zara01.csv", 1.0 / 25.0, 50.0, 150.0, 2.5, true) {
+        assert!(
+            (0.15..0.6).contains(&fraction),
+            "attentive offline {fraction}"
+        );
+    }
+}
+
+#[test]
+fn annotate_runs_every_attention_model() {
+    let Some(input) = data("pedestrians/ucy_zara01.csv") else {
+        return;
+    };
+    let directory = tempfile::tempdir().unwrap();
+    let out = directory.path().join("gaze.csv");
+    for model in ["crowd", "saliency", "baseline"] {
+        succeed(&[
+            "annotate",
+            "--input",
+            input.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--model",
+            model,
+            "--start",
+            "0",
+            "--end",
+            "30",
+            "--fps",
+            "10",
+        ]);
+        let text = std::fs::read_to_string(&out).unwrap();
+        let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
+        let part = header.iter().position(|name| *name == "part").unwrap();
+        let target = header.iter().position(|name| *name == "target").unwrap();
+        let rows: Vec<Vec<&str>> = text
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').collect())
+            .collect();
+        assert!(rows.len() > 100, "{model}: {} rows", rows.len());
+        let on_parts = rows
+            .iter()
+            .filter(|row| !row[target].is_empty() && row[part] != "whole")
+            .count();
+        let looking = rows.iter().filter(|row| !row[target].is_empty()).count();
+        println!(
+            "{model}: {} rows, {looking} looking at someone, {on_parts} at a body part",
+            rows.len()
+        );
+        assert!(looking > 0, "{model} never looked at anyone");
+        match model {
+            // The saliency model looks at body parts; the others at whole entities (the
+            // baseline at heads).
+            "saliency" => assert!(on_parts > 0),
+            "crowd" => assert_eq!(on_parts, 0),
+            _ => {}
+        }
+    }
+}
+
+#[test]
+fn bvh_reads_writes_and_reads_the_same_skeleton_and_motion() {
+    for name in ["zombie.bvh", "wave_hello.bvh"] {
+        let Some(path) = data(&format!("bvh/{name}")) else {
+            continue;
+        };
+        let bvh = Bvh::read(&path).unwrap();
+        assert_eq!(bvh.joints.len(), 27);
+        assert_eq!(bvh.channel_count, 84);
+        // The thumbs rotate in another order than the rest.
+        let thumb = &bvh.joints[bvh.joint("RightHandThumb1").unwrap()];
+        assert_eq!(thumb.euler_order(), Some(glam::EulerRot::YXZ));
+        let again = Bvh::parse(&bvh.to_text(), Path::new(name)).unwrap();
+        assert_eq!(bvh.joints.len(), again.joints.len());
+        for (a, b) in bvh.joints.iter().zip(&again.joints) {
+            assert_eq!(
+                (&a.name, a.parent, &a.channels),
+                (&b.name, b.parent, &b.channels)
+            );
+            assert!(a.offset.abs_diff_eq(b.offset, 1e-4));
+            assert_eq!(a.end_site.is_some(), b.end_site.is_some());
+            if let (Some(x), Some(y)) = (a.end_site, b.end_site) {
+                assert!(x.abs_diff_eq(y, 1e-4));
+            }
+        }
+        assert!((bvh.frame_time - again.frame_time).abs() < 1e-7);
+        assert_eq!(bvh.frames.len(), again.frames.len());
+        for (a, b) in bvh.frames.iter().zip(&again.frames) {
+            for (x, y) in a.iter().zip(b) {
+                assert!((x - y).abs() <= 1e-4, "{x} {y}");
+            }
+        }
+    }
+}
+
+/// A small scene: person 1 walks 10 m along x; person 2 comes the other way 1.5 m to the
+/// side; person 3 stands ahead to the left; person 4 overtakes person 1.
+fn small_scene(path: &Path) {
+    let mut csv = String::from("frame,id,x,y\n");
+    for k in 0..=20 {
+        let t = k as f64 * 0.4;
+        let frame = k * 10;
+        csv += &format!("{frame},1,{},0\n", 1.2 * t);
+        csv += &format!("{frame},2,{},1.5\n", 10.0 - 1.3 * t);
+        csv += &format!("{frame},3,6,3\n");
+        csv += &format!("{frame},4,{},-1\n", -3.0 + 1.8 * t);
+    }
+    std::fs::write(path, csv).unwrap();
+}
+
+#[test]
+fn bvh_adds_gaze_to_a_real_clip_walking_a_trajectory() {
+    let Some(clip_path) = data("bvh/zombie.bvh") else {
+        return;
+    };
+    let directory = tempfile::tempdir().unwrap();
+    let trajectory = directory.path().join("walk.csv");
+    small_scene(&trajectory);
+    let out = directory.path().join("out.bvh");
+    let stdout = succeed(&[
+        "bvh",
+        "--skeleton",
+        clip_path.to_str().unwrap(),
+        "--trajectory",
+        trajectory.to_str().unwrap(),
+        "--id",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+        "--seed",
+        "3",
+    ]);
+    println!("{stdout}");
+    assert!(
+        stdout.contains("Hips > Spine > Spine1 > Spine2 > Spine3 > Neck > Head"),
+        "{stdout}"
+    );
+    let clip = Bvh::read(&clip_path).unwrap();
+    let result = Bvh::read(&out).unwrap();
+    // Same hierarchy and channel orders.
+    assert_eq!(result.joints, clip.joints);
+    assert_eq!(result.frame_time, clip.frame_time);
+    // 8 s at 30 fps.
+    assert_eq!(result.frames.len(), 241);
+    let head = clip.joint("Head").unwrap();
+    let hips = clip.joint("Hips").unwrap();
+    let mut turned = 0;
+    let mut largest: f64 = 0.0;
+    let mut largest_turn: f64 = 0.0;
+    for (k, frame) in result.frames.iter().enumerate() {
+        let original = &clip.frames[k % clip.frames.len()];
+        let a = clip.joints[head].rotation(original);
+        let b = clip.joints[head].rotation(frame);
+        let angle = a.angle_between(b).to_degrees();
+        largest = largest.max(angle);
+        if angle > 1.0 {
+            turned += 1;
+        }
+        // The root follows the trajectory: x of the file along the rest facing (-Y), in
+        // inches, at the clip's own height.
+        let t = k as f64 / 30.0;
+        let root = clip.joints[hips].translation(frame).unwrap();
+        let expected = DVec3::new(0.0, -1.2 * t * 39.37, 0.0);
+        assert!(
+            (root.x - expected.x).abs() < 1.0 && (root.y - expected.y).abs() < 1.0,
+            "frame {k}: root {root} expected {expected}"
+        );
+        assert!((root.z - clip.joints[hips].translation(original).unwrap().z).abs() < 1e-4);
+        // And faces the way it walks (-Y).
+        let facing = global_rotation(&result, hips, frame) * DVec3::NEG_Y;
+        let yaw = facing.x.atan2(-facing.y).to_degrees();
+        assert!(yaw.abs() < 25.0, "frame {k}: hips yaw {yaw}");
+        // The head turns at most about 110° from the hips (spine 40°, neck and head 70°),
+        // never backwards.
+        let head_facing = global_rotation(&result, head, frame) * DVec3::NEG_Y;
+        let turn = head_facing.dot(facing).clamp(-1.0, 1.0).acos().to_degrees();
+        largest_turn = largest_turn.max(turn);
+        assert!(turn < 125.0, "frame {k}: head {turn} degrees from the hips");
+    }
+    println!(
+        "head joint turned on {turned} of {} frames, up to {largest:.1} degrees; head up to \
+         {largest_turn:.1} degrees from the hips",
+        result.frames.len()
+    );
+    // Person 3 stands 3 m to the left of the path: at some point the head looks well aside.
+    assert!(largest_turn > 45.0, "{largest_turn}");
+    assert!(turned > 10, "the head turns on some frames");
+    assert!(
+        largest > 5.0 && largest < 90.0,
+        "largest head turn {largest}"
+    );
+    // Joints away from the chain are the clip's.
+    let arm = &clip.joints[clip.joint("LeftForeArm").unwrap()];
+    for (k, frame) in result.frames.iter().enumerate() {
+        let original = &clip.frames[k % clip.frames.len()];
+        let range = arm.first_channel..arm.first_channel + arm.channels.len();
+        assert_eq!(&frame[range.clone()], &original[range]);
+    }
+}
+
+#[test]
+fn plot_draws_a_trajectory_file_and_figure_3() {
+    let Some(input) = data("pedestrians/ucy_zara01.csv") else {
+        return;
+    };
+    let directory = tempfile::tempdir().unwrap();
+    let out = directory.path().join("plots");
+    let stdout = succeed(&[
+        "plot",
+        "--input",
+        input.to_str().unwrap(),
+        "--start",
+        "20",
+        "--end",
+        "60",
+        "--fps",
+        "5",
+        "--times",
+        "30,50",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    println!("{stdout}");
+    let files = entries(&out);
+    assert!(
+        files.contains("topdown_30.0s.png") && files.contains("topdown_50.0s.svg"),
+        "{files:?}"
+    );
+    assert!(
+        files.iter().any(|f| f.starts_with("figure1_person")),
+        "{files:?}"
+    );
+    assert!(files.contains("figure3_gaze_shift.png"), "{files:?}");
+    for file in &files {
+        let path = out.join(file);
+        if file.ends_with(".png") {
+            check_png(&path);
+        } else {
+            check_svg(&path);
+        }
+    }
+}
+
+/// Runs `args` (with `{dir}` replaced by a fresh directory holding `name` = `content`) and
+/// checks the failure: non-zero exit, one line naming `name:line`, nothing written.
+fn check_bad_input(name: &str, content: &str, args: &[&str], line: &str) {
+    let directory = tempfile::tempdir().unwrap();
+    let input = directory.path().join(name);
+    std::fs::write(&input, content).unwrap();
+    let before = entries(directory.path());
+    let args: Vec<String> = args
+        .iter()
+        .map(|a| a.replace("{dir}", directory.path().to_str().unwrap()))
+        .collect();
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let output = crowdgaze(&args);
+    let stderr = text(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{args:?}: {stderr}");
+    assert_eq!(stderr.trim_end().lines().count(), 1, "one line: {stderr}");
+    let wanted = format!("{name}:{line}");
+    assert!(
+        stderr.contains(&wanted),
+        "{args:?}: '{wanted}' not in {stderr}"
+    );
+    assert_eq!(
+        entries(directory.path()),
+        before,
+        "no output file, no temporary file"
+    );
+    println!("{}", stderr.trim_end());
+}
+
+#[test]
+fn bad_trajectory_files_fail_with_file_and_line_and_leave_nothing() {
+    let annotate = [
+        "annotate",
+        "--input",
+        "{dir}/bad.csv",
+        "--out",
+        "{dir}/gaze.csv",
+    ];
+    let good = "frame,id,x,y\n0,1,0,0\n10,1,0.5,0\n20,1,1,0\n0,2,3,3\n10,2,3,2.5\n";
+    check_bad_input("bad.csv", "frame,id,x\n0,1,0\n", &annotate, "1");
+    check_bad_input(
+        "bad.csv",
+        &good.replace("10,1,0.5,0", "10,1,abc,0"),
+        &annotate,
+        "3",
+    );
+    check_bad_input(
+        "bad.csv",
+        &good.replace("10,1,0.5,0", "10,one,0.5,0"),
+        &annotate,
+        "3",
+    );
+    check_bad_input(
+        "bad.csv",
+        &good.replace("20,1,1,0", "20,1,NaN,0"),
+        &annotate,
+        "4",
+    );
+    check_bad_input(
+        "bad.csv",
+        &good.replace("20,1,1,0", "5,1,1,0"),
+        &annotate,
+        "4",
+    );
+    check_bad_input(
+        "bad.csv",
+        &good.replace("20,1,1,0", "20,1,1"),
+        &annotate,
+        "4",
+    );
+    check_bad_input("bad.csv", "frame,id,x,y\n", &annotate, "1");
+    // Plot and bvh read trajectories the same way.
+    check_bad_input(
+        "bad.csv",
+        &good.replace("10,2,3,2.5", "10,2,3,inf"),
+        &["plot", "--input", "{dir}/bad.csv", "--out", "{dir}/plots"],
+        "6",
+    );
+}
+
+#[test]
+fn bvh_command_rejects_bad_input() {
+    let Some(clip) = data("bvh/zombie.bvh") else {
+        return;
+    };
+    let clip = clip.to_str().unwrap().to_string();
+    let good = "frame,id,x,y\n0,1,0,0\n10,1,0.5,0\n20,1,1,0\n0,2,3,3\n10,2,3,2.5\n";
+    let bvh = |id: &str| -> Vec<String> {
+        [
+            "bvh",
+            "--skeleton",
+            &clip,
+            "--trajectory",
+            "{dir}/walk.csv",
+            "--id",
+            id,
+            "--out",
+            "{dir}/out.bvh",
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .collect()
+    };
+    let args = bvh("99");
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    // An unknown id names the file and its data lines.
+    check_bad_input("walk.csv", good, &args, "2-6");
+    let args = bvh("1");
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    check_bad_input("walk.csv", &good.replace("0,2,3,3", "0,2,x,3"), &args, "5");
+    // A broken BVH names its line.
+    let source = std::fs::read_to_string(&clip).unwrap();
+    let broken = source.replacen(
+        "OFFSET 0.00000 1.15266 1.72900",
+        "OFFSET 0.00000 oops 1.72900",
+        1,
+    );
+    let line = source
+        .lines()
+        .position(|l| l.contains("OFFSET 0.00000 1.15266 1.72900"))
+        .unwrap()
+        + 1;
+    let directory = tempfile::tempdir().unwrap();
+    std::fs::write(directory.path().join("walk.csv"), good).unwrap();
+    let skeleton = directory.path().join("broken.bvh");
+    std::fs::write(&skeleton, broken).unwrap();
+    let out = directory.path().join("out.bvh");
+    let output = crowdgaze(&[
+        "bvh",
+        "--skeleton",
+        skeleton.to_str().unwrap(),
+        "--trajectory",
+        directory.path().join("walk.csv").to_str().unwrap(),
+        "--id",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let stderr = text(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains(&format!("broken.bvh:{line}:")), "{stderr}");
+    assert!(!out.exists());
+}
