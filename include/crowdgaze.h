@@ -286,8 +286,6 @@ typedef struct cg_quat {
     // Scalar part.
     float w;
 } cg_quat;
-// The identity rotation.
-#define cg_quat_IDENTITY (cg_quat){ .x = 0.0, .y = 0.0, .z = 0.0, .w = 1.0 }
 
 // One joint of a gaze chain.
 //

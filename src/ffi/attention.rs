@@ -554,10 +554,8 @@ pub extern "C" fn cg_crowd_read_gaze(
                 attentive_fraction: gaze.attentive_fraction,
             };
         }
-        if !out_written.is_null() {
-            // SAFETY: non-null; the caller provides a writable size_t.
-            unsafe { out_written.write_unaligned(written) };
-        }
+        // SAFETY: `out_written` is NULL or a writable output (caller contract).
+        unsafe { super::write_optional(out_written, written) };
         Ok(())
     })
 }
@@ -741,10 +739,8 @@ pub extern "C" fn cg_crowd_read_constraints(
                 end: constraint.end,
             };
         }
-        if !out_total.is_null() {
-            // SAFETY: non-null; the caller provides a writable size_t.
-            unsafe { out_total.write_unaligned(constraints.len()) };
-        }
+        // SAFETY: `out_total` is NULL or a writable output (caller contract).
+        unsafe { super::write_optional(out_total, constraints.len()) };
         Ok(())
     })
 }
@@ -772,10 +768,8 @@ pub extern "C" fn cg_crowd_set_viewer(
         let position = metres(&crowd.config().world, *position, "position")?;
         ensure_finite(impact, "impact")?;
         let id = crowd.set_viewer(position, impact)?;
-        if !out_id.is_null() {
-            // SAFETY: non-null; the caller provides a writable u32.
-            unsafe { out_id.write_unaligned(id) };
-        }
+        // SAFETY: `out_id` is NULL or a writable output (caller contract).
+        unsafe { super::write_optional(out_id, id) };
         Ok(())
     })
 }

@@ -72,6 +72,17 @@ pub(crate) fn panic_error(payload: Box<dyn std::any::Any + Send>) -> Error {
     Error::Internal(format!("caught panic: {message}"))
 }
 
+/// Writes `value` through an optional output pointer: nothing if it is NULL.
+///
+/// # Safety
+/// If not NULL, `pointer` must be valid for a write of a `T` (alignment not required).
+pub(crate) unsafe fn write_optional<T>(pointer: *mut T, value: T) {
+    if !pointer.is_null() {
+        // SAFETY: non-null and writable by the caller's contract; unaligned is allowed.
+        unsafe { pointer.write_unaligned(value) };
+    }
+}
+
 /// Fails with [`Error::NullArgument`] naming `what` if `pointer` is NULL.
 pub(crate) fn non_null<T>(pointer: *const T, what: &str) -> Result<()> {
     if pointer.is_null() {

@@ -115,7 +115,8 @@ impl From<Vec3> for cg_vec3 {
 }
 
 impl cg_quat {
-    /// The identity rotation.
+    /// The identity rotation (not exported: C++17 has no designated initializers).
+    /// cbindgen:ignore
     pub const IDENTITY: cg_quat = cg_quat {
         x: 0.0,
         y: 0.0,
