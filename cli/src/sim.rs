@@ -366,17 +366,30 @@ pub fn run_tracks(
             people: &present,
             labels: &labels,
         };
-        observer.before_step(&mut crowd, &frame)?;
-        let started = Instant::now();
-        crowd.step(dt).context("stepping the crowd")?;
-        stats.crowd_time += started.elapsed();
-        observer.after_step(&crowd, &frame)?;
-        stats.frames += 1;
-        stats.character_frames += present.len();
+        step_observed(&mut crowd, observer, &frame, dt, &mut stats)?;
         bar.inc(1);
     }
     bar.finish_and_clear();
     Ok(stats)
+}
+
+/// Steps the crowd once, between the observer's look before and after, timing the step
+/// and counting the frame and its characters.
+fn step_observed(
+    crowd: &mut Crowd,
+    observer: &mut dyn Observer,
+    frame: &Frame<'_>,
+    dt: f32,
+    stats: &mut RunStats,
+) -> Result<()> {
+    observer.before_step(crowd, frame)?;
+    let started = Instant::now();
+    crowd.step(dt).context("stepping the crowd")?;
+    stats.crowd_time += started.elapsed();
+    observer.after_step(crowd, frame)?;
+    stats.frames += 1;
+    stats.character_frames += frame.people.len();
+    Ok(())
 }
 
 /// How to run the paper's street scene.
@@ -491,13 +504,7 @@ pub fn run_street(run: &StreetRun, observer: &mut dyn Observer) -> Result<RunSta
             scenario.push(&mut crowd, t).context("pushing a frame")?;
             stats.crowd_time += started.elapsed();
         }
-        observer.before_step(&mut crowd, &frame)?;
-        let started = Instant::now();
-        crowd.step(step_dt).context("stepping the crowd")?;
-        stats.crowd_time += started.elapsed();
-        observer.after_step(&crowd, &frame)?;
-        stats.frames += 1;
-        stats.character_frames += present.len();
+        step_observed(&mut crowd, observer, &frame, step_dt, &mut stats)?;
         bar.inc(1);
     }
     bar.finish_and_clear();
