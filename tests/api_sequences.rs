@@ -76,7 +76,6 @@ fn random_call_sequences_never_panic_or_produce_nan() {
         assert_eq!(cg_crowd_create(&config, &mut crowd), cg_status::Ok);
         let mut ids: Vec<u32> = Vec::new();
         let mut time = 0.0f64;
-        let mut internal = 0;
         let mut succeeded = 0;
         let mut failed = 0;
         for step in 0..4000 {
@@ -256,14 +255,12 @@ fn random_call_sequences_never_panic_or_produce_nan() {
                 failed += 1;
             }
             if status == cg_status::Internal {
-                internal += 1;
                 panic!(
                     "seed {seed}, call {step}: internal error: {}",
                     crowdgaze::ffi::last_error::last_error_message()
                 );
             }
         }
-        assert_eq!(internal, 0);
         println!("seed {seed}: {succeeded} calls succeeded, {failed} failed as documented");
         // Both kinds must be well represented for the sequence to mean anything.
         assert!(succeeded > 1500 && failed > 400, "{succeeded} / {failed}");
