@@ -9,8 +9,6 @@
 // C callers cannot see Rust's `unsafe`: every pointer is checked (NULL, alignment, size)
 // before use, and the remaining validity contract is written in each function's doc.
 #![allow(clippy::not_unsafe_ptr_arg_deref)]
-// Helpers used by the entry points of the next features.
-#![allow(dead_code)]
 
 pub mod attention;
 pub mod blend;
