@@ -239,6 +239,25 @@ impl Scenario {
         }
     }
 
+    /// Plays `frames` frames of `dt` seconds: moves the people, pushes their states (times
+    /// continuing after the crowd's last frame), steps the crowd, then calls `each`.
+    pub fn play(
+        &mut self,
+        crowd: &mut Crowd,
+        frames: usize,
+        dt: f32,
+        mut each: impl FnMut(&Crowd),
+    ) -> Result<()> {
+        let start = crowd.time().max(0.0);
+        for frame in 0..frames {
+            self.advance(dt);
+            self.push(crowd, start + (frame + 1) as f64 * f64::from(dt))?;
+            crowd.step(dt)?;
+            each(crowd);
+        }
+        Ok(())
+    }
+
     /// Pushes every person's state to `crowd` at time `time` (no allocation).
     pub fn push(&self, crowd: &mut Crowd, time: f64) -> Result<()> {
         let world = crowd.config().world;

@@ -20,16 +20,8 @@ fn street_crowd(seed: u64, config: CrowdConfig) -> (Crowd, Scenario) {
     (crowd, scenario)
 }
 
-fn run(crowd: &mut Crowd, scenario: &mut Scenario, frames: usize, mut each: impl FnMut(&Crowd)) {
-    let start = crowd.time().max(0.0);
-    for frame in 0..frames {
-        scenario.advance(DT);
-        scenario
-            .push(crowd, start + (frame + 1) as f64 * f64::from(DT))
-            .unwrap();
-        crowd.step(DT).unwrap();
-        each(crowd);
-    }
+fn run(crowd: &mut Crowd, scenario: &mut Scenario, frames: usize, each: impl FnMut(&Crowd)) {
+    scenario.play(crowd, frames, DT, each).unwrap();
 }
 
 #[test]
