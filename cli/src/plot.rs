@@ -26,6 +26,20 @@ fn drawing<E: std::fmt::Debug>(error: E) -> anyhow::Error {
 }
 
 /// Registers the embedded font (DejaVu Sans) as plotters' "sans-serif", once.
+/// Draws a chart's series legend, the same way on every figure.
+fn draw_legend<'a, DB: DrawingBackend + 'a, CT: plotters::coord::CoordTranslate>(
+    chart: &mut ChartContext<'a, DB, CT>,
+) -> Result<()> {
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 14))
+        .draw()
+        .map_err(drawing)
+}
+
 fn register_font() {
     static FONT: Once = Once::new();
     FONT.call_once(|| {
@@ -262,15 +276,7 @@ impl Figure for Snapshot {
             .map_err(drawing)?
             .label("person (orange: attending)")
             .legend(move |(x, y)| Circle::new((x, y), 4, blue.filled()));
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 14))
-            .draw()
-            .map_err(drawing)?;
-        Ok(())
+        draw_legend(&mut chart)
     }
 }
 
@@ -444,15 +450,7 @@ impl Figure for Figure1 {
                 self.threshold
             ))
             .legend(|(x, y)| PathElement::new(vec![(x - 8, y), (x + 8, y)], BLACK.stroke_width(2)));
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 14))
-            .draw()
-            .map_err(drawing)?;
-        Ok(())
+        draw_legend(&mut chart)
     }
 }
 
@@ -621,15 +619,7 @@ impl Figure for Figure3 {
                     PathElement::new(vec![(x - 8, y), (x + 8, y)], colour.stroke_width(3))
                 });
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 14))
-            .draw()
-            .map_err(drawing)?;
-        Ok(())
+        draw_legend(&mut chart)
     }
 }
 
