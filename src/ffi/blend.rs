@@ -291,6 +291,32 @@ pub extern "C" fn cg_blend_dib(
     })
 }
 
+/// Checks and views the arguments of the pose blends: `key_count × joint_count` finite
+/// key transforms (key-major), `key_count` weights, and `joint_count` outputs not
+/// overlapping the keys.
+///
+/// # Safety
+/// The pointers must be valid for those counts, as the pose blends document.
+unsafe fn pose_arguments<'a>(
+    keys: *const cg_dualquat,
+    weights: *const f32,
+    key_count: usize,
+    joint_count: usize,
+    out_pose: *mut cg_dualquat,
+) -> Result<(&'a [cg_dualquat], &'a [f32], &'a mut [cg_dualquat])> {
+    let elements = pose_elements(key_count, joint_count)?;
+    // SAFETY: the caller passes `key_count * joint_count` readable transforms (or NULL, 0).
+    let keys_slice = unsafe { slice(keys, elements, "keys") }?;
+    // SAFETY: the caller passes `key_count` readable weights (or NULL, 0).
+    let weights = unsafe { slice(weights, key_count, "weights") }?;
+    check_all(keys_slice, "keys")?;
+    non_null_array(out_pose, joint_count, "out_pose")?;
+    check_disjoint(keys, elements, out_pose, joint_count, "out_pose")?;
+    // SAFETY: `joint_count` writable transforms, checked not to overlap `keys`.
+    let out = unsafe { slice_mut(out_pose, joint_count, "out_pose") }?;
+    Ok((keys_slice, weights, out))
+}
+
 /// DLB of whole poses: `keys` holds `key_count` poses of `joint_count` joints each,
 /// **key-major** (joint `j` of key `k` at `keys[k * joint_count + j]`); joint `j` of `out_pose`
 /// (`joint_count` long) gets the DLB of the keys' joint `j` with the shared `weights`
@@ -310,16 +336,9 @@ pub extern "C" fn cg_blend_pose_dlb(
     out_pose: *mut cg_dualquat,
 ) -> cg_status {
     ffi_boundary!({
-        let elements = pose_elements(key_count, joint_count)?;
-        // SAFETY: the caller passes `key_count * joint_count` readable transforms (or NULL, 0).
-        let keys_slice = unsafe { slice(keys, elements, "keys") }?;
-        // SAFETY: the caller passes `key_count` readable weights (or NULL, 0).
-        let weights = unsafe { slice(weights, key_count, "weights") }?;
-        check_all(keys_slice, "keys")?;
-        non_null_array(out_pose, joint_count, "out_pose")?;
-        check_disjoint(keys, elements, out_pose, joint_count, "out_pose")?;
-        // SAFETY: `joint_count` writable transforms, checked not to overlap `keys`.
-        let out = unsafe { slice_mut(out_pose, joint_count, "out_pose") }?;
+        // SAFETY: forwarded caller contract of cg_blend_pose_dlb.
+        let (keys_slice, weights, out) =
+            unsafe { pose_arguments(keys, weights, key_count, joint_count, out_pose) }?;
         blend::blend_pose_dlb(keys_slice, weights, joint_count, out)
     })
 }
@@ -343,20 +362,13 @@ pub extern "C" fn cg_blend_pose_dib(
     out_pose: *mut cg_dualquat,
 ) -> cg_status {
     ffi_boundary!({
-        let elements = pose_elements(key_count, joint_count)?;
-        // SAFETY: the caller passes `key_count * joint_count` readable transforms (or NULL, 0).
-        let keys_slice = unsafe { slice(keys, elements, "keys") }?;
-        // SAFETY: the caller passes `key_count` readable weights (or NULL, 0).
-        let weights = unsafe { slice(weights, key_count, "weights") }?;
-        check_all(keys_slice, "keys")?;
-        non_null_array(out_pose, joint_count, "out_pose")?;
-        check_disjoint(keys, elements, out_pose, joint_count, "out_pose")?;
+        // SAFETY: forwarded caller contract of cg_blend_pose_dib.
+        let (keys_slice, weights, out) =
+            unsafe { pose_arguments(keys, weights, key_count, joint_count, out_pose) }?;
         let settings = DibSettings {
             precision,
             max_iterations,
         };
-        // SAFETY: `joint_count` writable transforms, checked not to overlap `keys`.
-        let out = unsafe { slice_mut(out_pose, joint_count, "out_pose") }?;
         blend::blend_pose_dib(keys_slice, weights, joint_count, &settings, out)?
             .into_result(&settings)
     })
