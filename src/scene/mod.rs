@@ -320,10 +320,16 @@ impl Scene {
         }
     }
 
-    /// Sets an entity's impact factor.
+    /// Sets an entity's impact factor, keeping `S_MAX` current: the maximum is scanned again
+    /// only when the entity that held it lowers its impact (so the viewer, whose impact is
+    /// set every frame, costs O(1)).
     pub fn set_impact(&mut self, index: usize, impact: f32) {
-        self.impact[index] = impact;
-        self.max_impact = self.impact.iter().copied().fold(0.0, f32::max);
+        let previous = std::mem::replace(&mut self.impact[index], impact);
+        if impact >= self.max_impact {
+            self.max_impact = impact;
+        } else if previous >= self.max_impact {
+            self.max_impact = self.impact.iter().copied().fold(0.0, f32::max);
+        }
     }
 
     /// `S_MAX`: the largest impact factor of any live entity (the largest possible score).
