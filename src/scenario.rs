@@ -2,8 +2,8 @@
 //! the paper's street (people walking up and down, standing, sitting on benches, with
 //! scene objects) and a plaza of random walkers at a chosen density.
 //!
-//! A scenario moves its people itself ([`Scenario::advance`]) and hands their states to a
-//! crowd ([`Scenario::push`]); it is a driver for the library, not part of its models.
+//! A scenario moves its people itself ([`Scenario::advance`](crate::scenario::Scenario::advance)) and hands their states to a
+//! crowd ([`Scenario::push`](crate::scenario::Scenario::push)); it is a driver for the library, not part of its models.
 
 use glam::{Vec2, Vec3};
 

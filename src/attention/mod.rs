@@ -1,10 +1,10 @@
 //! Attention: which entity each character looks at, and when.
 //!
-//! The crowd model of Grillon & Thalmann 2009: [`score`] rates an entity for a
-//! character, [`candidates`] finds each character's best entities fast, [`interest`] turns the scores into interest points online, [`plan`] does the
+//! The crowd model of Grillon & Thalmann 2009: [`score`](crate::attention::score) rates an entity for a
+//! character, [`candidates`](crate::attention::candidates) finds each character's best entities fast, [`interest`](crate::attention::interest) turns the scores into interest points online, [`plan`](crate::attention::plan) does the
 //! same offline over whole recorded trajectories with the exact percentile, and
-//! [`quantile`] provides both percentiles. [`saliency`] is the eye-and-head model of
-//! Kokkinara, Oyekoya & Steed 2011 and [`baseline`] the stock behaviour it is compared with.
+//! [`quantile`](crate::attention::quantile) provides both percentiles. [`saliency`](crate::attention::saliency) is the eye-and-head model of
+//! Kokkinara, Oyekoya & Steed 2011 and [`baseline`](crate::attention::baseline) the stock behaviour it is compared with.
 
 pub mod baseline;
 pub mod candidates;

@@ -71,12 +71,8 @@ impl Recording {
         self.frames.len()
     }
 
-    /// Appends a frame, or fails with [`Error::Capacity`] without recording anything.
-    pub fn record(&mut self, time: f64, updates: &[EntityUpdate]) -> Result<()> {
-        self.record_with(time, updates.len(), |i| Some(updates[i]))
-    }
-
-    /// [`record`](Self::record) for states produced on the fly (`None` ones are skipped).
+    /// Appends a frame of `count` states produced on the fly (`None` ones are skipped), or
+    /// fails with [`Error::Capacity`] without recording anything.
     pub fn record_with(
         &mut self,
         time: f64,

@@ -1,16 +1,16 @@
 //! Blending rigid transforms with dual quaternions, and view-adaptive animation (Chaudhuri,
 //! Papagiannakis & Magnenat-Thalmann): DLB, DIB, key clips, key cameras and the view blender.
 //!
-//! - [`linear`]: dual quaternion linear blending, DLB (equation 4), one transform or a pose.
-//! - [`iterative`]: dual quaternion iterative blending, DIB (Algorithm 1), one or a pose.
-//! - [`clip`]: key animations (clips of poses) and their sampling at a time.
-//! - [`view`]: the [`ViewBlender`]: key cameras, view weights (equation 2), the blended pose
+//! - [`linear`](crate::blend::linear): dual quaternion linear blending, DLB (equation 4), one transform or a pose.
+//! - [`iterative`](crate::blend::iterative): dual quaternion iterative blending, DIB (Algorithm 1), one or a pose.
+//! - [`clip`](crate::blend::clip): key animations (clips of poses) and their sampling at a time.
+//! - [`view`](crate::blend::view): the [`ViewBlender`](crate::blend::ViewBlender): key cameras, view weights (equation 2), the blended pose
 //!   (equation 3).
-//! - [`projection`]: the viewer's position from a 3×4 camera matrix `P = K[R|t]`.
+//! - [`projection`](crate::blend::projection): the viewer's position from a 3×4 camera matrix `P = K[R|t]`.
 //!
-//! Inputs are unit dual quaternions ([`DualQuat`], or anything [`AsDualQuat`]); weights are
+//! Inputs are unit dual quaternions ([`DualQuat`](crate::math::dualquat::DualQuat), or anything [`AsDualQuat`](crate::blend::AsDualQuat)); weights are
 //! non-negative, not all zero, and are divided by their sum. Nothing here allocates except
-//! building a [`view::ViewBlender`] and giving it clips and cameras.
+//! building a [`view::ViewBlender`](crate::blend::view::ViewBlender) and giving it clips and cameras.
 
 pub mod clip;
 pub mod iterative;

@@ -44,7 +44,7 @@ impl cg_dualquat {
     }
 }
 
-/// Read by the blenders in place. Only used on arrays checked by [`check_all`], so the
+/// Read by the blenders in place. Only used on arrays checked by `check_all`, so the
 /// normalisation cannot fail.
 impl AsDualQuat for cg_dualquat {
     #[inline]

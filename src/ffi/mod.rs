@@ -1,7 +1,7 @@
 //! The C ABI, and only that: check every argument coming from C, convert it to the Rust
 //! core's types, forward the call, convert the result back. No algorithm lives here.
 //!
-//! Every `extern "C"` body runs inside [`ffi_boundary!`], which catches panics (they never
+//! Every `extern "C"` body runs inside `ffi_boundary!`, which catches panics (they never
 //! cross into C), records the error message for `cg_last_error_message`, and maps the
 //! error to a [`cg_status`]. Unsafe code of the crate lives only in this module; each block
 //! says why it is sound in a `// SAFETY:` line.

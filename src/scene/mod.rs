@@ -253,13 +253,6 @@ impl Scene {
         Ok(self.character[index] as usize)
     }
 
-    /// Checks a frame of updates without changing anything: ids exist and values are finite.
-    pub fn check_updates(&self, updates: &[EntityUpdate]) -> Result<()> {
-        updates
-            .iter()
-            .try_for_each(|update| self.check_update(update))
-    }
-
     /// Checks one update without changing anything: the id exists and values are finite.
     pub fn check_update(&self, update: &EntityUpdate) -> Result<()> {
         self.find(update.id)?;
@@ -273,7 +266,7 @@ impl Scene {
 
     /// Applies one frame of updates at time `time` (seconds). Velocities come from the
     /// caller or from the difference with the entity's previous sample; entities not in
-    /// `updates` keep their last state. Call [`check_updates`](Self::check_updates) first:
+    /// `updates` keep their last state. Check each with [`check_update`](Self::check_update) first:
     /// unknown ids are skipped here.
     pub fn apply(&mut self, time: f64, updates: &[EntityUpdate]) {
         for update in updates {
