@@ -244,9 +244,12 @@ typedef uint32_t cg_target_part;
 
 // A crowd of characters and the objects they may look at (opaque).
 //
-// Created by `cg_crowd_create`, destroyed by `cg_crowd_destroy`. Not safe for concurrent
-// mutation: calls taking a `cg_crowd*` must not overlap with any other call on the same
-// crowd. Calls taking a `const cg_crowd*` may run concurrently with each other.
+// Created by `cg_crowd_create`, destroyed by `cg_crowd_destroy`. Threading rules: calls
+// taking a `cg_crowd*` must not overlap with any other call on the same crowd, except
+// `cg_crowd_step_range`, which several threads may call at once on disjoint ranges
+// between `cg_crowd_begin_step` and `cg_crowd_end_step`. Calls taking a `const cg_crowd*`
+// may run concurrently with each other. While a ranged step is open, every other call on
+// the crowd fails with `CG_STATUS_WRONG_STATE`.
 typedef struct cg_crowd cg_crowd;
 
 // View-adaptive animation of one character (opaque): key animations, key cameras around the
@@ -602,6 +605,12 @@ typedef struct cg_crowd_config {
     float lod_distance;
     // See `lod_distance`; 1 to 64. Default 4.
     uint32_t far_attention_period;
+    // Threads `cg_crowd_step` uses: 1 (default) steps on the caller's thread only; n > 1
+    // starts n − 1 worker threads with the crowd, which share each step with the caller
+    // (parked between steps; nothing is allocated per step); 0 picks one per available
+    // core. At most 64. Results are identical for every value. Engines with their own job
+    // system leave it at 1 and use `cg_crowd_step_range` instead.
+    uint32_t threads;
 } cg_crowd_config;
 
 // A target set by game logic for one character (top-down attention). Fill it with
@@ -699,14 +708,49 @@ cg_status cg_crowd_push_frame(struct cg_crowd *crowd,
                               const struct cg_entity_state *states,
                               size_t count);
 
-// Runs attention for every character, `dt` seconds (>= 0) after the previous step: scores
-// the entities near each character, updates its threshold and its interest point. After
-// `cg_crowd_plan`, follows the plan instead, replaying the recorded frames. Allocates
-// nothing.
+// Steps every character `dt` seconds (>= 0) after the previous step: attention (scores
+// the entities near each character, updates its threshold and interest point; after
+// `cg_crowd_plan`, follows the plan instead), then gaze IK. With `threads > 1` in the
+// config, the crowd's worker threads share the work; results are the same. Allocates
+// nothing. The same as `cg_crowd_begin_step`, one range over all characters, and
+// `cg_crowd_end_step`.
 //
 // Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE` (dt), `CG_STATUS_INVALID_ARGUMENT`
-// (dt < 0). Not thread-safe.
+// (dt < 0), `CG_STATUS_WRONG_STATE` (a ranged step is open). Not thread-safe: no other
+// call on this crowd may run at the same time.
 cg_status cg_crowd_step(struct cg_crowd *crowd, float dt);
+
+// Begins a step split into ranges, `dt` seconds (>= 0) after the previous one: advances
+// the plan's clock, rebuilds the spatial grid and fixes what all characters share this
+// frame. Then call `cg_crowd_step_range` on ranges of characters (from as many threads as
+// you like, e.g. your job system's workers), and `cg_crowd_end_step` once they have all
+// returned. The outputs are identical to `cg_crowd_step`'s, however the crowd is split.
+// Until `cg_crowd_end_step`, every other call on this crowd fails with
+// `CG_STATUS_WRONG_STATE`. Allocates nothing.
+//
+// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE` (dt), `CG_STATUS_INVALID_ARGUMENT`
+// (dt < 0), `CG_STATUS_WRONG_STATE` (a ranged step is already open). Not thread-safe: no
+// other call on this crowd may run at the same time.
+cg_status cg_crowd_begin_step(struct cg_crowd *crowd, float dt);
+
+// Steps characters `first .. first + count` (the crowd's character order, as in
+// `cg_crowd_read_gaze`) of the step opened by `cg_crowd_begin_step`: attention, then gaze
+// IK. Thread-safe for disjoint ranges: several threads may call it at once on the same
+// crowd. `count` 0 does nothing. Allocates nothing.
+//
+// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_INVALID_ARGUMENT` (the range goes past the
+// last character), `CG_STATUS_WRONG_STATE` (no ranged step is open, or the range overlaps
+// one already stepped in this step; then nothing in it is stepped).
+cg_status cg_crowd_step_range(struct cg_crowd *crowd, uint32_t first, uint32_t count);
+
+// Ends the step opened by `cg_crowd_begin_step`. Characters that no range covered are
+// stepped now, so a step always moves the whole crowd. Call it after every
+// `cg_crowd_step_range` call of this step has returned. Allocates nothing.
+//
+// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_WRONG_STATE` (no ranged step is open, or
+// `cg_crowd_step_range` calls are still running: the step stays open). Not thread-safe
+// with anything but `cg_crowd_step_range`.
+cg_status cg_crowd_end_step(struct cg_crowd *crowd);
 
 // Reads where characters look: fills `out[i]` for the first `min(count, characters)`
 // characters, in the crowd's character order (creation order, except that removing a

@@ -135,7 +135,16 @@ fn push_frame_step_and_read_gaze_do_not_allocate() {
             cg_crowd_push_frame(handle, t, states.as_ptr(), states.len()),
             cg_status::Ok
         );
-        assert_eq!(cg_crowd_step(handle, 1.0 / 30.0), cg_status::Ok);
+        if t * 30.0 % 2.0 < 1.0 {
+            assert_eq!(cg_crowd_step(handle, 1.0 / 30.0), cg_status::Ok);
+        } else {
+            // The ranged form: three ranges, the rest stepped by end_step.
+            assert_eq!(cg_crowd_begin_step(handle, 1.0 / 30.0), cg_status::Ok);
+            for (first, count) in [(0, 64), (128, 50), (64, 40)] {
+                assert_eq!(cg_crowd_step_range(handle, first, count), cg_status::Ok);
+            }
+            assert_eq!(cg_crowd_end_step(handle), cg_status::Ok);
+        }
         let mut written = 0;
         assert_eq!(
             cg_crowd_read_gaze(handle, gaze.as_mut_ptr(), gaze.len(), &mut written),
@@ -146,11 +155,14 @@ fn push_frame_step_and_read_gaze_do_not_allocate() {
     for i in 0..10 {
         frame(f64::from(i) / 30.0);
     }
-    assert_no_alloc("push_frame + step + read_gaze", || {
-        for i in 10..100 {
-            frame(f64::from(i) / 30.0);
-        }
-    });
+    assert_no_alloc(
+        "push_frame + step (and begin/range/end) + read_gaze",
+        || {
+            for i in 10..100 {
+                frame(f64::from(i) / 30.0);
+            }
+        },
+    );
     assert!(gaze.iter().any(|g| g.s_max > 0.0));
     cg_crowd_destroy(handle);
 }

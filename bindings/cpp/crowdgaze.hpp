@@ -399,6 +399,22 @@ class Crowd {
     [[nodiscard]] cg_status try_step(float dt) noexcept { return cg_crowd_step(crowd_, dt); }
     void step(float dt) { check(try_step(dt)); }
 
+    // A step split into ranges for your job system: begin_step once, step_range from any
+    // number of threads on disjoint ranges, end_step after they all returned. See
+    // cg_crowd_begin_step, cg_crowd_step_range and cg_crowd_end_step.
+    [[nodiscard]] cg_status try_begin_step(float dt) noexcept {
+        return cg_crowd_begin_step(crowd_, dt);
+    }
+    void begin_step(float dt) { check(try_begin_step(dt)); }
+    [[nodiscard]] cg_status try_step_range(std::uint32_t first, std::uint32_t count) noexcept {
+        return cg_crowd_step_range(crowd_, first, count);
+    }
+    void step_range(std::uint32_t first, std::uint32_t count) {
+        check(try_step_range(first, count));
+    }
+    [[nodiscard]] cg_status try_end_step() noexcept { return cg_crowd_end_step(crowd_); }
+    void end_step() { check(try_end_step()); }
+
     // Where the characters look, in character order; returns how many were written.
     [[nodiscard]] cg_status try_read_gaze(Span<cg_gaze_info> out,
                                           std::size_t& written) const noexcept {

@@ -10,12 +10,16 @@
 //! (`entity, t_b, t_e`), and stepping replays the recording following that plan.
 
 mod models;
+mod pool;
+mod states;
+mod step;
 
 pub use models::{Look, LookTarget};
+pub use step::StepRanges;
 
 use glam::{Quat, Vec3};
 
-use crate::attention::baseline::{BaselineConfig, BaselineState};
+use crate::attention::baseline::BaselineConfig;
 use crate::attention::candidates::{
     all_pairs_candidates, nearby_candidates, CandidateBatch, NeighbourIndex,
 };
@@ -25,29 +29,21 @@ use crate::attention::saliency::SaliencyConfig;
 use crate::attention::score::{ScoreBreakdown, Scorer, ScoringConfig};
 use crate::attention::{AttentionModel, CharacterParams, TargetPart};
 use crate::error::{ensure_finite, Error, Result};
-use crate::ik::{
-    CharacterTransform, GazeChain, GazeConfig, GazeInput, GazeMotion, GazeRequest, MotionStyle,
-    MAX_CHAIN_JOINTS,
-};
-use crate::math::random::{stream, Purpose, Random};
+use crate::ik::{GazeChain, GazeConfig, GazeMotion, MAX_CHAIN_JOINTS};
+use crate::math::random::{stream, Purpose};
 use crate::scene::ids::{EntityKind, NO_ENTITY};
 use crate::scene::{EntityUpdate, Scene};
 use crate::world::World;
-use models::{social_parts, SaliencyState};
-
-/// A character's level-of-detail state for attention updates.
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct AttentionLod {
-    /// Offset of this character's updates within the period.
-    stagger: u32,
-    /// Its own period (0: the crowd's, by distance to the viewer).
-    period: u32,
-    /// Seconds since its last attention update.
-    pending: f32,
-}
+use models::social_parts;
+use pool::WorkerPool;
+use states::{AttentionLod, CharacterStates};
+use step::{ClaimSet, Frame};
 
 /// Gaze-request key of explicit point targets (entity ids are below 2³²).
 const EXPLICIT_POINT_KEY: u64 = 1 << 32;
+
+/// Most threads a crowd's step may use.
+pub const MAX_THREADS: u32 = 64;
 
 /// Largest capacity accepted for characters or objects (keeps index arithmetic in `u32`).
 pub const MAX_CAPACITY: u32 = 1 << 24;
@@ -91,6 +87,10 @@ pub struct CrowdConfig {
     pub lod_distance: f32,
     /// See `lod_distance`. 1 to 64; default 4.
     pub far_attention_period: u32,
+    /// Threads [`Crowd::step`] uses: 1 (default) steps on the caller's thread only; `n > 1`
+    /// starts `n - 1` worker threads with the crowd, which share each step with the
+    /// caller; 0 picks one per available core. At most 64. Results do not depend on it.
+    pub threads: u32,
 }
 
 impl Default for CrowdConfig {
@@ -110,6 +110,7 @@ impl Default for CrowdConfig {
             attention_period: 1,
             lod_distance: 0.0,
             far_attention_period: 4,
+            threads: 1,
         }
     }
 }
@@ -125,6 +126,16 @@ fn check_range(value: f32, low: f32, high: f32, what: &str) -> Result<()> {
 }
 
 impl CrowdConfig {
+    /// Worker threads to start besides the caller's: `threads - 1`, with 0 meaning one
+    /// thread per available core.
+    pub fn worker_threads(&self) -> usize {
+        let threads = match self.threads {
+            0 => std::thread::available_parallelism().map_or(1, |cores| cores.get()),
+            threads => threads as usize,
+        };
+        threads.clamp(1, MAX_THREADS as usize) - 1
+    }
+
     /// Checks every field against its documented range.
     pub fn validate(&self) -> Result<()> {
         if self.max_characters == 0 || self.max_characters > MAX_CAPACITY {
@@ -189,6 +200,12 @@ impl CrowdConfig {
             }
         }
         check_range(self.lod_distance, 0.0, 1e6, "lod_distance")?;
+        if self.threads > MAX_THREADS {
+            return Err(Error::InvalidArgument(format!(
+                "threads is {}, must be 0..={MAX_THREADS}",
+                self.threads
+            )));
+        }
         let baseline = &self.baseline;
         check_range(baseline.proximity_radius, 0.0, 1000.0, "proximity_radius")?;
         check_range(
@@ -328,45 +345,46 @@ impl Default for ObjectDesc {
 
 /// A crowd of characters and the objects they may look at.
 ///
-/// Not safe for concurrent mutation; shared (`&Crowd`) reads may run concurrently.
+/// Not safe for concurrent mutation; shared (`&Crowd`) reads may run concurrently. A step
+/// may be split into ranges of characters run on several threads: see
+/// [`begin_step`](Self::begin_step).
 #[derive(Debug)]
 pub struct Crowd {
+    /// What every character's step reads.
+    shared: Shared,
+    /// What each character's step writes.
+    states: CharacterStates,
+    /// Which characters a ranged step has taken.
+    claims: ClaimSet,
+    /// The step begun by [`begin_step`](Self::begin_step) and not yet ended.
+    open_step: Option<Frame>,
+    /// Worker threads of [`step`](Self::step), when `threads > 1`.
+    pool: Option<WorkerPool>,
+}
+
+/// The part of a crowd that stepping a character only reads: the scene, its neighbour
+/// index, chains, parameters and game-logic inputs.
+#[derive(Debug)]
+struct Shared {
     config: CrowdConfig,
     scorer: Scorer,
     scene: Scene,
     neighbours: NeighbourIndex,
-    /// Scratch space of the candidate search.
-    batch: Box<CandidateBatch>,
     /// Per character (dense, like the scene's character list).
     params: Vec<CharacterParams>,
-    trackers: Vec<InterestTracker>,
     /// Distinct gaze chains; characters share equal ones.
     chains: Vec<GazeChain>,
     /// Per chain: the five social target points (head, eyes, chest, torso) in the
     /// character's frame at rest.
     chain_parts: Vec<[Vec3; 5]>,
-    /// Per character: where the saliency or baseline model wants the eyes and head.
-    looks: Vec<Look>,
-    /// Per character: saliency fixations.
-    saliency: Vec<SaliencyState>,
-    /// Per character: baseline glances.
-    baseline: Vec<BaselineState>,
-    /// Per character: random stream of the saliency and baseline choices.
-    model_randoms: Vec<Random>,
     /// The viewer's entity id, once set.
     viewer: Option<u32>,
-    /// Per character: level-of-detail state of its attention updates.
-    lod: Vec<AttentionLod>,
     /// Steps taken so far (staggers the level-of-detail updates).
     steps: u64,
     /// Per character: index into `chains`.
     chain_of: Vec<u32>,
     /// Per character: base local rotations of its chain joints (rest or pushed pose).
     bases: Vec<[Quat; MAX_CHAIN_JOINTS]>,
-    /// Per character: gaze motion state.
-    motions: Vec<GazeMotion>,
-    /// Per character: its random stream for gaze timing draws.
-    gaze_randoms: Vec<Random>,
     /// Per character: explicit target from game logic.
     explicit: Vec<Option<(ExplicitTarget, TargetPriority)>>,
     /// Characters ever added: the index of each one's random stream.
@@ -378,53 +396,55 @@ pub struct Crowd {
 }
 
 impl Crowd {
-    /// Creates an empty crowd, sizing every buffer from `config`.
+    /// Creates an empty crowd, sizing every buffer from `config` (and starting its worker
+    /// threads when `config.threads` asks for them).
     pub fn new(config: CrowdConfig) -> Result<Crowd> {
         config.validate()?;
         let capacity = (config.max_characters + config.max_objects) as usize;
+        let characters = config.max_characters as usize;
+        let workers = config.worker_threads();
         Ok(Crowd {
-            scorer: Scorer::new(config.scoring),
-            // One object slot more than asked for: the viewer's.
-            scene: Scene::new(config.world, config.max_characters, config.max_objects + 1),
-            neighbours: NeighbourIndex::new(capacity, config.scoring.max_distance),
-            batch: Box::default(),
-            params: Vec::with_capacity(config.max_characters as usize),
-            trackers: Vec::with_capacity(config.max_characters as usize),
-            chains: Vec::new(),
-            chain_parts: Vec::new(),
-            looks: Vec::with_capacity(config.max_characters as usize),
-            saliency: Vec::with_capacity(config.max_characters as usize),
-            baseline: Vec::with_capacity(config.max_characters as usize),
-            model_randoms: Vec::with_capacity(config.max_characters as usize),
-            viewer: None,
-            lod: Vec::with_capacity(config.max_characters as usize),
-            steps: 0,
-            chain_of: Vec::with_capacity(config.max_characters as usize),
-            bases: Vec::with_capacity(config.max_characters as usize),
-            motions: Vec::with_capacity(config.max_characters as usize),
-            gaze_randoms: Vec::with_capacity(config.max_characters as usize),
-            explicit: Vec::with_capacity(config.max_characters as usize),
-            characters_created: 0,
-            time: f64::NEG_INFINITY,
-            recording: Recording::new(config.max_recorded_states as usize),
-            plan: None,
-            config,
+            shared: Shared {
+                scorer: Scorer::new(config.scoring),
+                // One object slot more than asked for: the viewer's.
+                scene: Scene::new(config.world, config.max_characters, config.max_objects + 1),
+                neighbours: NeighbourIndex::new(capacity, config.scoring.max_distance),
+                params: Vec::with_capacity(characters),
+                chains: Vec::new(),
+                chain_parts: Vec::new(),
+                viewer: None,
+                steps: 0,
+                chain_of: Vec::with_capacity(characters),
+                bases: Vec::with_capacity(characters),
+                explicit: Vec::with_capacity(characters),
+                characters_created: 0,
+                time: f64::NEG_INFINITY,
+                recording: Recording::new(config.max_recorded_states as usize),
+                plan: None,
+                config,
+            },
+            states: CharacterStates::with_capacity(characters),
+            claims: ClaimSet::new(characters),
+            open_step: None,
+            pool: (workers > 0)
+                .then(|| WorkerPool::new(workers))
+                .transpose()?,
         })
     }
 
     /// The configuration the crowd was created with.
     pub fn config(&self) -> &CrowdConfig {
-        &self.config
+        &self.shared.config
     }
 
     /// The scene (entities and their current state).
     pub fn scene(&self) -> &Scene {
-        &self.scene
+        &self.shared.scene
     }
 
     /// Number of characters.
     pub fn character_count(&self) -> usize {
-        self.scene.character_count()
+        self.shared.scene.character_count()
     }
 
     fn check_impact(impact: f32) -> Result<()> {
@@ -453,16 +473,16 @@ impl Crowd {
         self.ensure_online("add a character")?;
         let params = desc.params.unwrap_or_else(|| {
             let mut random = stream(
-                self.config.seed,
+                self.shared.config.seed,
                 Purpose::CharacterParams,
-                self.characters_created,
+                self.shared.characters_created,
             );
             let mut params =
-                CharacterParams::random(&mut random, self.config.attention_fraction_range);
+                CharacterParams::random(&mut random, self.shared.config.attention_fraction_range);
             params.model = desc.model;
             params
         });
-        let world = self.config.world;
+        let world = self.shared.config.world;
         let chain = match desc.chain {
             Some(chain) => {
                 chain.validate()?;
@@ -470,53 +490,43 @@ impl Crowd {
             }
             None => GazeChain::human(world.up, world.forward),
         };
-        let id = self.scene.add(
+        let id = self.shared.scene.add(
             EntityKind::Character,
             desc.position,
             desc.heading,
             chain.look_at_height(world.up),
             desc.impact,
         )?;
-        let chain_index = match self.chains.iter().position(|known| *known == chain) {
+        let chain_index = match self.shared.chains.iter().position(|known| *known == chain) {
             Some(index) => index,
             None => {
-                self.chains.push(chain);
-                self.chain_parts.push(social_parts(&chain, world.up));
-                self.chains.len() - 1
+                self.shared.chains.push(chain);
+                self.shared.chain_parts.push(social_parts(&chain, world.up));
+                self.shared.chains.len() - 1
             }
         };
         let mut base = [Quat::IDENTITY; MAX_CHAIN_JOINTS];
         for (slot, joint) in base.iter_mut().zip(chain.joints()) {
             *slot = joint.rest;
         }
-        self.chain_of.push(chain_index as u32);
-        self.bases.push(base);
-        self.motions.push(GazeMotion::new(&chain));
-        self.gaze_randoms.push(stream(
-            self.config.seed,
-            Purpose::GazeTiming,
-            self.characters_created,
-        ));
-        self.explicit.push(None);
-        self.looks.push(Look::NONE);
-        self.saliency.push(SaliencyState::default());
-        self.baseline.push(BaselineState::default());
-        self.model_randoms.push(stream(
-            self.config.seed,
-            Purpose::Saliency,
-            self.characters_created,
-        ));
-        self.lod.push(AttentionLod {
-            stagger: (self.characters_created % 64) as u32,
-            period: 0,
-            pending: 0.0,
-        });
-        self.characters_created += 1;
-        self.params.push(params);
-        self.trackers.push(InterestTracker::new(
-            params.attention_fraction,
-            &self.config.interest,
-        ));
+        let created = self.shared.characters_created;
+        let seed = self.shared.config.seed;
+        self.shared.chain_of.push(chain_index as u32);
+        self.shared.bases.push(base);
+        self.shared.explicit.push(None);
+        self.shared.params.push(params);
+        self.shared.characters_created += 1;
+        self.states.push(
+            AttentionLod {
+                stagger: (created % 64) as u32,
+                period: 0,
+                pending: 0.0,
+            },
+            InterestTracker::new(params.attention_fraction, &self.shared.config.interest),
+            GazeMotion::new(&chain),
+            stream(seed, Purpose::Saliency, created),
+            stream(seed, Purpose::GazeTiming, created),
+        );
         Ok(id)
     }
 
@@ -527,15 +537,16 @@ impl Crowd {
         check_range(desc.look_at_height, -1e6, 1e6, "look_at_height")?;
         Self::check_impact(desc.impact)?;
         self.ensure_online("add an object")?;
-        let objects =
-            self.scene.len() - self.character_count() - usize::from(self.viewer.is_some());
-        if objects >= self.config.max_objects as usize {
+        let objects = self.shared.scene.len()
+            - self.character_count()
+            - usize::from(self.shared.viewer.is_some());
+        if objects >= self.shared.config.max_objects as usize {
             return Err(Error::Capacity(format!(
                 "the crowd already holds max_objects = {} objects",
-                self.config.max_objects
+                self.shared.config.max_objects
             )));
         }
-        self.scene.add(
+        self.shared.scene.add(
             EntityKind::Object,
             desc.position,
             desc.heading,
@@ -546,33 +557,26 @@ impl Crowd {
 
     /// Removes a character or object. Characters looking at it look elsewhere.
     pub fn remove_entity(&mut self, id: u32) -> Result<()> {
-        self.scene.find(id)?;
+        self.shared.scene.find(id)?;
         self.ensure_online("remove an entity")?;
-        if let Some(slot) = self.scene.remove(id)? {
+        if let Some(slot) = self.shared.scene.remove(id)? {
             let slot = slot as usize;
-            self.params.swap_remove(slot);
-            self.trackers.swap_remove(slot);
-            self.chain_of.swap_remove(slot);
-            self.bases.swap_remove(slot);
-            self.motions.swap_remove(slot);
-            self.gaze_randoms.swap_remove(slot);
-            self.explicit.swap_remove(slot);
-            self.looks.swap_remove(slot);
-            self.saliency.swap_remove(slot);
-            self.baseline.swap_remove(slot);
-            self.model_randoms.swap_remove(slot);
-            self.lod.swap_remove(slot);
+            self.shared.params.swap_remove(slot);
+            self.shared.chain_of.swap_remove(slot);
+            self.shared.bases.swap_remove(slot);
+            self.shared.explicit.swap_remove(slot);
+            self.states.swap_remove(slot);
         }
-        if self.viewer == Some(id) {
-            self.viewer = None;
+        if self.shared.viewer == Some(id) {
+            self.shared.viewer = None;
         }
-        for look in &mut self.looks {
+        for look in &mut self.states.looks {
             look.forget(id);
         }
-        for tracker in &mut self.trackers {
+        for tracker in &mut self.states.trackers {
             tracker.forget(id);
         }
-        for explicit in &mut self.explicit {
+        for explicit in &mut self.shared.explicit {
             if matches!(explicit, Some((ExplicitTarget::Entity(target), _)) if *target == id) {
                 *explicit = None;
             }
@@ -581,7 +585,12 @@ impl Crowd {
     }
 
     fn ensure_online(&self, what: &str) -> Result<()> {
-        if self.plan.is_some() {
+        if self.open_step.is_some() {
+            return Err(Error::WrongState(format!(
+                "cannot {what} while a step is open (end it first)"
+            )));
+        }
+        if self.shared.plan.is_some() {
             return Err(Error::WrongState(format!(
                 "cannot {what} while a plan is active (clear it first)"
             )));
@@ -591,32 +600,32 @@ impl Crowd {
 
     /// A character's attention parameters.
     pub fn character_params(&self, id: u32) -> Result<CharacterParams> {
-        Ok(self.params[self.scene.character_index(id)?])
+        Ok(self.shared.params[self.shared.scene.character_index(id)?])
     }
 
     /// Replaces a character's attention parameters (weights must sum to 1). Changing the
     /// attention fraction restarts its percentile estimate.
     pub fn set_character_params(&mut self, id: u32, params: &CharacterParams) -> Result<()> {
-        let index = self.scene.character_index(id)?;
+        let index = self.shared.scene.character_index(id)?;
         Self::check_params(params)?;
-        if params.attention_fraction != self.params[index].attention_fraction {
-            self.trackers[index].set_attention_fraction(params.attention_fraction);
+        if params.attention_fraction != self.shared.params[index].attention_fraction {
+            self.states.trackers[index].set_attention_fraction(params.attention_fraction);
         }
-        self.params[index] = *params;
+        self.shared.params[index] = *params;
         Ok(())
     }
 
     /// Sets an entity's impact factor `I_E` (≥ 0).
     pub fn set_impact(&mut self, id: u32, impact: f32) -> Result<()> {
-        let (_, index) = self.scene.find(id)?;
+        let (_, index) = self.shared.scene.find(id)?;
         Self::check_impact(impact)?;
-        self.scene.set_impact(index, impact);
+        self.shared.scene.set_impact(index, impact);
         Ok(())
     }
 
     /// Time of the last pushed frame (−∞ before the first).
     pub fn time(&self) -> f64 {
-        self.time
+        self.shared.time
     }
 
     /// Ingests one frame of entity states at time `time` (seconds, not earlier than the
@@ -641,258 +650,41 @@ impl Crowd {
         if !time.is_finite() {
             return Err(Error::NonFinite(format!("frame time is {time}")));
         }
-        if time < self.time {
+        if time < self.shared.time {
             return Err(Error::InvalidArgument(format!(
                 "frame time {time} is earlier than the previous frame's {}",
-                self.time
+                self.shared.time
             )));
         }
         self.ensure_online("push a frame")?;
         for i in 0..count {
-            self.scene.check_update(&state(i)?)?;
+            self.shared.scene.check_update(&state(i)?)?;
         }
-        if self.recording.is_enabled() {
-            self.recording.record_with(time, count, |i| state(i).ok())?;
+        if self.shared.recording.is_enabled() {
+            self.shared
+                .recording
+                .record_with(time, count, |i| state(i).ok())?;
         }
         for i in 0..count {
             if let Ok(update) = state(i) {
-                self.scene.apply_one(time, &update);
+                self.shared.scene.apply_one(time, &update);
             }
         }
-        self.time = time;
+        self.shared.time = time;
         Ok(())
-    }
-
-    /// Runs attention for every character, `dt` seconds after the previous step.
-    pub fn step(&mut self, dt: f32) -> Result<()> {
-        ensure_finite(dt, "dt")?;
-        if dt < 0.0 {
-            return Err(Error::InvalidArgument(format!("dt is {dt}, must be >= 0")));
-        }
-        if let Some(plan) = &mut self.plan {
-            plan.advance(dt, &mut self.scene);
-        }
-        self.neighbours.rebuild(&self.scene);
-        self.attend(dt);
-        self.move_gaze(dt);
-        Ok(())
-    }
-
-    /// Runs attention alone, without moving any gaze chain: what [`step`](Self::step) does
-    /// first. For tools and benchmarks that only need who looks at what.
-    pub fn step_attention(&mut self, dt: f32) -> Result<()> {
-        ensure_finite(dt, "dt")?;
-        if dt < 0.0 {
-            return Err(Error::InvalidArgument(format!("dt is {dt}, must be >= 0")));
-        }
-        if let Some(plan) = &mut self.plan {
-            plan.advance(dt, &mut self.scene);
-        }
-        self.neighbours.rebuild(&self.scene);
-        self.attend(dt);
-        Ok(())
-    }
-
-    /// Attention for every character, by its model: the crowd model's best entities,
-    /// threshold and interest point (online; a plan replaces them), or the saliency and
-    /// baseline models' eye and head targets.
-    fn attend(&mut self, dt: f32) {
-        let max_score = self.scene.max_impact();
-        let planned = self.plan.is_some();
-        let steps = self.steps;
-        self.steps += 1;
-        let viewer = self
-            .viewer
-            .and_then(|id| self.scene.index_of(id))
-            .map(|index| self.scene.ground_positions()[index]);
-        for character in 0..self.scene.character_count() {
-            // Level of detail: attention runs every `period` steps, on the elapsed time.
-            let period = match self.lod[character].period {
-                0 => {
-                    let entity = self.scene.character_entities()[character] as usize;
-                    let far = self.config.lod_distance > 0.0
-                        && viewer.is_some_and(|viewer| {
-                            viewer.distance(self.scene.ground_positions()[entity])
-                                > self.config.lod_distance
-                        });
-                    if far {
-                        self.config.far_attention_period
-                    } else {
-                        self.config.attention_period
-                    }
-                }
-                period => period,
-            };
-            let lod = &mut self.lod[character];
-            lod.pending += dt;
-            if (steps + u64::from(lod.stagger)) % u64::from(period) != 0 {
-                continue;
-            }
-            let dt = std::mem::take(&mut lod.pending);
-            match self.params[character].model {
-                AttentionModel::Crowd if planned => {}
-                AttentionModel::Crowd => {
-                    let tracker = &self.trackers[character];
-                    let ids = self.scene.ids();
-                    let (best, second) = nearby_candidates(
-                        &self.scene,
-                        &self.neighbours,
-                        &self.scorer,
-                        character,
-                        &self.params[character].weights,
-                        &mut self.batch,
-                        |other| tracker.is_cooling(ids[other]),
-                    );
-                    self.trackers[character].update(
-                        best,
-                        second,
-                        max_score,
-                        dt,
-                        &self.config.interest,
-                    );
-                }
-                AttentionModel::Saliency => self.attend_saliency(character, dt),
-                AttentionModel::Baseline => self.attend_baseline(character, dt),
-            }
-        }
-    }
-
-    /// The automatic interest point of a character (dense index) and its `S_max`.
-    fn automatic_target(&self, character: usize) -> (u32, f32) {
-        match &self.plan {
-            Some(plan) => {
-                let (target, s_max, _) = plan.current(character);
-                (target, s_max)
-            }
-            None => {
-                let tracker = &self.trackers[character];
-                (tracker.interest(), tracker.s_max())
-            }
-        }
-    }
-
-    /// What a character (dense index) should look at this frame: its explicit target if
-    /// one applies, else what its attention model chose, as a gaze request.
-    fn gaze_request(&self, character: usize) -> Option<GazeRequest> {
-        let model = self.params[character].model;
-        let (automatic, s_max) = match model {
-            AttentionModel::Crowd => self.automatic_target(character),
-            _ => (NO_ENTITY, 0.0),
-        };
-        let automatic = self
-            .scene
-            .index_of(automatic)
-            .map(|index| (automatic, index));
-        let model_request = match model {
-            AttentionModel::Crowd => None,
-            _ => self.model_request(character),
-        };
-        let idle = automatic.is_none() && model_request.is_none();
-        let explicit = match self.explicit[character] {
-            Some((target, TargetPriority::Override)) => Some(target),
-            Some((target, TargetPriority::WhenIdle)) if idle => Some(target),
-            _ => None,
-        };
-        let (key, point, interest_ratio) = match (explicit, automatic) {
-            (Some(ExplicitTarget::Point(point)), _) => (EXPLICIT_POINT_KEY, point, 1.0),
-            (Some(ExplicitTarget::Entity(id)), _) => {
-                let index = self.scene.index_of(id)?;
-                (u64::from(id), self.scene.look_at_point(index), 1.0)
-            }
-            (None, Some((id, index))) => {
-                let max_score = self.scene.max_impact();
-                let ratio = if max_score > 0.0 {
-                    s_max / max_score
-                } else {
-                    1.0
-                };
-                (
-                    u64::from(id),
-                    self.scene.look_at_point(index),
-                    ratio.clamp(0.05, 1.0),
-                )
-            }
-            (None, None) => return model_request,
-        };
-        Some(GazeRequest {
-            target_key: key,
-            head_target: point,
-            eye_target: point,
-            interest_ratio,
-            style: MotionStyle::Eased,
-        })
-    }
-
-    /// A character's (dense index) world transform.
-    fn character_transform(&self, character: usize) -> CharacterTransform {
-        let entity = self.scene.character_entities()[character] as usize;
-        CharacterTransform::from_heading(
-            self.scene.positions()[entity],
-            self.config.world.up,
-            self.scene.headings()[entity],
-        )
-    }
-
-    /// Gaze IK: moves every character's chain towards its target, four at a time.
-    fn move_gaze(&mut self, dt: f32) {
-        const LANES: usize = crate::ik::temporal::BATCH_LANES;
-        let count = self.scene.character_count();
-        let mut first = 0;
-        while first < count {
-            let lanes = (count - first).min(LANES);
-            let requests: [Option<GazeRequest>; LANES] =
-                std::array::from_fn(|lane| self.gaze_request((first + lane).min(count - 1)));
-            let transforms: [CharacterTransform; LANES] =
-                std::array::from_fn(|lane| self.character_transform((first + lane).min(count - 1)));
-            let chains: [&GazeChain; LANES] = std::array::from_fn(|lane| {
-                let character = (first + lane).min(count - 1);
-                &self.chains[self.chain_of[character] as usize]
-            });
-            let inputs: [GazeInput<'_>; LANES] = std::array::from_fn(|lane| {
-                let character = (first + lane).min(count - 1);
-                GazeInput {
-                    character: transforms[lane],
-                    base: &self.bases[character][..chains[lane].joint_count()],
-                    request: requests[lane],
-                    dt,
-                }
-            });
-            let motions = &mut self.motions[first..first + lanes];
-            let randoms = &mut self.gaze_randoms[first..first + lanes];
-            // Inputs were checked when they came in: a failure here would be a bug, and it
-            // leaves only that character's motion unchanged.
-            if let (
-                [motion_0, motion_1, motion_2, motion_3],
-                [random_0, random_1, random_2, random_3],
-            ) = (&mut *motions, &mut *randoms)
-            {
-                let _ = GazeMotion::update_batch(
-                    [motion_0, motion_1, motion_2, motion_3],
-                    [chains[0], chains[1], chains[2], chains[3]],
-                    &self.config.gaze,
-                    [&inputs[0], &inputs[1], &inputs[2], &inputs[3]],
-                    [random_0, random_1, random_2, random_3],
-                );
-            } else {
-                for (lane, (motion, random)) in motions.iter_mut().zip(randoms).enumerate() {
-                    let _ = motion.update(chains[lane], &self.config.gaze, &inputs[lane], random);
-                }
-            }
-            first += lanes;
-        }
     }
 
     /// The best and second-best entities for a character (by dense index) among those near
     /// it, skipping itself and entities on cool-down, on the index of the last step.
     fn best_nearby(&self, character: usize) -> (Candidate, Candidate) {
-        let tracker = &self.trackers[character];
-        let ids = self.scene.ids();
+        let tracker = &self.states.trackers[character];
+        let ids = self.shared.scene.ids();
         nearby_candidates(
-            &self.scene,
-            &self.neighbours,
-            &self.scorer,
+            &self.shared.scene,
+            &self.shared.neighbours,
+            &self.shared.scorer,
             character,
-            &self.params[character].weights,
+            &self.shared.params[character].weights,
             &mut CandidateBatch::default(),
             |other| tracker.is_cooling(ids[other]),
         )
@@ -901,54 +693,56 @@ impl Crowd {
     /// The same as the grid search, by scoring every entity (the all-pairs loop): a test
     /// oracle and the baseline of the benchmarks.
     pub fn best_all_pairs(&self, character_id: u32) -> Result<(Candidate, Candidate)> {
-        let character = self.scene.character_index(character_id)?;
+        let character = self.shared.scene.character_index(character_id)?;
         Ok(self.best_all_pairs_dense(character))
     }
 
     /// [`best_all_pairs`](Self::best_all_pairs) by dense character index.
     pub fn best_all_pairs_dense(&self, character: usize) -> (Candidate, Candidate) {
-        let tracker = &self.trackers[character];
-        let ids = self.scene.ids();
+        let tracker = &self.states.trackers[character];
+        let ids = self.shared.scene.ids();
         all_pairs_candidates(
-            &self.scene,
-            &self.scorer,
+            &self.shared.scene,
+            &self.shared.scorer,
             character,
-            &self.params[character].weights,
+            &self.shared.params[character].weights,
             |other| tracker.is_cooling(ids[other]),
         )
     }
 
     /// The grid search for one character by id, on the grid of the last step.
     pub fn best_nearby_by_id(&self, character_id: u32) -> Result<(Candidate, Candidate)> {
-        let character = self.scene.character_index(character_id)?;
+        let character = self.shared.scene.character_index(character_id)?;
         Ok(self.best_nearby(character))
     }
 
     /// Rebuilds the spatial grid from the current positions (done by every step).
     pub fn rebuild_grid(&mut self) {
-        self.neighbours.rebuild(&self.scene);
+        self.shared.neighbours.rebuild(&self.shared.scene);
     }
 
     /// Scores one (character, entity) pair on the current state, with every intermediate.
     pub fn score(&self, character_id: u32, entity_id: u32) -> Result<ScoreBreakdown> {
-        let character = self.scene.character_index(character_id)?;
-        let (_, entity) = self.scene.find(entity_id)?;
+        let character = self.shared.scene.character_index(character_id)?;
+        let (_, entity) = self.shared.scene.find(entity_id)?;
         let observer = self
+            .shared
             .scene
-            .ground_state(self.scene.character_entities()[character] as usize);
-        Ok(self.scorer.score(
+            .ground_state(self.shared.scene.character_entities()[character] as usize);
+        Ok(self.shared.scorer.score(
             &observer,
-            &self.scene.ground_state(entity),
-            &self.params[character].weights,
-            self.scene.impacts()[entity],
+            &self.shared.scene.ground_state(entity),
+            &self.shared.params[character].weights,
+            self.shared.scene.impacts()[entity],
         ))
     }
 
     /// Where a character (by dense index) looks now.
     pub fn gaze_dense(&self, character: usize) -> GazeInfo {
-        let entity = self.scene.character_entities()[character] as usize;
-        let tracker = &self.trackers[character];
-        let (target, s_max, threshold, attentive_fraction, interest_count) = match &self.plan {
+        let entity = self.shared.scene.character_entities()[character] as usize;
+        let tracker = &self.states.trackers[character];
+        let (target, s_max, threshold, attentive_fraction, interest_count) = match &self.shared.plan
+        {
             Some(plan) => {
                 let (target, s_max, threshold) = plan.current(character);
                 let count = plan.constraints(character).len() as u32;
@@ -977,25 +771,27 @@ impl Crowd {
                 )
             }
         };
-        let look = self.current_look(character);
-        let target_position = match self.gaze_request(character) {
+        let view = self.states.view(character);
+        let look = self.shared.current_look(character, view);
+        let target_position = match self.shared.gaze_request(character, view) {
             Some(request) => request.eye_target,
             None => {
                 let ahead = self
+                    .shared
                     .config
                     .world
-                    .heading_direction(self.scene.headings()[entity]);
-                self.scene.look_at_point(entity) + ahead * 10.0
+                    .heading_direction(self.shared.scene.headings()[entity]);
+                self.shared.scene.look_at_point(entity) + ahead * 10.0
             }
         };
-        let exists = |id: u32| self.scene.index_of(id).is_some();
+        let exists = |id: u32| self.shared.scene.index_of(id).is_some();
         let known = |id: u32| if exists(id) { id } else { NO_ENTITY };
-        let attending = match self.params[character].model {
+        let attending = match self.shared.params[character].model {
             AttentionModel::Crowd => exists(target),
             _ => exists(look.eye.entity) || exists(look.head.entity),
         };
         GazeInfo {
-            character: self.scene.ids()[entity],
+            character: self.shared.scene.ids()[entity],
             target: known(look.eye.entity),
             target_part: look.eye.part,
             head_target: known(look.head.entity),
@@ -1010,22 +806,22 @@ impl Crowd {
 
     /// Where a character looks now, by id.
     pub fn gaze(&self, character_id: u32) -> Result<GazeInfo> {
-        Ok(self.gaze_dense(self.scene.character_index(character_id)?))
+        Ok(self.gaze_dense(self.shared.scene.character_index(character_id)?))
     }
 
     /// A character's gaze chain.
     pub fn chain(&self, character_id: u32) -> Result<&GazeChain> {
-        let character = self.scene.character_index(character_id)?;
-        Ok(&self.chains[self.chain_of[character] as usize])
+        let character = self.shared.scene.character_index(character_id)?;
+        Ok(&self.shared.chains[self.shared.chain_of[character] as usize])
     }
 
     /// Number of chain joints of the characters `first .. first + count` (dense order)
     /// together: the length of their packed joint outputs.
     pub fn joint_total(&self, first: usize, count: usize) -> Result<usize> {
         let range = self.character_range(first, count)?;
-        Ok(self.chain_of[range]
+        Ok(self.shared.chain_of[range]
             .iter()
-            .map(|&chain| self.chains[chain as usize].joint_count())
+            .map(|&chain| self.shared.chains[chain as usize].joint_count())
             .sum())
     }
 
@@ -1042,15 +838,15 @@ impl Crowd {
     /// Sets a character's base pose: the local rotation of each chain joint, bottom to top
     /// (the engine's animated pose; the rest pose until set). Rotations are normalised.
     pub fn set_base_pose(&mut self, character_id: u32, local: &[Quat]) -> Result<()> {
-        let character = self.scene.character_index(character_id)?;
-        let joints = self.chains[self.chain_of[character] as usize].joint_count();
+        let character = self.shared.scene.character_index(character_id)?;
+        let joints = self.shared.chains[self.shared.chain_of[character] as usize].joint_count();
         if local.len() != joints {
             return Err(Error::InvalidArgument(format!(
                 "the base pose has {} rotations, the chain {joints} joints",
                 local.len()
             )));
         }
-        let mut base = self.bases[character];
+        let mut base = self.shared.bases[character];
         for (slot, rotation) in base.iter_mut().zip(local) {
             crate::error::ensure_all_finite(&rotation.to_array(), "base pose")?;
             let length = rotation.length();
@@ -1061,7 +857,7 @@ impl Crowd {
             }
             *slot = *rotation / length;
         }
-        self.bases[character] = base;
+        self.shared.bases[character] = base;
         Ok(())
     }
 
@@ -1072,13 +868,13 @@ impl Crowd {
         target: ExplicitTarget,
         priority: TargetPriority,
     ) -> Result<()> {
-        let character = self.scene.character_index(character_id)?;
+        let character = self.shared.scene.character_index(character_id)?;
         match target {
             ExplicitTarget::Point(point) => {
                 crate::error::ensure_all_finite(&point.to_array(), "target point")?
             }
             ExplicitTarget::Entity(id) => {
-                self.scene.find(id)?;
+                self.shared.scene.find(id)?;
                 if id == character_id {
                     return Err(Error::InvalidArgument(
                         "a character cannot look at itself".into(),
@@ -1086,14 +882,14 @@ impl Crowd {
                 }
             }
         }
-        self.explicit[character] = Some((target, priority));
+        self.shared.explicit[character] = Some((target, priority));
         Ok(())
     }
 
     /// Removes a character's explicit target; its automatic attention takes over again.
     pub fn clear_gaze_target(&mut self, character_id: u32) -> Result<()> {
-        let character = self.scene.character_index(character_id)?;
-        self.explicit[character] = None;
+        let character = self.shared.scene.character_index(character_id)?;
+        self.shared.explicit[character] = None;
         Ok(())
     }
 
@@ -1117,8 +913,8 @@ impl Crowd {
         }
         let mut written = 0;
         for character in first..first + count {
-            let deltas = self.motions[character].deltas();
-            let base = &self.bases[character][..deltas.len()];
+            let deltas = self.states.motions[character].deltas();
+            let base = &self.shared.bases[character][..deltas.len()];
             for ((slot, delta), base) in out[written..].iter_mut().zip(deltas).zip(base) {
                 *slot = if deltas_only { *delta } else { *base * *delta };
             }
@@ -1129,7 +925,7 @@ impl Crowd {
 
     /// Where a character's (dense index) eyes are and look after the last step.
     pub fn eyes_dense(&self, character: usize) -> EyeState {
-        let motion = &self.motions[character];
+        let motion = &self.states.motions[character];
         EyeState {
             origins: motion.eye_origins(),
             directions: motion.eye_directions(),
@@ -1138,20 +934,20 @@ impl Crowd {
 
     /// A character's gaze motion (phase, timing), by id.
     pub fn gaze_motion(&self, character_id: u32) -> Result<&GazeMotion> {
-        Ok(&self.motions[self.scene.character_index(character_id)?])
+        Ok(&self.states.motions[self.shared.scene.character_index(character_id)?])
     }
 
     /// Sets how often a character's attention is updated: every `period` steps (1 to 64),
     /// or 0 for the crowd's level of detail (`attention_period`, or `far_attention_period`
     /// beyond `lod_distance` from the viewer). Gaze IK still runs every step.
     pub fn set_attention_period(&mut self, character_id: u32, period: u32) -> Result<()> {
-        let character = self.scene.character_index(character_id)?;
+        let character = self.shared.scene.character_index(character_id)?;
         if period > 64 {
             return Err(Error::InvalidArgument(format!(
                 "period is {period}, must be 0..=64"
             )));
         }
-        self.lod[character].period = period;
+        self.states.lod[character].period = period;
         Ok(())
     }
 
@@ -1160,16 +956,10 @@ impl Crowd {
     pub fn state_bytes_per_character() -> usize {
         use std::mem::size_of;
         let per_character = size_of::<CharacterParams>()
-            + size_of::<InterestTracker>()
             + size_of::<u32>() // chain index
             + size_of::<[Quat; MAX_CHAIN_JOINTS]>()
-            + size_of::<GazeMotion>()
-            + size_of::<Random>() * 2
             + size_of::<Option<(ExplicitTarget, TargetPriority)>>()
-            + size_of::<Look>()
-            + size_of::<SaliencyState>()
-            + size_of::<BaselineState>()
-            + size_of::<AttentionLod>();
+            + states::bytes_per_character();
         per_character + Scene::bytes_per_entity() + NeighbourIndex::bytes_per_entity()
     }
 
@@ -1177,38 +967,39 @@ impl Crowd {
     /// `max_recorded_states > 0` and at least one recorded frame.
     pub fn plan(&mut self) -> Result<()> {
         self.ensure_online("plan again")?;
-        if self.recording.frame_count() == 0 {
+        if self.shared.recording.frame_count() == 0 {
             return Err(Error::WrongState(
                 "nothing recorded: set max_recorded_states and push frames before planning".into(),
             ));
         }
         let plan = Plan::build(
-            &self.recording,
-            &mut self.scene,
-            &mut self.neighbours,
-            &self.scorer,
-            &self.params,
-            &self.config.interest,
+            &self.shared.recording,
+            &mut self.shared.scene,
+            &mut self.shared.neighbours,
+            &self.shared.scorer,
+            &self.shared.params,
+            &self.shared.config.interest,
         );
-        self.plan = Some(plan);
+        self.shared.plan = Some(plan);
         Ok(())
     }
 
     /// Leaves planned mode and forgets the recording; pushing frames works again.
     pub fn clear_plan(&mut self) {
-        self.plan = None;
-        self.recording.clear();
+        self.shared.plan = None;
+        self.shared.recording.clear();
     }
 
     /// True while stepping follows a plan.
     pub fn is_planned(&self) -> bool {
-        self.plan.is_some()
+        self.shared.plan.is_some()
     }
 
     /// A character's planned constraints (entity, `t_b`, `t_e`), in time order.
     pub fn constraints(&self, character_id: u32) -> Result<&[Constraint]> {
-        let character = self.scene.character_index(character_id)?;
+        let character = self.shared.scene.character_index(character_id)?;
         let plan = self
+            .shared
             .plan
             .as_ref()
             .ok_or_else(|| Error::WrongState("no plan: call plan() first".into()))?;
@@ -1217,8 +1008,9 @@ impl Crowd {
 
     /// A character's planned threshold `A` (the exact percentile).
     pub fn planned_threshold(&self, character_id: u32) -> Result<f32> {
-        let character = self.scene.character_index(character_id)?;
+        let character = self.shared.scene.character_index(character_id)?;
         let plan = self
+            .shared
             .plan
             .as_ref()
             .ok_or_else(|| Error::WrongState("no plan: call plan() first".into()))?;

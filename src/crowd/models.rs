@@ -3,11 +3,12 @@
 
 use glam::{Quat, Vec3};
 
-use super::{Crowd, ExplicitTarget, TargetPriority};
+use super::states::{CharacterMut, CharacterView};
+use super::{Crowd, ExplicitTarget, Shared, TargetPriority};
 use crate::attention::saliency::{saliency, Fixation, FixationChannel, SalientPoint};
 use crate::attention::{AttentionModel, TargetPart};
 use crate::error::{ensure_all_finite, Error, Result};
-use crate::ik::{GazeChain, GazeRequest, JointRole, MotionStyle};
+use crate::ik::{GazeChain, GazeMotion, GazeRequest, JointRole, MotionStyle};
 use crate::scene::ids::{EntityKind, NO_ENTITY};
 
 /// Most points (entity parts) a saliency query considers per frame; beyond, the farthest
@@ -112,7 +113,7 @@ pub fn social_parts(chain: &GazeChain, up: Vec3) -> [Vec3; 5] {
     [head, left, right, chest, torso]
 }
 
-impl Crowd {
+impl Shared {
     /// The world point of `target` now (metres), if its entity exists.
     pub(super) fn target_point(&self, target: LookTarget) -> Option<Vec3> {
         let index = self.scene.index_of(target.entity)?;
@@ -127,8 +128,8 @@ impl Crowd {
 
     /// A character's eye position (the mid-point of its eyes, world metres): where the
     /// last gaze update put it, or at rest before the first one.
-    fn eye_position(&self, character: usize) -> Vec3 {
-        let origins = self.motions[character].eye_origins();
+    fn eye_position(&self, character: usize, motion: &GazeMotion) -> Vec3 {
+        let origins = motion.eye_origins();
         if origins[0] != Vec3::ZERO || origins[1] != Vec3::ZERO {
             return 0.5 * (origins[0] + origins[1]);
         }
@@ -139,9 +140,9 @@ impl Crowd {
 
     /// The direction the character's head faces now (world, unit): the eyes' rest forward
     /// carried through the body joints' current local rotations.
-    fn head_forward(&self, character: usize) -> Vec3 {
+    fn head_forward(&self, character: usize, motion: &GazeMotion) -> Vec3 {
         let chain = &self.chains[self.chain_of[character] as usize];
-        let deltas = self.motions[character].deltas();
+        let deltas = motion.deltas();
         let mut rotation = self.character_transform(character).rotation;
         let body = chain.body_count();
         for (base, delta) in self.bases[character][..body].iter().zip(&deltas[..body]) {
@@ -153,12 +154,12 @@ impl Crowd {
     /// The saliency model for one character (Kokkinara et al. 2011): gathers the points
     /// (objects, and the five parts of characters) within `d_m`, scores them from the eyes,
     /// and renews the eye and head fixations when they run out or leave their field of view.
-    pub(super) fn attend_saliency(&mut self, character: usize, dt: f32) {
+    pub(super) fn attend_saliency(&self, character: usize, dt: f32, state: CharacterMut<'_>) {
         let config = self.config.saliency;
         let up = self.config.world.up;
         let entity = self.scene.character_entities()[character] as usize;
-        let eye = self.eye_position(character);
-        let head_forward = self.head_forward(character);
+        let eye = self.eye_position(character, state.motion);
+        let head_forward = self.head_forward(character, state.motion);
         let body_forward = self
             .config
             .world
@@ -237,8 +238,9 @@ impl Crowd {
             list.iter()
                 .any(|&index| fixation(index as usize) == channel.target)
         };
-        let state = &mut self.saliency[character];
-        let random = &mut self.model_randoms[character];
+        let random = state.model_random;
+        let look = state.look;
+        let state = state.saliency;
         let eye_visible = visible(&state.eye, &in_eye[..eye_count]);
         state.eye.update(
             dt,
@@ -261,20 +263,20 @@ impl Crowd {
             config.random_pick_probability,
             random,
         );
-        let look = |fixation: Fixation| LookTarget {
+        let look_at = |fixation: Fixation| LookTarget {
             entity: fixation.entity,
             part: part_from(fixation.part),
         };
-        self.looks[character] = Look {
-            eye: look(state.eye.target),
-            head: look(state.head.target),
+        *look = Look {
+            eye: look_at(state.eye.target),
+            head: look_at(state.head.target),
         };
     }
 
     /// The baseline for one character: the head turns to the nearest character within the
     /// proximity radius in front of it (never an object); the eyes glance at preset
     /// intervals.
-    pub(super) fn attend_baseline(&mut self, character: usize, dt: f32) {
+    pub(super) fn attend_baseline(&self, character: usize, dt: f32, state: CharacterMut<'_>) {
         let entity = self.scene.character_entities()[character] as usize;
         let centre = self.scene.ground_positions()[entity];
         let radius_squared = self.config.baseline.proximity_radius.powi(2);
@@ -295,7 +297,9 @@ impl Crowd {
                 }
             });
         let config = self.config.baseline;
-        self.baseline[character].update(dt, nearest.0, &config, &mut self.model_randoms[character]);
+        state
+            .baseline
+            .update(dt, nearest.0, &config, state.model_random);
         let head = if nearest.0 == NO_ENTITY {
             LookTarget::NONE
         } else {
@@ -304,16 +308,20 @@ impl Crowd {
                 part: TargetPart::Head,
             }
         };
-        self.looks[character] = Look { eye: head, head };
+        *state.look = Look { eye: head, head };
     }
 
     /// The gaze request of a saliency or baseline character: head and eyes each at their
     /// own target (straight ahead where there is none; the baseline's glance offsets the
     /// eyes).
-    pub(super) fn model_request(&self, character: usize) -> Option<GazeRequest> {
-        let look = self.looks[character];
+    pub(super) fn model_request(
+        &self,
+        character: usize,
+        view: CharacterView<'_>,
+    ) -> Option<GazeRequest> {
+        let look = *view.look;
         let entity = self.scene.character_entities()[character] as usize;
-        let eye = self.eye_position(character);
+        let eye = self.eye_position(character, view.motion);
         let up = self.config.world.up;
         let ahead = self
             .config
@@ -323,7 +331,7 @@ impl Crowd {
         let head_target = head_point.unwrap_or(eye + ahead * 10.0);
         let mut eye_target = self.target_point(look.eye).unwrap_or(head_target);
         if self.params[character].model == AttentionModel::Baseline {
-            let (yaw, pitch) = self.baseline[character].glance;
+            let (yaw, pitch) = view.baseline.glance;
             if yaw != 0.0 || pitch != 0.0 {
                 let direction = (head_target - eye).normalize_or(ahead);
                 let side = up.cross(direction).normalize_or_zero();
@@ -354,64 +362,16 @@ impl Crowd {
         })
     }
 
-    /// Makes the viewer (the user, or the camera) an entity that characters may look at,
-    /// or moves it: `position` in metres (the point looked at), `impact` its `I_E`. Its
-    /// velocity comes from successive calls at successive frame times; its heading from its
-    /// motion. Returns its id; remove it with [`remove_entity`](Self::remove_entity).
-    pub fn set_viewer(&mut self, position: Vec3, impact: f32) -> Result<u32> {
-        ensure_all_finite(&position.to_array(), "viewer position")?;
-        Self::check_impact(impact)?;
-        self.ensure_online("set the viewer")?;
-        let id = match self.viewer {
-            Some(id) => {
-                let index = self
-                    .scene
-                    .index_of(id)
-                    .ok_or_else(|| Error::Internal("the viewer entity is missing".into()))?;
-                self.scene.set_impact(index, impact);
-                id
-            }
-            None => {
-                let id = self
-                    .scene
-                    .add(EntityKind::Object, position, 0.0, 0.0, impact)?;
-                self.viewer = Some(id);
-                id
-            }
-        };
-        let time = if self.time.is_finite() {
-            self.time
-        } else {
-            0.0
-        };
-        self.scene.apply_one(
-            time,
-            &crate::scene::EntityUpdate {
-                id,
-                position,
-                heading: 0.0,
-                heading_from_motion: true,
-                velocity: None,
-            },
-        );
-        Ok(id)
-    }
-
-    /// The viewer's entity id, if set.
-    pub fn viewer(&self) -> Option<u32> {
-        self.viewer
-    }
-
     /// The targets a character's eyes and head fixate (dense index), resolving explicit
     /// targets and the crowd model's interest point.
-    pub(super) fn current_look(&self, character: usize) -> Look {
+    pub(super) fn current_look(&self, character: usize, view: CharacterView<'_>) -> Look {
         let explicit = match self.explicit[character] {
             Some((ExplicitTarget::Entity(id), priority)) => Some((id, priority)),
             _ => None,
         };
         let automatic = match self.params[character].model {
             AttentionModel::Crowd => {
-                let (target, _) = self.automatic_target(character);
+                let (target, _) = self.automatic_target(character, view.tracker);
                 let target = LookTarget {
                     entity: target,
                     part: TargetPart::Whole,
@@ -421,7 +381,7 @@ impl Crowd {
                     head: target,
                 }
             }
-            _ => self.looks[character],
+            _ => *view.look,
         };
         let automatic_exists = self.scene.index_of(automatic.head.entity).is_some()
             || self.scene.index_of(automatic.eye.entity).is_some();
@@ -448,5 +408,57 @@ impl Crowd {
             }
             _ => automatic,
         }
+    }
+}
+
+impl Crowd {
+    /// Makes the viewer (the user, or the camera) an entity that characters may look at,
+    /// or moves it: `position` in metres (the point looked at), `impact` its `I_E`. Its
+    /// velocity comes from successive calls at successive frame times; its heading from its
+    /// motion. Returns its id; remove it with [`remove_entity`](Self::remove_entity).
+    pub fn set_viewer(&mut self, position: Vec3, impact: f32) -> Result<u32> {
+        ensure_all_finite(&position.to_array(), "viewer position")?;
+        Self::check_impact(impact)?;
+        self.ensure_online("set the viewer")?;
+        let id = match self.shared.viewer {
+            Some(id) => {
+                let index = self
+                    .shared
+                    .scene
+                    .index_of(id)
+                    .ok_or_else(|| Error::Internal("the viewer entity is missing".into()))?;
+                self.shared.scene.set_impact(index, impact);
+                id
+            }
+            None => {
+                let id = self
+                    .shared
+                    .scene
+                    .add(EntityKind::Object, position, 0.0, 0.0, impact)?;
+                self.shared.viewer = Some(id);
+                id
+            }
+        };
+        let time = if self.shared.time.is_finite() {
+            self.shared.time
+        } else {
+            0.0
+        };
+        self.shared.scene.apply_one(
+            time,
+            &crate::scene::EntityUpdate {
+                id,
+                position,
+                heading: 0.0,
+                heading_from_motion: true,
+                velocity: None,
+            },
+        );
+        Ok(id)
+    }
+
+    /// The viewer's entity id, if set.
+    pub fn viewer(&self) -> Option<u32> {
+        self.shared.viewer
     }
 }

@@ -4,7 +4,7 @@
 use glam::Vec3;
 
 use super::chain::cg_chain_desc;
-use super::crowd::{cg_crowd, crowd_mut, crowd_ref};
+use super::crowd::{cg_crowd, crowd_handle, crowd_mut, crowd_ref};
 use super::types::cg_vec3;
 use super::{cg_status, ffi_boundary, read_versioned, Versioned};
 use crate::attention::score::SubscoreWeights;
@@ -502,19 +502,77 @@ pub extern "C" fn cg_crowd_push_frame(
     })
 }
 
-/// Runs attention for every character, `dt` seconds (>= 0) after the previous step: scores
-/// the entities near each character, updates its threshold and its interest point. After
-/// `cg_crowd_plan`, follows the plan instead, replaying the recorded frames. Allocates
-/// nothing.
+/// Steps every character `dt` seconds (>= 0) after the previous step: attention (scores
+/// the entities near each character, updates its threshold and interest point; after
+/// `cg_crowd_plan`, follows the plan instead), then gaze IK. With `threads > 1` in the
+/// config, the crowd's worker threads share the work; results are the same. Allocates
+/// nothing. The same as `cg_crowd_begin_step`, one range over all characters, and
+/// `cg_crowd_end_step`.
 ///
 /// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE` (dt), `CG_STATUS_INVALID_ARGUMENT`
-/// (dt < 0). Not thread-safe.
+/// (dt < 0), `CG_STATUS_WRONG_STATE` (a ranged step is open). Not thread-safe: no other
+/// call on this crowd may run at the same time.
 #[no_mangle]
 pub extern "C" fn cg_crowd_step(crowd: *mut cg_crowd, dt: f32) -> cg_status {
     ffi_boundary!({
         // SAFETY: handle contract of cg_crowd.
         let crowd = unsafe { crowd_mut(crowd) }?;
         crowd.step(dt)
+    })
+}
+
+/// Begins a step split into ranges, `dt` seconds (>= 0) after the previous one: advances
+/// the plan's clock, rebuilds the spatial grid and fixes what all characters share this
+/// frame. Then call `cg_crowd_step_range` on ranges of characters (from as many threads as
+/// you like, e.g. your job system's workers), and `cg_crowd_end_step` once they have all
+/// returned. The outputs are identical to `cg_crowd_step`'s, however the crowd is split.
+/// Until `cg_crowd_end_step`, every other call on this crowd fails with
+/// `CG_STATUS_WRONG_STATE`. Allocates nothing.
+///
+/// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE` (dt), `CG_STATUS_INVALID_ARGUMENT`
+/// (dt < 0), `CG_STATUS_WRONG_STATE` (a ranged step is already open). Not thread-safe: no
+/// other call on this crowd may run at the same time.
+#[no_mangle]
+pub extern "C" fn cg_crowd_begin_step(crowd: *mut cg_crowd, dt: f32) -> cg_status {
+    ffi_boundary!({
+        // SAFETY: handle contract of cg_crowd.
+        let handle = unsafe { crowd_handle(crowd) }?;
+        // SAFETY: by the C contract no other call runs on this crowd now.
+        unsafe { handle.begin_step(dt) }
+    })
+}
+
+/// Steps characters `first .. first + count` (the crowd's character order, as in
+/// `cg_crowd_read_gaze`) of the step opened by `cg_crowd_begin_step`: attention, then gaze
+/// IK. Thread-safe for disjoint ranges: several threads may call it at once on the same
+/// crowd. `count` 0 does nothing. Allocates nothing.
+///
+/// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_INVALID_ARGUMENT` (the range goes past the
+/// last character), `CG_STATUS_WRONG_STATE` (no ranged step is open, or the range overlaps
+/// one already stepped in this step; then nothing in it is stepped).
+#[no_mangle]
+pub extern "C" fn cg_crowd_step_range(crowd: *mut cg_crowd, first: u32, count: u32) -> cg_status {
+    ffi_boundary!({
+        // SAFETY: handle contract of cg_crowd; this call only needs shared access.
+        let handle = unsafe { crowd_handle(crowd) }?;
+        handle.step_range(first as usize, count as usize)
+    })
+}
+
+/// Ends the step opened by `cg_crowd_begin_step`. Characters that no range covered are
+/// stepped now, so a step always moves the whole crowd. Call it after every
+/// `cg_crowd_step_range` call of this step has returned. Allocates nothing.
+///
+/// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_WRONG_STATE` (no ranged step is open, or
+/// `cg_crowd_step_range` calls are still running: the step stays open). Not thread-safe
+/// with anything but `cg_crowd_step_range`.
+#[no_mangle]
+pub extern "C" fn cg_crowd_end_step(crowd: *mut cg_crowd) -> cg_status {
+    ffi_boundary!({
+        // SAFETY: handle contract of cg_crowd.
+        let handle = unsafe { crowd_handle(crowd) }?;
+        // SAFETY: by the C contract only ranges may run on this crowd now.
+        unsafe { handle.end_step() }
     })
 }
 

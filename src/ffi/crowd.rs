@@ -1,23 +1,163 @@
 //! The `cg_crowd` handle: its config struct, creation and destruction.
 
+use std::cell::UnsafeCell;
+use std::sync::atomic::{AtomicU32, AtomicU8, Ordering};
+
 use super::types::cg_axis;
 use super::{ffi_boundary, read_versioned, Versioned};
 use crate::attention::baseline::BaselineConfig;
 use crate::attention::interest::InterestConfig;
 use crate::attention::saliency::SaliencyConfig;
 use crate::attention::score::ScoringConfig;
-use crate::crowd::{Crowd, CrowdConfig};
-use crate::error::Result;
+use crate::crowd::{Crowd, CrowdConfig, StepRanges};
+use crate::error::{Error, Result};
 use crate::ik::GazeConfig;
 use crate::world::World;
 
 /// A crowd of characters and the objects they may look at (opaque).
 ///
-/// Created by `cg_crowd_create`, destroyed by `cg_crowd_destroy`. Not safe for concurrent
-/// mutation: calls taking a `cg_crowd*` must not overlap with any other call on the same
-/// crowd. Calls taking a `const cg_crowd*` may run concurrently with each other.
+/// Created by `cg_crowd_create`, destroyed by `cg_crowd_destroy`. Threading rules: calls
+/// taking a `cg_crowd*` must not overlap with any other call on the same crowd, except
+/// `cg_crowd_step_range`, which several threads may call at once on disjoint ranges
+/// between `cg_crowd_begin_step` and `cg_crowd_end_step`. Calls taking a `const cg_crowd*`
+/// may run concurrently with each other. While a ranged step is open, every other call on
+/// the crowd fails with `CG_STATUS_WRONG_STATE`.
 pub struct cg_crowd {
     _private: [u8; 0],
+}
+
+/// Phases of a crowd handle's ranged step.
+const IDLE: u8 = 0;
+/// Between `cg_crowd_begin_step` and `cg_crowd_end_step`: only ranges may run.
+const OPEN: u8 = 1;
+/// Inside `cg_crowd_begin_step` or `cg_crowd_end_step`.
+const CHANGING: u8 = 2;
+
+/// What a `cg_crowd*` points to: the core crowd, and the open ranged step, if any.
+///
+/// The crowd sits in an `UnsafeCell` because `cg_crowd_step_range` calls on several threads
+/// step it through a shared reference to the handle (disjoint characters, see
+/// [`StepRanges`]); every other call first checks that no ranged step is open.
+pub(crate) struct CrowdHandle {
+    /// `IDLE`, `OPEN` or `CHANGING`.
+    phase: AtomicU8,
+    /// `cg_crowd_step_range` calls in progress.
+    ranges_running: AtomicU32,
+    /// The open step's ranges (`Some` exactly while `OPEN`). Declared before `crowd`, which
+    /// it borrows, so that it is dropped first.
+    ranges: UnsafeCell<Option<StepRanges<'static>>>,
+    crowd: UnsafeCell<Crowd>,
+}
+
+// SAFETY: the cells are accessed as the phase protocol allows: `crowd` mutably only by the
+// single thread that moved the phase out of OPEN (or by a caller with exclusive use of the
+// handle, per the C contract), `ranges` written only while not OPEN and read only while
+// OPEN; `StepRanges` is itself `Sync`.
+unsafe impl Sync for CrowdHandle {}
+
+impl CrowdHandle {
+    fn new(crowd: Crowd) -> CrowdHandle {
+        CrowdHandle {
+            phase: AtomicU8::new(IDLE),
+            ranges_running: AtomicU32::new(0),
+            ranges: UnsafeCell::new(None),
+            crowd: UnsafeCell::new(crowd),
+        }
+    }
+
+    fn ensure_idle(&self) -> Result<()> {
+        match self.phase.load(Ordering::SeqCst) {
+            IDLE => Ok(()),
+            _ => Err(Error::WrongState(
+                "a ranged step is open: finish it with cg_crowd_end_step first".into(),
+            )),
+        }
+    }
+
+    /// Opens a ranged step (`cg_crowd_begin_step`).
+    ///
+    /// # Safety
+    /// No other call on this handle may run, but `step_range` (which then fails).
+    pub(crate) unsafe fn begin_step(&self, dt: f32) -> Result<()> {
+        if self
+            .phase
+            .compare_exchange(IDLE, CHANGING, Ordering::SeqCst, Ordering::SeqCst)
+            .is_err()
+        {
+            return Err(Error::WrongState(
+                "a ranged step is already open: call cg_crowd_end_step first".into(),
+            ));
+        }
+        // SAFETY: the phase is CHANGING, set by this thread: no range runs and, by the
+        // caller's contract, no other call uses the crowd.
+        let crowd = unsafe { &mut *self.crowd.get() };
+        let opened = crowd.begin_step(dt).and_then(|()| crowd.step_ranges());
+        match opened {
+            Ok(ranges) => {
+                // SAFETY: only the lifetime is erased: `ranges` borrows the crowd in this
+                // handle, which stays in place and is not otherwise used until
+                // `end_step` (or the handle's drop) clears `ranges` first.
+                let ranges =
+                    unsafe { std::mem::transmute::<StepRanges<'_>, StepRanges<'static>>(ranges) };
+                // SAFETY: not OPEN, so no range reads the cell.
+                unsafe { *self.ranges.get() = Some(ranges) };
+                self.phase.store(OPEN, Ordering::SeqCst);
+                Ok(())
+            }
+            Err(error) => {
+                self.phase.store(IDLE, Ordering::SeqCst);
+                Err(error)
+            }
+        }
+    }
+
+    /// Steps a range of the open step (`cg_crowd_step_range`); any number of threads.
+    pub(crate) fn step_range(&self, first: usize, count: usize) -> Result<()> {
+        self.ranges_running.fetch_add(1, Ordering::SeqCst);
+        let result = match self.phase.load(Ordering::SeqCst) {
+            // SAFETY: OPEN, and `end_step` cannot leave OPEN while this call is counted
+            // in `ranges_running` (it checks after its own SeqCst swap).
+            OPEN => match unsafe { &*self.ranges.get() } {
+                Some(ranges) => ranges.run_range(first, count),
+                None => Err(Error::Internal("an open step has no ranges".into())),
+            },
+            _ => Err(Error::WrongState(
+                "no ranged step is open: call cg_crowd_begin_step first".into(),
+            )),
+        };
+        self.ranges_running.fetch_sub(1, Ordering::SeqCst);
+        result
+    }
+
+    /// Ends the open step (`cg_crowd_end_step`).
+    ///
+    /// # Safety
+    /// No other call on this handle may run, but `step_range` (which then fails or, when
+    /// it got in first, makes this call fail).
+    pub(crate) unsafe fn end_step(&self) -> Result<()> {
+        if self
+            .phase
+            .compare_exchange(OPEN, CHANGING, Ordering::SeqCst, Ordering::SeqCst)
+            .is_err()
+        {
+            return Err(Error::WrongState(
+                "no ranged step is open: call cg_crowd_begin_step first".into(),
+            ));
+        }
+        if self.ranges_running.load(Ordering::SeqCst) != 0 {
+            self.phase.store(OPEN, Ordering::SeqCst);
+            return Err(Error::WrongState(
+                "cg_crowd_step_range calls are still running on this crowd".into(),
+            ));
+        }
+        // SAFETY: CHANGING, and no range runs (ranges seen running above would have kept
+        // the phase OPEN; later ones see CHANGING and leave).
+        unsafe { *self.ranges.get() = None };
+        // SAFETY: as above; the ranges' borrow of the crowd is gone.
+        let result = unsafe { &mut *self.crowd.get() }.end_step();
+        self.phase.store(IDLE, Ordering::SeqCst);
+        result
+    }
 }
 
 /// Settings of a crowd, fixed for its lifetime. Fill it with `cg_crowd_config_init`, then
@@ -118,10 +258,17 @@ pub struct cg_crowd_config {
     pub lod_distance: f32,
     /// See `lod_distance`; 1 to 64. Default 4.
     pub far_attention_period: u32,
+    /// Threads `cg_crowd_step` uses: 1 (default) steps on the caller's thread only; n > 1
+    /// starts n − 1 worker threads with the crowd, which share each step with the caller
+    /// (parked between steps; nothing is allocated per step); 0 picks one per available
+    /// core. At most 64. Results are identical for every value. Engines with their own job
+    /// system leave it at 1 and use `cg_crowd_step_range` instead.
+    pub threads: u32,
 }
 
 impl Versioned for cg_crowd_config {
-    const MIN_SIZE: usize = std::mem::size_of::<cg_crowd_config>();
+    // Callers built against the header before `threads` existed get its default.
+    const MIN_SIZE: usize = std::mem::offset_of!(cg_crowd_config, threads);
     const NAME: &'static str = "cg_crowd_config";
 
     fn defaults() -> Self {
@@ -168,6 +315,7 @@ impl cg_crowd_config {
             attention_period: core.attention_period,
             lod_distance: core.lod_distance * units,
             far_attention_period: core.far_attention_period,
+            threads: core.threads,
         }
     }
 
@@ -227,6 +375,7 @@ impl cg_crowd_config {
             attention_period: self.attention_period,
             lod_distance: self.lod_distance * metres,
             far_attention_period: self.far_attention_period,
+            threads: self.threads,
         };
         config.validate()?;
         Ok(config)
@@ -265,7 +414,7 @@ pub extern "C" fn cg_crowd_create(
         super::non_null(out_crowd, "out_crowd")?;
         // SAFETY: the caller passes a readable config of at least its struct_size bytes.
         let config = unsafe { read_versioned(config) }?.to_core()?;
-        let crowd = Box::new(Crowd::new(config)?);
+        let crowd = Box::new(CrowdHandle::new(Crowd::new(config)?));
         // SAFETY: out_crowd was checked non-null; the caller provides a writable slot.
         let out_crowd = unsafe { super::borrow_mut(out_crowd, "out_crowd") }?;
         *out_crowd = Box::into_raw(crowd).cast::<cg_crowd>();
@@ -285,29 +434,46 @@ pub extern "C" fn cg_crowd_destroy(crowd: *mut cg_crowd) {
     let _ = ffi_boundary!({
         // SAFETY: a non-null crowd handle was produced by Box::into_raw in cg_crowd_create and
         // is destroyed once, by the caller's contract.
-        drop(unsafe { Box::from_raw(crowd.cast::<Crowd>()) });
+        drop(unsafe { Box::from_raw(crowd.cast::<CrowdHandle>()) });
         Ok(())
     });
 }
 
-/// Reborrows a crowd handle as the core crowd.
+/// Reborrows a crowd handle as its handle state (for the ranged step).
+///
+/// # Safety
+/// `crowd`, if not NULL, must be a live handle from `cg_crowd_create`.
+pub(crate) unsafe fn crowd_handle<'a>(crowd: *const cg_crowd) -> Result<&'a CrowdHandle> {
+    // SAFETY: forwarded contract: a live handle is a Box<CrowdHandle>.
+    unsafe { super::borrow(crowd.cast::<CrowdHandle>(), "crowd") }
+}
+
+/// Reborrows a crowd handle as the core crowd; fails while a ranged step is open.
 ///
 /// # Safety
 /// `crowd`, if not NULL, must be a live handle from `cg_crowd_create`, with no other
 /// mutable access for `'a`.
 pub(crate) unsafe fn crowd_ref<'a>(crowd: *const cg_crowd) -> Result<&'a Crowd> {
-    // SAFETY: forwarded contract: a live handle is a Box<Crowd>.
-    unsafe { super::borrow(crowd.cast::<Crowd>(), "crowd") }
+    // SAFETY: forwarded contract.
+    let handle = unsafe { crowd_handle(crowd) }?;
+    handle.ensure_idle()?;
+    // SAFETY: no ranged step is open, and by the caller's contract nothing mutates the
+    // crowd for `'a`.
+    Ok(unsafe { &*handle.crowd.get() })
 }
 
-/// Reborrows a crowd handle mutably as the core crowd.
+/// Reborrows a crowd handle mutably as the core crowd; fails while a ranged step is open.
 ///
 /// # Safety
 /// `crowd`, if not NULL, must be a live handle from `cg_crowd_create`, not accessed by
 /// anything else for `'a`.
 pub(crate) unsafe fn crowd_mut<'a>(crowd: *mut cg_crowd) -> Result<&'a mut Crowd> {
-    // SAFETY: forwarded contract: a live handle is a Box<Crowd>.
-    unsafe { super::borrow_mut(crowd.cast::<Crowd>(), "crowd") }
+    // SAFETY: forwarded contract.
+    let handle = unsafe { crowd_handle(crowd) }?;
+    handle.ensure_idle()?;
+    // SAFETY: no ranged step is open, and by the caller's contract nothing else accesses
+    // the crowd for `'a`.
+    Ok(unsafe { &mut *handle.crowd.get() })
 }
 
 /// Copies the settings `crowd` was created with into `*out_config` (with the current

@@ -341,6 +341,7 @@ class CrowdConfig(Structure):
         ("attention_period", c_uint32),
         ("lod_distance", c_float),
         ("far_attention_period", c_uint32),
+        ("threads", c_uint32),
     ]
 
 
@@ -415,6 +416,9 @@ FUNCTIONS = {
     "cg_crowd_character_count": (_status, [_P(CrowdHandle), _P(c_size_t)]),
     "cg_crowd_push_frame": (_status, [_P(CrowdHandle), c_double, _P(EntityState), c_size_t]),
     "cg_crowd_step": (_status, [_P(CrowdHandle), c_float]),
+    "cg_crowd_begin_step": (_status, [_P(CrowdHandle), c_float]),
+    "cg_crowd_step_range": (_status, [_P(CrowdHandle), c_uint32, c_uint32]),
+    "cg_crowd_end_step": (_status, [_P(CrowdHandle)]),
     "cg_crowd_read_gaze": (_status, [_P(CrowdHandle), _P(GazeInfo), c_size_t, _P(c_size_t)]),
     "cg_crowd_score": (_status, [_P(CrowdHandle), c_uint32, c_uint32, _P(ScoreBreakdown)]),
     "cg_crowd_get_character_params": (

@@ -223,6 +223,19 @@ class Crowd:
         """Attention and gaze IK for every character, ``dt`` seconds after the last step."""
         check(lib.cg_crowd_step(self.handle, dt), "cg_crowd_step")
 
+    def begin_step(self, dt: float) -> None:
+        """Begins a step split into ranges (``step_range``), ``dt`` seconds after the last."""
+        check(lib.cg_crowd_begin_step(self.handle, dt), "cg_crowd_begin_step")
+
+    def step_range(self, first: int, count: int) -> None:
+        """Steps characters ``first .. first + count`` of the open step. ctypes releases the
+        GIL during the call, so Python threads may step disjoint ranges in parallel."""
+        check(lib.cg_crowd_step_range(self.handle, first, count), "cg_crowd_step_range")
+
+    def end_step(self) -> None:
+        """Ends the open step, stepping the characters no range covered."""
+        check(lib.cg_crowd_end_step(self.handle), "cg_crowd_end_step")
+
     def read_gaze(self, out=None) -> np.ndarray:
         """Where each character looks: a record array of ``GAZE_INFO_DTYPE`` (one per
         character, in character order), or ``out``'s first rows."""

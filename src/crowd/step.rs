@@ -1,0 +1,534 @@
+//! Stepping: one frame of attention and gaze IK for every character, whole or in ranges.
+//!
+//! A step is begun once ([`Crowd::begin_step`]: the plan's clock, the spatial grid, the
+//! frame's shared values), run over ranges of characters ([`StepRanges::run_range`], safe
+//! to call from several threads on disjoint ranges), and ended ([`Crowd::end_step`], which
+//! steps any character no range covered). Each character's step reads only the shared
+//! state and writes only its own entries of the per-character arrays, so the result does
+//! not depend on how the crowd is split or how many threads run it.
+
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use glam::Vec2;
+
+use super::states::{CharacterMut, CharacterSlices, CharacterView, RawCharacterSlices};
+use super::{Crowd, ExplicitTarget, Shared, TargetPriority, EXPLICIT_POINT_KEY};
+use crate::attention::candidates::{nearby_candidates, CandidateBatch};
+use crate::attention::AttentionModel;
+use crate::error::{ensure_finite, Error, Result};
+use crate::ik::temporal::BATCH_LANES;
+use crate::ik::{CharacterTransform, GazeChain, GazeInput, GazeMotion, GazeRequest, MotionStyle};
+use crate::scene::ids::NO_ENTITY;
+
+/// Characters per task when [`Crowd::step`] shares a step among its worker threads.
+const CHARACTERS_PER_TASK: usize = 128;
+
+/// What every character's step this frame shares, fixed by [`Crowd::begin_step`].
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Frame {
+    /// Seconds since the previous step.
+    dt: f32,
+    /// Steps taken before this one (staggers the level-of-detail updates).
+    step_index: u64,
+    /// The viewer's ground position, if there is a viewer.
+    viewer: Option<Vec2>,
+    /// `S_MAX`, the largest impact in the scene.
+    max_score: f32,
+    /// True when attention follows a plan.
+    planned: bool,
+}
+
+/// One flag per character: taken by a range of the open step. Claims are atomic so that
+/// ranges from several threads are checked for overlap without a lock.
+#[derive(Debug)]
+pub(super) struct ClaimSet {
+    words: Box<[AtomicU64]>,
+}
+
+impl ClaimSet {
+    /// Flags for up to `capacity` characters, all clear.
+    pub fn new(capacity: usize) -> ClaimSet {
+        ClaimSet {
+            words: (0..capacity.div_ceil(64))
+                .map(|_| AtomicU64::new(0))
+                .collect(),
+        }
+    }
+
+    /// Clears every flag.
+    fn clear(&mut self) {
+        for word in self.words.iter_mut() {
+            *word.get_mut() = 0;
+        }
+    }
+
+    /// The bits of word `word` that lie in `first .. end`.
+    fn mask(word: usize, first: usize, end: usize) -> u64 {
+        let low = first.saturating_sub(word * 64).min(64);
+        let high = end.saturating_sub(word * 64).min(64);
+        let below = |bits: usize| {
+            if bits == 64 {
+                u64::MAX
+            } else {
+                (1 << bits) - 1
+            }
+        };
+        below(high) & !below(low)
+    }
+
+    /// Takes characters `first .. end` if none of them is taken; on overlap takes nothing
+    /// and returns false. Two overlapping calls racing may both fail, never both succeed.
+    fn claim(&self, first: usize, end: usize) -> bool {
+        if first >= end {
+            return true;
+        }
+        let words = first / 64..=(end - 1) / 64;
+        for word in words.clone() {
+            let mask = Self::mask(word, first, end);
+            let before = self.words[word].fetch_or(mask, Ordering::AcqRel);
+            if before & mask != 0 {
+                // Undo: the words before were wholly ours; here only the bits we set.
+                self.words[word].fetch_and(!(mask & !before), Ordering::AcqRel);
+                for earlier in *words.start()..word {
+                    self.words[earlier]
+                        .fetch_and(!Self::mask(earlier, first, end), Ordering::AcqRel);
+                }
+                return false;
+            }
+        }
+        true
+    }
+
+    /// The first run of unclaimed characters at or after `from`, below `count`.
+    fn next_unclaimed(&mut self, from: usize, count: usize) -> Option<(usize, usize)> {
+        let taken = |index: usize, words: &mut [AtomicU64]| {
+            *words[index / 64].get_mut() & (1 << (index % 64)) != 0
+        };
+        let mut first = from;
+        while first < count && taken(first, &mut self.words) {
+            first += 1;
+        }
+        let mut end = first;
+        while end < count && !taken(end, &mut self.words) {
+            end += 1;
+        }
+        (first < count).then_some((first, end))
+    }
+}
+
+/// An open step's ranges: shared with every thread that runs a part of the step.
+#[derive(Debug, Clone, Copy)]
+pub struct StepRanges<'a> {
+    shared: &'a Shared,
+    states: RawCharacterSlices,
+    claims: &'a ClaimSet,
+    frame: Frame,
+}
+
+impl StepRanges<'_> {
+    /// Number of characters in the step.
+    pub fn character_count(&self) -> usize {
+        self.states.len()
+    }
+
+    /// Steps characters `first .. first + count` (dense order): attention, then gaze IK.
+    /// Safe to call from several threads at once on disjoint ranges. Fails without
+    /// stepping anything if the range is out of bounds ([`Error::InvalidArgument`]) or
+    /// overlaps one already taken in this step ([`Error::WrongState`]).
+    pub fn run_range(&self, first: usize, count: usize) -> Result<()> {
+        let characters = self.states.len();
+        let end = match first.checked_add(count) {
+            Some(end) if end <= characters => end,
+            _ => {
+                return Err(Error::InvalidArgument(format!(
+                    "characters {first} .. {first} + {count} are out of range: there are \
+                     {characters}"
+                )))
+            }
+        };
+        if !self.claims.claim(first, end) {
+            return Err(Error::WrongState(format!(
+                "characters {first} .. {end} overlap a range already stepped in this step"
+            )));
+        }
+        // SAFETY: the arrays live in the crowd, which the `&mut` borrow behind these ranges
+        // keeps alive, unmoved and otherwise untouched; the claim above succeeded, so no
+        // other range of this step covers these characters.
+        let slices = unsafe { self.states.range(first, count) };
+        self.shared
+            .step_characters(&self.frame, first, slices, true);
+        Ok(())
+    }
+}
+
+impl Crowd {
+    /// Steps every character `dt` seconds after the previous step: attention (by each
+    /// character's model and level of detail), then gaze IK. With `threads > 1` in the
+    /// config the characters are shared among the crowd's worker threads; the result is
+    /// the same.
+    pub fn step(&mut self, dt: f32) -> Result<()> {
+        self.begin_step(dt)?;
+        let count = self.character_count();
+        let result = match self.pool.take() {
+            Some(pool) => {
+                let ranges = self.step_ranges()?;
+                let tasks = count.div_ceil(CHARACTERS_PER_TASK);
+                let result = pool.run(tasks, &|task| {
+                    let first = task * CHARACTERS_PER_TASK;
+                    let count = CHARACTERS_PER_TASK.min(ranges.character_count() - first);
+                    // Tasks are disjoint and in range: this cannot fail.
+                    let _ = ranges.run_range(first, count);
+                });
+                self.pool = Some(pool);
+                result
+            }
+            None => self.step_range(0, count),
+        };
+        let ended = self.end_step();
+        result.and(ended)
+    }
+
+    /// Runs attention alone, without moving any gaze chain. For tools and benchmarks that
+    /// only need who looks at what.
+    pub fn step_attention(&mut self, dt: f32) -> Result<()> {
+        self.begin_step(dt)?;
+        let frame = self
+            .open_step
+            .take()
+            .ok_or_else(|| Error::Internal("begin_step left no step open".into()))?;
+        let slices = self.states.slices();
+        self.shared.step_characters(&frame, 0, slices, false);
+        Ok(())
+    }
+
+    /// Begins a step `dt` seconds after the previous one: advances the plan's clock,
+    /// rebuilds the spatial grid and fixes what every character shares this frame. Then
+    /// run ranges of characters with [`step_ranges`](Self::step_ranges) (from any number of
+    /// threads) or [`step_range`](Self::step_range), and finish with
+    /// [`end_step`](Self::end_step). Fails without changing anything on a negative or
+    /// non-finite `dt`, or if a step is already open ([`Error::WrongState`]).
+    pub fn begin_step(&mut self, dt: f32) -> Result<()> {
+        ensure_finite(dt, "dt")?;
+        if dt < 0.0 {
+            return Err(Error::InvalidArgument(format!("dt is {dt}, must be >= 0")));
+        }
+        if self.open_step.is_some() {
+            return Err(Error::WrongState(
+                "a step is already open: end it first".into(),
+            ));
+        }
+        let shared = &mut self.shared;
+        if let Some(plan) = &mut shared.plan {
+            plan.advance(dt, &mut shared.scene);
+        }
+        shared.neighbours.rebuild(&shared.scene);
+        let viewer = shared
+            .viewer
+            .and_then(|id| shared.scene.index_of(id))
+            .map(|index| shared.scene.ground_positions()[index]);
+        self.open_step = Some(Frame {
+            dt,
+            step_index: shared.steps,
+            viewer,
+            max_score: shared.scene.max_impact(),
+            planned: shared.plan.is_some(),
+        });
+        shared.steps += 1;
+        self.claims.clear();
+        Ok(())
+    }
+
+    /// True between [`begin_step`](Self::begin_step) and [`end_step`](Self::end_step).
+    pub fn is_step_open(&self) -> bool {
+        self.open_step.is_some()
+    }
+
+    /// The open step's ranges, to run from several threads (`StepRanges` is `Sync`):
+    /// each thread calls [`StepRanges::run_range`] on its own characters. Fails with
+    /// [`Error::WrongState`] when no step is open.
+    pub fn step_ranges(&mut self) -> Result<StepRanges<'_>> {
+        let frame = self
+            .open_step
+            .ok_or_else(|| Error::WrongState("no step is open: begin one first".into()))?;
+        Ok(StepRanges {
+            states: self.states.raw(),
+            shared: &self.shared,
+            claims: &self.claims,
+            frame,
+        })
+    }
+
+    /// Steps characters `first .. first + count` of the open step (see
+    /// [`StepRanges::run_range`]).
+    pub fn step_range(&mut self, first: usize, count: usize) -> Result<()> {
+        self.step_ranges()?.run_range(first, count)
+    }
+
+    /// Ends the open step, first stepping every character that no range covered, so that
+    /// a step always moves the whole crowd. Fails with [`Error::WrongState`] when no step
+    /// is open.
+    pub fn end_step(&mut self) -> Result<()> {
+        let frame = self
+            .open_step
+            .ok_or_else(|| Error::WrongState("no step is open: begin one first".into()))?;
+        let count = self.character_count();
+        let mut from = 0;
+        while let Some((first, end)) = self.claims.next_unclaimed(from, count) {
+            let slices = self.states.slices().range(first, end);
+            self.shared.step_characters(&frame, first, slices, true);
+            from = end;
+        }
+        self.open_step = None;
+        Ok(())
+    }
+}
+
+impl Shared {
+    /// One frame for the characters of `slices`, the first of which is character `first`:
+    /// attention for each, then (with `move_gaze`) gaze IK for all, four at a time.
+    fn step_characters(
+        &self,
+        frame: &Frame,
+        first: usize,
+        mut slices: CharacterSlices<'_>,
+        move_gaze: bool,
+    ) {
+        let mut batch = CandidateBatch::default();
+        for local in 0..slices.lod.len() {
+            self.attend(frame, first + local, slices.character(local), &mut batch);
+        }
+        if move_gaze {
+            self.move_gaze(frame.dt, first, slices);
+        }
+    }
+
+    /// Attention for one character by its model, every `period` steps (level of detail):
+    /// the crowd model's best entities, threshold and interest point (online; a plan
+    /// replaces them), or the saliency and baseline models' eye and head targets.
+    fn attend(
+        &self,
+        frame: &Frame,
+        character: usize,
+        state: CharacterMut<'_>,
+        batch: &mut CandidateBatch,
+    ) {
+        let config = &self.config;
+        let period = match state.lod.period {
+            0 => {
+                let entity = self.scene.character_entities()[character] as usize;
+                let far = config.lod_distance > 0.0
+                    && frame.viewer.is_some_and(|viewer| {
+                        viewer.distance(self.scene.ground_positions()[entity]) > config.lod_distance
+                    });
+                if far {
+                    config.far_attention_period
+                } else {
+                    config.attention_period
+                }
+            }
+            period => period,
+        };
+        state.lod.pending += frame.dt;
+        if (frame.step_index + u64::from(state.lod.stagger)) % u64::from(period) != 0 {
+            return;
+        }
+        let dt = std::mem::take(&mut state.lod.pending);
+        match self.params[character].model {
+            AttentionModel::Crowd if frame.planned => {}
+            AttentionModel::Crowd => {
+                let tracker = &*state.tracker;
+                let ids = self.scene.ids();
+                let (best, second) = nearby_candidates(
+                    &self.scene,
+                    &self.neighbours,
+                    &self.scorer,
+                    character,
+                    &self.params[character].weights,
+                    batch,
+                    |other| tracker.is_cooling(ids[other]),
+                );
+                state
+                    .tracker
+                    .update(best, second, frame.max_score, dt, &config.interest);
+            }
+            AttentionModel::Saliency => self.attend_saliency(character, dt, state),
+            AttentionModel::Baseline => self.attend_baseline(character, dt, state),
+        }
+    }
+
+    /// Gaze IK for the characters of `slices` (the first is character `first`), four at a
+    /// time.
+    fn move_gaze(&self, dt: f32, first: usize, slices: CharacterSlices<'_>) {
+        const LANES: usize = BATCH_LANES;
+        let CharacterSlices {
+            trackers,
+            looks,
+            baseline,
+            motions,
+            gaze_randoms,
+            ..
+        } = slices;
+        let count = motions.len();
+        let mut start = 0;
+        while start < count {
+            let lanes = (count - start).min(LANES);
+            let local = |lane: usize| (start + lane).min(count - 1);
+            let requests: [Option<GazeRequest>; LANES] = std::array::from_fn(|lane| {
+                let local = local(lane);
+                let view = CharacterView {
+                    tracker: &trackers[local],
+                    look: &looks[local],
+                    baseline: &baseline[local],
+                    motion: &motions[local],
+                };
+                self.gaze_request(first + local, view)
+            });
+            let transforms: [CharacterTransform; LANES] =
+                std::array::from_fn(|lane| self.character_transform(first + local(lane)));
+            let chains: [&GazeChain; LANES] = std::array::from_fn(|lane| {
+                &self.chains[self.chain_of[first + local(lane)] as usize]
+            });
+            let inputs: [GazeInput<'_>; LANES] = std::array::from_fn(|lane| GazeInput {
+                character: transforms[lane],
+                base: &self.bases[first + local(lane)][..chains[lane].joint_count()],
+                request: requests[lane],
+                dt,
+            });
+            let motions = &mut motions[start..start + lanes];
+            let randoms = &mut gaze_randoms[start..start + lanes];
+            // Inputs were checked when they came in: a failure here would be a bug, and it
+            // leaves only that character's motion unchanged.
+            if let (
+                [motion_0, motion_1, motion_2, motion_3],
+                [random_0, random_1, random_2, random_3],
+            ) = (&mut *motions, &mut *randoms)
+            {
+                let _ = GazeMotion::update_batch(
+                    [motion_0, motion_1, motion_2, motion_3],
+                    [chains[0], chains[1], chains[2], chains[3]],
+                    &self.config.gaze,
+                    [&inputs[0], &inputs[1], &inputs[2], &inputs[3]],
+                    [random_0, random_1, random_2, random_3],
+                );
+            } else {
+                for (lane, (motion, random)) in motions.iter_mut().zip(randoms).enumerate() {
+                    let _ = motion.update(chains[lane], &self.config.gaze, &inputs[lane], random);
+                }
+            }
+            start += lanes;
+        }
+    }
+
+    /// The automatic interest point of a character (dense index) and its `S_max`.
+    pub(super) fn automatic_target(
+        &self,
+        character: usize,
+        tracker: &crate::attention::interest::InterestTracker,
+    ) -> (u32, f32) {
+        match &self.plan {
+            Some(plan) => {
+                let (target, s_max, _) = plan.current(character);
+                (target, s_max)
+            }
+            None => (tracker.interest(), tracker.s_max()),
+        }
+    }
+
+    /// What a character (dense index) should look at this frame: its explicit target if
+    /// one applies, else what its attention model chose, as a gaze request.
+    pub(super) fn gaze_request(
+        &self,
+        character: usize,
+        view: CharacterView<'_>,
+    ) -> Option<GazeRequest> {
+        let model = self.params[character].model;
+        let (automatic, s_max) = match model {
+            AttentionModel::Crowd => self.automatic_target(character, view.tracker),
+            _ => (NO_ENTITY, 0.0),
+        };
+        let automatic = self
+            .scene
+            .index_of(automatic)
+            .map(|index| (automatic, index));
+        let model_request = match model {
+            AttentionModel::Crowd => None,
+            _ => self.model_request(character, view),
+        };
+        let idle = automatic.is_none() && model_request.is_none();
+        let explicit = match self.explicit[character] {
+            Some((target, TargetPriority::Override)) => Some(target),
+            Some((target, TargetPriority::WhenIdle)) if idle => Some(target),
+            _ => None,
+        };
+        let (key, point, interest_ratio) = match (explicit, automatic) {
+            (Some(ExplicitTarget::Point(point)), _) => (EXPLICIT_POINT_KEY, point, 1.0),
+            (Some(ExplicitTarget::Entity(id)), _) => {
+                let index = self.scene.index_of(id)?;
+                (u64::from(id), self.scene.look_at_point(index), 1.0)
+            }
+            (None, Some((id, index))) => {
+                let max_score = self.scene.max_impact();
+                let ratio = if max_score > 0.0 {
+                    s_max / max_score
+                } else {
+                    1.0
+                };
+                (
+                    u64::from(id),
+                    self.scene.look_at_point(index),
+                    ratio.clamp(0.05, 1.0),
+                )
+            }
+            (None, None) => return model_request,
+        };
+        Some(GazeRequest {
+            target_key: key,
+            head_target: point,
+            eye_target: point,
+            interest_ratio,
+            style: MotionStyle::Eased,
+        })
+    }
+
+    /// A character's (dense index) world transform.
+    pub(super) fn character_transform(&self, character: usize) -> CharacterTransform {
+        let entity = self.scene.character_entities()[character] as usize;
+        CharacterTransform::from_heading(
+            self.scene.positions()[entity],
+            self.config.world.up,
+            self.scene.headings()[entity],
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn claims_detect_overlap_and_undo_a_failed_claim() {
+        let mut claims = ClaimSet::new(200);
+        assert!(claims.claim(10, 70));
+        assert!(claims.claim(70, 130));
+        assert!(!claims.claim(0, 11), "overlaps 10");
+        assert!(!claims.claim(125, 190), "overlaps 125..130");
+        // The failed claims took nothing: 0..10 and 130..200 are still free.
+        assert_eq!(claims.next_unclaimed(0, 200), Some((0, 10)));
+        assert_eq!(claims.next_unclaimed(10, 200), Some((130, 200)));
+        assert!(claims.claim(130, 200));
+        assert!(claims.claim(0, 10));
+        assert_eq!(claims.next_unclaimed(0, 200), None);
+        assert!(claims.claim(5, 5), "an empty range takes nothing");
+        claims.clear();
+        assert_eq!(claims.next_unclaimed(0, 200), Some((0, 200)));
+    }
+
+    #[test]
+    fn masks_cover_exactly_the_range() {
+        assert_eq!(ClaimSet::mask(0, 0, 64), u64::MAX);
+        assert_eq!(ClaimSet::mask(0, 1, 3), 0b110);
+        assert_eq!(ClaimSet::mask(1, 60, 70), 0b11_1111);
+        assert_eq!(ClaimSet::mask(0, 60, 70), 0xF << 60);
+        assert_eq!(ClaimSet::mask(2, 0, 64), 0);
+    }
+}
