@@ -1,11 +1,11 @@
-//! Attention cost per character-frame at a fixed pedestrian density (0.25 people/m², random
-//! walkers in a square plaza, d_m = 10 m): attention alone and the whole step (attention
-//! and gaze IK) at 1 000, 10 000 and 100 000 characters, the naive all-pairs scoring at
-//! 1 000 and 10 000, and attention every 4th frame (level of detail) at 10 000, in the same
-//! run.
+//! Cost per character-frame of a crowd step at a fixed pedestrian density (0.25 people/m²,
+//! random walkers in a square plaza, d_m = 10 m), at 1 000, 10 000 and 100 000 characters
+//! on 1 and 2 threads (`CrowdConfig::threads`): attention alone, gaze IK alone (10-joint
+//! human chain), and the whole step; in the same run the naive all-pairs scoring at 1 000
+//! and 10 000 (the baseline), and attention every 4th frame (level of detail) at 10 000.
 //!
-//! Run: `cargo bench --bench attention`. Criterion reports time per character-frame
-//! (throughput in elements = characters).
+//! Run: `cargo bench --bench attention`, or `scripts/bench` for the README's table.
+//! Criterion reports time per crowd frame; throughput in elements = characters.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use crowdgaze::scenario::Scenario;
@@ -15,16 +15,14 @@ use std::hint::black_box;
 const DENSITY: f32 = 0.25;
 const DT: f32 = 1.0 / 30.0;
 
-fn plaza(characters: usize) -> Crowd {
-    plaza_with(characters, 1)
-}
-
-/// A plaza whose characters update attention every `period` steps (level of detail).
-fn plaza_with(characters: usize, period: u32) -> Crowd {
+/// A plaza whose characters update attention every `period` steps (level of detail),
+/// stepped on `threads` threads.
+fn plaza_with(characters: usize, period: u32, threads: u32) -> Crowd {
     let mut crowd = Crowd::new(CrowdConfig {
         max_characters: characters as u32,
         max_objects: 0,
         attention_period: period,
+        threads,
         ..CrowdConfig::default()
     })
     .expect("crowd");
@@ -45,34 +43,54 @@ fn attention(c: &mut Criterion) {
     let mut group = c.benchmark_group("attention");
     group.sample_size(20);
     for characters in [1_000usize, 10_000, 100_000] {
-        let mut crowd = plaza(characters);
         group.throughput(Throughput::Elements(characters as u64));
-        group.bench_function(BenchmarkId::new("grid", characters), |b| {
-            b.iter(|| crowd.step_attention(black_box(DT)).expect("attention"))
-        });
-        group.bench_function(BenchmarkId::new("grid_and_gaze_ik", characters), |b| {
-            b.iter(|| crowd.step(black_box(DT)).expect("step"))
-        });
-        if characters <= 10_000 {
-            group.sample_size(10);
-            group.bench_function(BenchmarkId::new("all_pairs", characters), |b| {
-                b.iter(|| {
-                    for character in 0..crowd.character_count() {
-                        black_box(crowd.best_all_pairs_dense(character));
-                    }
-                })
+        for threads in [1, 2] {
+            let mut crowd = plaza_with(characters, 1, threads);
+            let name = |part: &str| BenchmarkId::new(format!("{part}_{threads}t"), characters);
+            group.bench_function(name("attention"), |b| {
+                b.iter(|| crowd.step_attention(black_box(DT)).expect("attention"))
             });
-            group.sample_size(20);
+            group.bench_function(name("gaze_ik"), |b| {
+                b.iter(|| crowd.step_gaze(black_box(DT)).expect("gaze"))
+            });
+            group.bench_function(name("step"), |b| {
+                b.iter(|| crowd.step(black_box(DT)).expect("step"))
+            });
+            if characters <= 10_000 && threads == 1 {
+                group.sample_size(10);
+                group.bench_function(name("all_pairs"), |b| {
+                    b.iter(|| {
+                        for character in 0..crowd.character_count() {
+                            black_box(crowd.best_all_pairs_dense(character));
+                        }
+                    })
+                });
+                group.sample_size(20);
+            }
         }
     }
     // Level of detail: attention every 4th step (gaze IK every step), at 10 000.
-    let mut crowd = plaza_with(10_000, 4);
+    let mut crowd = plaza_with(10_000, 4, 1);
     group.throughput(Throughput::Elements(10_000));
-    group.bench_function(BenchmarkId::new("grid_lod4", 10_000), |b| {
+    group.bench_function(BenchmarkId::new("attention_lod4_1t", 10_000), |b| {
         b.iter(|| crowd.step_attention(black_box(DT)).expect("attention"))
     });
     group.finish();
 }
 
-criterion_group!(benches, attention);
+/// Writes the bytes of state per character beside criterion's results, for the table.
+fn state_bytes(_: &mut Criterion) {
+    let directory = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .parent()
+        .expect("target directory")
+        .join("criterion");
+    std::fs::create_dir_all(&directory).expect("criterion directory");
+    std::fs::write(
+        directory.join("state_bytes_per_character.txt"),
+        Crowd::state_bytes_per_character().to_string(),
+    )
+    .expect("write the state size");
+}
+
+criterion_group!(benches, attention, state_bytes);
 criterion_main!(benches);

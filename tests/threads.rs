@@ -115,6 +115,21 @@ fn one_two_and_four_threads_give_identical_outputs() {
         let threaded = run(threads, |crowd, _| crowd.step(DT).unwrap());
         assert_same(&single, &threaded, &format!("{threads} threads"));
     }
+    // The two halves of a step, apart (the benchmarks' forms), on 1 and 3 threads.
+    let halves = |crowd: &mut Crowd, _: usize| {
+        crowd.step_attention(DT).unwrap();
+        crowd.step_gaze(DT).unwrap();
+    };
+    let single_halves = run(1, halves);
+    assert!(
+        single_halves != single,
+        "the halves advance twice per frame"
+    );
+    assert_same(
+        &single_halves,
+        &run(3, halves),
+        "attention and gaze apart, 3 threads",
+    );
 }
 
 #[test]

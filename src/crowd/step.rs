@@ -36,6 +36,19 @@ pub(super) struct Frame {
     max_score: f32,
     /// True when attention follows a plan.
     planned: bool,
+    /// Which parts of a character's step run.
+    parts: StepParts,
+}
+
+/// Which parts of each character's step a step runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum StepParts {
+    /// Attention, then gaze IK: a whole step.
+    Both,
+    /// Attention alone ([`Crowd::step_attention`]).
+    Attention,
+    /// Gaze IK alone ([`Crowd::step_gaze`]).
+    Gaze,
 }
 
 /// One flag per character: taken by a range of the open step. Claims are atomic so that
@@ -155,8 +168,7 @@ impl StepRanges<'_> {
         // keeps alive, unmoved and otherwise untouched; the claim above succeeded, so no
         // other range of this step covers these characters.
         let slices = unsafe { self.states.range(first, count) };
-        self.shared
-            .step_characters(&self.frame, first, slices, true);
+        self.shared.step_characters(&self.frame, first, slices);
         Ok(())
     }
 }
@@ -167,7 +179,28 @@ impl Crowd {
     /// config the characters are shared among the crowd's worker threads; the result is
     /// the same.
     pub fn step(&mut self, dt: f32) -> Result<()> {
+        self.step_parts(dt, StepParts::Both)
+    }
+
+    /// Runs attention alone, without moving any gaze chain. For tools and benchmarks that
+    /// only need who looks at what.
+    pub fn step_attention(&mut self, dt: f32) -> Result<()> {
+        self.step_parts(dt, StepParts::Attention)
+    }
+
+    /// Runs gaze IK alone: every chain moves towards what its character attends to now,
+    /// and attention keeps its state. For benchmarks and tools that time or drive the two
+    /// halves of a step apart.
+    pub fn step_gaze(&mut self, dt: f32) -> Result<()> {
+        self.step_parts(dt, StepParts::Gaze)
+    }
+
+    /// A step of `parts`, on the worker threads when there are some.
+    fn step_parts(&mut self, dt: f32, parts: StepParts) -> Result<()> {
         self.begin_step(dt)?;
+        if let Some(frame) = &mut self.open_step {
+            frame.parts = parts;
+        }
         let count = self.character_count();
         let result = match self.pool.take() {
             Some(pool) => {
@@ -186,19 +219,6 @@ impl Crowd {
         };
         let ended = self.end_step();
         result.and(ended)
-    }
-
-    /// Runs attention alone, without moving any gaze chain. For tools and benchmarks that
-    /// only need who looks at what.
-    pub fn step_attention(&mut self, dt: f32) -> Result<()> {
-        self.begin_step(dt)?;
-        let frame = self
-            .open_step
-            .take()
-            .ok_or_else(|| Error::Internal("begin_step left no step open".into()))?;
-        let slices = self.states.slices();
-        self.shared.step_characters(&frame, 0, slices, false);
-        Ok(())
     }
 
     /// Begins a step `dt` seconds after the previous one: advances the plan's clock,
@@ -232,6 +252,7 @@ impl Crowd {
             viewer,
             max_score: shared.scene.max_impact(),
             planned: shared.plan.is_some(),
+            parts: StepParts::Both,
         });
         shared.steps += 1;
         self.claims.clear();
@@ -275,7 +296,7 @@ impl Crowd {
         let mut from = 0;
         while let Some((first, end)) = self.claims.next_unclaimed(from, count) {
             let slices = self.states.slices().range(first, end);
-            self.shared.step_characters(&frame, first, slices, true);
+            self.shared.step_characters(&frame, first, slices);
             from = end;
         }
         self.open_step = None;
@@ -285,19 +306,16 @@ impl Crowd {
 
 impl Shared {
     /// One frame for the characters of `slices`, the first of which is character `first`:
-    /// attention for each, then (with `move_gaze`) gaze IK for all, four at a time.
-    fn step_characters(
-        &self,
-        frame: &Frame,
-        first: usize,
-        mut slices: CharacterSlices<'_>,
-        move_gaze: bool,
-    ) {
-        let mut batch = CandidateBatch::default();
-        for local in 0..slices.lod.len() {
-            self.attend(frame, first + local, slices.character(local), &mut batch);
+    /// attention for each, then gaze IK for all, four at a time (or one of the two, as
+    /// `frame.parts` says).
+    fn step_characters(&self, frame: &Frame, first: usize, mut slices: CharacterSlices<'_>) {
+        if frame.parts != StepParts::Gaze {
+            let mut batch = CandidateBatch::default();
+            for local in 0..slices.lod.len() {
+                self.attend(frame, first + local, slices.character(local), &mut batch);
+            }
         }
-        if move_gaze {
+        if frame.parts != StepParts::Attention {
             self.move_gaze(frame.dt, first, slices);
         }
     }
