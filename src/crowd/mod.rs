@@ -356,6 +356,9 @@ pub struct Crowd {
     states: CharacterStates,
     /// Which characters a ranged step has taken.
     claims: ClaimSet,
+    /// Dense character indices in spatial-grid order, refreshed by each step: attention
+    /// visits characters in this order so that neighbours' data stays in cache.
+    grid_order: Vec<u32>,
     /// The step begun by [`begin_step`](Self::begin_step) and not yet ended.
     open_step: Option<Frame>,
     /// Worker threads of [`step`](Self::step), when `threads > 1`.
@@ -425,6 +428,7 @@ impl Crowd {
             },
             states: CharacterStates::with_capacity(characters),
             claims: ClaimSet::new(characters),
+            grid_order: Vec::with_capacity(characters),
             open_step: None,
             pool: (workers > 0)
                 .then(|| WorkerPool::new(workers))

@@ -134,6 +134,8 @@ impl ClaimSet {
 pub struct StepRanges<'a> {
     shared: &'a Shared,
     states: RawCharacterSlices,
+    /// The characters in spatial-grid order (a permutation of the dense indices).
+    grid_order: &'a [u32],
     claims: &'a ClaimSet,
     frame: Frame,
 }
@@ -171,6 +173,34 @@ impl StepRanges<'_> {
         self.shared.step_characters(&self.frame, first, slices);
         Ok(())
     }
+
+    /// Attention for the characters at positions `first .. first + count` of the grid
+    /// order (neighbours in space are neighbours in this loop, so their data is in cache).
+    ///
+    /// # Safety
+    /// No other call may touch these characters meanwhile: concurrent calls must take
+    /// disjoint position ranges, and no [`run_range`](Self::run_range) may run.
+    unsafe fn attend_in_grid_order(&self, first: usize, count: usize) {
+        let mut batch = CandidateBatch::default();
+        for &character in &self.grid_order[first..first + count] {
+            let character = character as usize;
+            // SAFETY: the grid order is a permutation, so disjoint position ranges hold
+            // disjoint characters; exclusivity otherwise is the caller's contract.
+            let mut slices = unsafe { self.states.range(character, 1) };
+            self.shared
+                .attend(&self.frame, character, slices.character(0), &mut batch);
+        }
+    }
+
+    /// Gaze IK for characters `first .. first + count` (dense order).
+    ///
+    /// # Safety
+    /// As [`attend_in_grid_order`](Self::attend_in_grid_order), for dense ranges.
+    unsafe fn move_gaze_range(&self, first: usize, count: usize) {
+        // SAFETY: the caller's contract.
+        let slices = unsafe { self.states.range(first, count) };
+        self.shared.move_gaze(self.frame.dt, first, slices);
+    }
 }
 
 impl Crowd {
@@ -195,30 +225,46 @@ impl Crowd {
         self.step_parts(dt, StepParts::Gaze)
     }
 
-    /// A step of `parts`, on the worker threads when there are some.
+    /// A step of `parts`, on the worker threads when there are some: attention for every
+    /// character in grid order, then gaze IK for every character, each split into tasks.
     fn step_parts(&mut self, dt: f32, parts: StepParts) -> Result<()> {
         self.begin_step(dt)?;
-        if let Some(frame) = &mut self.open_step {
-            frame.parts = parts;
-        }
-        let count = self.character_count();
-        let result = match self.pool.take() {
-            Some(pool) => {
-                let ranges = self.step_ranges()?;
-                let tasks = count.div_ceil(CHARACTERS_PER_TASK);
-                let result = pool.run(tasks, &|task| {
-                    let first = task * CHARACTERS_PER_TASK;
-                    let count = CHARACTERS_PER_TASK.min(ranges.character_count() - first);
-                    // Tasks are disjoint and in range: this cannot fail.
-                    let _ = ranges.run_range(first, count);
-                });
-                self.pool = Some(pool);
-                result
-            }
-            None => self.step_range(0, count),
+        let pool = self.pool.take();
+        let ranges = self.step_ranges()?;
+        let count = ranges.character_count();
+        let tasks = count.div_ceil(CHARACTERS_PER_TASK);
+        let task_range = |task: usize| {
+            let first = task * CHARACTERS_PER_TASK;
+            (first, CHARACTERS_PER_TASK.min(count - first))
         };
-        let ended = self.end_step();
-        result.and(ended)
+        let run = |task: &(dyn Fn(usize) + Sync)| match &pool {
+            Some(pool) => pool.run(tasks, task),
+            None => {
+                (0..tasks).for_each(task);
+                Ok(())
+            }
+        };
+        let mut result = Ok(());
+        if parts != StepParts::Gaze {
+            result = run(&|task| {
+                let (first, count) = task_range(task);
+                // SAFETY: tasks cover disjoint position ranges, and nothing else runs on
+                // this step's characters until `run` returns.
+                unsafe { ranges.attend_in_grid_order(first, count) }
+            });
+        }
+        if parts != StepParts::Attention {
+            let moved = run(&|task| {
+                let (first, count) = task_range(task);
+                // SAFETY: as above, for disjoint dense ranges.
+                unsafe { ranges.move_gaze_range(first, count) }
+            });
+            result = result.and(moved);
+        }
+        // Every character was stepped: close the step without end_step's sweep.
+        self.pool = pool;
+        self.open_step = None;
+        result
     }
 
     /// Begins a step `dt` seconds after the previous one: advances the plan's clock,
@@ -256,6 +302,17 @@ impl Crowd {
         });
         shared.steps += 1;
         self.claims.clear();
+        self.grid_order.clear();
+        let scene = &shared.scene;
+        self.grid_order.extend(
+            shared
+                .neighbours
+                .grid()
+                .entries()
+                .iter()
+                .filter_map(|&entity| scene.character_at(entity as usize))
+                .map(|character| character as u32),
+        );
         Ok(())
     }
 
@@ -273,6 +330,7 @@ impl Crowd {
             .ok_or_else(|| Error::WrongState("no step is open: begin one first".into()))?;
         Ok(StepRanges {
             states: self.states.raw(),
+            grid_order: &self.grid_order,
             shared: &self.shared,
             claims: &self.claims,
             frame,
