@@ -110,7 +110,15 @@ void crowd_gaze() {
         states[0].position.z = 6.0f - 1.3f * static_cast<float>(t);
         states[1].position.z = -6.0f + 1.3f * static_cast<float>(t);
         crowd.push_frame(t, states);
-        crowd.step(dt);
+        if (frame % 2 == 0) {
+            crowd.step(dt);
+        } else {
+            // The ranged form, as a job system would call it (here on one thread).
+            crowd.begin_step(dt);
+            crowd.step_range(1, 2);
+            CHECK(crowd.try_step_range(2, 1) == CG_STATUS_WRONG_STATE);  // already stepped
+            crowd.end_step();  // steps character 0, which no range covered
+        }
         CHECK(crowd.read_gaze(gaze) == 3);
         crowd.read_joints(0, 3, joints);
     }

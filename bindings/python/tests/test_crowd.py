@@ -169,6 +169,35 @@ def test_same_seed_same_bits():
     assert crowd.read_gaze().tobytes() != results[0][1].tobytes()
 
 
+def test_ranged_steps_from_python_threads_match_one_call_steps():
+    import threading
+
+    one_call, ids, _ = street(seed=5)
+    run_street(one_call, ids, 3)
+    pooled = cg.Crowd(max_characters=4, max_objects=1, seed=5, threads=2)
+    assert [pooled.add_character(p, h) for p, h in zip(START, HEADINGS)] == ids
+    pooled.add_object((0, 0, 0), look_at_height=3.0)
+    run_street(pooled, ids, 3)
+    ranged, ids, _ = street(seed=5)
+    states = cg.entity_states(ids, START)
+    for frame in range(1, 3 * FPS + 1):
+        t = frame / FPS
+        states["position"] = START + VELOCITY * t
+        ranged.push_frame(t, states)
+        ranged.begin_step(1 / FPS)
+        workers = [threading.Thread(target=ranged.step_range, args=(i, 1)) for i in (0, 2, 3)]
+        for worker in workers:
+            worker.start()
+        for worker in workers:
+            worker.join()
+        ranged.end_step()  # steps character 1, which no range covered
+    for crowd in (pooled, ranged):
+        assert crowd.read_joints().tobytes() == one_call.read_joints().tobytes()
+        assert crowd.read_gaze().tobytes() == one_call.read_gaze().tobytes()
+    with pytest.raises(cg.Error):
+        ranged.step_range(0, 1)  # no step open
+
+
 def test_numpy_arrays_pass_without_copies():
     crowd, ids, _ = street()
     states = cg.entity_states(ids, START)
