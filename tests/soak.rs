@@ -5,7 +5,8 @@
 //!
 //! The street runs 10^6 character-frames with `CG_SOAK=full` (what `.ci/run` sets) and a
 //! quarter of that by default; the real ETH trajectories loop 10 times at 30 fps (3 by
-//! default). Resident memory is the whole process's, so the tests here run one at a time.
+//! default), and the share of attentive character-frames must not drift from the first loop
+//! to the last. Resident memory is the whole process's, so the tests here run one at a time.
 
 mod support;
 
@@ -54,6 +55,8 @@ struct Observer {
     frames: u64,
     character_frames: u64,
     resident_after_warm_up: Option<u64>,
+    /// Character-frames in which the character attended to something.
+    attending: u64,
 }
 
 impl Observer {
@@ -66,6 +69,7 @@ impl Observer {
             frames: 0,
             character_frames: 0,
             resident_after_warm_up: None,
+            attending: 0,
         }
     }
 
@@ -108,6 +112,7 @@ impl Observer {
         assert_eq!(total, joints_each * count, "every chain is the human one");
         for index in 0..count {
             let gaze = self.gaze[index];
+            self.attending += u64::from(gaze.attending);
             let floats = [
                 gaze.target_position.x,
                 gaze.target_position.y,
@@ -312,8 +317,9 @@ fn tracks(rows: &[(u32, u32, f32, f32)]) -> Vec<Track> {
 /// The ETH people looped `loops` times at 30 fps, Z up and X forward (the file's ground
 /// plane): each loop replays the file's span and one more second, on a clock that keeps
 /// going. A person enters the crowd when their track starts and leaves when it ends, so
-/// every loop adds and removes everyone again (new ids, reused slots).
-fn eth_run(tracks: &[Track], loops: u64) -> Outcome {
+/// every loop adds and removes everyone again (new ids, reused slots). Also returns the
+/// attentive share of each loop's character-frames.
+fn eth_run(tracks: &[Track], loops: u64) -> (Outcome, Vec<f64>) {
     const FPS: f64 = 30.0;
     let started = Instant::now();
     let mut config: cg_crowd_config = init(cg_crowd_config_init);
@@ -332,6 +338,8 @@ fn eth_run(tracks: &[Track], loops: u64) -> Outcome {
     let mut cursors = vec![0usize; tracks.len()];
     let mut states = Vec::with_capacity(tracks.len());
     let mut observer = Observer::new(tracks.len());
+    let mut attentive = Vec::new();
+    let mut loop_start = (0, 0);
     for frame in 0..loops * frames_per_loop {
         let local = first + (frame % frames_per_loop) as f64 / FPS;
         states.clear();
@@ -361,8 +369,16 @@ fn eth_run(tracks: &[Track], loops: u64) -> Outcome {
         if frame + 1 == frames_per_loop {
             observer.warmed_up();
         }
+        if (frame + 1) % frames_per_loop == 0 {
+            let (attending, character_frames) = loop_start;
+            attentive.push(
+                (observer.attending - attending) as f64
+                    / (observer.character_frames - character_frames) as f64,
+            );
+            loop_start = (observer.attending, observer.character_frames);
+        }
     }
-    observer.finish(started)
+    (observer.finish(started), attentive)
 }
 
 #[test]
@@ -374,10 +390,15 @@ fn eth_loop_soak() {
     let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
     let tracks = tracks(&support::read_trajectories(support::ETH_SEQ_ETH));
     let loops = if full() { 10 } else { 3 };
-    let runs = [eth_run(&tracks, loops), eth_run(&tracks, loops)];
+    let (first, attentive) = eth_run(&tracks, loops);
+    let (second, _) = eth_run(&tracks, loops);
     println!(
-        "ETH seq_eth: {} people, {loops} loops (resident memory measured after the first)",
+        "ETH seq_eth: {} people, {loops} loops (resident memory measured after the first), \
+         attentive share per loop {attentive:.3?}",
         tracks.len()
     );
-    judge("ETH", runs);
+    judge("ETH", [first, second]);
+    // The same people again and again: the behaviour must not drift over the hours.
+    let drift = attentive[attentive.len() - 1] - attentive[0];
+    assert!(drift.abs() < 0.05, "attentive share drifted by {drift:.3}");
 }
