@@ -3,6 +3,8 @@
 //! points last between 1/3 s and `d_l`, seeds decide everything, and the real ETH
 //! trajectories run through.
 
+mod support;
+
 use crowdgaze::attention::score::SubscoreWeights;
 use crowdgaze::attention::CharacterParams;
 use crowdgaze::scenario::Scenario;
@@ -274,34 +276,14 @@ fn bad_input_changes_nothing() {
     assert!(matches!(crowd.remove_entity(a), Err(Error::NotFound(_))));
 }
 
-/// Reads `frame,id,x,y` rows.
-fn read_trajectories(path: &str) -> Vec<(u32, u32, f32, f32)> {
-    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{path}: {e}"));
-    text.lines()
-        .skip(1)
-        .map(|line| {
-            let fields: Vec<&str> = line.split(',').collect();
-            (
-                fields[0].parse().unwrap(),
-                fields[1].parse().unwrap(),
-                fields[2].parse().unwrap(),
-                fields[3].parse().unwrap(),
-            )
-        })
-        .collect()
-}
-
 #[test]
 fn real_eth_trajectories_run_through() {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../shared/data/pedestrians/eth_seq_eth.csv"
-    );
+    let path = support::ETH_SEQ_ETH;
     if !std::path::Path::new(path).exists() {
         eprintln!("skipping: {path} not found");
         return;
     }
-    let rows = read_trajectories(path);
+    let rows = support::read_trajectories(path);
     // ETH seq_eth: 2.5 Hz samples, one frame number is 1/15 s; the ground plane is (x, y).
     let world =
         crowdgaze::World::new(crowdgaze::Axis::PositiveZ, crowdgaze::Axis::PositiveX, 1.0).unwrap();

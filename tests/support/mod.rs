@@ -1,0 +1,184 @@
+//! Helpers shared by integration tests (each test binary uses its own part): a crowd driven
+//! through the C API — the street of `crowdgaze::scenario` pushed with `cg_crowd_push_frame`
+//! — and the real ETH trajectories of the development workspace.
+#![allow(dead_code)]
+
+use crowdgaze::ffi::attention::*;
+use crowdgaze::ffi::crowd::*;
+use crowdgaze::ffi::last_error::last_error_message;
+use crowdgaze::ffi::status::cg_status;
+use crowdgaze::scenario::{Activity, Scenario};
+use crowdgaze::World;
+use glam::{Vec2, Vec3};
+use std::mem::MaybeUninit;
+use std::ptr::null_mut;
+
+/// `shared/data/pedestrians/eth_seq_eth.csv` beside the repository (it may be absent).
+pub const ETH_SEQ_ETH: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../shared/data/pedestrians/eth_seq_eth.csv"
+);
+
+/// Reads `frame,id,x,y` rows.
+pub fn read_trajectories(path: &str) -> Vec<(u32, u32, f32, f32)> {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{path}: {e}"));
+    text.lines()
+        .skip(1)
+        .map(|line| {
+            let fields: Vec<&str> = line.split(',').collect();
+            (
+                fields[0].parse().unwrap(),
+                fields[1].parse().unwrap(),
+                fields[2].parse().unwrap(),
+                fields[3].parse().unwrap(),
+            )
+        })
+        .collect()
+}
+
+/// Fails with the library's message unless `status` is `CG_STATUS_OK`.
+pub fn check(status: cg_status, what: &str) {
+    assert_eq!(status, cg_status::Ok, "{what}: {}", last_error_message());
+}
+
+/// A struct filled by its `_init` function.
+pub fn init<T>(f: extern "C" fn(*mut T) -> cg_status) -> T {
+    let mut value = MaybeUninit::<T>::uninit();
+    check(f(value.as_mut_ptr()), "init");
+    // SAFETY: initialised by the _init function just above.
+    unsafe { value.assume_init() }
+}
+
+/// A crowd created through the C API, destroyed on drop.
+pub struct CrowdHandle(*mut cg_crowd);
+
+impl CrowdHandle {
+    pub fn new(config: &cg_crowd_config) -> CrowdHandle {
+        let mut handle = null_mut();
+        check(cg_crowd_create(config, &mut handle), "cg_crowd_create");
+        CrowdHandle(handle)
+    }
+
+    pub fn as_mut(&self) -> *mut cg_crowd {
+        self.0
+    }
+
+    pub fn as_const(&self) -> *const cg_crowd {
+        self.0
+    }
+
+    /// A character of the default chain and model at `position` (the crowd's units).
+    pub fn add_character(&self, position: Vec3, heading: f32) -> u32 {
+        let mut desc: cg_character_desc = init(cg_character_desc_init);
+        desc.position = position.into();
+        desc.heading = heading;
+        let mut id = 0;
+        check(
+            cg_crowd_add_character(self.0, &desc, &mut id),
+            "cg_crowd_add_character",
+        );
+        id
+    }
+
+    pub fn remove(&self, id: u32) {
+        check(cg_crowd_remove_entity(self.0, id), "cg_crowd_remove_entity");
+    }
+
+    /// Pushes `states` at time `t`, then steps the crowd by `dt`.
+    pub fn push_and_step(&self, t: f64, dt: f32, states: &[cg_entity_state]) {
+        check(
+            cg_crowd_push_frame(self.0, t, states.as_ptr(), states.len()),
+            "cg_crowd_push_frame",
+        );
+        check(cg_crowd_step(self.0, dt), "cg_crowd_step");
+    }
+}
+
+impl Drop for CrowdHandle {
+    fn drop(&mut self) {
+        cg_crowd_destroy(self.0);
+    }
+}
+
+/// The state of entity `id`: `CG_STATE_HEADING_FROM_MOTION` if `walking`, else `heading`.
+pub fn entity_state(id: u32, heading: f32, walking: bool) -> cg_entity_state {
+    let mut state: cg_entity_state = init(cg_entity_state_init);
+    state.id = id;
+    state.heading = heading;
+    if walking {
+        state.flags = CG_STATE_HEADING_FROM_MOTION;
+    }
+    state
+}
+
+/// A scenario's ground point (along forward, along side) in `world`.
+fn on_ground(world: &World, p: Vec2) -> Vec3 {
+    world.forward * p.x + world.side * p.y
+}
+
+/// Grillon & Thalmann's street (`Scenario::street`: people walking, standing and sitting,
+/// props along both sides, `d_m` = 10 m) run through the C API: the scenario moves the
+/// people, their states go in with `cg_crowd_push_frame`, then `cg_crowd_step`. The
+/// crowd's axes are the defaults (Y up, Z forward), metres; it records up to
+/// `recorded_states` states for `cg_crowd_plan`.
+pub struct Street {
+    pub crowd: CrowdHandle,
+    scenario: Scenario,
+    world: World,
+    states: Vec<cg_entity_state>,
+    time: f64,
+}
+
+impl Street {
+    /// 30 frames per second.
+    pub const DT: f32 = 1.0 / 30.0;
+
+    pub fn new(characters: usize, objects: usize, seed: u64, recorded_states: u32) -> Street {
+        let mut config: cg_crowd_config = init(cg_crowd_config_init);
+        config.seed = seed;
+        config.max_recorded_states = recorded_states;
+        config.max_characters = characters as u32;
+        config.max_objects = objects as u32;
+        let crowd = CrowdHandle::new(&config);
+        let world = World::default();
+        let ground = |p: Vec2| on_ground(&world, p);
+        let scenario = Scenario::street(characters, objects, seed);
+        for prop in &scenario.props {
+            let mut desc: cg_object_desc = init(cg_object_desc_init);
+            desc.position = ground(prop.position).into();
+            desc.heading = prop.heading;
+            desc.look_at_height = prop.look_at_height;
+            desc.impact = prop.impact;
+            let mut id = 0;
+            check(
+                cg_crowd_add_object(crowd.as_mut(), &desc, &mut id),
+                "cg_crowd_add_object",
+            );
+        }
+        let states = scenario
+            .people
+            .iter()
+            .map(|person| {
+                let id = crowd.add_character(ground(person.position), person.heading);
+                entity_state(id, person.heading, person.activity == Activity::Walking)
+            })
+            .collect();
+        Street {
+            crowd,
+            scenario,
+            world,
+            states,
+            time: 0.0,
+        }
+    }
+
+    /// Moves the people by [`Street::DT`], pushes their states and steps the crowd.
+    pub fn frame(&mut self) {
+        self.scenario.advance(Self::DT);
+        for (state, person) in self.states.iter_mut().zip(&self.scenario.people) {
+            state.position = on_ground(&self.world, person.position).into();
+        }
+        self.time += f64::from(Self::DT);
+        self.crowd.push_and_step(self.time, Self::DT, &self.states);
+    }
+}
