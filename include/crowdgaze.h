@@ -347,7 +347,7 @@ typedef struct cg_character_desc {
     uint32_t struct_size;
     // Heading, radians counter-clockwise about up (0 along forward). Default 0.
     float heading;
-    // `I_E`: how interesting this character is to others, >= 0. Default 1.
+    // `I_E`: how interesting this character is to others, in [0, 1e6]. Default 1.
     float impact;
     // Root (ground) position in your units. Default origin.
     struct cg_vec3 position;
@@ -366,9 +366,10 @@ typedef struct cg_object_desc {
     // Its forward direction as a heading (radians), used by the orientation subscores.
     // Default 0.
     float heading;
-    // Height of the point looked at above `position`, in your units. Default 0.
+    // Height of the point looked at above `position`, in your units, within ±1e6 m.
+    // Default 0.
     float look_at_height;
-    // `I_E`: how interesting it is, >= 0. Default 1.
+    // `I_E`: how interesting it is, in [0, 1e6]. Default 1.
     float impact;
     // Root position in your units. Default origin.
     struct cg_vec3 position;
@@ -665,7 +666,7 @@ cg_status cg_entity_state_init(struct cg_entity_state *state);
 //
 // Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_BAD_STRUCT_SIZE` (desc or its chain),
 // `CG_STATUS_NON_FINITE` (position, heading, impact or chain values),
-// `CG_STATUS_INVALID_ARGUMENT` (negative impact, an invalid chain),
+// `CG_STATUS_INVALID_ARGUMENT` (impact outside [0, 1e6], an invalid chain),
 // `CG_STATUS_CAPACITY` (already `max_characters`), `CG_STATUS_WRONG_STATE` (a plan is
 // active). Not thread-safe (mutates the crowd).
 cg_status cg_crowd_add_character(struct cg_crowd *crowd,
@@ -675,8 +676,9 @@ cg_status cg_crowd_add_character(struct cg_crowd *crowd,
 // Adds a scene object (something only looked at) and writes its id to `*out_id`.
 //
 // Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_BAD_STRUCT_SIZE`, `CG_STATUS_NON_FINITE`,
-// `CG_STATUS_INVALID_ARGUMENT` (negative impact), `CG_STATUS_CAPACITY` (already
-// `max_objects`), `CG_STATUS_WRONG_STATE` (a plan is active). Not thread-safe.
+// `CG_STATUS_INVALID_ARGUMENT` (impact outside [0, 1e6], look-at height beyond ±1e6 m),
+// `CG_STATUS_CAPACITY` (already `max_objects`), `CG_STATUS_WRONG_STATE` (a plan is
+// active). Not thread-safe.
 cg_status cg_crowd_add_object(struct cg_crowd *crowd,
                               const struct cg_object_desc *desc,
                               uint32_t *out_id);
@@ -757,7 +759,8 @@ cg_status cg_crowd_end_step(struct cg_crowd *crowd);
 // character moves the last one into its place), and writes how many it filled to
 // `*out_written` if `out_written` is not NULL. `out` stays yours; nothing is allocated.
 //
-// Errors: `CG_STATUS_NULL_ARGUMENT` (crowd, or out NULL with count > 0). Safe to call
+// Errors: `CG_STATUS_NULL_ARGUMENT` (crowd, or out NULL with count > 0),
+// `CG_STATUS_INVALID_ARGUMENT` (a count too large for any array). Safe to call
 // concurrently with other `const` calls.
 cg_status cg_crowd_read_gaze(const struct cg_crowd *crowd,
                              struct cg_gaze_info *out,
@@ -794,10 +797,10 @@ cg_status cg_crowd_set_character_params(struct cg_crowd *crowd,
                                         uint32_t character,
                                         const struct cg_character_params *params);
 
-// Sets an entity's impact factor `I_E` (>= 0; how interesting it is to others).
+// Sets an entity's impact factor `I_E` (in [0, 1e6]; how interesting it is to others).
 //
 // Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NOT_FOUND`, `CG_STATUS_NON_FINITE`,
-// `CG_STATUS_INVALID_ARGUMENT` (negative). Not thread-safe.
+// `CG_STATUS_INVALID_ARGUMENT` (outside [0, 1e6]). Not thread-safe.
 cg_status cg_crowd_set_impact(struct cg_crowd *crowd, uint32_t entity, float impact);
 
 // Plans attention offline over every recorded frame (the paper's pipeline): scores each
@@ -829,13 +832,13 @@ cg_status cg_crowd_read_constraints(const struct cg_crowd *crowd,
                                     size_t *out_total);
 
 // Makes the viewer (the user or the camera) an entity that characters may look at, or
-// moves it: `position` in your units is the point looked at, `impact` its `I_E` (>= 0).
-// The first call adds it (it has its own slot, beyond `max_objects`) and writes its id to
-// `*out_id` (which may be NULL); later calls move it (velocity and heading come from its
-// motion between frames). Remove it with `cg_crowd_remove_entity`.
+// moves it: `position` in your units is the point looked at, `impact` its `I_E` (in
+// [0, 1e6]). The first call adds it (it has its own slot, beyond `max_objects`) and writes
+// its id to `*out_id` (which may be NULL); later calls move it (velocity and heading come
+// from its motion between frames). Remove it with `cg_crowd_remove_entity`.
 //
 // Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE`, `CG_STATUS_INVALID_ARGUMENT`
-// (negative impact), `CG_STATUS_WRONG_STATE` (a plan is active). Not thread-safe.
+// (impact outside [0, 1e6]), `CG_STATUS_WRONG_STATE` (a plan is active). Not thread-safe.
 cg_status cg_crowd_set_viewer(struct cg_crowd *crowd,
                               const struct cg_vec3 *position,
                               float impact,
@@ -1139,7 +1142,7 @@ cg_status cg_crowd_config_init(struct cg_crowd_config *config);
 // Errors: `CG_STATUS_NULL_ARGUMENT` (config or out_crowd NULL), `CG_STATUS_BAD_STRUCT_SIZE`
 // (config not filled by `cg_crowd_config_init`), `CG_STATUS_INVALID_ARGUMENT` (a field out of
 // range: capacities, axes not perpendicular or unknown, units_per_metre <= 0),
-// `CG_STATUS_NON_FINITE` (units_per_metre NaN or infinite). Thread-safe.
+// `CG_STATUS_NON_FINITE` (a float field NaN or infinite). Thread-safe.
 cg_status cg_crowd_create(const struct cg_crowd_config *config, struct cg_crowd **out_crowd);
 
 // Destroys a crowd created by `cg_crowd_create` and frees everything it owns.

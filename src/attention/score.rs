@@ -80,8 +80,14 @@ impl SubscoreWeights {
         if values.iter().any(|v| !v.is_finite() || *v < 0.0) {
             return None;
         }
-        let sum: f32 = values.iter().sum();
-        if sum <= 0.0 || !sum.is_finite() {
+        let mut values = values;
+        let mut sum: f32 = values.iter().sum();
+        if sum == f32::INFINITY {
+            // Finite weights whose sum overflows: a quarter of each sums below f32::MAX.
+            values = values.map(|v| v * 0.25);
+            sum = values.iter().sum();
+        }
+        if sum <= 0.0 {
             return None;
         }
         Some(SubscoreWeights {

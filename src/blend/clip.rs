@@ -150,7 +150,9 @@ impl KeyClip {
         let position = time * f64::from(self.frames_per_second);
         if self.looping {
             let period = self.frame_count as f64;
+            // A time so far out that `position` overflows has no phase left: the first frame.
             let wrapped = position.rem_euclid(period);
+            let wrapped = if wrapped.is_finite() { wrapped } else { 0.0 };
             let first = (wrapped.floor() as usize).min(last);
             FramePair {
                 first,

@@ -84,7 +84,7 @@ pub struct cg_character_desc {
     pub struct_size: u32,
     /// Heading, radians counter-clockwise about up (0 along forward). Default 0.
     pub heading: f32,
-    /// `I_E`: how interesting this character is to others, >= 0. Default 1.
+    /// `I_E`: how interesting this character is to others, in [0, 1e6]. Default 1.
     pub impact: f32,
     /// Root (ground) position in your units. Default origin.
     pub position: cg_vec3,
@@ -105,9 +105,10 @@ pub struct cg_object_desc {
     /// Its forward direction as a heading (radians), used by the orientation subscores.
     /// Default 0.
     pub heading: f32,
-    /// Height of the point looked at above `position`, in your units. Default 0.
+    /// Height of the point looked at above `position`, in your units, within ±1e6 m.
+    /// Default 0.
     pub look_at_height: f32,
-    /// `I_E`: how interesting it is, >= 0. Default 1.
+    /// `I_E`: how interesting it is, in [0, 1e6]. Default 1.
     pub impact: f32,
     /// Root position in your units. Default origin.
     pub position: cg_vec3,
@@ -323,7 +324,7 @@ fn metres(world: &World, value: cg_vec3, what: &str) -> Result<Vec3> {
 ///
 /// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_BAD_STRUCT_SIZE` (desc or its chain),
 /// `CG_STATUS_NON_FINITE` (position, heading, impact or chain values),
-/// `CG_STATUS_INVALID_ARGUMENT` (negative impact, an invalid chain),
+/// `CG_STATUS_INVALID_ARGUMENT` (impact outside [0, 1e6], an invalid chain),
 /// `CG_STATUS_CAPACITY` (already `max_characters`), `CG_STATUS_WRONG_STATE` (a plan is
 /// active). Not thread-safe (mutates the crowd).
 #[no_mangle]
@@ -365,8 +366,9 @@ pub extern "C" fn cg_crowd_add_character(
 /// Adds a scene object (something only looked at) and writes its id to `*out_id`.
 ///
 /// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_BAD_STRUCT_SIZE`, `CG_STATUS_NON_FINITE`,
-/// `CG_STATUS_INVALID_ARGUMENT` (negative impact), `CG_STATUS_CAPACITY` (already
-/// `max_objects`), `CG_STATUS_WRONG_STATE` (a plan is active). Not thread-safe.
+/// `CG_STATUS_INVALID_ARGUMENT` (impact outside [0, 1e6], look-at height beyond ±1e6 m),
+/// `CG_STATUS_CAPACITY` (already `max_objects`), `CG_STATUS_WRONG_STATE` (a plan is
+/// active). Not thread-safe.
 #[no_mangle]
 pub extern "C" fn cg_crowd_add_object(
     crowd: *mut cg_crowd,
@@ -581,7 +583,8 @@ pub extern "C" fn cg_crowd_end_step(crowd: *mut cg_crowd) -> cg_status {
 /// character moves the last one into its place), and writes how many it filled to
 /// `*out_written` if `out_written` is not NULL. `out` stays yours; nothing is allocated.
 ///
-/// Errors: `CG_STATUS_NULL_ARGUMENT` (crowd, or out NULL with count > 0). Safe to call
+/// Errors: `CG_STATUS_NULL_ARGUMENT` (crowd, or out NULL with count > 0),
+/// `CG_STATUS_INVALID_ARGUMENT` (a count too large for any array). Safe to call
 /// concurrently with other `const` calls.
 #[no_mangle]
 pub extern "C" fn cg_crowd_read_gaze(
@@ -725,10 +728,10 @@ pub extern "C" fn cg_crowd_set_character_params(
     })
 }
 
-/// Sets an entity's impact factor `I_E` (>= 0; how interesting it is to others).
+/// Sets an entity's impact factor `I_E` (in [0, 1e6]; how interesting it is to others).
 ///
 /// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NOT_FOUND`, `CG_STATUS_NON_FINITE`,
-/// `CG_STATUS_INVALID_ARGUMENT` (negative). Not thread-safe.
+/// `CG_STATUS_INVALID_ARGUMENT` (outside [0, 1e6]). Not thread-safe.
 #[no_mangle]
 pub extern "C" fn cg_crowd_set_impact(crowd: *mut cg_crowd, entity: u32, impact: f32) -> cg_status {
     ffi_boundary!({
@@ -804,13 +807,13 @@ pub extern "C" fn cg_crowd_read_constraints(
 }
 
 /// Makes the viewer (the user or the camera) an entity that characters may look at, or
-/// moves it: `position` in your units is the point looked at, `impact` its `I_E` (>= 0).
-/// The first call adds it (it has its own slot, beyond `max_objects`) and writes its id to
-/// `*out_id` (which may be NULL); later calls move it (velocity and heading come from its
-/// motion between frames). Remove it with `cg_crowd_remove_entity`.
+/// moves it: `position` in your units is the point looked at, `impact` its `I_E` (in
+/// [0, 1e6]). The first call adds it (it has its own slot, beyond `max_objects`) and writes
+/// its id to `*out_id` (which may be NULL); later calls move it (velocity and heading come
+/// from its motion between frames). Remove it with `cg_crowd_remove_entity`.
 ///
 /// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE`, `CG_STATUS_INVALID_ARGUMENT`
-/// (negative impact), `CG_STATUS_WRONG_STATE` (a plan is active). Not thread-safe.
+/// (impact outside [0, 1e6]), `CG_STATUS_WRONG_STATE` (a plan is active). Not thread-safe.
 #[no_mangle]
 pub extern "C" fn cg_crowd_set_viewer(
     crowd: *mut cg_crowd,

@@ -404,7 +404,7 @@ pub extern "C" fn cg_crowd_config_init(config: *mut cg_crowd_config) -> super::c
 /// Errors: `CG_STATUS_NULL_ARGUMENT` (config or out_crowd NULL), `CG_STATUS_BAD_STRUCT_SIZE`
 /// (config not filled by `cg_crowd_config_init`), `CG_STATUS_INVALID_ARGUMENT` (a field out of
 /// range: capacities, axes not perpendicular or unknown, units_per_metre <= 0),
-/// `CG_STATUS_NON_FINITE` (units_per_metre NaN or infinite). Thread-safe.
+/// `CG_STATUS_NON_FINITE` (a float field NaN or infinite). Thread-safe.
 #[no_mangle]
 pub extern "C" fn cg_crowd_create(
     config: *const cg_crowd_config,

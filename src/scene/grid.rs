@@ -75,8 +75,10 @@ impl SpatialGrid {
             low = Vec2::ZERO;
             high = Vec2::ZERO;
         }
-        // Cells of radius/2, grown until the bounding box fits in max_cells.
-        let extent = (high - low).max(Vec2::ZERO);
+        // Cells of radius/2, grown until the bounding box fits in max_cells. A box wider
+        // than a float holds (points near ±f32::MAX) counts as f32::MAX wide, or the
+        // doubling below would never end.
+        let extent = (high - low).max(Vec2::ZERO).min(Vec2::splat(f32::MAX));
         let mut cell_size = self.radius / 2.0;
         loop {
             let columns = (extent.x / cell_size).floor() as f64 + 1.0;
