@@ -313,10 +313,19 @@ const BAD_FLOATS: [(&str, f32); 3] = [
 
 /// `struct_size` values no library version accepts for a struct of `size` bytes.
 fn bad_sizes(size: usize) -> Vec<(String, u32)> {
+    bad_sizes_from(size, size)
+}
+
+/// [`bad_sizes`] of a struct whose earlier versions, down to `smallest` bytes, are still
+/// accepted: "one field short" is short of the smallest.
+fn bad_sizes_from(size: usize, smallest: usize) -> Vec<(String, u32)> {
     vec![
         ("0".into(), 0),
         ("4 (the size field alone)".into(), 4),
-        (format!("{} (one field short)", size - 4), size as u32 - 4),
+        (
+            format!("{} (one field short)", smallest - 4),
+            smallest as u32 - 4,
+        ),
         (format!("{} (one field more)", size + 4), size as u32 + 4),
         ("UINT32_MAX".into(), u32::MAX),
     ]
@@ -387,7 +396,13 @@ fn non_finite<T>(fields: &Fields) -> Vec<Corruption<T>> {
 
 /// Every wrong `struct_size` of a versioned struct `T`: `CG_STATUS_BAD_STRUCT_SIZE`.
 fn struct_sizes<T>() -> Vec<Corruption<T>> {
-    bad_sizes(size_of::<T>())
+    struct_sizes_from::<T>(size_of::<T>())
+}
+
+/// [`struct_sizes`] of a struct whose earlier versions, down to `smallest` bytes, are
+/// still accepted.
+fn struct_sizes_from<T>(smallest: usize) -> Vec<Corruption<T>> {
+    bad_sizes_from(size_of::<T>(), smallest)
         .into_iter()
         .map(|(what, size)| {
             change(format!("struct_size {what}"), BAD_SIZE, move |v: &mut T| {
@@ -1308,6 +1323,7 @@ fn table() -> Table {
     rows_entities(&mut t);
     rows_frames(&mut t);
     rows_attention(&mut t);
+    rows_steps(&mut t);
     rows_plan(&mut t);
     rows_gaze(&mut t);
     rows_joints(&mut t);
@@ -1684,6 +1700,8 @@ fn crowd_config_out_of_range() -> Vec<Corruption<cg_crowd_config>> {
         ("lod_distance -1", |c| c.lod_distance = -1.0),
         ("far_attention_period 0", |c| c.far_attention_period = 0),
         ("far_attention_period 65", |c| c.far_attention_period = 65),
+        ("threads 65", |c| c.threads = 65),
+        ("threads UINT32_MAX", |c| c.threads = u32::MAX),
     ])
 }
 
@@ -1695,7 +1713,9 @@ fn rows_crowd(t: &mut Table) {
     t.case(f, "out_crowd NULL", NULL_ARG, |_| {
         cg_crowd_create(&init(cg_crowd_config_init), null_mut())
     });
-    let mut corruptions = struct_sizes::<cg_crowd_config>();
+    // Callers built before `threads` existed pass the size without it, which is accepted.
+    let mut corruptions =
+        struct_sizes_from::<cg_crowd_config>(std::mem::offset_of!(cg_crowd_config, threads));
     corruptions.extend(non_finite(&crowd_config_floats()));
     corruptions.extend(crowd_config_out_of_range());
     t.corrupt_struct(
@@ -2114,6 +2134,53 @@ fn rows_frames(t: &mut Table) {
     ] {
         t.case(f, what, INVALID, move |h| cg_crowd_step(h.crowd, dt));
     }
+}
+
+/// The ranged step's entry points, on a crowd with no step open. (The misuse that needs an
+/// open step — a second begin, overlapping ranges, every other call meanwhile — is in
+/// `tests/threads.rs`, which compares the crowd with an untouched one afterwards.)
+fn rows_steps(t: &mut Table) {
+    let f = "cg_crowd_begin_step";
+    t.case(f, "crowd NULL", NULL_ARG, |_| {
+        cg_crowd_begin_step(null_mut(), 0.1)
+    });
+    t.non_finite_argument(Setup::Online, f, "dt", |h, dt| {
+        cg_crowd_begin_step(h.crowd, dt)
+    });
+    t.non_finite_argument(Setup::Planned, f, "dt while planned", |h, dt| {
+        cg_crowd_begin_step(h.crowd, dt)
+    });
+    for (what, dt) in [("dt -1", -1.0), ("dt -FLT_MAX", f32::MIN)] {
+        t.case(f, what, INVALID, move |h| cg_crowd_begin_step(h.crowd, dt));
+    }
+
+    let f = "cg_crowd_step_range";
+    t.case(f, "crowd NULL", NULL_ARG, |_| {
+        cg_crowd_step_range(null_mut(), 0, 1)
+    });
+    for (what, first, count) in [
+        ("no step open", 0, 1),
+        ("no step open, count 0", 0, 0),
+        ("no step open, range past the end", 0, u32::MAX),
+        ("no step open, first UINT32_MAX", u32::MAX, u32::MAX),
+    ] {
+        t.case(f, what, WRONG_STATE, move |h| {
+            cg_crowd_step_range(h.crowd, first, count)
+        });
+    }
+
+    let f = "cg_crowd_end_step";
+    t.case(f, "crowd NULL", NULL_ARG, |_| cg_crowd_end_step(null_mut()));
+    t.case(f, "no step open", WRONG_STATE, |h| {
+        cg_crowd_end_step(h.crowd)
+    });
+    t.case_in(
+        Setup::Planned,
+        f,
+        "no step open while planned",
+        WRONG_STATE,
+        |h| cg_crowd_end_step(h.crowd),
+    );
 }
 
 // ---------------------------------------------------------------------------------------------
