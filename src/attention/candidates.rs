@@ -63,9 +63,9 @@ impl NeighbourIndex {
     /// Bytes of state per entity (grid-ordered copies and the grid's own arrays).
     pub fn bytes_per_entity() -> usize {
         use std::mem::size_of;
-        // forward, velocity and grid point; impact; id, grid entry and its cell; and the
-        // grid's four cell starts per entity.
-        size_of::<Vec2>() * 3 + size_of::<f32>() + size_of::<u32>() * 3 + size_of::<u32>() * 4
+        // forward, velocity and grid point; impact; id and grid entry; and the grid's four
+        // cell starts per entity.
+        size_of::<Vec2>() * 3 + size_of::<f32>() + size_of::<u32>() * 2 + size_of::<u32>() * 4
     }
 
     /// The grid.
@@ -408,6 +408,12 @@ mod tests {
     use crate::scene::ids::EntityKind;
     use crate::world::World;
     use std::f32::consts::PI;
+
+    #[test]
+    fn index_state_size() {
+        // Part of a character's state (Crowd::state_bytes_per_character).
+        assert_eq!(NeighbourIndex::bytes_per_entity(), 52);
+    }
 
     #[test]
     fn ranking_keeps_the_top_two_and_breaks_ties_by_id() {

@@ -66,7 +66,8 @@ impl Candidate {
 /// Most entities on cool-down at once per character; a new one replaces the oldest.
 pub const MAX_COOLDOWNS: usize = 4;
 
-/// A character's interest-point state: plain data, fixed size.
+/// A character's interest-point state: plain data, fixed size (208 bytes, checked by a
+/// test).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct InterestTracker {
     histogram: ScoreHistogram,
@@ -75,7 +76,6 @@ pub struct InterestTracker {
     above_time: f32,
     /// Seconds attending after the warm-up (for the correction `ρ`).
     attending_time: f32,
-    history: f32,
     candidate: u32,
     candidate_time: f32,
     interest: u32,
@@ -85,6 +85,8 @@ pub struct InterestTracker {
     threshold: f32,
     s_max: f32,
     attentive_time: f32,
+    /// Seconds observed (updates since creation): also the length of the `S_max` history,
+    /// for the warm-up.
     observed_time: f32,
     interest_count: u32,
 }
@@ -98,7 +100,6 @@ impl InterestTracker {
             attention_fraction,
             above_time: 0.0,
             attending_time: 0.0,
-            history: 0.0,
             candidate: NO_ENTITY,
             candidate_time: 0.0,
             interest: NO_ENTITY,
@@ -208,7 +209,7 @@ impl InterestTracker {
         if self.attention_fraction >= 1.0 {
             return 0.0;
         }
-        if self.history < config.warmup {
+        if self.observed_time < config.warmup {
             return config.initial_threshold;
         }
         let level = (self.attention_fraction / self.attending_ratio()).min(0.98);
@@ -233,8 +234,8 @@ impl InterestTracker {
         if max_score > 0.0 {
             self.histogram.push(best.score / max_score);
         }
-        let warm = self.history >= config.warmup;
-        self.history += dt;
+        let warm = self.observed_time >= config.warmup;
+        self.observed_time += dt;
         self.threshold = self.current_threshold(config, max_score);
         self.s_max = best.score;
         let qualifies = |c: Candidate, threshold: f32| {
@@ -285,7 +286,6 @@ impl InterestTracker {
             self.interest_time = 0.0;
         }
 
-        self.observed_time += dt;
         if self.interest != NO_ENTITY {
             self.attentive_time += dt;
         }
@@ -317,6 +317,14 @@ mod tests {
 
     fn c(id: u32, score: f32) -> Candidate {
         Candidate { id, score }
+    }
+
+    #[test]
+    fn tracker_state_is_small() {
+        // Part of a character's state (Crowd::state_bytes_per_character): the 128-byte
+        // histogram and 20 four-byte fields.
+        assert_eq!(std::mem::size_of::<ScoreHistogram>(), 128);
+        assert_eq!(std::mem::size_of::<InterestTracker>(), 208);
     }
 
     #[test]

@@ -58,6 +58,7 @@ use super::spatial::{
 use super::CharacterTransform;
 use crate::error::{ensure_all_finite, ensure_finite, Error, Result};
 use crate::math::ease::{head_progress, saccade_progress, Ease};
+use crate::math::packed::PackedQuat;
 use crate::math::random::Random;
 
 /// How many characters [`GazeMotion::update_batch`] best takes at once.
@@ -278,7 +279,7 @@ pub enum GazePhase {
     Returning,
 }
 
-/// A character's gaze motion state: plain fixed-size data, no heap, 592 bytes
+/// A character's gaze motion state: plain fixed-size data, no heap, 464 bytes
 /// (`size_of::<GazeMotion>()`, checked by a test).
 ///
 /// Not safe for concurrent mutation; each character owns one.
@@ -286,8 +287,11 @@ pub enum GazePhase {
 pub struct GazeMotion {
     /// The current delta of each joint (the output).
     deltas: [Quat; MAX_CHAIN_JOINTS],
-    /// The deltas at the start of the current shift or return.
-    start: [Quat; MAX_CHAIN_JOINTS],
+    /// The deltas at the start of the current shift or return, packed (within 6·10⁻⁶ rad;
+    /// see [`PackedQuat`]). They are read only while a group is under way, and never on the
+    /// frame a shift starts or while its eased fraction is still 0: the joints are exactly
+    /// on their start pose then, and the current deltas serve instead.
+    start: [PackedQuat; MAX_CHAIN_JOINTS],
     /// World eye positions after the last update (left, right).
     eye_origins: [Vec3; 2],
     /// World gaze directions after the last update (left, right).
@@ -316,7 +320,7 @@ impl GazeMotion {
     pub fn new(chain: &GazeChain) -> GazeMotion {
         GazeMotion {
             deltas: spatial::IDENTITY_DELTAS,
-            start: spatial::IDENTITY_DELTAS,
+            start: [PackedQuat::IDENTITY; MAX_CHAIN_JOINTS],
             eye_origins: [Vec3::ZERO; 2],
             eye_directions: [Vec3::ZERO; 2],
             last_head_target: Vec3::ZERO,
@@ -539,12 +543,12 @@ impl GazeMotion {
                 (Some(request), Some((solution, side))) => {
                     motion.side = *side;
                     if new_target[lane] || solution.side_switched {
-                        motion.start = motion.deltas;
+                        motion.remember_start();
                         motion.elapsed = 0.0;
                         let body = chains[lane].body_count();
                         let head_angle = head_turn(
                             &input.base[..body],
-                            &motion.start[..body],
+                            &motion.deltas[..body],
                             goals[..body].iter().map(|goal| goal.lane(lane)),
                         );
                         motion.style = request.style;
@@ -568,7 +572,7 @@ impl GazeMotion {
                 }
                 _ => match motion.phase {
                     GazePhase::Shifting | GazePhase::Holding => {
-                        motion.start = motion.deltas;
+                        motion.remember_start();
                         motion.elapsed = 0.0;
                         motion.deactivation_time = randoms[lane]
                             .range(timing.min_deactivation_time, timing.max_deactivation_time);
@@ -616,7 +620,7 @@ impl GazeMotion {
             let start = || {
                 Q4::gather(|lane| {
                     if used(lane) && index < body[lane] {
-                        motions[lane].start[index]
+                        motions[lane].start[index].unpack()
                     } else {
                         Quat::IDENTITY
                     }
@@ -707,7 +711,7 @@ impl GazeMotion {
                 let start = || {
                     Q4::gather(|lane| {
                         if used(lane) && lane_chains[lane].has_eyes() {
-                            motions[lane].start[frames.index[lane]]
+                            motions[lane].start[frames.index[lane]].unpack()
                         } else {
                             Quat::IDENTITY
                         }
@@ -775,6 +779,14 @@ impl GazeMotion {
         results
     }
 
+    /// The current deltas become the start of a new shift or return.
+    fn remember_start(&mut self) {
+        let count = self.joint_count as usize;
+        for (start, delta) in self.start[..count].iter_mut().zip(&self.deltas) {
+            *start = PackedQuat::pack(*delta);
+        }
+    }
+
     fn check(&self, chain: &GazeChain, input: &GazeInput<'_>) -> Result<()> {
         if chain.joint_count() != self.joint_count as usize {
             return Err(Error::InvalidArgument(format!(
@@ -816,6 +828,11 @@ impl GazeMotion {
 /// Per lane: `interpolate(start(), goal, fraction)`, at most `max_step` radians from
 /// `current`, within the limits of joint `indices[lane]`. Returns the new deltas and where
 /// they are exactly identity.
+///
+/// `start()` is the unpacked start pose; lanes whose fraction is still 0 (the frame a shift
+/// starts, and any before the ease leaves 0) keep `current` instead, which is then exactly
+/// the start pose: the fraction only grows during a shift, and a fraction of 0 leaves a
+/// joint where it is. So a shift starts exactly from where the joints are.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn settle(
@@ -834,7 +851,13 @@ fn settle(
     let wanted = if arrived {
         goal
     } else {
-        interpolate(start(), goal, fraction)
+        let not_started = fraction.cmple(Floats::ZERO);
+        let start = if not_started.all() {
+            current
+        } else {
+            Q4::select(not_started, current, start())
+        };
+        interpolate(start, goal, fraction)
     };
     // Within the speed limit iff 1 − |current·wanted| ≤ 1 − cos(max/2), which is at least
     // h²/2 − h⁴/24 for h = max/2: a test without trigonometry; the rare lanes over the limit
@@ -886,7 +909,7 @@ mod tests {
 
     #[test]
     fn motion_state_is_small() {
-        assert_eq!(std::mem::size_of::<GazeMotion>(), 592);
+        assert_eq!(std::mem::size_of::<GazeMotion>(), 464);
         assert!(std::mem::size_of::<GazeMotion>() < 1024);
     }
 

@@ -1,8 +1,9 @@
 //! Small math the models share: fast approximations, the gaze ease curve, the seeded
-//! random numbers, and dual quaternions for rigid transforms. (Vectors and quaternions come
-//! from glam.)
+//! random numbers, dual quaternions for rigid transforms, and unit quaternions packed in
+//! 8 bytes. (Vectors and quaternions come from glam.)
 
 pub mod dualquat;
 pub mod ease;
 pub mod fast;
+pub mod packed;
 pub mod random;

@@ -23,7 +23,6 @@ pub struct SpatialGrid {
     cell_start: Vec<u32>,
     entries: Vec<u32>,
     points: Vec<Vec2>,
-    entry_cell: Vec<u32>,
     /// Points in the last rebuild.
     len: usize,
 }
@@ -43,7 +42,6 @@ impl SpatialGrid {
             cell_start: vec![0; max_cells + 1],
             entries: vec![0; capacity],
             points: vec![Vec2::ZERO; capacity],
-            entry_cell: vec![0; capacity],
             len: 0,
         }
     }
@@ -58,6 +56,13 @@ impl SpatialGrid {
         let scaled = (point - self.origin) * self.inverse_cell_size;
         // Saturating float → int casts keep far-away points valid.
         (scaled.x.floor() as i32, scaled.y.floor() as i32)
+    }
+
+    /// The cell holding `point` (points outside the grid count in its border cells).
+    #[inline]
+    fn cell_index(&self, point: Vec2) -> usize {
+        let (x, y) = self.cell_of(point);
+        (y.clamp(0, self.rows - 1) * self.columns + x.clamp(0, self.columns - 1)) as usize
     }
 
     /// Rebuilds the grid from `points` (finite): entry `i` of the grid is point index `i`.
@@ -95,19 +100,17 @@ impl SpatialGrid {
         self.origin = low;
         let cells = (self.columns * self.rows) as usize;
         self.cell_start[..=cells].fill(0);
-        for (index, point) in points.iter().enumerate() {
-            let (x, y) = self.cell_of(*point);
-            let cell =
-                (y.clamp(0, self.rows - 1) * self.columns + x.clamp(0, self.columns - 1)) as u32;
-            self.entry_cell[index] = cell;
-            self.cell_start[cell as usize + 1] += 1;
+        for point in points {
+            let cell = self.cell_index(*point);
+            self.cell_start[cell + 1] += 1;
         }
         for cell in 1..=cells {
             self.cell_start[cell] += self.cell_start[cell - 1];
         }
-        // Scatter, using cell_start[c] as a cursor, then shift the starts back.
+        // Scatter, using cell_start[c] as a cursor, then shift the starts back. (Each point's
+        // cell is computed again rather than kept from the count: 4 bytes less per entity.)
         for (index, point) in points.iter().enumerate() {
-            let cell = self.entry_cell[index] as usize;
+            let cell = self.cell_index(*point);
             let cursor = self.cell_start[cell] as usize;
             self.entries[cursor] = index as u32;
             self.points[cursor] = *point;

@@ -21,34 +21,49 @@ pub enum EntityKind {
 #[derive(Debug, Clone, Copy)]
 struct Slot {
     generation: u32,
-    /// Index into the dense storage of `kind` while live.
-    dense: u32,
-    kind: EntityKind,
-    live: bool,
+    /// Live: [`LIVE`], [`OBJECT`] for an object, and the index into the dense storage in the
+    /// low bits ([`DENSE`]). Free: the next free slot ([`NO_SLOT`] for none).
+    state: u32,
 }
 
-/// The table from ids to dense indices. Sized at creation; never allocates afterwards.
+const LIVE: u32 = 1 << 31;
+const OBJECT: u32 = 1 << 30;
+const DENSE: u32 = OBJECT - 1;
+/// The end of the free list (the largest capacity is one less).
+const NO_SLOT: u32 = DENSE;
+
+/// The table from ids to dense indices: 8 bytes per slot, the free slots chained through
+/// their own state (a stack: the slot freed last is reused first, the lowest first at
+/// creation). Sized at creation; never allocates afterwards.
 #[derive(Debug, Clone)]
 pub struct IdTable {
     slots: Vec<Slot>,
-    free: Vec<u32>,
+    /// The first free slot, [`NO_SLOT`] if none.
+    free: u32,
 }
 
 impl IdTable {
-    /// A table for at most `capacity` live entities.
+    /// A table for at most `capacity` live entities (below 2³⁰ − 1).
     pub fn new(capacity: u32) -> IdTable {
+        assert!(capacity < NO_SLOT, "id table capacity {capacity} too large");
         IdTable {
-            slots: vec![
-                Slot {
+            slots: (0..capacity)
+                .map(|slot| Slot {
                     generation: 0,
-                    dense: 0,
-                    kind: EntityKind::Object,
-                    live: false,
-                };
-                capacity as usize
-            ],
-            free: (0..capacity).rev().collect(),
+                    state: if slot + 1 < capacity {
+                        slot + 1
+                    } else {
+                        NO_SLOT
+                    },
+                })
+                .collect(),
+            free: if capacity > 0 { 0 } else { NO_SLOT },
         }
+    }
+
+    /// Bytes per slot (one slot per entity of the capacity).
+    pub fn bytes_per_entity() -> usize {
+        std::mem::size_of::<Slot>()
     }
 
     fn slot_count(&self) -> u32 {
@@ -61,14 +76,18 @@ impl IdTable {
 
     /// Takes a free slot for an entity of `kind` at dense index `dense`, returning its id.
     pub fn insert(&mut self, kind: EntityKind, dense: u32) -> Result<u32> {
-        let slot = self
-            .free
-            .pop()
-            .ok_or_else(|| Error::Capacity("no free entity id left".into()))?;
+        let slot = self.free;
+        if slot == NO_SLOT {
+            return Err(Error::Capacity("no free entity id left".into()));
+        }
+        debug_assert!(dense < NO_SLOT);
         let entry = &mut self.slots[slot as usize];
-        entry.dense = dense;
-        entry.kind = kind;
-        entry.live = true;
+        self.free = entry.state;
+        let kind = match kind {
+            EntityKind::Character => 0,
+            EntityKind::Object => OBJECT,
+        };
+        entry.state = LIVE | kind | (dense & DENSE);
         Ok(self.make_id(slot))
     }
 
@@ -79,14 +98,19 @@ impl IdTable {
         }
         let slot = id % count;
         let entry = self.slots[slot as usize];
-        (entry.live && entry.generation == id / count).then_some(slot)
+        (entry.state & LIVE != 0 && entry.generation == id / count).then_some(slot)
     }
 
     /// The kind and dense index of a live id.
     pub fn lookup(&self, id: u32) -> Option<(EntityKind, u32)> {
         self.slot_of(id).map(|slot| {
-            let entry = self.slots[slot as usize];
-            (entry.kind, entry.dense)
+            let state = self.slots[slot as usize].state;
+            let kind = if state & OBJECT != 0 {
+                EntityKind::Object
+            } else {
+                EntityKind::Character
+            };
+            (kind, state & DENSE)
         })
     }
 
@@ -99,7 +123,8 @@ impl IdTable {
     /// Records that the live entity `id` now sits at dense index `dense`.
     pub fn relocate(&mut self, id: u32, dense: u32) {
         if let Some(slot) = self.slot_of(id) {
-            self.slots[slot as usize].dense = dense;
+            let entry = &mut self.slots[slot as usize];
+            entry.state = (entry.state & !DENSE) | (dense & DENSE);
         }
     }
 
@@ -110,12 +135,14 @@ impl IdTable {
             .ok_or_else(|| Error::NotFound(format!("entity {id} does not exist")))?;
         let count = u64::from(self.slot_count());
         let entry = &mut self.slots[slot as usize];
-        entry.live = false;
         entry.generation += 1;
         // Retire the slot if its next id would overflow or collide with NO_ENTITY.
         let next_id = u64::from(entry.generation) * count + u64::from(slot);
         if next_id < u64::from(NO_ENTITY) {
-            self.free.push(slot);
+            entry.state = self.free;
+            self.free = slot;
+        } else {
+            entry.state = NO_SLOT;
         }
         Ok(())
     }
@@ -143,6 +170,27 @@ mod tests {
         table.relocate(c, 3);
         assert_eq!(table.find(c).unwrap(), (EntityKind::Character, 3));
         assert!(table.lookup(NO_ENTITY).is_none());
+    }
+
+    #[test]
+    fn free_slots_are_reused_last_freed_first() {
+        assert_eq!(IdTable::bytes_per_entity(), 8);
+        let mut table = IdTable::new(3);
+        let ids: Vec<u32> = (0..3)
+            .map(|dense| table.insert(EntityKind::Object, dense).unwrap())
+            .collect();
+        // Slots in order at creation: ids 0, 1, 2 (generation 0).
+        assert_eq!(ids, [0, 1, 2]);
+        table.remove(1).unwrap();
+        table.remove(0).unwrap();
+        // Generation 1: slot 0 (freed last) first, then slot 1.
+        assert_eq!(table.insert(EntityKind::Character, 7).unwrap(), 3);
+        assert_eq!(table.insert(EntityKind::Object, 8).unwrap(), 4);
+        assert!(table.insert(EntityKind::Object, 9).is_err());
+        assert_eq!(table.find(3).unwrap(), (EntityKind::Character, 7));
+        assert_eq!(table.find(4).unwrap(), (EntityKind::Object, 8));
+        assert_eq!(table.find(2).unwrap(), (EntityKind::Object, 2));
+        assert!(IdTable::new(0).insert(EntityKind::Object, 0).is_err());
     }
 
     #[test]

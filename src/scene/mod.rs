@@ -102,7 +102,7 @@ impl Scene {
             + size_of::<f32>() * 4 // look-at height, heading, turn rate, impact
             + size_of::<Vec2>() * 3 // ground, forward, velocity
             + size_of::<f64>() // last time
-            + size_of::<u32>() * 3 // id table slot
+            + IdTable::bytes_per_entity()
     }
 
     /// The world conventions.
@@ -409,6 +409,12 @@ mod tests {
             heading_from_motion: true,
             velocity: None,
         }
+    }
+
+    #[test]
+    fn entity_state_size() {
+        // Part of a character's state (Crowd::state_bytes_per_character).
+        assert_eq!(Scene::bytes_per_entity(), 77);
     }
 
     #[test]

@@ -1,0 +1,48 @@
+//! Per-character state (design §10: at most 1 KiB per character). The size of every type
+//! `Crowd::state_bytes_per_character` adds up, and the total, so that growth is noticed.
+//! Update the numbers here (and the sum) when a type changes on purpose.
+
+use std::mem::size_of;
+
+use crowdgaze::attention::baseline::BaselineState;
+use crowdgaze::attention::candidates::NeighbourIndex;
+use crowdgaze::attention::interest::InterestTracker;
+use crowdgaze::attention::quantile::ScoreHistogram;
+use crowdgaze::attention::saliency::FixationChannel;
+use crowdgaze::attention::CharacterParams;
+use crowdgaze::crowd::{ExplicitTarget, Look, TargetPriority};
+use crowdgaze::ik::{GazeMotion, MAX_CHAIN_JOINTS};
+use crowdgaze::math::random::Random;
+use crowdgaze::scene::Scene;
+use crowdgaze::Crowd;
+use glam::Quat;
+
+#[test]
+fn every_per_character_type_has_its_recorded_size() {
+    assert_eq!(size_of::<CharacterParams>(), 24);
+    // A 128-byte score histogram and 20 four-byte fields.
+    assert_eq!(size_of::<ScoreHistogram>(), 128);
+    assert_eq!(size_of::<InterestTracker>(), 208);
+    // The crowd's base pose of each chain joint.
+    assert_eq!(size_of::<[Quat; MAX_CHAIN_JOINTS]>(), 240);
+    // Deltas (240), packed start pose (120), eye rays (48), last targets (24), target key
+    // (8), four times (16), four one-byte fields, 4 bytes of padding.
+    assert_eq!(size_of::<GazeMotion>(), 464);
+    assert_eq!(size_of::<Random>(), 8);
+    assert_eq!(size_of::<Option<(ExplicitTarget, TargetPriority)>>(), 20);
+    assert_eq!(size_of::<Look>(), 16);
+    // The crowd's saliency state: one channel for the eyes, one for the head.
+    assert_eq!(size_of::<FixationChannel>(), 20);
+    assert_eq!(size_of::<BaselineState>(), 20);
+    // Each entity's share of the scene and of the neighbour index.
+    assert_eq!(Scene::bytes_per_entity(), 77);
+    assert_eq!(NeighbourIndex::bytes_per_entity(), 52);
+}
+
+#[test]
+fn state_per_character_adds_up() {
+    // 24 parameters + 208 tracker + 4 chain index + 240 base pose + 464 gaze motion
+    // + 2 × 8 random streams + 20 explicit target + 16 look + 2 × 20 saliency
+    // + 20 baseline + 12 level of detail, + 77 scene + 52 neighbour index.
+    assert_eq!(Crowd::state_bytes_per_character(), 1193);
+}
