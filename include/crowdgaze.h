@@ -411,7 +411,8 @@ typedef struct cg_gaze_info {
     struct cg_vec3 target_position;
     // `S_max`: the best score this frame.
     float s_max;
-    // `A`: the character's attention threshold this frame.
+    // `A`: the character's attention threshold this frame; `FLT_MAX` when it cannot
+    // attend (an attention fraction of 0, or no score planned for it).
     float threshold;
     // Share of the time so far spent attending (online), or planned (offline).
     float attentive_fraction;

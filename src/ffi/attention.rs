@@ -177,7 +177,8 @@ pub struct cg_gaze_info {
     pub target_position: cg_vec3,
     /// `S_max`: the best score this frame.
     pub s_max: f32,
-    /// `A`: the character's attention threshold this frame.
+    /// `A`: the character's attention threshold this frame; `FLT_MAX` when it cannot
+    /// attend (an attention fraction of 0, or no score planned for it).
     pub threshold: f32,
     /// Share of the time so far spent attending (online), or planned (offline).
     pub attentive_fraction: f32,
