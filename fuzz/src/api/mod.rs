@@ -10,10 +10,10 @@
 //!
 //! After every call: its status must be one the header documents for it
 //! ([`statuses`]; `CG_STATUS_INTERNAL` never), the outputs it wrote on success must be
-//! finite, and a failed call must leave its outputs untouched. After every operation the
-//! crowd's gaze, joints, joint deltas and eyes and the blender's weights and pose are read
-//! back: all finite, the weights convex, and identical to before if the operation's calls
-//! all failed. Any violation panics, which is how libFuzzer reports.
+//! finite, and a failed call must leave its outputs untouched. After every operation that
+//! used them, the crowd's gaze, joints, joint deltas and eyes and the blender's weights and
+//! pose are read back: all finite, the weights convex, and identical to before if the
+//! operation's calls all failed. Any violation panics, which is how libFuzzer reports.
 
 mod blend_ops;
 mod crowd_ops;
@@ -41,7 +41,7 @@ use std::ptr::null_mut;
 /// Runs the calls `data` encodes on a fresh crowd and blender.
 pub fn run(data: &[u8]) {
     let mut state = State::new();
-    let mut before = state.observe();
+    let mut before = [state.observe_crowd(), state.observe_blender()];
     let mut at = 0;
     while at < data.len() {
         let op = usize::from(data[at]) % 64;
@@ -53,18 +53,35 @@ pub fn run(data: &[u8]) {
         };
         state.operation = name;
         state.changed = false;
+        state.touched.set([false; 2]);
         if trace() {
             eprintln!("{name} {arguments:?}");
         }
         run_op(&mut state, &mut Input::new(arguments));
-        let after = state.observe();
-        assert!(
-            state.changed || after == before,
-            "{name}: failed calls changed what the crowd or blender read back"
-        );
-        before = after;
+        // Read back what the operation may have changed (both, if it made a new crowd or
+        // blender: they share no state, but the check is cheap).
+        let touched = state.touched.get();
+        for (part, seen) in before.iter_mut().enumerate() {
+            if !touched[part] {
+                continue;
+            }
+            let after = match part {
+                CROWD => state.observe_crowd(),
+                _ => state.observe_blender(),
+            };
+            assert!(
+                state.changed || after == *seen,
+                "{name}: failed calls changed what the {} reads back",
+                ["crowd", "blender"][part]
+            );
+            *seen = after;
+        }
     }
 }
+
+/// Indices of [`State::touched`].
+const CROWD: usize = 0;
+const BLENDER: usize = 1;
 
 /// Whether `CG_FUZZ_TRACE` is set: print each operation and its argument bytes.
 fn trace() -> bool {
@@ -91,6 +108,8 @@ pub struct State {
     operation: &'static str,
     /// Whether a call that may change the crowd or the blender succeeded.
     changed: bool,
+    /// Whether the operation used the crowd, the blender (indexed by `CROWD`, `BLENDER`).
+    touched: std::cell::Cell<[bool; 2]>,
 }
 
 impl Drop for State {
@@ -118,6 +137,11 @@ impl State {
 
     /// As [`State::call`], for a call that changes the crowd or the blender on success.
     fn change(&mut self, function: &str, status: cg_status) -> cg_status {
+        self.touch(if function.starts_with("cg_view_blender") {
+            BLENDER
+        } else {
+            CROWD
+        });
         let status = self.call(function, status);
         self.changed |= succeeded(status);
         if trace() {
@@ -155,11 +179,18 @@ impl State {
         }
     }
 
-    /// Reads back everything the crowd and the blender show, checks it is finite (and the
-    /// weights convex), and returns its bytes.
-    fn observe(&self) -> Vec<u8> {
+    /// Records that the operation used the crowd (`CROWD`) or the blender (`BLENDER`).
+    fn touch(&self, part: usize) {
+        let mut touched = self.touched.get();
+        touched[part] = true;
+        self.touched.set(touched);
+    }
+
+    /// Reads back everything the crowd shows (gaze, joints, joint deltas, eyes), checks it
+    /// is finite, and returns its bytes.
+    fn observe_crowd(&self) -> Vec<u8> {
         let mut seen = Vec::new();
-        if !self.crowd.is_null() {
+        {
             let mut gaze = sentinel::<cg_gaze_info>(self.config.max_characters as usize);
             let mut written = 0;
             let status =
@@ -187,7 +218,14 @@ impl State {
             self.outputs("cg_crowd_read_eyes", status, &eyes, written);
             seen.extend_from_slice(bytes(&eyes));
         }
-        if !self.blender.is_null() {
+        seen
+    }
+
+    /// Reads back the blender's weights and pose for a fixed view, checks they are finite
+    /// and the weights convex, and returns their bytes and statuses.
+    fn observe_blender(&self) -> Vec<u8> {
+        let mut seen = Vec::new();
+        {
             let character = rigid(
                 0.3,
                 cg_vec3 {
@@ -257,6 +295,7 @@ impl State {
 
     /// The crowd handle, rarely NULL.
     fn crowd(&self, input: &mut Input) -> *mut cg_crowd {
+        self.touch(CROWD);
         if input.rare() {
             null_mut()
         } else {
@@ -266,6 +305,7 @@ impl State {
 
     /// The blender handle, rarely NULL.
     fn blender(&self, input: &mut Input) -> *mut cg_view_blender {
+        self.touch(BLENDER);
         if input.rare() {
             null_mut()
         } else {
@@ -326,6 +366,7 @@ impl State {
             time: 0.0,
             operation: "start",
             changed: false,
+            touched: std::cell::Cell::new([false; 2]),
         };
         crowd_ops::first_crowd(&mut state);
         blend_ops::first_blender(&mut state);
