@@ -386,7 +386,8 @@ typedef struct cg_entity_state {
     float heading;
     // Root (ground) position in your units.
     struct cg_vec3 position;
-    // Velocity in your units per second; read only with `CG_STATE_HAS_VELOCITY`.
+    // Velocity in your units per second; read only with `CG_STATE_HAS_VELOCITY`. A ground
+    // speed above 1e9 m/s (given, or from a jump between two frames) counts as 1e9 m/s.
     struct cg_vec3 velocity;
 } cg_entity_state;
 

@@ -130,7 +130,8 @@ pub struct cg_entity_state {
     pub heading: f32,
     /// Root (ground) position in your units.
     pub position: cg_vec3,
-    /// Velocity in your units per second; read only with `CG_STATE_HAS_VELOCITY`.
+    /// Velocity in your units per second; read only with `CG_STATE_HAS_VELOCITY`. A ground
+    /// speed above 1e9 m/s (given, or from a jump between two frames) counts as 1e9 m/s.
     pub velocity: cg_vec3,
 }
 
