@@ -88,7 +88,7 @@ def blender(dib):
     frames = [byte for f in range(3) for byte in pose(f + 1)]
     clip = op("set_key_clip", 1, 0, 3, *frames, 0, 1)
     cameras = b"".join(op("add_camera", 0, a, 0, k) for k, a in enumerate([0, 16, 100, 200]))
-    return config + keys + clip + cameras + op("weights") + op("evaluate", 0, 0, 0, 0, 0, 0, 0, 24)
+    return config + keys + clip + cameras + op("weights") + op("evaluate", 0, 24)
 
 
 def blends():

@@ -3,22 +3,14 @@
 use super::crowd_ops::init;
 use super::input::Input;
 use super::outputs::sentinel;
+use super::outputs::Output;
 use super::values::{dualquat, dualquats, point, quat, vec3, weight};
-use super::{or_null, rigid, State};
+use super::{array_pointer, or_null, pointer_to, rigid, State};
 use crowdgaze::ffi::blend::*;
 use crowdgaze::ffi::status::cg_status;
 use crowdgaze::ffi::types::{cg_dualquat, cg_quat, cg_vec3};
 use std::mem::size_of;
-use std::ptr::{null, null_mut};
-
-/// `value` behind a pointer, rarely NULL.
-fn pointer_to<T>(value: &T, input: &mut Input) -> *const T {
-    if input.rare() {
-        null()
-    } else {
-        value
-    }
-}
+use std::ptr::null_mut;
 
 /// Creates the blender every run starts with: 2 joints, 3 keys, DLB.
 pub fn first_blender(state: &mut State) {
@@ -57,16 +49,8 @@ pub fn create(state: &mut State, input: &mut Input) {
     };
     let alpha = 2.0 + input.below(3) as f32;
     config.alpha = input.float_or(alpha);
-    config.distance = if input.rare() {
-        input.u32()
-    } else {
-        input.below(2)
-    };
-    config.method = if input.rare() {
-        input.u32()
-    } else {
-        input.below(2)
-    };
+    config.distance = input.choice(2);
+    config.method = input.choice(2);
     config.precision = match input.below(16) {
         14 => 1.0e-3,
         15 => input.float(),
@@ -115,11 +99,7 @@ pub fn set_key_clip(state: &mut State, input: &mut Input) {
     let frames_per_second = input.float_or(30.0);
     let looping = input.byte() % 2 == 1;
     let blender = state.blender(input);
-    let pointer = if input.rare() {
-        null()
-    } else {
-        frames.as_ptr()
-    };
+    let pointer = array_pointer(&frames, input);
     state.change(
         "cg_view_blender_set_key_clip",
         cg_view_blender_set_key_clip(
@@ -135,14 +115,10 @@ pub fn set_key_clip(state: &mut State, input: &mut Input) {
 
 pub fn set_key_pose(state: &mut State, input: &mut Input) {
     let key = key(state, input);
-    let count = if input.rare() {
-        input.count(6)
-    } else {
-        state.blend_joints
-    };
+    let count = input.count_or(state.blend_joints, 6);
     let pose = dualquats(input, count);
     let blender = state.blender(input);
-    let pointer = if input.rare() { null() } else { pose.as_ptr() };
+    let pointer = array_pointer(&pose, input);
     state.change(
         "cg_view_blender_set_key_pose",
         cg_view_blender_set_key_pose(blender, key, pointer, count),
@@ -168,62 +144,58 @@ pub fn add_camera(state: &mut State, input: &mut Input) {
     );
 }
 
-/// The character's transform and the viewer's position for weights and evaluate.
-fn view(input: &mut Input) -> (cg_dualquat, cg_vec3) {
+/// Calls `cg_view_blender_weights` or `cg_view_blender_evaluate` (`call`) with a character
+/// transform and a viewer position read from the input and `count` outputs (mostly
+/// `usual`), each pointer rarely NULL, and checks the outputs.
+fn view_call<T: Output + std::fmt::Debug>(
+    state: &mut State,
+    input: &mut Input,
+    function: &str,
+    usual: usize,
+    call: impl FnOnce(
+        *const cg_view_blender,
+        *const cg_dualquat,
+        *const cg_vec3,
+        *mut T,
+        usize,
+    ) -> cg_status,
+) {
     let character = dualquat(input);
     let mut viewer = point(input, 1.5);
     viewer.z += 4.0;
-    (character, viewer)
+    let count = input.count_or(usual, 6);
+    let mut out = sentinel::<T>(count);
+    let blender = state.blender(input);
+    let status = call(
+        blender,
+        pointer_to(&character, input),
+        pointer_to(&viewer, input),
+        or_null(out.as_mut_ptr(), input),
+        count,
+    );
+    let status = state.call(function, status);
+    state.outputs(function, status, &out, count);
 }
 
 pub fn weights(state: &mut State, input: &mut Input) {
-    let (character, viewer) = view(input);
-    let count = if input.rare() {
-        input.count(6)
-    } else {
-        state.blend_keys
+    let usual = state.blend_keys;
+    let call = |blender, character, viewer, out: *mut f32, count| {
+        cg_view_blender_weights(blender, character, viewer, out, count)
     };
-    let mut out = sentinel::<f32>(count);
-    let blender = state.blender(input);
-    let character_pointer = pointer_to(&character, input);
-    let viewer_pointer = pointer_to(&viewer, input);
-    let pointer = or_null(out.as_mut_ptr(), input);
-    let status = state.call(
-        "cg_view_blender_weights",
-        cg_view_blender_weights(blender, character_pointer, viewer_pointer, pointer, count),
-    );
-    state.outputs("cg_view_blender_weights", status, &out, count);
+    view_call(state, input, "cg_view_blender_weights", usual, call);
 }
 
 pub fn evaluate(state: &mut State, input: &mut Input) {
-    let (character, viewer) = view(input);
     let t = match input.below(16) {
         14 => f64::from(input.float()),
         15 => [f64::NAN, f64::INFINITY, -1.0e300, 1.0e300][input.below(4) as usize],
         _ => f64::from(input.byte()) / 16.0,
     };
-    let count = if input.rare() {
-        input.count(6)
-    } else {
-        state.blend_joints
+    let usual = state.blend_joints;
+    let call = |blender, character, viewer, out: *mut cg_dualquat, count| {
+        cg_view_blender_evaluate(blender, character, viewer, t, out, count)
     };
-    let mut out = sentinel::<cg_dualquat>(count);
-    let blender = state.blender(input);
-    let character_pointer = pointer_to(&character, input);
-    let viewer_pointer = pointer_to(&viewer, input);
-    let pointer = or_null(out.as_mut_ptr(), input);
-    let status = state.call(
-        "cg_view_blender_evaluate",
-        cg_view_blender_evaluate(
-            blender,
-            character_pointer,
-            viewer_pointer,
-            t,
-            pointer,
-            count,
-        ),
-    );
-    state.outputs("cg_view_blender_evaluate", status, &out, count);
+    view_call(state, input, "cg_view_blender_evaluate", usual, call);
 }
 
 pub fn from_rt(state: &mut State, input: &mut Input) {
@@ -269,11 +241,7 @@ fn matrix(state: &State, input: &mut Input) -> [f32; 16] {
 pub fn from_matrix(state: &mut State, input: &mut Input) {
     let matrix = matrix(state, input);
     let mut out = sentinel::<cg_dualquat>(1);
-    let pointer = if input.rare() {
-        null()
-    } else {
-        matrix.as_ptr()
-    };
+    let pointer = array_pointer(&matrix, input);
     let status = cg_dualquat_from_matrix(pointer, or_null(out.as_mut_ptr(), input));
     let status = state.call("cg_dualquat_from_matrix", status);
     state.outputs("cg_dualquat_from_matrix", status, &out, 1);
@@ -318,16 +286,8 @@ fn blend(state: &mut State, input: &mut Input, dib: Option<(f32, u32)>) {
     } else {
         or_null(out.as_mut_ptr(), input)
     };
-    let inputs_pointer = if input.rare() {
-        null()
-    } else {
-        inputs.as_ptr()
-    };
-    let weights_pointer = if input.rare() {
-        null()
-    } else {
-        weights.as_ptr()
-    };
+    let inputs_pointer = array_pointer(&inputs, input);
+    let weights_pointer = array_pointer(&weights, input);
     let (function, status) = match dib {
         None => (
             "cg_blend_dlb",
@@ -377,12 +337,8 @@ fn blend_pose(state: &mut State, input: &mut Input, dib: Option<(f32, u32)>) {
     } else {
         or_null(out.as_mut_ptr(), input)
     };
-    let keys_pointer = if input.rare() { null() } else { keys.as_ptr() };
-    let weights_pointer = if input.rare() {
-        null()
-    } else {
-        weights.as_ptr()
-    };
+    let keys_pointer = array_pointer(&keys, input);
+    let weights_pointer = array_pointer(&weights, input);
     let (function, status) = match dib {
         None => (
             "cg_blend_pose_dlb",
@@ -447,11 +403,7 @@ pub fn camera_center(state: &mut State, input: &mut Input) {
         projection[input.below(12) as usize] = input.float();
     }
     let mut out = sentinel::<cg_vec3>(1);
-    let pointer = if input.rare() {
-        null()
-    } else {
-        projection.as_ptr()
-    };
+    let pointer = array_pointer(&projection, input);
     let status = cg_camera_center_from_projection(pointer, or_null(out.as_mut_ptr(), input));
     let status = state.call("cg_camera_center_from_projection", status);
     state.outputs("cg_camera_center_from_projection", status, &out, 1);

@@ -4,7 +4,7 @@
 use super::input::Input;
 use super::outputs::sentinel;
 use super::values::{point, quat, vec3};
-use super::{or_null, State};
+use super::{array_pointer, or_null, pointer_to, State};
 use crowdgaze::ffi::attention::*;
 use crowdgaze::ffi::chain::{cg_chain_desc, cg_chain_desc_init_human};
 use crowdgaze::ffi::crowd::{
@@ -15,7 +15,7 @@ use crowdgaze::ffi::gaze::*;
 use crowdgaze::ffi::status::cg_status;
 use crowdgaze::ffi::types::cg_quat;
 use std::mem::{size_of, MaybeUninit};
-use std::ptr::{null, null_mut};
+use std::ptr::null_mut;
 
 /// The chain joint count of the default (human) chain.
 const HUMAN_JOINTS: usize = 10;
@@ -113,7 +113,7 @@ pub fn create(state: &mut State, input: &mut Input) {
         *fields.into_iter().nth(index).expect("a field") = input.float();
     }
     let mut crowd: *mut cg_crowd = null_mut();
-    let pointer = if input.rare() { null() } else { &config };
+    let pointer = pointer_to(&config, input);
     let out = or_null(&mut crowd as *mut _, input);
     let status = state.change("cg_crowd_create", cg_crowd_create(pointer, out));
     if status == cg_status::Ok {
@@ -164,6 +164,23 @@ fn chain(state: &State, input: &mut Input) -> cg_chain_desc {
     chain
 }
 
+/// Calls `cg_crowd_add_character` or `cg_crowd_add_object` (`call`) with `desc`, each
+/// pointer rarely NULL, checks the id written and records it.
+fn add<D>(
+    state: &mut State,
+    input: &mut Input,
+    function: &str,
+    desc: &D,
+    call: extern "C" fn(*mut cg_crowd, *const D, *mut u32) -> cg_status,
+) {
+    let crowd = state.crowd(input);
+    let mut id = sentinel::<u32>(1);
+    let out = or_null(id.as_mut_ptr(), input);
+    let status = state.change(function, call(crowd, pointer_to(desc, input), out));
+    state.outputs(function, status, &id, 1);
+    added(state, status, out, id[0]);
+}
+
 /// Records an id the crowd returned.
 fn added(state: &mut State, status: cg_status, out: *mut u32, id: u32) {
     if status == cg_status::Ok && !out.is_null() && !state.live.contains(&id) {
@@ -177,24 +194,13 @@ pub fn add_character(state: &mut State, input: &mut Input) {
     desc.position = point(input, 0.0);
     desc.heading = input.float();
     desc.impact = input.float_or(1.0);
-    desc.attention_model = if input.rare() {
-        input.u32()
-    } else {
-        input.below(3)
-    };
+    desc.attention_model = input.choice(3);
     let chain = chain(state, input);
     if input.below(4) == 3 {
         desc.chain = &chain;
     }
-    let crowd = state.crowd(input);
-    let mut id = sentinel::<u32>(1);
-    let out = or_null(id.as_mut_ptr(), input);
-    let status = state.change(
-        "cg_crowd_add_character",
-        cg_crowd_add_character(crowd, if input.rare() { null() } else { &desc }, out),
-    );
-    state.outputs("cg_crowd_add_character", status, &id, 1);
-    added(state, status, out, id[0]);
+    let function = "cg_crowd_add_character";
+    add(state, input, function, &desc, cg_crowd_add_character);
 }
 
 pub fn add_object(state: &mut State, input: &mut Input) {
@@ -204,15 +210,13 @@ pub fn add_object(state: &mut State, input: &mut Input) {
     desc.heading = input.float();
     desc.look_at_height = input.float_or(1.2);
     desc.impact = input.float_or(1.0);
-    let crowd = state.crowd(input);
-    let mut id = sentinel::<u32>(1);
-    let out = or_null(id.as_mut_ptr(), input);
-    let status = state.change(
+    add(
+        state,
+        input,
         "cg_crowd_add_object",
-        cg_crowd_add_object(crowd, if input.rare() { null() } else { &desc }, out),
+        &desc,
+        cg_crowd_add_object,
     );
-    state.outputs("cg_crowd_add_object", status, &id, 1);
-    added(state, status, out, id[0]);
 }
 
 pub fn remove_entity(state: &mut State, input: &mut Input) {
@@ -237,11 +241,7 @@ pub fn push_frame(state: &mut State, input: &mut Input) {
                 init(state, "cg_entity_state_init", cg_entity_state_init);
             entity.struct_size = size;
             entity.id = state.id(input);
-            entity.flags = if input.rare() {
-                input.u32()
-            } else {
-                input.below(4)
-            };
+            entity.flags = input.choice(4);
             entity.heading = input.float();
             entity.position = point(input, 0.0);
             entity.velocity = vec3(input);
@@ -256,11 +256,7 @@ pub fn push_frame(state: &mut State, input: &mut Input) {
         _ => state.time + 1.0 / 30.0,
     };
     let crowd = state.crowd(input);
-    let pointer = if input.rare() {
-        null()
-    } else {
-        states.as_ptr()
-    };
+    let pointer = array_pointer(&states, input);
     let status = state.change(
         "cg_crowd_push_frame",
         cg_crowd_push_frame(crowd, t, pointer, count),
@@ -381,7 +377,7 @@ pub fn set_character_params(state: &mut State, input: &mut Input) {
         }
     }
     let crowd = state.crowd(input);
-    let pointer = if input.rare() { null() } else { &params };
+    let pointer = pointer_to(&params, input);
     state.change(
         "cg_crowd_set_character_params",
         cg_crowd_set_character_params(crowd, id, pointer),
@@ -427,7 +423,7 @@ pub fn set_viewer(state: &mut State, input: &mut Input) {
     let position = point(input, 1.6);
     let impact = input.float_or(1.0);
     let crowd = state.crowd(input);
-    let pointer = if input.rare() { null() } else { &position };
+    let pointer = pointer_to(&position, input);
     let mut id = sentinel::<u32>(1);
     let out = if input.below(4) == 3 {
         null_mut()
@@ -452,11 +448,7 @@ pub fn set_viewer(state: &mut State, input: &mut Input) {
 
 pub fn set_attention_period(state: &mut State, input: &mut Input) {
     let id = state.id(input);
-    let period = if input.rare() {
-        input.u32()
-    } else {
-        input.below(70)
-    };
+    let period = input.choice(70);
     let crowd = state.crowd(input);
     state.change(
         "cg_crowd_set_attention_period",
@@ -468,20 +460,12 @@ pub fn set_gaze_target(state: &mut State, input: &mut Input) {
     let character = state.id(input);
     let mut target: cg_gaze_target = init(state, "cg_gaze_target_init", cg_gaze_target_init);
     target.struct_size = input.struct_size(size_of::<cg_gaze_target>());
-    target.kind = if input.rare() {
-        input.u32()
-    } else {
-        input.below(2)
-    };
-    target.priority = if input.rare() {
-        input.u32()
-    } else {
-        input.below(2)
-    };
+    target.kind = input.choice(2);
+    target.priority = input.choice(2);
     target.entity = state.id(input);
     target.point = point(input, 1.6);
     let crowd = state.crowd(input);
-    let pointer = if input.rare() { null() } else { &target };
+    let pointer = pointer_to(&target, input);
     state.change(
         "cg_crowd_set_gaze_target",
         cg_crowd_set_gaze_target(crowd, character, pointer),
@@ -504,14 +488,10 @@ fn pose(input: &mut Input, count: usize) -> Vec<cg_quat> {
 
 pub fn set_base_pose(state: &mut State, input: &mut Input) {
     let id = state.id(input);
-    let count = if input.rare() {
-        input.count(16)
-    } else {
-        HUMAN_JOINTS
-    };
+    let count = input.count_or(HUMAN_JOINTS, 16);
     let local = pose(input, count);
     let crowd = state.crowd(input);
-    let pointer = if input.rare() { null() } else { local.as_ptr() };
+    let pointer = array_pointer(&local, input);
     state.change(
         "cg_crowd_set_base_pose",
         cg_crowd_set_base_pose(crowd, id, pointer, count),
@@ -520,19 +500,11 @@ pub fn set_base_pose(state: &mut State, input: &mut Input) {
 
 pub fn set_base_poses(state: &mut State, input: &mut Input) {
     let characters: Vec<u32> = (0..input.count(4)).map(|_| state.id(input)).collect();
-    let count = if input.rare() {
-        input.count(50)
-    } else {
-        characters.len() * HUMAN_JOINTS
-    };
+    let count = input.count_or(characters.len() * HUMAN_JOINTS, 50);
     let local = pose(input, count);
     let crowd = state.crowd(input);
-    let ids = if input.rare() {
-        null()
-    } else {
-        characters.as_ptr()
-    };
-    let pointer = if input.rare() { null() } else { local.as_ptr() };
+    let ids = array_pointer(&characters, input);
+    let pointer = array_pointer(&local, input);
     state.change(
         "cg_crowd_set_base_poses",
         cg_crowd_set_base_poses(crowd, ids, characters.len(), pointer, count),
@@ -568,11 +540,7 @@ fn read_joints(
     read: extern "C" fn(*const cg_crowd, u32, u32, *mut cg_quat, usize) -> cg_status,
 ) {
     let (first, count) = range(input);
-    let length = if input.rare() {
-        input.count(255)
-    } else {
-        (count as usize).min(16) * HUMAN_JOINTS
-    };
+    let length = input.count_or((count as usize).min(16) * HUMAN_JOINTS, 255);
     let mut out = sentinel::<cg_quat>(length);
     let crowd = state.crowd(input);
     let pointer = or_null(out.as_mut_ptr(), input);
@@ -604,11 +572,7 @@ pub fn read_joint_deltas(state: &mut State, input: &mut Input) {
 
 pub fn read_eyes(state: &mut State, input: &mut Input) {
     let (first, count) = range(input);
-    let length = if input.rare() {
-        input.count(20)
-    } else {
-        (count as usize).min(16)
-    };
+    let length = input.count_or((count as usize).min(16), 20);
     let mut out = sentinel::<cg_eye_info>(length);
     let crowd = state.crowd(input);
     let pointer = or_null(out.as_mut_ptr(), input);

@@ -100,6 +100,24 @@ impl<'a> Input<'a> {
         }
     }
 
+    /// `usual`, or rarely a count in `0..=most` (a wrong one).
+    pub fn count_or(&mut self, usual: usize, most: u32) -> usize {
+        if self.rare() {
+            self.below(most + 1) as usize
+        } else {
+            usual
+        }
+    }
+
+    /// An enum value in `0..n` (`n` of them valid), rarely any `u32`.
+    pub fn choice(&mut self, n: u32) -> u32 {
+        if self.rare() {
+            self.u32()
+        } else {
+            self.below(n)
+        }
+    }
+
     /// A count in `0..=most`, rarely up to 255.
     pub fn count(&mut self, most: u32) -> usize {
         if self.rare() {

@@ -296,21 +296,13 @@ impl State {
     /// The crowd handle, rarely NULL.
     fn crowd(&self, input: &mut Input) -> *mut cg_crowd {
         self.touch(CROWD);
-        if input.rare() {
-            null_mut()
-        } else {
-            self.crowd
-        }
+        or_null(self.crowd, input)
     }
 
     /// The blender handle, rarely NULL.
     fn blender(&self, input: &mut Input) -> *mut cg_view_blender {
         self.touch(BLENDER);
-        if input.rare() {
-            null_mut()
-        } else {
-            self.blender
-        }
+        or_null(self.blender, input)
     }
 }
 
@@ -327,6 +319,24 @@ fn or_null<T>(pointer: *mut T, input: &mut Input) -> *mut T {
         null_mut()
     } else {
         pointer
+    }
+}
+
+/// A pointer to `value`, or NULL when the input asks for it.
+fn pointer_to<T>(value: &T, input: &mut Input) -> *const T {
+    if input.rare() {
+        std::ptr::null()
+    } else {
+        value
+    }
+}
+
+/// A pointer to the first of `values` (dangling if empty), or NULL when the input asks.
+fn array_pointer<T>(values: &[T], input: &mut Input) -> *const T {
+    if input.rare() {
+        std::ptr::null()
+    } else {
+        values.as_ptr()
     }
 }
 
