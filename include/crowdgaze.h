@@ -390,7 +390,8 @@ typedef struct cg_entity_state {
     float heading;
     // Root (ground) position in your units.
     struct cg_vec3 position;
-    // Velocity in your units per second; read only with `CG_STATE_HAS_VELOCITY`.
+    // Velocity in your units per second; read only with `CG_STATE_HAS_VELOCITY`. A ground
+    // speed above 1e9 m/s (given, or from a jump between two frames) counts as 1e9 m/s.
     struct cg_vec3 velocity;
 } cg_entity_state;
 
@@ -415,7 +416,8 @@ typedef struct cg_gaze_info {
     struct cg_vec3 target_position;
     // `S_max`: the best score this frame.
     float s_max;
-    // `A`: the character's attention threshold this frame.
+    // `A`: the character's attention threshold this frame; `FLT_MAX` when it cannot
+    // attend (an attention fraction of 0, or no score planned for it).
     float threshold;
     // Share of the time so far spent attending (online), or planned (offline).
     float attentive_fraction;
@@ -477,6 +479,8 @@ typedef struct cg_constraint {
 
 // A dual quaternion `real + ε dual` describing a rigid transform: `real` is the rotation,
 // `dual = ½ (0, t) ⊗ real` encodes the translation t. Both parts use the x, y, z, w order.
+// Translations are at most 1e18 of your length units long (a longer one is
+// `CG_STATUS_INVALID_ARGUMENT`), so that blending and converting cannot overflow a float.
 typedef struct cg_dualquat {
     // Rotation part (unit quaternion).
     struct cg_quat real;
@@ -862,7 +866,8 @@ cg_status cg_crowd_set_attention_period(struct cg_crowd *crowd,
 // success. Thread-safe.
 //
 // Errors: `CG_STATUS_NULL_ARGUMENT` (a NULL pointer), `CG_STATUS_NON_FINITE` (a NaN or
-// infinite component), `CG_STATUS_INVALID_ARGUMENT` (a zero-length rotation).
+// infinite component), `CG_STATUS_INVALID_ARGUMENT` (a zero-length rotation, a translation
+// longer than 1e18).
 cg_status cg_dualquat_from_rt(const struct cg_quat *rotation,
                               const struct cg_vec3 *translation,
                               struct cg_dualquat *out);
@@ -873,7 +878,8 @@ cg_status cg_dualquat_from_rt(const struct cg_quat *rotation,
 // Writes both outputs only on success. Thread-safe.
 //
 // Errors: `CG_STATUS_NULL_ARGUMENT` (a NULL pointer), `CG_STATUS_NON_FINITE` (a NaN or
-// infinite component), `CG_STATUS_INVALID_ARGUMENT` (a zero real part).
+// infinite component), `CG_STATUS_INVALID_ARGUMENT` (a zero real part, a translation longer
+// than 1e18).
 cg_status cg_dualquat_to_rt(const struct cg_dualquat *dual_quat,
                             struct cg_quat *out_rotation,
                             struct cg_vec3 *out_translation);
@@ -888,7 +894,8 @@ cg_status cg_dualquat_to_rt(const struct cg_dualquat *dual_quat,
 // success. Thread-safe.
 //
 // Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE` (a NaN or infinite element),
-// `CG_STATUS_INVALID_ARGUMENT` (a scale, shear, reflection or projection).
+// `CG_STATUS_INVALID_ARGUMENT` (a scale, shear, reflection or projection, a translation
+// longer than 1e18).
 cg_status cg_dualquat_from_matrix(const float *matrix, struct cg_dualquat *out);
 
 // Converts the rigid transform `*dual_quat` (normalised first) to a 4×4 matrix, written as
@@ -898,7 +905,7 @@ cg_status cg_dualquat_from_matrix(const float *matrix, struct cg_dualquat *out);
 // Writes `out` only on success. Thread-safe.
 //
 // Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE`, `CG_STATUS_INVALID_ARGUMENT` (a
-// zero real part).
+// zero real part, a translation longer than 1e18).
 cg_status cg_dualquat_to_matrix(const struct cg_dualquat *dual_quat, float *out);
 
 // Dual quaternion linear blending (DLB, equation 4 of Chaudhuri et al.) of `count` rigid
@@ -911,7 +918,8 @@ cg_status cg_dualquat_to_matrix(const struct cg_dualquat *dual_quat, float *out)
 //
 // Errors: `CG_STATUS_NULL_ARGUMENT` (a NULL pointer with `count > 0`, or `out` NULL),
 // `CG_STATUS_NON_FINITE` (a NaN or infinite input or weight), `CG_STATUS_INVALID_ARGUMENT`
-// (`count` 0, a negative weight, weights summing to 0, an input with a zero real part).
+// (`count` 0, a negative weight, weights summing to 0, an input with a zero real part or a
+// translation longer than 1e18).
 cg_status cg_blend_dlb(const struct cg_dualquat *inputs,
                        const float *weights,
                        size_t count,
@@ -1031,7 +1039,8 @@ void cg_view_blender_destroy(struct cg_view_blender *blender);
 //
 // Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE` (a NaN or infinite component or
 // frame rate), `CG_STATUS_INVALID_ARGUMENT` (key out of range, `frame_count` 0, frame rate
-// <= 0, a transform with a zero real part, a count overflowing).
+// <= 0, a transform with a zero real part or a translation longer than 1e18, a count
+// overflowing).
 cg_status cg_view_blender_set_key_clip(struct cg_view_blender *blender,
                                        uint32_t key,
                                        const struct cg_dualquat *frames,
@@ -1047,7 +1056,8 @@ cg_status cg_view_blender_set_key_clip(struct cg_view_blender *blender,
 // blender. Nothing changes on error.
 //
 // Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE`, `CG_STATUS_INVALID_ARGUMENT` (key
-// out of range, wrong `joint_count`, a transform with a zero real part).
+// out of range, wrong `joint_count`, a transform with a zero real part or a translation longer
+// than 1e18).
 cg_status cg_view_blender_set_key_pose(struct cg_view_blender *blender,
                                        uint32_t key,
                                        const struct cg_dualquat *pose,
@@ -1080,8 +1090,9 @@ cg_status cg_view_blender_add_camera(struct cg_view_blender *blender,
 //
 // Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE` (a NaN or infinite input),
 // `CG_STATUS_INVALID_ARGUMENT` (`count` is not `key_count`, the character transform has a zero
-// real part, or the viewer is at the character's centre, within 1e-6 of its position scaled
-// by max(1, |positions|)), `CG_STATUS_WRONG_STATE` (no key camera yet).
+// real part or a translation longer than 1e18, or the viewer is at the character's centre,
+// within 1e-6 of its position scaled by max(1, |positions|)), `CG_STATUS_WRONG_STATE` (no key
+// camera yet).
 cg_status cg_view_blender_weights(const struct cg_view_blender *blender,
                                   const struct cg_dualquat *character,
                                   const struct cg_vec3 *viewer,

@@ -5,6 +5,12 @@
 //!
 //! Each example prints what it checked and ends with the line `ok`. Extra expectations for
 //! particular examples are in [`expected_output`].
+//!
+//! Memory checks (`scripts/memcheck`) reuse this harness through two variables:
+//! `CG_EXAMPLE_RUNNER` is a command that runs each example (valgrind with its options), and
+//! `CG_EXAMPLE_CFLAGS` extra flags compiling and linking each one (the sanitizers). When
+//! either is set, the CMake consumer's `c_examples/cmake_consumer/main.c` is checked too
+//! (it is otherwise built only against an install, by `tests/install.rs`).
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -60,7 +66,7 @@ enum Linkage {
 
 fn compile(source: &Path, linkage: Linkage, work: &Path) -> PathBuf {
     let is_cpp = source.extension().is_some_and(|e| e == "cpp");
-    let stem = source.file_stem().unwrap().to_string_lossy().into_owned();
+    let stem = name(source);
     let output = work.join(format!("{stem}_{linkage:?}").to_lowercase());
     let compiler = if is_cpp {
         std::env::var("CXX").unwrap_or_else(|_| "c++".into())
@@ -78,6 +84,7 @@ fn compile(source: &Path, linkage: Linkage, work: &Path) -> PathBuf {
         command.arg("-I").arg(root().join("bindings/cpp"));
     }
     command.args(extra_flags(&stem));
+    command.args(words("CG_EXAMPLE_CFLAGS"));
     command.arg(source).arg("-o").arg(&output);
     match linkage {
         Linkage::Static => {
@@ -105,6 +112,26 @@ fn compile(source: &Path, linkage: Linkage, work: &Path) -> PathBuf {
         String::from_utf8_lossy(&result.stderr)
     );
     output
+}
+
+/// The whitespace-separated words of environment variable `variable` (none if unset).
+fn words(variable: &str) -> Vec<String> {
+    std::env::var(variable)
+        .unwrap_or_default()
+        .split_whitespace()
+        .map(String::from)
+        .collect()
+}
+
+/// An example's name: its file stem, or its directory's name for a `main.c`.
+fn name(source: &Path) -> String {
+    let stem = source.file_stem().unwrap().to_string_lossy();
+    if stem == "main" {
+        let parent = source.parent().and_then(Path::file_name).unwrap();
+        parent.to_string_lossy().into_owned()
+    } else {
+        stem.into_owned()
+    }
 }
 
 /// Compiler flags particular examples need besides the common ones.
@@ -152,6 +179,9 @@ fn examples() -> Vec<PathBuf> {
         .filter(|path| path.extension().is_some_and(|e| e == "c" || e == "cpp"))
         .collect();
     sources.sort();
+    if !words("CG_EXAMPLE_RUNNER").is_empty() || !words("CG_EXAMPLE_CFLAGS").is_empty() {
+        sources.push(root().join("c_examples/cmake_consumer/main.c"));
+    }
     sources
 }
 
@@ -164,14 +194,20 @@ fn c_examples_build_and_pass_static_and_shared() {
         sources.len() >= 3,
         "expected the C and C++ examples, found {sources:?}"
     );
+    let runner = words("CG_EXAMPLE_RUNNER");
     for source in &sources {
-        let stem = source.file_stem().unwrap().to_string_lossy().into_owned();
+        let stem = name(source);
         for linkage in [Linkage::Static, Linkage::Shared] {
             let program = compile(source, linkage, &work);
-            let run = Command::new(&program)
-                .current_dir(root())
-                .output()
-                .expect("run example");
+            let mut command = match runner.split_first() {
+                Some((tool, options)) => {
+                    let mut command = Command::new(tool);
+                    command.args(options).arg(&program);
+                    command
+                }
+                None => Command::new(&program),
+            };
+            let run = command.current_dir(root()).output().expect("run example");
             let stdout = String::from_utf8_lossy(&run.stdout);
             assert!(
                 run.status.success(),
@@ -190,6 +226,7 @@ fn c_examples_build_and_pass_static_and_shared() {
                     "{stem} ({linkage:?}) should print {needle:?}:\n{stdout}"
                 );
             }
+            println!("example {stem} ({linkage:?}) ran clean");
         }
     }
 }

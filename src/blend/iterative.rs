@@ -258,7 +258,7 @@ pub(crate) fn dib_joints(
             return;
         }
         (Some((first, &w_first)), Some((second, &w_second)), None) => {
-            let t = w_second / (w_first + w_second);
+            let t = (f64::from(w_second) / (f64::from(w_first) + f64::from(w_second))) as f32;
             for start in (0..joint_count).step_by(LANES) {
                 let blended = gather(first, start)
                     .sclerp(gather(second, start), t)
@@ -271,7 +271,6 @@ pub(crate) fn dib_joints(
         }
         _ => {}
     }
-    let inverse_total = inverse_total as f32;
     let mut gathered = [DualQuat4::default(); GATHERED_KEYS];
     for start in (0..joint_count).step_by(LANES) {
         let lanes_used = (joint_count - start).min(LANES);
@@ -309,6 +308,29 @@ mod tests {
 
     fn same(a: DualQuat, b: DualQuat, tolerance: f32) -> bool {
         (a - b).length() <= tolerance || (a + b).length() <= tolerance
+    }
+
+    #[test]
+    fn huge_and_tiny_weights_blend_like_unit_ones() {
+        // Found by the fuzz target: weights near f32::MAX overflowed into NaN.
+        let a = transform(Vec3::Y, 0.4, Vec3::new(1.0, 0.0, 2.0));
+        let b = transform(Vec3::X, -0.3, Vec3::new(-3.0, 1.0, 0.0));
+        let c = transform(Vec3::Z, 0.9, Vec3::new(0.0, 2.0, 1.0));
+        let settings = DibSettings::default();
+        for inputs in [&[a, b][..], &[a, b, c]] {
+            let unit = dib(inputs, &[1.0, 3.0, 2.0][..inputs.len()], &settings).unwrap();
+            for scale in [f32::MAX / 3.0, 1.0e-40] {
+                let weights: Vec<f32> = [1.0, 3.0, 2.0][..inputs.len()]
+                    .iter()
+                    .map(|w| w * scale)
+                    .collect();
+                let blended = dib(inputs, &weights, &settings).unwrap();
+                assert!(
+                    same(blended.blend, unit.blend, 1e-5),
+                    "{weights:?}: {blended:?}"
+                );
+            }
+        }
     }
 
     #[test]

@@ -424,8 +424,10 @@ pub(crate) fn dlb4(weights: &[f32], input: &impl Fn(usize) -> DualQuat4) -> Dual
     let mut pivot = None;
     let mut sum = DualQuat4::ZERO;
     let mut total = 0.0;
+    let inverse_total = super::inverse_total(weights);
     for (k, &weight) in weights.iter().enumerate() {
         if weight > 0.0 {
+            let weight = super::unit_weight(weight, inverse_total);
             let q = input(k);
             let pivot = *pivot.get_or_insert(q);
             let w = Vec4::splat(weight);
@@ -453,7 +455,7 @@ pub(crate) fn dlb4(weights: &[f32], input: &impl Fn(usize) -> DualQuat4) -> Dual
 /// `1 / Σ w_k`; lanes `lanes_used..4` are padding and ignored.
 pub(crate) fn dib4(
     weights: &[f32],
-    inverse_total: f32,
+    inverse_total: f64,
     settings: &DibSettings,
     lanes_used: usize,
     input: &impl Fn(usize) -> DualQuat4,
@@ -477,7 +479,7 @@ pub(crate) fn dib4(
         let mut step = DualQuat4::ZERO;
         for (k, &weight) in weights.iter().enumerate() {
             if weight > 0.0 {
-                let w = Vec4::splat(weight * inverse_total);
+                let w = Vec4::splat(super::unit_weight(weight, inverse_total));
                 step = step.add_pure_scaled(inverse.mul(input(k)).log(), w);
             }
         }

@@ -10,7 +10,7 @@
 //! a unit real part and a dual part orthogonal to it, a rigid transform.
 
 use super::lanes::{dlb4, DualQuat4, LANES};
-use super::{check_pose_layout, check_weights, AsDualQuat};
+use super::{check_pose_layout, check_weights, inverse_total, unit_weight, AsDualQuat};
 use crate::error::Result;
 use crate::math::dualquat::DualQuat;
 
@@ -63,7 +63,8 @@ pub fn blend_pose_dlb<Q: AsDualQuat, O: From<DualQuat>>(
 #[inline]
 pub(crate) fn dlb_by(weights: &[f32], input: impl Fn(usize) -> DualQuat) -> DualQuat {
     let pivot = weights.iter().position(|&w| w > 0.0).unwrap_or(0);
-    let (sum, total) = aligned_sum(weights, &input, input(pivot));
+    let inverse_total = inverse_total(weights);
+    let (sum, total) = aligned_sum(weights, inverse_total, &input, input(pivot));
     if sum.real.length_squared() > (CANCELLED_SUM * total) * (CANCELLED_SUM * total) {
         return normalize(sum);
     }
@@ -71,20 +72,22 @@ pub(crate) fn dlb_by(weights: &[f32], input: impl Fn(usize) -> DualQuat) -> Dual
         .iter()
         .enumerate()
         .fold(0, |best, (k, &w)| if w > weights[best] { k } else { best });
-    normalize(aligned_sum(weights, &input, input(heaviest)).0)
+    normalize(aligned_sum(weights, inverse_total, &input, input(heaviest)).0)
 }
 
 /// `Σ w_k (±q̂_k)` with each sign chosen so that `q₀,k` lies in the pivot's hemisphere, and
-/// `Σ w_k`.
+/// `Σ w_k`, the weights divided by their sum first (`inverse_total`).
 #[inline]
 fn aligned_sum(
     weights: &[f32],
+    inverse_total: f64,
     input: &impl Fn(usize) -> DualQuat,
     pivot: DualQuat,
 ) -> (DualQuat, f32) {
     let mut sum = DualQuat::ZERO;
     let mut total = 0.0;
     for (k, &weight) in weights.iter().enumerate() {
+        let weight = unit_weight(weight, inverse_total);
         let q = input(k);
         let signed = if q.real.dot(pivot.real) < 0.0 {
             -weight
@@ -116,6 +119,21 @@ mod tests {
             Quat::from_axis_angle(axis.normalize(), angle),
             translation,
         )
+    }
+
+    #[test]
+    fn huge_and_tiny_weights_blend_like_unit_ones() {
+        // Found by the fuzz target: weights near f32::MAX overflowed the sum into NaN.
+        let a = transform(Vec3::Y, 0.4, Vec3::new(1.0, 0.0, 2.0));
+        let b = transform(Vec3::X, -0.3, Vec3::new(-3.0, 1.0, 0.0));
+        let unit = dlb(&[a, b], &[1.0, 3.0]).unwrap();
+        for weights in [[f32::MAX / 3.0, f32::MAX], [1.0e-40, 3.0e-40]] {
+            let blended = dlb(&[a, b], &weights).unwrap();
+            assert!((blended - unit).length() < 1e-5, "{weights:?}: {blended:?}");
+            let mut pose = [DualQuat::IDENTITY];
+            blend_pose_dlb(&[a, b], &weights, 1, &mut pose).unwrap();
+            assert!((pose[0] - unit).length() < 1e-5, "{weights:?}: {pose:?}");
+        }
     }
 
     #[test]

@@ -79,6 +79,19 @@ pub fn check_weights(input_count: usize, weights: &[f32]) -> Result<f64> {
     Ok(1.0 / total)
 }
 
+/// `1 / Σ w_k`, summed in `f64` so that weights near `f32::MAX` do not overflow.
+#[inline]
+pub(crate) fn inverse_total(weights: &[f32]) -> f64 {
+    1.0 / weights.iter().map(|&w| f64::from(w)).sum::<f64>()
+}
+
+/// The weight `w_k / Σ w_k` in `[0, 1]`: the blenders sum weighted inputs with these, so
+/// that huge weights cannot overflow and tiny ones cannot vanish.
+#[inline]
+pub(crate) fn unit_weight(weight: f32, inverse_total: f64) -> f32 {
+    (f64::from(weight) * inverse_total) as f32
+}
+
 /// Checks the layout of a pose blend: `keys` holds `key_count × joint_count` dual quaternions,
 /// key-major (joint `j` of key `k` at `k · joint_count + j`), and the output holds
 /// `joint_count`.

@@ -250,7 +250,8 @@ pub struct GazeInfo {
     pub target_position: Vec3,
     /// `S_max` this frame.
     pub s_max: f32,
-    /// The attention threshold `A` this frame.
+    /// The attention threshold `A` this frame; `f32::MAX` when the character cannot attend
+    /// (an attention fraction of 0, or no score planned for it).
     pub threshold: f32,
     /// True if the character attends to an interest point.
     pub attending: bool,
@@ -801,7 +802,8 @@ impl Crowd {
             head_target: known(look.head.entity),
             target_position,
             s_max,
-            threshold,
+            // The trackers and the plan use +inf for "never"; callers get a finite value.
+            threshold: threshold.min(f32::MAX),
             attending,
             attentive_fraction,
             interest_count,

@@ -131,7 +131,8 @@ pub struct cg_entity_state {
     pub heading: f32,
     /// Root (ground) position in your units.
     pub position: cg_vec3,
-    /// Velocity in your units per second; read only with `CG_STATE_HAS_VELOCITY`.
+    /// Velocity in your units per second; read only with `CG_STATE_HAS_VELOCITY`. A ground
+    /// speed above 1e9 m/s (given, or from a jump between two frames) counts as 1e9 m/s.
     pub velocity: cg_vec3,
 }
 
@@ -178,7 +179,8 @@ pub struct cg_gaze_info {
     pub target_position: cg_vec3,
     /// `S_max`: the best score this frame.
     pub s_max: f32,
-    /// `A`: the character's attention threshold this frame.
+    /// `A`: the character's attention threshold this frame; `FLT_MAX` when it cannot
+    /// attend (an attention fraction of 0, or no score planned for it).
     pub threshold: f32,
     /// Share of the time so far spent attending (online), or planned (offline).
     pub attentive_fraction: f32,

@@ -36,11 +36,29 @@ impl cg_dualquat {
         if !raw.is_finite() {
             return Err(Error::NonFinite(format!("{what} is not finite: {self:?}")));
         }
-        raw.try_normalize().ok_or_else(|| {
+        let unit = raw.try_normalize().ok_or_else(|| {
             Error::InvalidArgument(format!(
                 "{what} has a zero real part, not a rigid transform"
             ))
-        })
+        })?;
+        check_translation(unit.translation(), what)?;
+        Ok(unit)
+    }
+}
+
+/// The longest translation accepted from C, in the caller's units: blends and conversions of
+/// transforms up to this far (sums, differences and squared lengths) stay finite in `f32`.
+const MAX_TRANSLATION: f32 = 1e18;
+
+/// Fails with [`Error::InvalidArgument`] if `translation` is longer than [`MAX_TRANSLATION`].
+fn check_translation(translation: glam::Vec3, what: impl std::fmt::Display) -> Result<()> {
+    // NaN (from an overflow computing it) fails too.
+    if translation.length() <= MAX_TRANSLATION {
+        Ok(())
+    } else {
+        Err(Error::InvalidArgument(format!(
+            "{what} has a translation longer than {MAX_TRANSLATION:e}"
+        )))
     }
 }
 
@@ -73,11 +91,12 @@ fn check_all(values: &[cg_dualquat], what: &str) -> Result<()> {
                 "{what}[{index}] is not finite: {value:?}"
             )));
         }
-        if raw.try_normalize().is_none() {
+        let Some(unit) = raw.try_normalize() else {
             return Err(Error::InvalidArgument(format!(
                 "{what}[{index}] has a zero real part, not a rigid transform"
             )));
-        }
+        };
+        check_translation(unit.translation(), format_args!("{what}[{index}]"))?;
     }
     Ok(())
 }
@@ -118,7 +137,8 @@ fn pose_elements(key_count: usize, joint_count: usize) -> Result<usize> {
 /// success. Thread-safe.
 ///
 /// Errors: `CG_STATUS_NULL_ARGUMENT` (a NULL pointer), `CG_STATUS_NON_FINITE` (a NaN or
-/// infinite component), `CG_STATUS_INVALID_ARGUMENT` (a zero-length rotation).
+/// infinite component), `CG_STATUS_INVALID_ARGUMENT` (a zero-length rotation, a translation
+/// longer than 1e18).
 #[no_mangle]
 pub extern "C" fn cg_dualquat_from_rt(
     rotation: *const cg_quat,
@@ -131,6 +151,7 @@ pub extern "C" fn cg_dualquat_from_rt(
         // SAFETY: as above.
         let translation =
             unsafe { borrow(translation, "translation") }?.to_finite("translation")?;
+        check_translation(translation, "translation")?;
         let result = DualQuat::from_rotation_translation(rotation, translation);
         // SAFETY: the caller passes a writable cg_dualquat (or NULL).
         *unsafe { borrow_mut(out, "out") }? = result.into();
@@ -144,7 +165,8 @@ pub extern "C" fn cg_dualquat_from_rt(
 /// Writes both outputs only on success. Thread-safe.
 ///
 /// Errors: `CG_STATUS_NULL_ARGUMENT` (a NULL pointer), `CG_STATUS_NON_FINITE` (a NaN or
-/// infinite component), `CG_STATUS_INVALID_ARGUMENT` (a zero real part).
+/// infinite component), `CG_STATUS_INVALID_ARGUMENT` (a zero real part, a translation longer
+/// than 1e18).
 #[no_mangle]
 pub extern "C" fn cg_dualquat_to_rt(
     dual_quat: *const cg_dualquat,
@@ -175,7 +197,8 @@ pub extern "C" fn cg_dualquat_to_rt(
 /// success. Thread-safe.
 ///
 /// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE` (a NaN or infinite element),
-/// `CG_STATUS_INVALID_ARGUMENT` (a scale, shear, reflection or projection).
+/// `CG_STATUS_INVALID_ARGUMENT` (a scale, shear, reflection or projection, a translation
+/// longer than 1e18).
 #[no_mangle]
 pub extern "C" fn cg_dualquat_from_matrix(matrix: *const f32, out: *mut cg_dualquat) -> cg_status {
     ffi_boundary!({
@@ -184,6 +207,7 @@ pub extern "C" fn cg_dualquat_from_matrix(matrix: *const f32, out: *mut cg_dualq
         // SAFETY: the caller passes 16 readable floats (or NULL).
         elements.copy_from_slice(unsafe { slice(matrix, 16, "matrix") }?);
         let result = DualQuat::from_mat4(&Mat4::from_cols_array(&elements))?;
+        check_translation(result.translation(), "matrix")?;
         // SAFETY: the caller passes a writable cg_dualquat.
         *unsafe { borrow_mut(out, "out") }? = result.into();
         Ok(())
@@ -197,7 +221,7 @@ pub extern "C" fn cg_dualquat_from_matrix(matrix: *const f32, out: *mut cg_dualq
 /// Writes `out` only on success. Thread-safe.
 ///
 /// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE`, `CG_STATUS_INVALID_ARGUMENT` (a
-/// zero real part).
+/// zero real part, a translation longer than 1e18).
 #[no_mangle]
 pub extern "C" fn cg_dualquat_to_matrix(dual_quat: *const cg_dualquat, out: *mut f32) -> cg_status {
     ffi_boundary!({
@@ -224,7 +248,8 @@ pub extern "C" fn cg_dualquat_to_matrix(dual_quat: *const cg_dualquat, out: *mut
 ///
 /// Errors: `CG_STATUS_NULL_ARGUMENT` (a NULL pointer with `count > 0`, or `out` NULL),
 /// `CG_STATUS_NON_FINITE` (a NaN or infinite input or weight), `CG_STATUS_INVALID_ARGUMENT`
-/// (`count` 0, a negative weight, weights summing to 0, an input with a zero real part).
+/// (`count` 0, a negative weight, weights summing to 0, an input with a zero real part or a
+/// translation longer than 1e18).
 #[no_mangle]
 pub extern "C" fn cg_blend_dlb(
     inputs: *const cg_dualquat,
@@ -632,7 +657,8 @@ unsafe fn blender_mut<'a>(blender: *mut cg_view_blender) -> Result<&'a mut ViewB
 ///
 /// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE` (a NaN or infinite component or
 /// frame rate), `CG_STATUS_INVALID_ARGUMENT` (key out of range, `frame_count` 0, frame rate
-/// <= 0, a transform with a zero real part, a count overflowing).
+/// <= 0, a transform with a zero real part or a translation longer than 1e18, a count
+/// overflowing).
 #[no_mangle]
 pub extern "C" fn cg_view_blender_set_key_clip(
     blender: *mut cg_view_blender,
@@ -664,7 +690,8 @@ pub extern "C" fn cg_view_blender_set_key_clip(
 /// blender. Nothing changes on error.
 ///
 /// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE`, `CG_STATUS_INVALID_ARGUMENT` (key
-/// out of range, wrong `joint_count`, a transform with a zero real part).
+/// out of range, wrong `joint_count`, a transform with a zero real part or a translation longer
+/// than 1e18).
 #[no_mangle]
 pub extern "C" fn cg_view_blender_set_key_pose(
     blender: *mut cg_view_blender,
@@ -734,8 +761,9 @@ unsafe fn read_view(
 ///
 /// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE` (a NaN or infinite input),
 /// `CG_STATUS_INVALID_ARGUMENT` (`count` is not `key_count`, the character transform has a zero
-/// real part, or the viewer is at the character's centre, within 1e-6 of its position scaled
-/// by max(1, |positions|)), `CG_STATUS_WRONG_STATE` (no key camera yet).
+/// real part or a translation longer than 1e18, or the viewer is at the character's centre,
+/// within 1e-6 of its position scaled by max(1, |positions|)), `CG_STATUS_WRONG_STATE` (no key
+/// camera yet).
 #[no_mangle]
 pub extern "C" fn cg_view_blender_weights(
     blender: *const cg_view_blender,
@@ -819,6 +847,26 @@ mod tests {
         let mut scaled = dq(DualQuat::IDENTITY);
         scaled.real.w = 3.0;
         assert_eq!(scaled.to_unit("q").unwrap(), DualQuat::IDENTITY);
+        // Translations up to 1e18 (found by the fuzz target: longer ones overflowed blends).
+        let far = |t: f32| {
+            dq(DualQuat::from_rotation_translation(
+                Quat::IDENTITY,
+                glam::Vec3::new(t, 0.0, -t),
+            ))
+        };
+        assert!(far(7.0e17).to_unit("q").is_ok());
+        assert!(matches!(
+            far(1.0e18).to_unit("q"),
+            Err(Error::InvalidArgument(_))
+        ));
+        assert!(matches!(
+            far(f32::MAX).to_unit("q"),
+            Err(Error::InvalidArgument(_))
+        ));
+        assert!(matches!(
+            check_all(&[dq(DualQuat::IDENTITY), far(1.0e30)], "keys"),
+            Err(Error::InvalidArgument(_))
+        ));
     }
 
     #[test]

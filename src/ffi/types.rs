@@ -37,6 +37,8 @@ pub struct cg_quat {
 
 /// A dual quaternion `real + ε dual` describing a rigid transform: `real` is the rotation,
 /// `dual = ½ (0, t) ⊗ real` encodes the translation t. Both parts use the x, y, z, w order.
+/// Translations are at most 1e18 of your length units long (a longer one is
+/// `CG_STATUS_INVALID_ARGUMENT`), so that blending and converting cannot overflow a float.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct cg_dualquat {

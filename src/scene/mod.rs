@@ -19,6 +19,23 @@ use ids::{EntityKind, IdTable, NO_ENTITY};
 /// standing people do not spin.
 pub const MIN_SPEED_FOR_HEADING: f32 = 0.1;
 
+/// Fastest ground speed (m/s) an entity is taken to move at: a faster velocity, given or
+/// derived from a jump between two frames, keeps its direction at this speed, so that speeds
+/// and relative speeds stay finite. Far beyond what the speed subscore tells apart.
+pub const MAX_SPEED: f32 = 1e9;
+
+/// `displacement / elapsed` (elapsed > 0), its length limited to [`MAX_SPEED`]; in `f64`,
+/// where a jump across the whole `f32` range in a tiny time cannot overflow.
+fn limited_velocity(displacement: glam::DVec2, elapsed: f64) -> Vec2 {
+    let distance = displacement.length();
+    let most = f64::from(MAX_SPEED) * elapsed;
+    if distance > most {
+        (displacement * (f64::from(MAX_SPEED) / distance)).as_vec2()
+    } else {
+        (displacement / elapsed).as_vec2()
+    }
+}
+
 /// One entity's state for a frame, in metres and radians (converted from the caller's units).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct EntityUpdate {
@@ -283,9 +300,9 @@ impl Scene {
             let ground = self.world.ground(update.position);
             let elapsed = time - self.last_time[index];
             let velocity = match update.velocity {
-                Some(velocity) => self.world.ground(velocity),
+                Some(velocity) => limited_velocity(self.world.ground(velocity).as_dvec2(), 1.0),
                 None if elapsed > 0.0 && elapsed.is_finite() => {
-                    (ground - self.ground[index]) / elapsed as f32
+                    limited_velocity(ground.as_dvec2() - self.ground[index].as_dvec2(), elapsed)
                 }
                 None => self.velocity[index],
             };
@@ -433,6 +450,31 @@ mod tests {
         scene.apply(1.0, &[update(a, 1.0, 0.0)]);
         assert!((scene.headings()[index] - std::f32::consts::FRAC_PI_2).abs() < 1e-6);
         assert_eq!(scene.velocities()[index], Vec2::ZERO);
+    }
+
+    #[test]
+    fn speeds_are_limited_and_finite() {
+        // Found by the fuzz target: a jump across the f32 range overflowed the velocity.
+        let mut scene = Scene::new(World::y_up(), 4, 4);
+        let a = scene
+            .add(EntityKind::Character, Vec3::ZERO, 0.0, 1.6, 1.0)
+            .unwrap();
+        let index = scene.index_of(a).unwrap();
+        scene.apply(0.0, &[update(a, -3.0e38, 0.0)]);
+        scene.apply(1.0e-30, &[update(a, 3.0e38, 0.0)]);
+        let speed = scene.velocities()[index].length();
+        assert!((speed - MAX_SPEED).abs() <= MAX_SPEED * 1e-6, "{speed}");
+        let mut given = update(a, 0.0, 0.0);
+        given.velocity = Some(Vec3::new(f32::MAX, 0.0, f32::MAX));
+        scene.apply(2.0, &[given]);
+        let velocity = scene.velocities()[index];
+        assert!(
+            (velocity.length() - MAX_SPEED).abs() <= MAX_SPEED * 1e-6,
+            "{velocity}"
+        );
+        given.velocity = Some(Vec3::new(3.0, 0.0, 4.0));
+        scene.apply(3.0, &[given]);
+        assert!((scene.velocities()[index].length() - 5.0).abs() < 1e-6);
     }
 
     #[test]

@@ -1,0 +1,141 @@
+#!/usr/bin/env python3
+"""Writes the seed corpus of the api_calls fuzz target to fuzz/corpus/api_calls/seed-*.
+
+Each seed is a list of operations `[op, n, n argument bytes]` (see fuzz/src/api/mod.rs):
+a few scenes built with ordinary arguments (zero bytes are the ordinary choice), and
+random sequences. Op numbers are read from the table in fuzz/src/api/ops.rs, so the seeds
+follow it. Deterministic: rerunning rewrites the same files. Regression inputs (crash-*)
+are left alone.
+"""
+import pathlib
+import random
+import re
+
+root = pathlib.Path(__file__).resolve().parent
+names = re.findall(r'^\s*\("(\w+)", ', (root / "src/api/ops.rs").read_text(), re.M)
+OP = {name: index for index, name in enumerate(names)}
+
+
+def op(name, *args):
+    return bytes([OP[name], len(args), *args])
+
+
+def character(x, z, model=0):
+    # struct_size, position (x, y, z), heading, impact, attention model (rare?, model)
+    return op("add_character", 0, x, 0, z, 0, 0, 0, model)
+
+
+def walk(frames):
+    return b"".join(op("walk", n % 7) for n in range(frames))
+
+
+def reads():
+    return op("read_gaze", 0, 16) + op("read_joints", 0, 12) + op("read_eyes", 0, 12) + op(
+        "read_joint_deltas", 3, 2
+    )
+
+
+def crowd(count, model=0):
+    return b"".join(character((8 * i) % 100, (24 * i) % 80, model) for i in range(count))
+
+
+def street():
+    return crowd(6) + op("add_object", 0, 16, 0, 8) + op("set_viewer", 0, 0, 20) + walk(90) + reads()
+
+
+def models():
+    return crowd(3, 1) + crowd(3, 2) + op("add_object", 0, 4, 0, 4) + walk(60) + reads() + op("score", 1, 0, 2, 0)
+
+
+def offline():
+    return crowd(4) + op("add_object", 0, 8, 0, 0) + walk(45) + op("plan") + b"".join(
+        op("step") for _ in range(20)
+    ) + op("read_constraints", 0, 0, 5) + reads() + op("add_character") + op("clear_plan") + walk(5)
+
+
+def targets():
+    return crowd(3) + op("set_gaze_target", 0, 0, 0, 0, 0, 0, 1, 8, 0, 8) + op(
+        "set_gaze_target", 1, 0, 0, 0, 1, 0, 0, 2
+    ) + walk(40) + op("clear_gaze_target", 0, 0) + walk(20) + reads()
+
+
+def poses():
+    return crowd(2) + op("set_base_pose", 0, 0, 0, 4, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0) + op(
+        "set_base_poses", 2, 0, 0, 1
+    ) + walk(30) + reads()
+
+
+def parameters():
+    return crowd(3) + op("set_character_params", 0, 2, 4, 64, 5, 1) + op("set_impact", 1, 0, 0, 60) + op(
+        "set_attention_period", 2, 0, 0, 4
+    ) + walk(40) + op("get_character_params") + op("get_config") + op("character_count")
+
+
+def lod():
+    # A crowd with level of detail by distance: attention period 3, lod 5 m.
+    return op("crowd_create", 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 3, 2, 0, 0, 3, 3, 3, 160, 20, 3) + crowd(8) + op(
+        "set_viewer", 0, 0, 0
+    ) + walk(60) + reads()
+
+
+def blender(dib):
+    config = op("blender_create", 0, 1, 2, 0, 0, 0, dib, 0, 0)
+    # A rigid transform: (ordinary, angle, x, y, z).
+    def pose(k):
+        return [0, 8 * k, 4, 0, 8, 0, 4 * k, 0, 0, 8]
+
+    keys = b"".join(op("set_key_pose", k, 0, *pose(k)) for k in range(3))
+    frames = [byte for f in range(3) for byte in pose(f + 1)]
+    clip = op("set_key_clip", 1, 0, 3, *frames, 0, 1)
+    cameras = b"".join(op("add_camera", 0, a, 0, k) for k, a in enumerate([0, 16, 100, 200]))
+    return config + keys + clip + cameras + op("weights") + op("evaluate", 0, 24)
+
+
+def blends():
+    return op("blend_dlb", 3, 0, 8, 0, 0, 0, 0, 16, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0) + op(
+        "blend_dib", 0, 0, 2, 0, 40, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 3
+    ) + op("blend_pose_dlb", 2, 3) + op("blend_pose_dib", 0, 0, 2, 2) + op("from_rt", 0, 8, 0, 0, 8, 8, 8) + op(
+        "to_rt", 0, 8, 8, 8, 8
+    ) + op("from_matrix", 16, 8, 0, 8) + op("to_matrix", 0, 8, 8, 8, 8) + op("camera_center", 100, 8, 0, 8, 8) + op(
+        "chain_init", 4, 3
+    ) + op("messages", 20)
+
+
+def random_seed(rng):
+    data = bytearray()
+    for _ in range(rng.randrange(5, 60)):
+        name = rng.choice(names)
+        args = [rng.choice([0, 0, 0, 1, 2, 3, rng.randrange(256)]) for _ in range(rng.randrange(0, 24))]
+        data += op(name, *args)
+        if rng.randrange(4) == 0:
+            data += walk(rng.randrange(1, 20))
+    return bytes(data)
+
+
+def main():
+    out = root / "corpus" / "api_calls"
+    out.mkdir(parents=True, exist_ok=True)
+    for old in out.glob("seed-*"):
+        old.unlink()
+    seeds = {
+        "street": street(),
+        "models": models(),
+        "offline": offline(),
+        "targets": targets(),
+        "poses": poses(),
+        "parameters": parameters(),
+        "lod": lod(),
+        "blender-dlb": blender(0),
+        "blender-dib": blender(1),
+        "blends": blends(),
+    }
+    rng = random.Random(10)
+    for index in range(30):
+        seeds[f"random-{index:02}"] = random_seed(rng)
+    for name, data in seeds.items():
+        (out / f"seed-{name}").write_bytes(data)
+    print(f"{len(seeds)} seeds, {sum(map(len, seeds.values()))} bytes in {out}")
+
+
+if __name__ == "__main__":
+    main()

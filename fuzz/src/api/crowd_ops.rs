@@ -1,0 +1,614 @@
+//! Operations on the crowd: one C API call each (after the `_init` calls that fill its
+//! structs), with arguments read from the input.
+
+use super::input::Input;
+use super::outputs::sentinel;
+use super::values::{point, quat, vec3};
+use super::{array_pointer, or_null, pointer_to, State};
+use crowdgaze::ffi::attention::*;
+use crowdgaze::ffi::chain::{cg_chain_desc, cg_chain_desc_init_human};
+use crowdgaze::ffi::crowd::{
+    cg_crowd, cg_crowd_config, cg_crowd_config_init, cg_crowd_create, cg_crowd_destroy,
+    cg_crowd_get_config,
+};
+use crowdgaze::ffi::gaze::*;
+use crowdgaze::ffi::status::cg_status;
+use crowdgaze::ffi::types::cg_quat;
+use std::mem::{size_of, MaybeUninit};
+use std::ptr::null_mut;
+
+/// The chain joint count of the default (human) chain.
+const HUMAN_JOINTS: usize = 10;
+
+/// A struct filled by its `_init` function (whose status is checked).
+pub fn init<T>(state: &State, function: &str, init: extern "C" fn(*mut T) -> cg_status) -> T {
+    let mut value = MaybeUninit::<T>::uninit();
+    assert_eq!(
+        state.call(function, init(value.as_mut_ptr())),
+        cg_status::Ok
+    );
+    // SAFETY: the _init function succeeded, so it filled the whole struct.
+    unsafe { value.assume_init() }
+}
+
+/// Creates the crowd every run starts with: 12 characters, 4 objects, recording on.
+pub fn first_crowd(state: &mut State) {
+    let mut config: cg_crowd_config = init(state, "cg_crowd_config_init", cg_crowd_config_init);
+    config.max_characters = 12;
+    config.max_objects = 4;
+    config.max_recorded_states = 4000;
+    let status = cg_crowd_create(&config, &mut state.crowd);
+    assert_eq!(state.call("cg_crowd_create", status), cg_status::Ok);
+    state.config = config;
+}
+
+/// A new crowd from a config with fuzzed fields; it replaces the current one on success.
+pub fn create(state: &mut State, input: &mut Input) {
+    let mut config: cg_crowd_config = init(state, "cg_crowd_config_init", cg_crowd_config_init);
+    config.struct_size = input.struct_size(size_of::<cg_crowd_config>());
+    config.seed = input.u64();
+    config.max_characters = match input.below(16) {
+        14 => 0,
+        15 => 16_777_217,
+        n => n + 1,
+    };
+    config.max_objects = match input.below(16) {
+        15 => 16_777_217,
+        n => n % 8,
+    };
+    config.max_recorded_states = [0, 64, 400, 2000][input.below(4) as usize];
+    if input.rare() {
+        config.up_axis = input.below(8);
+        config.forward_axis = input.below(8);
+    } else {
+        // Perpendicular pairs: (up, forward) of the engines' conventions.
+        let (up, forward) = [(2, 4), (4, 0), (4, 3), (2, 1)][input.below(4) as usize];
+        config.up_axis = up;
+        config.forward_axis = forward;
+    }
+    config.units_per_metre = match input.below(16) {
+        13 => 100.0,
+        14 => 0.01,
+        15 => input.float(),
+        _ => 1.0,
+    };
+    config.attention_period = match input.below(16) {
+        15 => input.below(70),
+        n => n % 4 + 1,
+    };
+    if input.below(4) == 3 {
+        config.lod_distance = input.positive();
+        config.far_attention_period = input.below(70);
+    }
+    // Rarely, any float for any float field.
+    while input.rare() {
+        let fields: [&mut f32; 25] = [
+            &mut config.units_per_metre,
+            &mut config.max_distance,
+            &mut config.field_of_view,
+            &mut config.speed_weight,
+            &mut config.periphery_max_angle,
+            &mut config.min_interest_time,
+            &mut config.max_interest_time,
+            &mut config.interest_cooldown,
+            &mut config.threshold_warmup,
+            &mut config.initial_threshold,
+            &mut config.attention_fraction_min,
+            &mut config.attention_fraction_max,
+            &mut config.eyes_only_angle,
+            &mut config.eyes_head_neck_angle,
+            &mut config.head_speed,
+            &mut config.max_activation_time,
+            &mut config.restart_distance,
+            &mut config.min_deactivation_time,
+            &mut config.max_deactivation_time,
+            &mut config.eye_fixation_time,
+            &mut config.head_fixation_time,
+            &mut config.random_pick_probability,
+            &mut config.social_weight,
+            &mut config.proximity_radius,
+            &mut config.lod_distance,
+        ];
+        let index = input.below(25) as usize;
+        *fields.into_iter().nth(index).expect("a field") = input.float();
+    }
+    let mut crowd: *mut cg_crowd = null_mut();
+    let pointer = pointer_to(&config, input);
+    let out = or_null(&mut crowd as *mut _, input);
+    let status = state.change("cg_crowd_create", cg_crowd_create(pointer, out));
+    if status == cg_status::Ok {
+        cg_crowd_destroy(state.crowd);
+        state.crowd = crowd;
+        state.config = config;
+        state.live.clear();
+        state.removed.clear();
+        state.viewer = None;
+        state.time = 0.0;
+    } else {
+        assert!(
+            crowd.is_null(),
+            "cg_crowd_create failed but wrote its handle"
+        );
+    }
+}
+
+/// A gaze chain for `cg_character_desc.chain`: the human one with some fields changed, in
+/// fuzzed axes (a failed init leaves garbage bytes, a bad `struct_size`).
+fn chain(state: &State, input: &mut Input) -> cg_chain_desc {
+    let mut chain = sentinel::<cg_chain_desc>(1)[0];
+    let (up, forward) = if input.rare() {
+        (input.below(8), input.below(8))
+    } else {
+        (2, 4)
+    };
+    let status = cg_chain_desc_init_human(&mut chain, up, forward);
+    state.call("cg_chain_desc_init_human", status);
+    for _ in 0..input.below(4) {
+        let joint = input.below(16) as usize % chain.joints.len();
+        let joint = &mut chain.joints[joint];
+        match input.below(12) {
+            0 => chain.joint_count = input.below(17),
+            1 => joint.role = input.below(6),
+            2 => joint.offset = vec3(input),
+            3 => joint.rest = quat(input),
+            4 => joint.twist_axis = vec3(input),
+            5 => joint.max_swing = input.float(),
+            6 => joint.min_twist = input.float(),
+            7 => joint.max_twist = input.float(),
+            8 => chain.eye_forward = vec3(input),
+            9 => chain.eye_up = vec3(input),
+            10 => chain.root_offset = vec3(input),
+            _ => chain.struct_size = input.struct_size(size_of::<cg_chain_desc>()),
+        }
+    }
+    chain
+}
+
+/// Calls `cg_crowd_add_character` or `cg_crowd_add_object` (`call`) with `desc`, each
+/// pointer rarely NULL, checks the id written and records it.
+fn add<D>(
+    state: &mut State,
+    input: &mut Input,
+    function: &str,
+    desc: &D,
+    call: extern "C" fn(*mut cg_crowd, *const D, *mut u32) -> cg_status,
+) {
+    let crowd = state.crowd(input);
+    let mut id = sentinel::<u32>(1);
+    let out = or_null(id.as_mut_ptr(), input);
+    let status = state.change(function, call(crowd, pointer_to(desc, input), out));
+    state.outputs(function, status, &id, 1);
+    added(state, status, out, id[0]);
+}
+
+/// Records an id the crowd returned.
+fn added(state: &mut State, status: cg_status, out: *mut u32, id: u32) {
+    if status == cg_status::Ok && !out.is_null() && !state.live.contains(&id) {
+        state.live.push(id);
+    }
+}
+
+pub fn add_character(state: &mut State, input: &mut Input) {
+    let mut desc: cg_character_desc = init(state, "cg_character_desc_init", cg_character_desc_init);
+    desc.struct_size = input.struct_size(size_of::<cg_character_desc>());
+    desc.position = point(input, 0.0);
+    desc.heading = input.float();
+    desc.impact = input.float_or(1.0);
+    desc.attention_model = input.choice(3);
+    let chain = chain(state, input);
+    if input.below(4) == 3 {
+        desc.chain = &chain;
+    }
+    let function = "cg_crowd_add_character";
+    add(state, input, function, &desc, cg_crowd_add_character);
+}
+
+pub fn add_object(state: &mut State, input: &mut Input) {
+    let mut desc: cg_object_desc = init(state, "cg_object_desc_init", cg_object_desc_init);
+    desc.struct_size = input.struct_size(size_of::<cg_object_desc>());
+    desc.position = point(input, 0.0);
+    desc.heading = input.float();
+    desc.look_at_height = input.float_or(1.2);
+    desc.impact = input.float_or(1.0);
+    add(
+        state,
+        input,
+        "cg_crowd_add_object",
+        &desc,
+        cg_crowd_add_object,
+    );
+}
+
+pub fn remove_entity(state: &mut State, input: &mut Input) {
+    let id = state.id(input);
+    let crowd = state.crowd(input);
+    let status = state.change("cg_crowd_remove_entity", cg_crowd_remove_entity(crowd, id));
+    if status == cg_status::Ok {
+        state.live.retain(|&live| live != id);
+        state.removed.push(id);
+        if state.viewer == Some(id) {
+            state.viewer = None;
+        }
+    }
+}
+
+pub fn push_frame(state: &mut State, input: &mut Input) {
+    let count = input.count(6);
+    let size = input.struct_size(size_of::<cg_entity_state>());
+    let states: Vec<cg_entity_state> = (0..count)
+        .map(|_| {
+            let mut entity: cg_entity_state =
+                init(state, "cg_entity_state_init", cg_entity_state_init);
+            entity.struct_size = size;
+            entity.id = state.id(input);
+            entity.flags = input.choice(4);
+            entity.heading = input.float();
+            entity.position = point(input, 0.0);
+            entity.velocity = vec3(input);
+            entity
+        })
+        .collect();
+    let t = match input.below(16) {
+        12 => state.time,
+        13 => state.time - 1.0,
+        14 => state.time + f64::from(input.float()),
+        15 => [f64::NAN, f64::INFINITY, 1.0e300][input.below(3) as usize],
+        _ => state.time + 1.0 / 30.0,
+    };
+    let crowd = state.crowd(input);
+    let pointer = array_pointer(&states, input);
+    let status = state.change(
+        "cg_crowd_push_frame",
+        cg_crowd_push_frame(crowd, t, pointer, count),
+    );
+    if status == cg_status::Ok {
+        state.time = t;
+    }
+}
+
+pub fn step(state: &mut State, input: &mut Input) {
+    let dt = input.float_or(1.0 / 30.0);
+    let crowd = state.crowd(input);
+    state.change("cg_crowd_step", cg_crowd_step(crowd, dt));
+}
+
+/// A frame of a walking crowd: every live entity moves along x in its own lane, then a
+/// step of 1/30 s. Drives the simulation forward with valid calls.
+pub fn walk(state: &mut State, input: &mut Input) {
+    let t = state.time + 1.0 / 30.0;
+    let states: Vec<cg_entity_state> = state
+        .live
+        .iter()
+        .enumerate()
+        .map(|(lane, &id)| {
+            let mut entity: cg_entity_state =
+                init(state, "cg_entity_state_init", cg_entity_state_init);
+            entity.id = id;
+            entity.flags = CG_STATE_HEADING_FROM_MOTION;
+            entity.position.x = (lane as f32 * 1.3 + t as f32 * 1.2) % 20.0 - 10.0;
+            entity.position.z = lane as f32 * 0.7 - 4.0 + input.float() / 16.0;
+            entity
+        })
+        .collect();
+    let status = state.change(
+        "cg_crowd_push_frame",
+        cg_crowd_push_frame(state.crowd, t, states.as_ptr(), states.len()),
+    );
+    if status == cg_status::Ok {
+        state.time = t;
+    }
+    state.change("cg_crowd_step", cg_crowd_step(state.crowd, 1.0 / 30.0));
+}
+
+pub fn read_gaze(state: &mut State, input: &mut Input) {
+    let mut out = sentinel::<cg_gaze_info>(input.count(20));
+    let mut written = sentinel::<usize>(1);
+    let crowd = state.crowd(input);
+    let pointer = or_null(out.as_mut_ptr(), input);
+    let written_pointer = if input.below(4) == 3 {
+        null_mut()
+    } else {
+        written.as_mut_ptr()
+    };
+    let status = state.call(
+        "cg_crowd_read_gaze",
+        cg_crowd_read_gaze(crowd, pointer, out.len(), written_pointer),
+    );
+    let filled = if written_pointer.is_null() {
+        0
+    } else {
+        written[0]
+    };
+    if status == cg_status::Ok {
+        assert!(
+            filled <= out.len(),
+            "cg_crowd_read_gaze wrote {filled} > count"
+        );
+    }
+    state.outputs("cg_crowd_read_gaze", status, &out, filled);
+}
+
+pub fn score(state: &mut State, input: &mut Input) {
+    let (character, entity) = (state.id(input), state.id(input));
+    let mut out = sentinel::<cg_score_breakdown>(1);
+    let crowd = state.crowd(input);
+    let pointer = or_null(out.as_mut_ptr(), input);
+    let status = state.call(
+        "cg_crowd_score",
+        cg_crowd_score(crowd, character, entity, pointer),
+    );
+    state.outputs("cg_crowd_score", status, &out, 1);
+}
+
+pub fn get_character_params(state: &mut State, input: &mut Input) {
+    let id = state.id(input);
+    let mut out = sentinel::<cg_character_params>(1);
+    let crowd = state.crowd(input);
+    let pointer = or_null(out.as_mut_ptr(), input);
+    let status = state.call(
+        "cg_crowd_get_character_params",
+        cg_crowd_get_character_params(crowd, id, pointer),
+    );
+    state.outputs("cg_crowd_get_character_params", status, &out, 1);
+}
+
+pub fn set_character_params(state: &mut State, input: &mut Input) {
+    let id = state.id(input);
+    let mut params = cg_character_params {
+        struct_size: size_of::<cg_character_params>() as u32,
+        weight_proximity: 0.25,
+        weight_speed: 0.25,
+        weight_orientation: 0.25,
+        weight_periphery: 0.25,
+        attention_fraction: 0.4,
+        attention_model: 0,
+    };
+    let status = cg_crowd_get_character_params(state.crowd, id, &mut params);
+    state.call("cg_crowd_get_character_params", status);
+    for _ in 0..input.below(3) {
+        match input.below(7) {
+            0 => params.weight_proximity = input.float(),
+            1 => params.weight_speed = input.float(),
+            2 => params.weight_orientation = input.float(),
+            3 => params.weight_periphery = input.float(),
+            4 => params.attention_fraction = input.float(),
+            5 => params.attention_model = input.below(4),
+            _ => params.struct_size = input.struct_size(size_of::<cg_character_params>()),
+        }
+    }
+    let crowd = state.crowd(input);
+    let pointer = pointer_to(&params, input);
+    state.change(
+        "cg_crowd_set_character_params",
+        cg_crowd_set_character_params(crowd, id, pointer),
+    );
+}
+
+pub fn set_impact(state: &mut State, input: &mut Input) {
+    let id = state.id(input);
+    let impact = input.positive();
+    let crowd = state.crowd(input);
+    state.change(
+        "cg_crowd_set_impact",
+        cg_crowd_set_impact(crowd, id, impact),
+    );
+}
+
+pub fn plan(state: &mut State, input: &mut Input) {
+    let crowd = state.crowd(input);
+    state.change("cg_crowd_plan", cg_crowd_plan(crowd));
+}
+
+pub fn clear_plan(state: &mut State, input: &mut Input) {
+    let crowd = state.crowd(input);
+    state.change("cg_crowd_clear_plan", cg_crowd_clear_plan(crowd));
+}
+
+pub fn read_constraints(state: &mut State, input: &mut Input) {
+    let id = state.id(input);
+    let mut out = sentinel::<cg_constraint>(input.count(8));
+    let mut total = sentinel::<usize>(1);
+    let crowd = state.crowd(input);
+    let pointer = or_null(out.as_mut_ptr(), input);
+    let total_pointer = or_null(total.as_mut_ptr(), input);
+    let status = state.call(
+        "cg_crowd_read_constraints",
+        cg_crowd_read_constraints(crowd, id, pointer, out.len(), total_pointer),
+    );
+    let filled = if total_pointer.is_null() { 0 } else { total[0] };
+    state.outputs("cg_crowd_read_constraints", status, &out, filled);
+}
+
+pub fn set_viewer(state: &mut State, input: &mut Input) {
+    let position = point(input, 1.6);
+    let impact = input.float_or(1.0);
+    let crowd = state.crowd(input);
+    let pointer = pointer_to(&position, input);
+    let mut id = sentinel::<u32>(1);
+    let out = if input.below(4) == 3 {
+        null_mut()
+    } else {
+        id.as_mut_ptr()
+    };
+    let status = state.change(
+        "cg_crowd_set_viewer",
+        cg_crowd_set_viewer(crowd, pointer, impact, out),
+    );
+    state.outputs(
+        "cg_crowd_set_viewer",
+        status,
+        &id,
+        if out.is_null() { 0 } else { 1 },
+    );
+    if status == cg_status::Ok && !out.is_null() {
+        state.viewer = Some(id[0]);
+        added(state, status, out, id[0]);
+    }
+}
+
+pub fn set_attention_period(state: &mut State, input: &mut Input) {
+    let id = state.id(input);
+    let period = input.choice(70);
+    let crowd = state.crowd(input);
+    state.change(
+        "cg_crowd_set_attention_period",
+        cg_crowd_set_attention_period(crowd, id, period),
+    );
+}
+
+pub fn set_gaze_target(state: &mut State, input: &mut Input) {
+    let character = state.id(input);
+    let mut target: cg_gaze_target = init(state, "cg_gaze_target_init", cg_gaze_target_init);
+    target.struct_size = input.struct_size(size_of::<cg_gaze_target>());
+    target.kind = input.choice(2);
+    target.priority = input.choice(2);
+    target.entity = state.id(input);
+    target.point = point(input, 1.6);
+    let crowd = state.crowd(input);
+    let pointer = pointer_to(&target, input);
+    state.change(
+        "cg_crowd_set_gaze_target",
+        cg_crowd_set_gaze_target(crowd, character, pointer),
+    );
+}
+
+pub fn clear_gaze_target(state: &mut State, input: &mut Input) {
+    let id = state.id(input);
+    let crowd = state.crowd(input);
+    state.change(
+        "cg_crowd_clear_gaze_target",
+        cg_crowd_clear_gaze_target(crowd, id),
+    );
+}
+
+/// `count` joint rotations, mostly `HUMAN_JOINTS`.
+fn pose(input: &mut Input, count: usize) -> Vec<cg_quat> {
+    (0..count).map(|_| quat(input)).collect()
+}
+
+pub fn set_base_pose(state: &mut State, input: &mut Input) {
+    let id = state.id(input);
+    let count = input.count_or(HUMAN_JOINTS, 16);
+    let local = pose(input, count);
+    let crowd = state.crowd(input);
+    let pointer = array_pointer(&local, input);
+    state.change(
+        "cg_crowd_set_base_pose",
+        cg_crowd_set_base_pose(crowd, id, pointer, count),
+    );
+}
+
+pub fn set_base_poses(state: &mut State, input: &mut Input) {
+    let characters: Vec<u32> = (0..input.count(4)).map(|_| state.id(input)).collect();
+    let count = input.count_or(characters.len() * HUMAN_JOINTS, 50);
+    let local = pose(input, count);
+    let crowd = state.crowd(input);
+    let ids = array_pointer(&characters, input);
+    let pointer = array_pointer(&local, input);
+    state.change(
+        "cg_crowd_set_base_poses",
+        cg_crowd_set_base_poses(crowd, ids, characters.len(), pointer, count),
+    );
+}
+
+/// A character range: mostly small, rarely any values (overflowing `first + count`).
+fn range(input: &mut Input) -> (u32, u32) {
+    if input.rare() {
+        (input.u32(), input.u32())
+    } else {
+        (input.below(14), input.below(14))
+    }
+}
+
+pub fn joint_total(state: &mut State, input: &mut Input) {
+    let (first, count) = range(input);
+    let mut total = sentinel::<usize>(1);
+    let crowd = state.crowd(input);
+    let pointer = or_null(total.as_mut_ptr(), input);
+    let status = state.call(
+        "cg_crowd_joint_total",
+        cg_crowd_joint_total(crowd, first, count, pointer),
+    );
+    state.outputs("cg_crowd_joint_total", status, &total, 1);
+}
+
+/// `cg_crowd_read_joints` or `cg_crowd_read_joint_deltas`.
+fn read_joints(
+    state: &mut State,
+    input: &mut Input,
+    function: &str,
+    read: extern "C" fn(*const cg_crowd, u32, u32, *mut cg_quat, usize) -> cg_status,
+) {
+    let (first, count) = range(input);
+    let length = input.count_or((count as usize).min(16) * HUMAN_JOINTS, 255);
+    let mut out = sentinel::<cg_quat>(length);
+    let crowd = state.crowd(input);
+    let pointer = or_null(out.as_mut_ptr(), input);
+    let status = state.call(function, read(crowd, first, count, pointer, length));
+    let mut total = 0;
+    if status == cg_status::Ok {
+        let total_status = cg_crowd_joint_total(crowd, first, count, &mut total);
+        assert_eq!(
+            total_status,
+            cg_status::Ok,
+            "{function} succeeded on that range"
+        );
+    }
+    state.outputs(function, status, &out, total);
+}
+
+pub fn read_joint_rotations(state: &mut State, input: &mut Input) {
+    read_joints(state, input, "cg_crowd_read_joints", cg_crowd_read_joints);
+}
+
+pub fn read_joint_deltas(state: &mut State, input: &mut Input) {
+    read_joints(
+        state,
+        input,
+        "cg_crowd_read_joint_deltas",
+        cg_crowd_read_joint_deltas,
+    );
+}
+
+pub fn read_eyes(state: &mut State, input: &mut Input) {
+    let (first, count) = range(input);
+    let length = input.count_or((count as usize).min(16), 20);
+    let mut out = sentinel::<cg_eye_info>(length);
+    let crowd = state.crowd(input);
+    let pointer = or_null(out.as_mut_ptr(), input);
+    let status = state.call(
+        "cg_crowd_read_eyes",
+        cg_crowd_read_eyes(crowd, first, count, pointer, length),
+    );
+    state.outputs("cg_crowd_read_eyes", status, &out, count as usize);
+}
+
+pub fn character_count(state: &mut State, input: &mut Input) {
+    let mut count = sentinel::<usize>(1);
+    let crowd = state.crowd(input);
+    let pointer = or_null(count.as_mut_ptr(), input);
+    let status = state.call(
+        "cg_crowd_character_count",
+        cg_crowd_character_count(crowd, pointer),
+    );
+    state.outputs("cg_crowd_character_count", status, &count, 1);
+}
+
+pub fn get_config(state: &mut State, input: &mut Input) {
+    let mut config = sentinel::<cg_crowd_config>(1);
+    let crowd = state.crowd(input);
+    let pointer = or_null(config.as_mut_ptr(), input);
+    let status = state.call("cg_crowd_get_config", cg_crowd_get_config(crowd, pointer));
+    state.outputs("cg_crowd_get_config", status, &config, 1);
+}
+
+pub fn chain_init(state: &mut State, input: &mut Input) {
+    let (up, forward) = (input.below(8), input.below(8));
+    let mut chain = sentinel::<cg_chain_desc>(1);
+    let pointer = or_null(chain.as_mut_ptr(), input);
+    let status = state.call(
+        "cg_chain_desc_init_human",
+        cg_chain_desc_init_human(pointer, up, forward),
+    );
+    state.outputs("cg_chain_desc_init_human", status, &chain, 1);
+}
