@@ -444,3 +444,46 @@ mod c_api {
         cg_crowd_destroy(handle);
     }
 }
+
+/// A crowd filled to capacity with the viewer added before the last character: every
+/// entity is in the spatial grid (the viewer's slot is counted), so each character is
+/// stepped and the viewer can be looked at. (The grid once held one entity too few.)
+#[test]
+fn a_full_crowd_with_a_viewer_steps_everyone() {
+    use crowdgaze::crowd::CharacterDesc;
+    let config = CrowdConfig {
+        max_characters: 3,
+        max_objects: 0,
+        ..CrowdConfig::default()
+    };
+    for threads in [1, 2] {
+        let mut crowd = Crowd::new(CrowdConfig {
+            threads,
+            ..config.clone()
+        })
+        .unwrap();
+        let watcher = crowd.add_character(&CharacterDesc::default()).unwrap();
+        crowd
+            .add_character(&CharacterDesc {
+                position: Vec3::new(-6.0, 0.0, -6.0),
+                ..CharacterDesc::default()
+            })
+            .unwrap();
+        let viewer = crowd.set_viewer(Vec3::new(0.0, 1.7, 2.0), 5.0).unwrap();
+        crowd
+            .add_character(&CharacterDesc {
+                position: Vec3::new(6.0, 0.0, -6.0),
+                ..CharacterDesc::default()
+            })
+            .unwrap();
+        let mut looked_at_viewer = false;
+        for _ in 0..60 {
+            crowd.step(DT).unwrap();
+            looked_at_viewer |= crowd.gaze(watcher).unwrap().target == viewer;
+        }
+        assert!(
+            looked_at_viewer,
+            "{threads} threads: the viewer was never looked at"
+        );
+    }
+}

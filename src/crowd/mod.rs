@@ -404,13 +404,14 @@ impl Crowd {
     /// threads when `config.threads` asks for them).
     pub fn new(config: CrowdConfig) -> Result<Crowd> {
         config.validate()?;
-        let capacity = (config.max_characters + config.max_objects) as usize;
+        // Every entity the scene may hold: characters, objects and the viewer.
+        let capacity = (config.max_characters + config.max_objects + 1) as usize;
         let characters = config.max_characters as usize;
         let workers = config.worker_threads();
         Ok(Crowd {
             shared: Shared {
                 scorer: Scorer::new(config.scoring),
-                // One object slot more than asked for: the viewer's.
+                // One object slot more than asked for: the viewer's (`capacity` counts it).
                 scene: Scene::new(config.world, config.max_characters, config.max_objects + 1),
                 neighbours: NeighbourIndex::new(capacity, config.scoring.max_distance),
                 params: Vec::with_capacity(characters),

@@ -313,6 +313,13 @@ impl Crowd {
                 .filter_map(|&entity| scene.character_at(entity as usize))
                 .map(|character| character as u32),
         );
+        if self.grid_order.len() != scene.character_count() {
+            // The grid holds every entity, so this cannot happen; if it did, dense order
+            // still steps every character once.
+            debug_assert!(false, "a character is missing from the grid");
+            self.grid_order.clear();
+            self.grid_order.extend(0..scene.character_count() as u32);
+        }
         Ok(())
     }
 
