@@ -552,18 +552,18 @@ pub(crate) fn sin_cos_quarter(x: F4) -> (F4, F4) {
     (sin, cos)
 }
 
-/// Interpolation from `a` to `b` the short way per lane, exactly `a` for `t ≤ 0` and exactly
-/// `b` for `t ≥ 1`. In between, a normalised lerp with a corrected parameter that follows
-/// slerp's constant angular speed within about 10⁻³ of the angle (A. Kapoulkine,
-/// "Approximating slerp", 2015): no trigonometry.
+/// [`interpolate_or`] starting from `a` at `t ≤ 0` too.
 #[cfg(test)]
 #[inline(always)]
 pub(crate) fn interpolate(a: Q4, b: Q4, t: F4) -> Q4 {
     interpolate_or(a, a, b, t)
 }
 
-/// [`interpolate`], but exactly `at_zero` for `t ≤ 0` (and `a` is then not used): for callers
-/// whose `a` is only meaningful in the lanes under way.
+/// Interpolation from `a` to `b` the short way per lane, exactly `at_zero` for `t ≤ 0` (`a`
+/// is then not used: callers whose `a` means something only in the lanes under way) and
+/// exactly `b` for `t ≥ 1`. In between, a normalised lerp with a corrected parameter that
+/// follows slerp's constant angular speed within about 10⁻³ of the angle (A. Kapoulkine,
+/// "Approximating slerp", 2015): no trigonometry.
 #[inline(always)]
 pub(crate) fn interpolate_or(a: Q4, at_zero: Q4, b: Q4, t: F4) -> Q4 {
     let dot = a.dot(b);
