@@ -383,9 +383,7 @@ impl Q4 {
     }
 
     /// Lane `i` gets `packed[i].unpack()`, bit for bit, computed for the lanes together.
-    /// (Kept out of line: inlined into the gaze update's joint loop, which needs it only
-    /// while a shift is under way, it makes that loop longer overall.)
-    #[inline(never)]
+    #[inline(always)]
     pub(crate) fn unpack(packed: [PackedQuat; LANES]) -> Q4 {
         let parts = packed.map(PackedQuat::parts);
         let a = gather(|i| parts[i].0[0]);
