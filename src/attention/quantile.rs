@@ -24,19 +24,20 @@ pub fn exact_quantile(values: &mut [f32], p: f32) -> Option<f32> {
 pub const HISTOGRAM_BINS: usize = 64;
 
 /// A streaming estimate of the distribution of scores in [0, 1], to read any quantile:
-/// 64 equal bins of 16-bit counts (128 bytes: the total is summed when read), no
-/// allocation. When a bin would overflow,
+/// 64 equal bins of 16-bit counts (128 bytes), no allocation. When a bin would overflow,
 /// every count is halved, so very old samples slowly lose weight. Quantiles interpolate
 /// linearly inside a bin (resolution 1/64 of the range).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ScoreHistogram {
     counts: [u16; HISTOGRAM_BINS],
+    total: u32,
 }
 
 impl Default for ScoreHistogram {
     fn default() -> Self {
         ScoreHistogram {
             counts: [0; HISTOGRAM_BINS],
+            total: 0,
         }
     }
 }
@@ -44,7 +45,7 @@ impl Default for ScoreHistogram {
 impl ScoreHistogram {
     /// Number of samples currently weighing in the histogram.
     pub fn total(&self) -> u32 {
-        self.counts.iter().map(|&count| u32::from(count)).sum()
+        self.total
     }
 
     /// Adds a sample; values are clamped to [0, 1], non-finite ones ignored.
@@ -55,20 +56,22 @@ impl ScoreHistogram {
         let bin =
             ((value.clamp(0.0, 1.0) * HISTOGRAM_BINS as f32) as usize).min(HISTOGRAM_BINS - 1);
         if self.counts[bin] == u16::MAX {
+            self.total = 0;
             for count in &mut self.counts {
                 *count /= 2;
+                self.total += u32::from(*count);
             }
         }
         self.counts[bin] += 1;
+        self.total += 1;
     }
 
     /// The `level`-quantile (level in [0, 1]) of the samples, `None` if there are none.
     pub fn quantile(&self, level: f32) -> Option<f32> {
-        let total = self.total();
-        if total == 0 {
+        if self.total == 0 {
             return None;
         }
-        let target = level.clamp(0.0, 1.0) * total as f32;
+        let target = level.clamp(0.0, 1.0) * self.total as f32;
         let mut below = 0.0f32;
         for (bin, &count) in self.counts.iter().enumerate() {
             let count = f32::from(count);

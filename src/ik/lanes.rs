@@ -11,6 +11,8 @@ use std::ops::{Add, BitAnd, BitAndAssign, BitOr, Div, Index, Mul, Neg, Not, Sub}
 
 use glam::{BVec4A, Quat, Vec3A, Vec4};
 
+use crate::math::packed::PackedQuat;
+
 /// Number of 4-wide SIMD registers per lane group (two would interleave the dependency
 /// chains of two groups of four characters, but costs as much as it gains).
 const HALVES: usize = 1;
@@ -78,6 +80,11 @@ impl Floats {
     #[inline(always)]
     pub(crate) fn min(self, o: Floats) -> Floats {
         self.zip(o, Vec4::min)
+    }
+
+    #[inline(always)]
+    pub(crate) fn max(self, o: Floats) -> Floats {
+        self.zip(o, Vec4::max)
     }
 
     #[inline(always)]
@@ -375,6 +382,37 @@ impl Q4 {
         }
     }
 
+    /// Lane `i` gets `packed[i].unpack()`, bit for bit, computed for the lanes together.
+    #[inline(always)]
+    pub(crate) fn unpack(packed: [PackedQuat; LANES]) -> Q4 {
+        let parts = packed.map(PackedQuat::parts);
+        let a = gather(|i| parts[i].0[0]);
+        let b = gather(|i| parts[i].0[1]);
+        let c = gather(|i| parts[i].0[2]);
+        // As PackedQuat::unpack: √max(0, 1 − a² − b² − c²), with the sign of the original.
+        let rest = (Floats::ONE - a * a - b * b - c * c)
+            .max(Floats::ZERO)
+            .sqrt();
+        let rebuilt = Floats::select(mask(|i| parts[i].2), -rest, rest);
+        // Where the rebuilt component goes: mostly w (rotations up to 90° at least).
+        if parts.iter().all(|part| part.1 == 3) {
+            return Q4 {
+                x: a,
+                y: b,
+                z: c,
+                w: rebuilt,
+            };
+        }
+        let left_out = |index: u32| mask(|i| parts[i].1 == index);
+        let (is_x, is_y, is_z, is_w) = (left_out(0), left_out(1), left_out(2), left_out(3));
+        Q4 {
+            x: Floats::select(is_x, rebuilt, a),
+            y: Floats::select(is_x, a, Floats::select(is_y, rebuilt, b)),
+            z: Floats::select(is_z, rebuilt, Floats::select(is_w, c, b)),
+            w: Floats::select(is_w, rebuilt, c),
+        }
+    }
+
     /// Lane `i`'s rotation.
     #[inline(always)]
     pub(crate) fn lane(&self, i: usize) -> Quat {
@@ -512,12 +550,20 @@ pub(crate) fn sin_cos_quarter(x: F4) -> (F4, F4) {
     (sin, cos)
 }
 
-/// Interpolation from `a` to `b` the short way per lane, exactly `a` for `t ≤ 0` and exactly
-/// `b` for `t ≥ 1`. In between, a normalised lerp with a corrected parameter that follows
-/// slerp's constant angular speed within about 10⁻³ of the angle (A. Kapoulkine,
-/// "Approximating slerp", 2015): no trigonometry.
+/// [`interpolate_or`] starting from `a` at `t ≤ 0` too.
+#[cfg(test)]
 #[inline(always)]
 pub(crate) fn interpolate(a: Q4, b: Q4, t: F4) -> Q4 {
+    interpolate_or(a, a, b, t)
+}
+
+/// Interpolation from `a` to `b` the short way per lane, exactly `at_zero` for `t ≤ 0` (`a`
+/// is then not used: callers whose `a` means something only in the lanes under way) and
+/// exactly `b` for `t ≥ 1`. In between, a normalised lerp with a corrected parameter that
+/// follows slerp's constant angular speed within about 10⁻³ of the angle (A. Kapoulkine,
+/// "Approximating slerp", 2015): no trigonometry.
+#[inline(always)]
+pub(crate) fn interpolate_or(a: Q4, at_zero: Q4, b: Q4, t: F4) -> Q4 {
     let dot = a.dot(b);
     let flip = dot.cmplt(Floats::ZERO);
     let sign = Floats::select(flip, Floats::NEG_ONE, Floats::ONE);
@@ -534,7 +580,7 @@ pub(crate) fn interpolate(a: Q4, b: Q4, t: F4) -> Q4 {
         w: a.w + (b.w * sign - a.w) * u,
     }
     .normalize();
-    let mixed = Q4::select(t.cmple(Floats::ZERO), a, mixed);
+    let mixed = Q4::select(t.cmple(Floats::ZERO), at_zero, mixed);
     Q4::select(t.cmpge(Floats::ONE), b, mixed)
 }
 
@@ -579,6 +625,32 @@ mod tests {
         let m = mask(|i| i == 2);
         assert!(m.any() && !m.all() && m.test(2) && !m.test(1));
         assert!((!Mask::splat(false)).all());
+    }
+
+    #[test]
+    fn unpacking_four_lanes_gives_the_bits_of_one() {
+        let mut random = crate::math::random::Random::new(23);
+        for round in 0..2_000 {
+            let packed: [PackedQuat; LANES] = std::array::from_fn(|i| {
+                let mut draw = || 2.0 * random.next_f32() - 1.0;
+                let q = Quat::from_xyzw(draw(), draw(), draw(), draw()).normalize();
+                // Every other round all lanes leave w out (the fast path).
+                let q = if round % 2 == 0 && q.w.abs() < 0.9 {
+                    Quat::from_axis_angle(Vec3::new(draw(), draw(), 1.0).normalize(), draw())
+                } else {
+                    q
+                };
+                PackedQuat::pack(if i == 2 { -q } else { q })
+            });
+            let lanes = Q4::unpack(packed);
+            for (i, packed) in packed.iter().enumerate() {
+                let (one, all) = (packed.unpack(), lanes.lane(i));
+                assert_eq!(
+                    one.to_array().map(f32::to_bits),
+                    all.to_array().map(f32::to_bits)
+                );
+            }
+        }
     }
 
     #[test]

@@ -50,7 +50,7 @@
 use glam::{Quat, Vec3, Vec3A};
 
 use super::chain::{GazeChain, JointGroup, MAX_BODY_JOINTS, MAX_CHAIN_JOINTS};
-use super::lanes::{gather, interpolate, mask, Floats, Mask, F4, LANES, M4, Q4, V3};
+use super::lanes::{gather, interpolate_or, mask, Floats, Mask, F4, LANES, M4, Q4, V3};
 use super::rotation::{angle_between, step_toward};
 use super::spatial::{
     self, BodyLane, EyeFrames, Frames, Limits, Prepared, SpatialConfig, TurnSide,
@@ -618,13 +618,13 @@ impl GazeMotion {
                 }
             });
             let start = || {
-                Q4::gather(|lane| {
+                Q4::unpack(std::array::from_fn(|lane| {
                     if used(lane) && index < body[lane] {
-                        motions[lane].start[index].unpack()
+                        motions[lane].start[index]
                     } else {
-                        Quat::IDENTITY
+                        PackedQuat::IDENTITY
                     }
-                })
+                }))
             };
             let goal = Q4::select(moving_mask, goals[index], Q4::IDENTITY);
             let (settled, rest) = settle(
@@ -709,13 +709,13 @@ impl GazeMotion {
                 let goal = frames.goal(&lane_chains, &prepared, eye_target, side_sign);
                 let goal = Q4::select(mask(|lane| moving[lane]), goal, Q4::IDENTITY);
                 let start = || {
-                    Q4::gather(|lane| {
+                    Q4::unpack(std::array::from_fn(|lane| {
                         if used(lane) && lane_chains[lane].has_eyes() {
-                            motions[lane].start[frames.index[lane]].unpack()
+                            motions[lane].start[frames.index[lane]]
                         } else {
-                            Quat::IDENTITY
+                            PackedQuat::IDENTITY
                         }
-                    })
+                    }))
                 };
                 let (settled, rest) = settle(
                     &lane_chains,
@@ -825,13 +825,13 @@ impl GazeMotion {
     }
 }
 
-/// Per lane: `interpolate(start(), goal, fraction)`, at most `max_step` radians from
-/// `current`, within the limits of joint `indices[lane]`. Returns the new deltas and where
-/// they are exactly identity.
+/// Per lane: the start pose interpolated towards `goal` by `fraction`, at most `max_step`
+/// radians from `current`, within the limits of joint `indices[lane]`. Returns the new
+/// deltas and where they are exactly identity.
 ///
-/// `start()` is the unpacked start pose; lanes whose fraction is still 0 (the frame a shift
-/// starts, and any before the ease leaves 0) keep `current` instead, which is then exactly
-/// the start pose: the fraction only grows during a shift, and a fraction of 0 leaves a
+/// `start()` unpacks the start pose. A lane whose fraction is still 0 (the frame a shift
+/// starts, and any before the ease leaves 0) keeps `current` instead, which is then exactly
+/// its start pose: the fraction only grows during a shift, and a fraction of 0 leaves a
 /// joint where it is. So a shift starts exactly from where the joints are.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
@@ -851,13 +851,8 @@ fn settle(
     let wanted = if arrived {
         goal
     } else {
-        let not_started = fraction.cmple(Floats::ZERO);
-        let start = if not_started.all() {
-            current
-        } else {
-            Q4::select(not_started, current, start())
-        };
-        interpolate(start, goal, fraction)
+        // At a fraction of 0 the joint stays where it is (exactly its start pose).
+        interpolate_or(start(), current, goal, fraction)
     };
     // Within the speed limit iff 1 − |current·wanted| ≤ 1 − cos(max/2), which is at least
     // h²/2 − h⁴/24 for h = max/2: a test without trigonometry; the rare lanes over the limit

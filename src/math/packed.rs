@@ -54,14 +54,8 @@ impl PackedQuat {
         if components[largest].is_sign_negative() {
             bits |= SIGN_BIT;
         }
-        let mut slot = 0;
-        for (index, &component) in components.iter().enumerate() {
-            if index == largest {
-                continue;
-            }
-            let stored = (component * SCALE).round().clamp(-LARGEST, LARGEST) as i32;
-            bits |= (stored as u64 & MASK) << (slot * BITS);
-            slot += 1;
+        for (slot, &index) in OTHERS[largest].iter().enumerate() {
+            bits |= (quantise(components[index]) as u64 & MASK) << (slot as u32 * BITS);
         }
         PackedQuat(bits)
     }
@@ -69,32 +63,55 @@ impl PackedQuat {
     /// The quaternion back (unit length within f32 rounding).
     #[inline]
     pub fn unpack(self) -> Quat {
+        let (stored, left_out, negative) = self.parts();
+        let [a, b, c] = stored;
+        let rebuilt = rebuild(a, b, c);
+        let rebuilt = if negative { -rebuilt } else { rebuilt };
+        match left_out {
+            0 => Quat::from_xyzw(rebuilt, a, b, c),
+            1 => Quat::from_xyzw(a, rebuilt, b, c),
+            2 => Quat::from_xyzw(a, b, rebuilt, c),
+            _ => Quat::from_xyzw(a, b, c, rebuilt),
+        }
+    }
+
+    /// The three stored components (in order), the index of the one left out, and whether
+    /// it is negative: for unpacking several at once.
+    #[inline(always)]
+    pub(crate) fn parts(self) -> ([f32; 3], u32, bool) {
         let bits = self.0;
-        let largest = ((bits >> INDEX_SHIFT) & 3) as usize;
         let field = |slot: u32| {
             // Sign-extend the 20-bit field.
-            let raw = ((bits >> (slot * BITS)) & MASK) as i64;
-            let value = (raw << (64 - BITS)) >> (64 - BITS);
+            let value = (((bits >> (slot * BITS)) as u32) << (32 - BITS)) as i32 >> (32 - BITS);
             value as f32 * (1.0 / SCALE)
         };
-        let stored = [field(0), field(1), field(2)];
-        let rest = 1.0 - stored[0] * stored[0] - stored[1] * stored[1] - stored[2] * stored[2];
-        let mut rebuilt = rest.max(0.0).sqrt();
-        if bits & SIGN_BIT != 0 {
-            rebuilt = -rebuilt;
-        }
-        let mut components = [0.0; 4];
-        let mut slot = 0;
-        for (index, component) in components.iter_mut().enumerate() {
-            if index == largest {
-                *component = rebuilt;
-            } else {
-                *component = stored[slot];
-                slot += 1;
-            }
-        }
-        Quat::from_array(components)
+        (
+            [field(0), field(1), field(2)],
+            ((bits >> INDEX_SHIFT) & 3) as u32,
+            bits & SIGN_BIT != 0,
+        )
     }
+}
+
+/// The magnitude of the component left out, from the three stored: `√max(0, 1 − a² − b² − c²)`.
+/// (The four-lane unpacking in `ik::lanes` does the same operations in the same order, so
+/// it gives the same bits.)
+#[inline(always)]
+fn rebuild(a: f32, b: f32, c: f32) -> f32 {
+    (1.0 - a * a - b * b - c * c).max(0.0).sqrt()
+}
+
+/// The components stored when component `i` is left out, in order.
+const OTHERS: [[usize; 3]; 4] = [[1, 2, 3], [0, 2, 3], [0, 1, 3], [0, 1, 2]];
+
+/// `round(component · S)`, clamped to ±(2¹⁹ − 1), rounding half to even: adding 1.5·2²³ to a
+/// value below 2²² in magnitude leaves it rounded to an integer in the low bits of the
+/// sum's mantissa (no rounding instruction, libm call or saturating conversion).
+#[inline]
+fn quantise(component: f32) -> i32 {
+    const MAGIC: f32 = 12_582_912.0;
+    let scaled = (component * SCALE).clamp(-LARGEST, LARGEST);
+    (scaled + MAGIC).to_bits() as i32 - MAGIC.to_bits() as i32
 }
 
 impl Default for PackedQuat {

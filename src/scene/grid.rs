@@ -58,10 +58,14 @@ impl SpatialGrid {
         (scaled.x.floor() as i32, scaled.y.floor() as i32)
     }
 
-    /// The cell holding `point` (points outside the grid count in its border cells).
+    /// The cell holding `point`, one of the points of the rebuild: within the grid's box, so
+    /// its scaled coordinates are ≥ 0 and truncating them is their floor (no call to
+    /// `floorf`, which x86-64's baseline instructions lack). Those on the box's far edges
+    /// count in the last column or row.
     #[inline]
     fn cell_index(&self, point: Vec2) -> usize {
-        let (x, y) = self.cell_of(point);
+        let scaled = (point - self.origin) * self.inverse_cell_size;
+        let (x, y) = (scaled.x as i32, scaled.y as i32);
         (y.clamp(0, self.rows - 1) * self.columns + x.clamp(0, self.columns - 1)) as usize
     }
 
@@ -108,7 +112,8 @@ impl SpatialGrid {
             self.cell_start[cell] += self.cell_start[cell - 1];
         }
         // Scatter, using cell_start[c] as a cursor, then shift the starts back. (Each point's
-        // cell is computed again rather than kept from the count: 4 bytes less per entity.)
+        // cell is computed again rather than kept from the count: 4 bytes less per entity,
+        // for a few instructions.)
         for (index, point) in points.iter().enumerate() {
             let cell = self.cell_index(*point);
             let cursor = self.cell_start[cell] as usize;
