@@ -12,10 +12,10 @@ use crowdgaze::attention::saliency::FixationChannel;
 use crowdgaze::attention::CharacterParams;
 use crowdgaze::crowd::{ExplicitTarget, Look, TargetPriority};
 use crowdgaze::ik::{GazeMotion, MAX_CHAIN_JOINTS};
+use crowdgaze::math::packed::PackedQuat;
 use crowdgaze::math::random::Random;
 use crowdgaze::scene::Scene;
 use crowdgaze::Crowd;
-use glam::Quat;
 
 #[test]
 fn every_per_character_type_has_its_recorded_size() {
@@ -24,7 +24,7 @@ fn every_per_character_type_has_its_recorded_size() {
     assert_eq!(size_of::<ScoreHistogram>(), 132);
     assert_eq!(size_of::<InterestTracker>(), 212);
     // The crowd's base pose of each chain joint.
-    assert_eq!(size_of::<[Quat; MAX_CHAIN_JOINTS]>(), 240);
+    assert_eq!(size_of::<[PackedQuat; MAX_CHAIN_JOINTS]>(), 120);
     // Deltas (240), packed start pose (120), eye rays (48), last targets (24), target key
     // (8), four times (16), four one-byte fields, 4 bytes of padding.
     assert_eq!(size_of::<GazeMotion>(), 464);
@@ -41,8 +41,9 @@ fn every_per_character_type_has_its_recorded_size() {
 
 #[test]
 fn state_per_character_adds_up() {
-    // 24 parameters + 212 tracker + 4 chain index + 240 base pose + 464 gaze motion
+    // 24 parameters + 212 tracker + 4 chain index + 120 packed base pose + 1 posed flag
+    // + 464 gaze motion
     // + 2 × 8 random streams + 20 explicit target + 16 look + 2 × 20 saliency
     // + 20 baseline + 12 level of detail, + 77 scene + 52 neighbour index.
-    assert_eq!(Crowd::state_bytes_per_character(), 1197);
+    assert_eq!(Crowd::state_bytes_per_character(), 1078);
 }

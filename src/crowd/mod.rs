@@ -30,6 +30,7 @@ use crate::attention::score::{ScoreBreakdown, Scorer, ScoringConfig};
 use crate::attention::{AttentionModel, CharacterParams, TargetPart};
 use crate::error::{ensure_finite, Error, Result};
 use crate::ik::{GazeChain, GazeConfig, GazeMotion, MAX_CHAIN_JOINTS};
+use crate::math::packed::PackedQuat;
 use crate::math::random::{stream, Purpose};
 use crate::scene::ids::{EntityKind, NO_ENTITY};
 use crate::scene::{EntityUpdate, Scene};
@@ -387,8 +388,14 @@ struct Shared {
     steps: u64,
     /// Per character: index into `chains`.
     chain_of: Vec<u32>,
-    /// Per character: base local rotations of its chain joints (rest or pushed pose).
-    bases: Vec<[Quat; MAX_CHAIN_JOINTS]>,
+    /// Per chain: the rest pose of its joints (local rotations), the base of every
+    /// character whose engine has not set one.
+    chain_rests: Vec<[Quat; MAX_CHAIN_JOINTS]>,
+    /// Per character: true once the engine set a base pose, held in `bases`.
+    posed: Vec<bool>,
+    /// Per character: the base pose the engine set (local rotations of its chain joints),
+    /// packed in 8 bytes each (within 6e−6 rad, see [`PackedQuat`]).
+    bases: Vec<[PackedQuat; MAX_CHAIN_JOINTS]>,
     /// Per character: explicit target from game logic.
     explicit: Vec<Option<(ExplicitTarget, TargetPriority)>>,
     /// Characters ever added: the index of each one's random stream.
@@ -397,6 +404,18 @@ struct Shared {
     time: f64,
     recording: Recording,
     plan: Option<Plan>,
+}
+
+impl Shared {
+    /// A character's base pose (local rotations of its chain joints, the first
+    /// `joint_count` used): its chain's rest pose, or the pose the engine set, unpacked.
+    fn base_pose(&self, character: usize) -> [Quat; MAX_CHAIN_JOINTS] {
+        if self.posed[character] {
+            self.bases[character].map(PackedQuat::unpack)
+        } else {
+            self.chain_rests[self.chain_of[character] as usize]
+        }
+    }
 }
 
 impl Crowd {
@@ -417,6 +436,8 @@ impl Crowd {
                 params: Vec::with_capacity(characters),
                 chains: Vec::new(),
                 chain_parts: Vec::new(),
+                chain_rests: Vec::new(),
+                posed: Vec::with_capacity(characters),
                 viewer: None,
                 steps: 0,
                 chain_of: Vec::with_capacity(characters),
@@ -508,17 +529,21 @@ impl Crowd {
             None => {
                 self.shared.chains.push(chain);
                 self.shared.chain_parts.push(social_parts(&chain, world.up));
+                let mut rest = [Quat::IDENTITY; MAX_CHAIN_JOINTS];
+                for (slot, joint) in rest.iter_mut().zip(chain.joints()) {
+                    *slot = joint.rest;
+                }
+                self.shared.chain_rests.push(rest);
                 self.shared.chains.len() - 1
             }
         };
-        let mut base = [Quat::IDENTITY; MAX_CHAIN_JOINTS];
-        for (slot, joint) in base.iter_mut().zip(chain.joints()) {
-            *slot = joint.rest;
-        }
         let created = self.shared.characters_created;
         let seed = self.shared.config.seed;
         self.shared.chain_of.push(chain_index as u32);
-        self.shared.bases.push(base);
+        self.shared
+            .bases
+            .push([PackedQuat::IDENTITY; MAX_CHAIN_JOINTS]);
+        self.shared.posed.push(false);
         self.shared.explicit.push(None);
         self.shared.params.push(params);
         self.shared.characters_created += 1;
@@ -570,6 +595,7 @@ impl Crowd {
             self.shared.params.swap_remove(slot);
             self.shared.chain_of.swap_remove(slot);
             self.shared.bases.swap_remove(slot);
+            self.shared.posed.swap_remove(slot);
             self.shared.explicit.swap_remove(slot);
             self.states.swap_remove(slot);
         }
@@ -853,7 +879,7 @@ impl Crowd {
                 local.len()
             )));
         }
-        let mut base = self.shared.bases[character];
+        let mut base = [PackedQuat::IDENTITY; MAX_CHAIN_JOINTS];
         for (slot, rotation) in base.iter_mut().zip(local) {
             crate::error::ensure_all_finite(&rotation.to_array(), "base pose")?;
             let length = rotation.length();
@@ -862,9 +888,10 @@ impl Crowd {
                     "a base rotation has length 0".into(),
                 ));
             }
-            *slot = *rotation / length;
+            *slot = PackedQuat::pack(*rotation / length);
         }
         self.shared.bases[character] = base;
+        self.shared.posed[character] = true;
         Ok(())
     }
 
@@ -921,8 +948,8 @@ impl Crowd {
         let mut written = 0;
         for character in first..first + count {
             let deltas = self.states.motions[character].deltas();
-            let base = &self.shared.bases[character][..deltas.len()];
-            for ((slot, delta), base) in out[written..].iter_mut().zip(deltas).zip(base) {
+            let base = self.shared.base_pose(character);
+            for ((slot, delta), base) in out[written..].iter_mut().zip(deltas).zip(&base) {
                 *slot = if deltas_only { *delta } else { *base * *delta };
             }
             written += deltas.len();
@@ -964,7 +991,8 @@ impl Crowd {
         use std::mem::size_of;
         let per_character = size_of::<CharacterParams>()
             + size_of::<u32>() // chain index
-            + size_of::<[Quat; MAX_CHAIN_JOINTS]>()
+            + size_of::<[PackedQuat; MAX_CHAIN_JOINTS]>()
+            + size_of::<bool>() // posed
             + size_of::<Option<(ExplicitTarget, TargetPriority)>>()
             + states::bytes_per_character();
         per_character + Scene::bytes_per_entity() + NeighbourIndex::bytes_per_entity()

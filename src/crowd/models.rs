@@ -145,7 +145,8 @@ impl Shared {
         let deltas = motion.deltas();
         let mut rotation = self.character_transform(character).rotation;
         let body = chain.body_count();
-        for (base, delta) in self.bases[character][..body].iter().zip(&deltas[..body]) {
+        let base = self.base_pose(character);
+        for (base, delta) in base[..body].iter().zip(&deltas[..body]) {
             rotation *= *base * *delta;
         }
         (rotation * chain.eye_forward()).normalize_or_zero()

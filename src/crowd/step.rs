@@ -9,7 +9,7 @@
 
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use glam::Vec2;
+use glam::{Quat, Vec2};
 
 use super::states::{CharacterMut, CharacterSlices, CharacterView, RawCharacterSlices};
 use super::{Crowd, ExplicitTarget, Shared, TargetPriority, EXPLICIT_POINT_KEY};
@@ -17,7 +17,11 @@ use crate::attention::candidates::{nearby_candidates, CandidateBatch};
 use crate::attention::AttentionModel;
 use crate::error::{ensure_finite, Error, Result};
 use crate::ik::temporal::BATCH_LANES;
-use crate::ik::{CharacterTransform, GazeChain, GazeInput, GazeMotion, GazeRequest, MotionStyle};
+use crate::ik::{
+    CharacterTransform, GazeChain, GazeInput, GazeMotion, GazeRequest, MotionStyle,
+    MAX_CHAIN_JOINTS,
+};
+use crate::math::packed::PackedQuat;
 use crate::scene::ids::NO_ENTITY;
 
 /// Characters per task when [`Crowd::step`] shares a step among its worker threads.
@@ -471,9 +475,25 @@ impl Shared {
             let chains: [&GazeChain; LANES] = std::array::from_fn(|lane| {
                 &self.chains[self.chain_of[first + local(lane)] as usize]
             });
+            // Rest poses are read in place; a pose the engine set is unpacked here.
+            let mut unpacked = [[Quat::IDENTITY; MAX_CHAIN_JOINTS]; LANES];
+            for (lane, unpacked) in unpacked.iter_mut().enumerate() {
+                let character = first + local(lane);
+                if self.posed[character] {
+                    *unpacked = self.bases[character].map(PackedQuat::unpack);
+                }
+            }
+            let bases: [&[Quat; MAX_CHAIN_JOINTS]; LANES] = std::array::from_fn(|lane| {
+                let character = first + local(lane);
+                if self.posed[character] {
+                    &unpacked[lane]
+                } else {
+                    &self.chain_rests[self.chain_of[character] as usize]
+                }
+            });
             let inputs: [GazeInput<'_>; LANES] = std::array::from_fn(|lane| GazeInput {
                 character: transforms[lane],
-                base: &self.bases[first + local(lane)][..chains[lane].joint_count()],
+                base: &bases[lane][..chains[lane].joint_count()],
                 request: requests[lane],
                 dt,
             });
