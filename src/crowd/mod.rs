@@ -358,8 +358,8 @@ pub struct Crowd {
     states: CharacterStates,
     /// Which characters a ranged step has taken.
     claims: ClaimSet,
-    /// Dense character indices in spatial-grid order, refreshed by each step: attention
-    /// visits characters in this order so that neighbours' data stays in cache.
+    /// The order in which attention visits characters, refreshed by each step: spatial-grid
+    /// order in large crowds (neighbours' data stays in cache), dense order otherwise.
     grid_order: Vec<u32>,
     /// The step begun by [`begin_step`](Self::begin_step) and not yet ended.
     open_step: Option<Frame>,

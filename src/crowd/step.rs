@@ -27,6 +27,13 @@ use crate::scene::ids::NO_ENTITY;
 /// Characters per task when [`Crowd::step`] shares a step among its worker threads.
 const CHARACTERS_PER_TASK: usize = 128;
 
+/// From this many characters on, attention visits characters in spatial-grid order: the
+/// neighbours' data (about 40 bytes an entity) then outgrows the caches, and visiting
+/// neighbours one after another keeps it in them. Below, the dense order is faster: the
+/// neighbour data fits the caches anyway, and the per-character state is read in sequence.
+/// (Measured on the plaza: grid order 25% slower at 10 000, 30% faster at 100 000.)
+const GRID_ORDER_FROM: usize = 30_000;
+
 /// What every character's step this frame shares, fixed by [`Crowd::begin_step`].
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Frame {
@@ -308,6 +315,10 @@ impl Crowd {
         self.claims.clear();
         self.grid_order.clear();
         let scene = &shared.scene;
+        if scene.character_count() < GRID_ORDER_FROM {
+            self.grid_order.extend(0..scene.character_count() as u32);
+            return Ok(());
+        }
         self.grid_order.extend(
             shared
                 .neighbours
