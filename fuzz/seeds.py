@@ -78,6 +78,12 @@ def lod():
     ) + walk(60) + reads()
 
 
+def ranged():
+    # Steps split into ranges (ordinary dt, up to four ranges), between ordinary frames.
+    steps = b"".join(op("ranged_step", 0, 0, 4, 0, n, 0, 8, 0, 20, 0, 40, 0, 9) + walk(2) for n in range(20))
+    return crowd(6) + walk(5) + steps + reads()
+
+
 def blender(dib):
     config = op("blender_create", 0, 1, 2, 0, 0, 0, dib, 0, 0)
     # A rigid transform: (ordinary, angle, x, y, z).
@@ -125,6 +131,7 @@ def main():
         "poses": poses(),
         "parameters": parameters(),
         "lod": lod(),
+        "ranged": ranged(),
         "blender-dlb": blender(0),
         "blender-dib": blender(1),
         "blends": blends(),

@@ -272,6 +272,36 @@ pub fn step(state: &mut State, input: &mut Input) {
     state.change("cg_crowd_step", cg_crowd_step(crowd, dt));
 }
 
+/// A step split into ranges: `cg_crowd_begin_step`, up to four `cg_crowd_step_range`
+/// calls on fuzzed ranges (overlapping, empty, past the end, before a begin that failed),
+/// then `cg_crowd_end_step` (on a fuzzed handle, then on the real one, so that the step is
+/// closed whatever happened). Nothing else runs while the step is open.
+pub fn ranged_step(state: &mut State, input: &mut Input) {
+    let dt = input.float_or(1.0 / 30.0);
+    let crowd = state.crowd(input);
+    state.change("cg_crowd_begin_step", cg_crowd_begin_step(crowd, dt));
+    for _ in 0..input.below(5) {
+        let first = if input.rare() {
+            input.u32()
+        } else {
+            input.below(64)
+        };
+        let count = if input.rare() {
+            input.u32()
+        } else {
+            input.below(64)
+        };
+        let crowd = state.crowd(input);
+        state.change(
+            "cg_crowd_step_range",
+            cg_crowd_step_range(crowd, first, count),
+        );
+    }
+    let crowd = state.crowd(input);
+    state.change("cg_crowd_end_step", cg_crowd_end_step(crowd));
+    state.change("cg_crowd_end_step", cg_crowd_end_step(state.crowd));
+}
+
 /// A frame of a walking crowd: every live entity moves along x in its own lane, then a
 /// step of 1/30 s. Drives the simulation forward with valid calls.
 pub fn walk(state: &mut State, input: &mut Input) {

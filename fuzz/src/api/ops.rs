@@ -55,6 +55,7 @@ pub const OPS: &[Op] = &[
     ("blend_pose_dib", blend_ops::blend_pose_dib),
     ("camera_center", blend_ops::camera_center),
     ("messages", messages),
+    ("ranged_step", crowd_ops::ranged_step),
 ];
 
 /// The functions that return no status: the last error message into a buffer of any
