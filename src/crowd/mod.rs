@@ -126,6 +126,16 @@ fn check_range(value: f32, low: f32, high: f32, what: &str) -> Result<()> {
     Ok(())
 }
 
+/// Checks that a count lies in `low..=high`.
+fn check_count(value: u32, low: u32, high: u32, what: &str) -> Result<()> {
+    if !(low..=high).contains(&value) {
+        return Err(Error::InvalidArgument(format!(
+            "{what} is {value}, must be {low}..={high}"
+        )));
+    }
+    Ok(())
+}
+
 impl CrowdConfig {
     /// Worker threads to start besides the caller's: `threads - 1`, with 0 meaning one
     /// thread per available core.
@@ -139,18 +149,8 @@ impl CrowdConfig {
 
     /// Checks every field against its documented range.
     pub fn validate(&self) -> Result<()> {
-        if self.max_characters == 0 || self.max_characters > MAX_CAPACITY {
-            return Err(Error::InvalidArgument(format!(
-                "max_characters is {}, must be 1..={MAX_CAPACITY}",
-                self.max_characters
-            )));
-        }
-        if self.max_objects > MAX_CAPACITY {
-            return Err(Error::InvalidArgument(format!(
-                "max_objects is {}, must be 0..={MAX_CAPACITY}",
-                self.max_objects
-            )));
-        }
+        check_count(self.max_characters, 1, MAX_CAPACITY, "max_characters")?;
+        check_count(self.max_objects, 0, MAX_CAPACITY, "max_objects")?;
         let scoring = &self.scoring;
         check_range(scoring.max_distance, 0.01, 1000.0, "max_distance")?;
         check_range(
@@ -190,23 +190,10 @@ impl CrowdConfig {
             check_range(field.half_horizontal, 0.0, std::f32::consts::PI, what)?;
             check_range(field.half_vertical, 0.0, std::f32::consts::FRAC_PI_2, what)?;
         }
-        for (period, what) in [
-            (self.attention_period, "attention_period"),
-            (self.far_attention_period, "far_attention_period"),
-        ] {
-            if !(1..=64).contains(&period) {
-                return Err(Error::InvalidArgument(format!(
-                    "{what} is {period}, must be 1..=64"
-                )));
-            }
-        }
+        check_count(self.attention_period, 1, 64, "attention_period")?;
+        check_count(self.far_attention_period, 1, 64, "far_attention_period")?;
         check_range(self.lod_distance, 0.0, 1e6, "lod_distance")?;
-        if self.threads > MAX_THREADS {
-            return Err(Error::InvalidArgument(format!(
-                "threads is {}, must be 0..={MAX_THREADS}",
-                self.threads
-            )));
-        }
+        check_count(self.threads, 0, MAX_THREADS, "threads")?;
         let baseline = &self.baseline;
         check_range(baseline.proximity_radius, 0.0, 1000.0, "proximity_radius")?;
         check_range(
@@ -976,11 +963,7 @@ impl Crowd {
     /// beyond `lod_distance` from the viewer). Gaze IK still runs every step.
     pub fn set_attention_period(&mut self, character_id: u32, period: u32) -> Result<()> {
         let character = self.shared.scene.character_index(character_id)?;
-        if period > 64 {
-            return Err(Error::InvalidArgument(format!(
-                "period is {period}, must be 0..=64"
-            )));
-        }
+        check_count(period, 0, 64, "period")?;
         self.states.lod[character].period = period;
         Ok(())
     }

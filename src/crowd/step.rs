@@ -21,7 +21,6 @@ use crate::ik::{
     CharacterTransform, GazeChain, GazeInput, GazeMotion, GazeRequest, MotionStyle,
     MAX_CHAIN_JOINTS,
 };
-use crate::math::packed::PackedQuat;
 use crate::scene::ids::NO_ENTITY;
 
 /// Characters per task when [`Crowd::step`] shares a step among its worker threads.
@@ -491,7 +490,7 @@ impl Shared {
             for (lane, unpacked) in unpacked.iter_mut().enumerate() {
                 let character = first + local(lane);
                 if self.posed[character] {
-                    *unpacked = self.bases[character].map(PackedQuat::unpack);
+                    *unpacked = self.base_pose(character);
                 }
             }
             let bases: [&[Quat; MAX_CHAIN_JOINTS]; LANES] = std::array::from_fn(|lane| {
