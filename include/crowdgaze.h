@@ -425,13 +425,13 @@ typedef struct cg_gaze_info {
 
 // Everything the scoring function computed for one (character, entity) pair.
 typedef struct cg_score_breakdown {
-    // `d`, ground distance in your units.
+    // `d`, ground distance in your units (`FLT_MAX` for entities farther apart than that).
     float distance;
     // `α`, the entity's angle in the character's field of view (radians, 0 = ahead).
     float view_angle;
     // `β`, angle between their forward directions (radians).
     float heading_angle;
-    // `rs`, relative speed in your units per second.
+    // `rs`, relative speed in your units per second (at most `FLT_MAX`).
     float relative_speed;
     // `S_p`, proximity subscore in [0, 1].
     float proximity;

@@ -190,13 +190,13 @@ pub struct cg_gaze_info {
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default)]
 pub struct cg_score_breakdown {
-    /// `d`, ground distance in your units.
+    /// `d`, ground distance in your units (`FLT_MAX` for entities farther apart than that).
     pub distance: f32,
     /// `α`, the entity's angle in the character's field of view (radians, 0 = ahead).
     pub view_angle: f32,
     /// `β`, angle between their forward directions (radians).
     pub heading_angle: f32,
-    /// `rs`, relative speed in your units per second.
+    /// `rs`, relative speed in your units per second (at most `FLT_MAX`).
     pub relative_speed: f32,
     /// `S_p`, proximity subscore in [0, 1].
     pub proximity: f32,
@@ -645,10 +645,12 @@ pub extern "C" fn cg_crowd_score(
         // SAFETY: the caller provides a writable cg_score_breakdown (checked non-null).
         let out = unsafe { super::borrow_mut(out, "out") }?;
         *out = cg_score_breakdown {
-            distance: score.distance * units,
+            // Two entities near opposite ends of the float range are farther apart than
+            // FLT_MAX: report the largest float, not infinity.
+            distance: (score.distance * units).min(f32::MAX),
             view_angle: score.view_angle,
             heading_angle: score.heading_angle,
-            relative_speed: score.relative_speed * units,
+            relative_speed: (score.relative_speed * units).min(f32::MAX),
             proximity: score.proximity,
             speed: score.speed,
             orientation: score.orientation,
