@@ -792,7 +792,10 @@ cg_status cg_crowd_get_character_params(const struct cg_crowd *crowd,
 
 // Sets a character's attention parameters. The four weights are rescaled to sum to 1;
 // changing `attention_fraction` restarts the character's threshold estimate (and its
-// warm-up). Get the current ones with `cg_crowd_get_character_params` first.
+// warm-up). Switching `attention_model` to or from `CG_ATTENTION_MODEL_CROWD` starts the
+// new model afresh: a character keeps only its current model's state (the saliency and
+// baseline models share theirs). Get the current ones with
+// `cg_crowd_get_character_params` first.
 //
 // Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_BAD_STRUCT_SIZE`, `CG_STATUS_NOT_FOUND`,
 // `CG_STATUS_NON_FINITE`, `CG_STATUS_INVALID_ARGUMENT` (a negative weight, all weights

@@ -152,6 +152,57 @@ fn switching_models_at_run_time_is_safe_and_deterministic() {
 }
 
 #[test]
+fn switching_to_or_from_the_crowd_model_starts_it_afresh() {
+    let (mut crowd, mut scenario) = street(AttentionModel::Crowd, 6);
+    let ids = scenario.character_ids().to_vec();
+    let set_model = |crowd: &mut Crowd, model| {
+        for &id in &ids {
+            let params = crowd.character_params(id).unwrap();
+            crowd
+                .set_character_params(id, &CharacterParams { model, ..params })
+                .unwrap();
+        }
+    };
+    run(&mut crowd, &mut scenario, 300, |_| {});
+    let counted = |crowd: &Crowd| {
+        ids.iter()
+            .map(|&id| crowd.gaze(id).unwrap().interest_count)
+            .sum::<u32>()
+    };
+    assert!(
+        counted(&crowd) > 0,
+        "the crowd model picked interest points"
+    );
+    // Setting the same model again keeps the tracker.
+    set_model(&mut crowd, AttentionModel::Crowd);
+    assert!(counted(&crowd) > 0);
+    // Away and back: a fresh tracker, no interest point, no attentive time.
+    set_model(&mut crowd, AttentionModel::Saliency);
+    run(&mut crowd, &mut scenario, 30, |_| {});
+    let looking = ids
+        .iter()
+        .filter(|&&id| crowd.gaze(id).unwrap().target != NO_ENTITY)
+        .count();
+    assert!(looking > 0, "the saliency model looks at things");
+    // Saliency to baseline keeps the shared look until the baseline's first update.
+    set_model(&mut crowd, AttentionModel::Baseline);
+    let kept = ids
+        .iter()
+        .filter(|&&id| crowd.gaze(id).unwrap().target != NO_ENTITY)
+        .count();
+    assert_eq!(kept, looking);
+    set_model(&mut crowd, AttentionModel::Crowd);
+    for &id in &ids {
+        let gaze = crowd.gaze(id).unwrap();
+        assert_eq!(gaze.interest_count, 0);
+        assert_eq!(gaze.attentive_fraction, 0.0);
+        assert_eq!(gaze.s_max, 0.0);
+    }
+    run(&mut crowd, &mut scenario, 300, |_| {});
+    assert!(counted(&crowd) > 0, "and picks interest points again");
+}
+
+#[test]
 fn characters_look_at_the_viewer() {
     let mut crowd = Crowd::new(CrowdConfig::default()).unwrap();
     let mut ids = Vec::new();

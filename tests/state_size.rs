@@ -10,7 +10,7 @@ use crowdgaze::attention::interest::InterestTracker;
 use crowdgaze::attention::quantile::ScoreHistogram;
 use crowdgaze::attention::saliency::FixationChannel;
 use crowdgaze::attention::CharacterParams;
-use crowdgaze::crowd::{ExplicitTarget, Look, TargetPriority};
+use crowdgaze::crowd::{ExplicitTarget, GlanceState, Look, ModelState, TargetPriority};
 use crowdgaze::ik::{GazeMotion, MAX_CHAIN_JOINTS};
 use crowdgaze::math::packed::PackedQuat;
 use crowdgaze::math::random::Random;
@@ -34,6 +34,10 @@ fn every_per_character_type_has_its_recorded_size() {
     // The crowd's saliency state: one channel for the eyes, one for the head.
     assert_eq!(size_of::<FixationChannel>(), 20);
     assert_eq!(size_of::<BaselineState>(), 20);
+    // A character keeps the state of its own attention model only: the tracker (212) or
+    // the look, saliency and baseline state (76), and a tag.
+    assert_eq!(size_of::<GlanceState>(), 76);
+    assert_eq!(size_of::<ModelState>(), 216);
     // Each entity's share of the scene and of the neighbour index.
     assert_eq!(Scene::bytes_per_entity(), 77);
     assert_eq!(NeighbourIndex::bytes_per_entity(), 52);
@@ -41,9 +45,10 @@ fn every_per_character_type_has_its_recorded_size() {
 
 #[test]
 fn state_per_character_adds_up() {
-    // 24 parameters + 212 tracker + 4 chain index + 120 packed base pose + 1 posed flag
-    // + 464 gaze motion
-    // + 2 × 8 random streams + 20 explicit target + 16 look + 2 × 20 saliency
-    // + 20 baseline + 12 level of detail, + 77 scene + 52 neighbour index.
-    assert_eq!(Crowd::state_bytes_per_character(), 1078);
+    // 24 parameters + 4 chain index + 120 packed base pose + 1 posed flag + 20 explicit
+    // target + 216 attention model state + 464 gaze motion + 2 × 8 random streams + 12 level
+    // of detail, + 77 scene + 52 neighbour index.
+    assert_eq!(Crowd::state_bytes_per_character(), 1006);
+    // The design's budget.
+    assert!(Crowd::state_bytes_per_character() <= 1024);
 }

@@ -14,7 +14,7 @@ mod pool;
 mod states;
 mod step;
 
-pub use models::{Look, LookTarget};
+pub use models::{GlanceState, Look, LookTarget, ModelState};
 pub use step::StepRanges;
 
 use glam::{Quat, Vec3};
@@ -540,7 +540,11 @@ impl Crowd {
                 period: 0,
                 pending: 0.0,
             },
-            InterestTracker::new(params.attention_fraction, &self.shared.config.interest),
+            ModelState::new(
+                params.model,
+                params.attention_fraction,
+                &self.shared.config.interest,
+            ),
             GazeMotion::new(&chain),
             stream(seed, Purpose::Saliency, created),
             stream(seed, Purpose::GazeTiming, created),
@@ -589,11 +593,8 @@ impl Crowd {
         if self.shared.viewer == Some(id) {
             self.shared.viewer = None;
         }
-        for look in &mut self.states.looks {
-            look.forget(id);
-        }
-        for tracker in &mut self.states.trackers {
-            tracker.forget(id);
+        for model in &mut self.states.models {
+            model.forget(id);
         }
         for explicit in &mut self.shared.explicit {
             if matches!(explicit, Some((ExplicitTarget::Entity(target), _)) if *target == id) {
@@ -623,12 +624,22 @@ impl Crowd {
     }
 
     /// Replaces a character's attention parameters (weights must sum to 1). Changing the
-    /// attention fraction restarts its percentile estimate.
+    /// attention fraction restarts its percentile estimate; switching to or from the crowd
+    /// model starts the new model's state afresh (see [`ModelState`]).
     pub fn set_character_params(&mut self, id: u32, params: &CharacterParams) -> Result<()> {
         let index = self.shared.scene.character_index(id)?;
         Self::check_params(params)?;
-        if params.attention_fraction != self.shared.params[index].attention_fraction {
-            self.states.trackers[index].set_attention_fraction(params.attention_fraction);
+        let model = &mut self.states.models[index];
+        if !model.serves(params.model) {
+            *model = ModelState::new(
+                params.model,
+                params.attention_fraction,
+                &self.shared.config.interest,
+            );
+        } else if params.attention_fraction != self.shared.params[index].attention_fraction {
+            if let ModelState::Crowd(tracker) = model {
+                tracker.set_attention_fraction(params.attention_fraction);
+            }
         }
         self.shared.params[index] = *params;
         Ok(())
@@ -696,7 +707,7 @@ impl Crowd {
     /// The best and second-best entities for a character (by dense index) among those near
     /// it, skipping itself and entities on cool-down, on the index of the last step.
     fn best_nearby(&self, character: usize) -> (Candidate, Candidate) {
-        let tracker = &self.states.trackers[character];
+        let tracker = self.states.models[character].tracker();
         let ids = self.shared.scene.ids();
         nearby_candidates(
             &self.shared.scene,
@@ -705,7 +716,7 @@ impl Crowd {
             character,
             &self.shared.params[character].weights,
             &mut CandidateBatch::default(),
-            |other| tracker.is_cooling(ids[other]),
+            |other| tracker.is_some_and(|tracker| tracker.is_cooling(ids[other])),
         )
     }
 
@@ -718,14 +729,14 @@ impl Crowd {
 
     /// [`best_all_pairs`](Self::best_all_pairs) by dense character index.
     pub fn best_all_pairs_dense(&self, character: usize) -> (Candidate, Candidate) {
-        let tracker = &self.states.trackers[character];
+        let tracker = self.states.models[character].tracker();
         let ids = self.shared.scene.ids();
         all_pairs_candidates(
             &self.shared.scene,
             &self.shared.scorer,
             character,
             &self.shared.params[character].weights,
-            |other| tracker.is_cooling(ids[other]),
+            |other| tracker.is_some_and(|tracker| tracker.is_cooling(ids[other])),
         )
     }
 
@@ -759,7 +770,7 @@ impl Crowd {
     /// Where a character (by dense index) looks now.
     pub fn gaze_dense(&self, character: usize) -> GazeInfo {
         let entity = self.shared.scene.character_entities()[character] as usize;
-        let tracker = &self.states.trackers[character];
+        let tracker = self.states.models[character].tracker();
         let (target, s_max, threshold, attentive_fraction, interest_count) = match &self.shared.plan
         {
             Some(plan) => {
@@ -774,6 +785,16 @@ impl Crowd {
                 )
             }
             None => {
+                // Characters of the saliency and baseline models report what a fresh
+                // tracker would.
+                let fresh;
+                let tracker = match tracker {
+                    Some(tracker) => tracker,
+                    None => {
+                        fresh = InterestTracker::new(0.0, &self.shared.config.interest);
+                        &fresh
+                    }
+                };
                 let (attentive, observed) = tracker.attentive_seconds();
                 let fraction = if observed > 0.0 {
                     attentive / observed

@@ -5,6 +5,8 @@ use glam::{Quat, Vec3};
 
 use super::states::{CharacterMut, CharacterView};
 use super::{Crowd, ExplicitTarget, Shared, TargetPriority};
+use crate::attention::baseline::BaselineState;
+use crate::attention::interest::{InterestConfig, InterestTracker};
 use crate::attention::saliency::{saliency, Fixation, FixationChannel, SalientPoint};
 use crate::attention::{AttentionModel, TargetPart};
 use crate::error::{ensure_all_finite, Error, Result};
@@ -66,6 +68,91 @@ pub struct SaliencyState {
     pub eye: FixationChannel,
     /// The head's fixation.
     pub head: FixationChannel,
+}
+
+/// The saliency and baseline models' state of a character: where they want its eyes and
+/// head, the saliency fixations and the baseline's glances.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GlanceState {
+    /// Where the model wants the eyes and head.
+    pub look: Look,
+    /// Saliency fixations.
+    pub saliency: SaliencyState,
+    /// Baseline glances.
+    pub baseline: BaselineState,
+}
+
+/// What a character's attention model keeps between frames. Only the model the character
+/// uses has state (a character carries the larger of the two, not both): switching to or
+/// from the crowd model starts the new model afresh; the saliency and baseline models
+/// share theirs.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ModelState {
+    /// The crowd model's online interest tracker.
+    Crowd(InterestTracker),
+    /// The saliency or baseline model's state.
+    Glance(GlanceState),
+}
+
+impl ModelState {
+    /// A fresh state for `model` (`attention_fraction` and `interest` set up the crowd
+    /// model's tracker).
+    pub fn new(model: AttentionModel, attention_fraction: f32, interest: &InterestConfig) -> Self {
+        match model {
+            AttentionModel::Crowd => {
+                ModelState::Crowd(InterestTracker::new(attention_fraction, interest))
+            }
+            AttentionModel::Saliency | AttentionModel::Baseline => {
+                ModelState::Glance(GlanceState {
+                    look: Look::NONE,
+                    saliency: SaliencyState::default(),
+                    baseline: BaselineState::default(),
+                })
+            }
+        }
+    }
+
+    /// True if this is the state `model` keeps.
+    pub fn serves(&self, model: AttentionModel) -> bool {
+        matches!(
+            (self, model),
+            (ModelState::Crowd(_), AttentionModel::Crowd)
+                | (
+                    ModelState::Glance(_),
+                    AttentionModel::Saliency | AttentionModel::Baseline
+                )
+        )
+    }
+
+    /// The crowd model's tracker, if this is its state.
+    pub fn tracker(&self) -> Option<&InterestTracker> {
+        match self {
+            ModelState::Crowd(tracker) => Some(tracker),
+            ModelState::Glance(_) => None,
+        }
+    }
+
+    /// The saliency and baseline models' state, if this is theirs.
+    pub fn glance(&self) -> Option<&GlanceState> {
+        match self {
+            ModelState::Crowd(_) => None,
+            ModelState::Glance(glance) => Some(glance),
+        }
+    }
+
+    /// Where the saliency or baseline model wants the eyes and head (nowhere for the crowd
+    /// model, whose target is its tracker's interest point).
+    pub fn look(&self) -> Look {
+        self.glance().map_or(Look::NONE, |glance| glance.look)
+    }
+
+    /// Drops every reference to a removed entity.
+    pub fn forget(&mut self, id: u32) {
+        match self {
+            ModelState::Crowd(tracker) => tracker.forget(id),
+            ModelState::Glance(glance) => glance.look.forget(id),
+        }
+    }
 }
 
 fn part_from(value: u8) -> TargetPart {
@@ -240,8 +327,11 @@ impl Shared {
                 .any(|&index| fixation(index as usize) == channel.target)
         };
         let random = state.model_random;
-        let look = state.look;
-        let state = state.saliency;
+        let ModelState::Glance(glance) = state.model else {
+            return;
+        };
+        let look = &mut glance.look;
+        let state = &mut glance.saliency;
         let eye_visible = visible(&state.eye, &in_eye[..eye_count]);
         state.eye.update(
             dt,
@@ -298,7 +388,10 @@ impl Shared {
                 }
             });
         let config = self.config.baseline;
-        state
+        let ModelState::Glance(glance) = state.model else {
+            return;
+        };
+        glance
             .baseline
             .update(dt, nearest.0, &config, state.model_random);
         let head = if nearest.0 == NO_ENTITY {
@@ -309,7 +402,7 @@ impl Shared {
                 part: TargetPart::Head,
             }
         };
-        *state.look = Look { eye: head, head };
+        glance.look = Look { eye: head, head };
     }
 
     /// The gaze request of a saliency or baseline character: head and eyes each at their
@@ -320,7 +413,7 @@ impl Shared {
         character: usize,
         view: CharacterView<'_>,
     ) -> Option<GazeRequest> {
-        let look = *view.look;
+        let look = view.model.look();
         let entity = self.scene.character_entities()[character] as usize;
         let eye = self.eye_position(character, view.motion);
         let up = self.config.world.up;
@@ -332,7 +425,10 @@ impl Shared {
         let head_target = head_point.unwrap_or(eye + ahead * 10.0);
         let mut eye_target = self.target_point(look.eye).unwrap_or(head_target);
         if self.params[character].model == AttentionModel::Baseline {
-            let (yaw, pitch) = view.baseline.glance;
+            let (yaw, pitch) = view
+                .model
+                .glance()
+                .map_or((0.0, 0.0), |state| state.baseline.glance);
             if yaw != 0.0 || pitch != 0.0 {
                 let direction = (head_target - eye).normalize_or(ahead);
                 let side = up.cross(direction).normalize_or_zero();
@@ -372,7 +468,7 @@ impl Shared {
         };
         let automatic = match self.params[character].model {
             AttentionModel::Crowd => {
-                let (target, _) = self.automatic_target(character, view.tracker);
+                let (target, _) = self.automatic_target(character, view.model.tracker());
                 let target = LookTarget {
                     entity: target,
                     part: TargetPart::Whole,
@@ -382,7 +478,7 @@ impl Shared {
                     head: target,
                 }
             }
-            _ => *view.look,
+            _ => view.model.look(),
         };
         let automatic_exists = self.scene.index_of(automatic.head.entity).is_some()
             || self.scene.index_of(automatic.eye.entity).is_some();

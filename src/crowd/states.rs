@@ -5,12 +5,10 @@
 //! lets disjoint ranges of characters be stepped at the same time: [`CharacterSlices`]
 //! borrows a range of every array, and [`RawCharacterSlices`] hands ranges out to threads.
 
-use crate::attention::baseline::BaselineState;
-use crate::attention::interest::InterestTracker;
 use crate::ik::GazeMotion;
 use crate::math::random::Random;
 
-use super::models::{Look, SaliencyState};
+use super::models::ModelState;
 
 /// A character's level-of-detail state for attention updates.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -30,14 +28,8 @@ macro_rules! character_arrays {
         $apply! {
             /// Level-of-detail state of its attention updates.
             lod / lod: AttentionLod,
-            /// The crowd model's online interest tracker.
-            trackers / tracker: InterestTracker,
-            /// Where the saliency or baseline model wants the eyes and head.
-            looks / look: Look,
-            /// Saliency fixations.
-            saliency / saliency: SaliencyState,
-            /// Baseline glances.
-            baseline / baseline: BaselineState,
+            /// The state of the character's attention model.
+            models / model: ModelState,
             /// Random stream of the saliency and baseline choices.
             model_randoms / model_random: Random,
             /// Gaze motion state (the IK's output).
@@ -150,16 +142,13 @@ impl CharacterStates {
     pub fn push(
         &mut self,
         lod: AttentionLod,
-        tracker: InterestTracker,
+        model: ModelState,
         motion: GazeMotion,
         model_random: Random,
         gaze_random: Random,
     ) {
         self.lod.push(lod);
-        self.trackers.push(tracker);
-        self.looks.push(Look::NONE);
-        self.saliency.push(SaliencyState::default());
-        self.baseline.push(BaselineState::default());
+        self.models.push(model);
         self.model_randoms.push(model_random);
         self.motions.push(motion);
         self.gaze_randoms.push(gaze_random);
@@ -170,9 +159,7 @@ impl CharacterStates {
 /// What reading a character's gaze request needs of its state.
 #[derive(Debug, Clone, Copy)]
 pub(super) struct CharacterView<'a> {
-    pub tracker: &'a InterestTracker,
-    pub look: &'a Look,
-    pub baseline: &'a BaselineState,
+    pub model: &'a ModelState,
     pub motion: &'a GazeMotion,
 }
 
@@ -180,9 +167,7 @@ impl CharacterStates {
     /// Character `index`'s view.
     pub fn view(&self, index: usize) -> CharacterView<'_> {
         CharacterView {
-            tracker: &self.trackers[index],
-            look: &self.looks[index],
-            baseline: &self.baseline[index],
+            model: &self.models[index],
             motion: &self.motions[index],
         }
     }

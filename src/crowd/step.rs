@@ -11,6 +11,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 use glam::{Quat, Vec2};
 
+use super::models::ModelState;
 use super::states::{CharacterMut, CharacterSlices, CharacterView, RawCharacterSlices};
 use super::{Crowd, ExplicitTarget, Shared, TargetPriority, EXPLICIT_POINT_KEY};
 use crate::attention::candidates::{nearby_candidates, CandidateBatch};
@@ -433,7 +434,9 @@ impl Shared {
         match self.params[character].model {
             AttentionModel::Crowd if frame.planned => {}
             AttentionModel::Crowd => {
-                let tracker = &*state.tracker;
+                let ModelState::Crowd(tracker) = state.model else {
+                    return;
+                };
                 let ids = self.scene.ids();
                 let (best, second) = nearby_candidates(
                     &self.scene,
@@ -444,9 +447,7 @@ impl Shared {
                     batch,
                     |other| tracker.is_cooling(ids[other]),
                 );
-                state
-                    .tracker
-                    .update(best, second, frame.max_score, dt, &config.interest);
+                tracker.update(best, second, frame.max_score, dt, &config.interest);
             }
             AttentionModel::Saliency => self.attend_saliency(character, dt, state),
             AttentionModel::Baseline => self.attend_baseline(character, dt, state),
@@ -458,9 +459,7 @@ impl Shared {
     fn move_gaze(&self, dt: f32, first: usize, slices: CharacterSlices<'_>) {
         const LANES: usize = BATCH_LANES;
         let CharacterSlices {
-            trackers,
-            looks,
-            baseline,
+            models,
             motions,
             gaze_randoms,
             ..
@@ -473,9 +472,7 @@ impl Shared {
             let requests: [Option<GazeRequest>; LANES] = std::array::from_fn(|lane| {
                 let local = local(lane);
                 let view = CharacterView {
-                    tracker: &trackers[local],
-                    look: &looks[local],
-                    baseline: &baseline[local],
+                    model: &models[local],
                     motion: &motions[local],
                 };
                 self.gaze_request(first + local, view)
@@ -536,14 +533,15 @@ impl Shared {
     pub(super) fn automatic_target(
         &self,
         character: usize,
-        tracker: &crate::attention::interest::InterestTracker,
+        tracker: Option<&crate::attention::interest::InterestTracker>,
     ) -> (u32, f32) {
-        match &self.plan {
-            Some(plan) => {
+        match (&self.plan, tracker) {
+            (Some(plan), _) => {
                 let (target, s_max, _) = plan.current(character);
                 (target, s_max)
             }
-            None => (tracker.interest(), tracker.s_max()),
+            (None, Some(tracker)) => (tracker.interest(), tracker.s_max()),
+            (None, None) => (NO_ENTITY, 0.0),
         }
     }
 
@@ -556,7 +554,7 @@ impl Shared {
     ) -> Option<GazeRequest> {
         let model = self.params[character].model;
         let (automatic, s_max) = match model {
-            AttentionModel::Crowd => self.automatic_target(character, view.tracker),
+            AttentionModel::Crowd => self.automatic_target(character, view.model.tracker()),
             _ => (NO_ENTITY, 0.0),
         };
         let automatic = self
