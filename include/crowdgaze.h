@@ -299,7 +299,7 @@ typedef struct cg_chain_joint {
     // What the joint is: a `cg_joint_role` value.
     uint32_t role;
     // Position of the joint in its parent's local frame (the chain root for the first
-    // joint, the head for the eyes), in your length units.
+    // joint, the head for the eyes), in your length units; at most 1 km long.
     struct cg_vec3 offset;
     // Rest local rotation relative to the parent (normalised on reading).
     struct cg_quat rest;
@@ -337,7 +337,7 @@ typedef struct cg_chain_desc {
     // The head's up direction in its local frame, perpendicular to `eye_forward`.
     struct cg_vec3 eye_up;
     // Position of the chain root (the pelvis) relative to the character's position, in the
-    // character's frame, in your length units.
+    // character's frame, in your length units; at most 1 km long.
     struct cg_vec3 root_offset;
 } cg_chain_desc;
 

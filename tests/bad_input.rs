@@ -1834,6 +1834,14 @@ fn invalid_chains() -> Vec<Corruption<cg_chain_desc>> {
         ("eye_up parallel to eye_forward", |c| {
             c.eye_up = c.eye_forward
         }),
+        // Offsets longer than 1 km (a fuzzed 3e38 overflowed the eye positions).
+        ("joints[0].offset.z 3e38", |c| c.joints[0].offset.z = 3e38),
+        ("joints[8].offset 1001 m", |c| {
+            c.joints[8].offset = vec3(1001.0, 0.0, 0.0)
+        }),
+        ("root_offset -FLT_MAX", |c| {
+            c.root_offset = vec3(0.0, -f32::MAX, 0.0)
+        }),
     ])
 }
 

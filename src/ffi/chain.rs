@@ -70,7 +70,7 @@ pub struct cg_chain_joint {
     /// What the joint is: a `cg_joint_role` value.
     pub role: u32,
     /// Position of the joint in its parent's local frame (the chain root for the first
-    /// joint, the head for the eyes), in your length units.
+    /// joint, the head for the eyes), in your length units; at most 1 km long.
     pub offset: cg_vec3,
     /// Rest local rotation relative to the parent (normalised on reading).
     pub rest: cg_quat,
@@ -110,7 +110,7 @@ pub struct cg_chain_desc {
     /// The head's up direction in its local frame, perpendicular to `eye_forward`.
     pub eye_up: cg_vec3,
     /// Position of the chain root (the pelvis) relative to the character's position, in the
-    /// character's frame, in your length units.
+    /// character's frame, in your length units; at most 1 km long.
     pub root_offset: cg_vec3,
 }
 

@@ -31,6 +31,21 @@ pub(crate) const CLAMP_SLACK: f32 = 1e-6;
 /// Most body (non-eye) joints in a chain.
 pub const MAX_BODY_JOINTS: usize = MAX_SPINE_JOINTS + MAX_CERVICAL_JOINTS + 1;
 
+/// Longest joint offset or root offset of a chain, metres: a chain is a body, and the
+/// limit keeps a character's joint positions far from the float range's end.
+pub const MAX_OFFSET_METRES: f32 = 1000.0;
+
+/// Refuses an offset longer than [`MAX_OFFSET_METRES`].
+fn check_offset(offset: Vec3, what: &str) -> Result<()> {
+    let length = offset.length();
+    if length > MAX_OFFSET_METRES {
+        return Err(Error::InvalidArgument(format!(
+            "{what} is {length} m long, at most {MAX_OFFSET_METRES} m"
+        )));
+    }
+    Ok(())
+}
+
 /// What a joint of the gaze chain is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum JointRole {
@@ -519,6 +534,7 @@ impl GazeChain {
         for (index, joint) in joints.iter().enumerate() {
             let what = format!("joint {index} ({:?})", joint.role);
             ensure_all_finite(&joint.offset.to_array(), &format!("{what} offset"))?;
+            check_offset(joint.offset, &format!("{what} offset"))?;
             ensure_all_finite(&joint.rest.to_array(), &format!("{what} rest rotation"))?;
             if (joint.rest.length() - 1.0).abs() > 1e-3 {
                 return Err(Error::InvalidArgument(format!(
@@ -529,6 +545,7 @@ impl GazeChain {
             joint.limits.validate(&what)?;
         }
         ensure_all_finite(&self.root_offset.to_array(), "root_offset")?;
+        check_offset(self.root_offset, "root_offset")?;
         ensure_all_finite(&self.eye_forward.to_array(), "eye_forward")?;
         ensure_all_finite(&self.eye_up.to_array(), "eye_up")?;
         for (axis, name) in [(self.eye_forward, "eye_forward"), (self.eye_up, "eye_up")] {
