@@ -9,7 +9,7 @@
 //! vectorises, and ranks them. The all-pairs search feeds the same batch from every
 //! entity: the test oracle and the benchmark baseline.
 
-use glam::Vec2;
+use glam::{Vec2, Vec4};
 
 use super::interest::Candidate;
 use super::score::{
@@ -17,7 +17,7 @@ use super::score::{
     SubscoreWeights,
 };
 use crate::math::fast::fast_acos;
-use crate::scene::grid::SpatialGrid;
+use crate::scene::grid::{SpatialGrid, SLOT_PADDING};
 use crate::scene::Scene;
 
 /// Candidates scored per batch (a denser neighbourhood is scored in several batches).
@@ -41,7 +41,7 @@ impl NeighbourIndex {
             grid: SpatialGrid::new(capacity, radius),
             forward: vec![Vec2::ZERO; capacity],
             velocity: vec![Vec2::ZERO; capacity],
-            impact: vec![0.0; capacity],
+            impact: vec![0.0; capacity + SLOT_PADDING],
             id: vec![0; capacity],
         }
     }
@@ -74,22 +74,33 @@ impl NeighbourIndex {
     }
 
     fn sources(&self) -> Sources<'_> {
+        let (xs, ys) = self.grid.coordinates();
         Sources {
-            point: self.grid.points(),
+            points: Points::Split { xs, ys },
             entity: Some(self.grid.entries()),
             forward: &self.forward,
             velocity: &self.velocity,
-            impact: &self.impact,
+            impact: &self.impact[..xs.len()],
             id: &self.id,
         }
     }
+}
+
+/// Where a search reads positions.
+#[derive(Clone, Copy)]
+enum Points<'a> {
+    /// The scene's ground positions (slot = entity index).
+    Interleaved(&'a [Vec2]),
+    /// The grid's coordinates, x and y apart, followed by [`SLOT_PADDING`] values, as is
+    /// the impact array: read four slots at a time.
+    Split { xs: &'a [f32], ys: &'a [f32] },
 }
 
 /// Where a search reads entity data, by slot: the index's grid-ordered copies, or the
 /// scene's own arrays (slot = entity index).
 #[derive(Clone, Copy)]
 struct Sources<'a> {
-    point: &'a [Vec2],
+    points: Points<'a>,
     /// Entity index of each slot; `None` when the slot is the entity index.
     entity: Option<&'a [u32]>,
     forward: &'a [Vec2],
@@ -101,7 +112,7 @@ struct Sources<'a> {
 impl<'a> Sources<'a> {
     fn of_scene(scene: &'a Scene) -> Sources<'a> {
         Sources {
-            point: scene.ground_positions(),
+            points: Points::Interleaved(scene.ground_positions()),
             entity: None,
             forward: scene.forwards(),
             velocity: scene.velocities(),
@@ -113,6 +124,14 @@ impl<'a> Sources<'a> {
     #[inline(always)]
     fn entity(&self, slot: usize) -> u32 {
         self.entity.map_or(slot as u32, |entities| entities[slot])
+    }
+
+    #[inline(always)]
+    fn point(&self, slot: usize) -> Vec2 {
+        match self.points {
+            Points::Interleaved(points) => points[slot],
+            Points::Split { xs, ys } => Vec2::new(xs[slot], ys[slot]),
+        }
     }
 }
 
@@ -153,7 +172,7 @@ impl CandidateBatch {
     fn gather(&mut self, sources: &Sources<'_>, observer: &GroundState) {
         for i in 0..self.len.min(BATCH) {
             let slot = self.slot[i] as usize;
-            let offset = sources.point[slot] - observer.position;
+            let offset = sources.point(slot) - observer.position;
             self.offset_x[i] = offset.x;
             self.offset_y[i] = offset.y;
             self.forward_x[i] = sources.forward[slot].x;
@@ -300,17 +319,24 @@ impl<'a, Skip: FnMut(usize) -> bool> Search<'a, Skip> {
         }
     }
 
-    /// Offers the slots `run`. Branch-free: each slot is written at the batch's end and
-    /// kept only if it passes (within `d_m`, in view, not the observer, positive impact),
-    /// so rejections cost no mispredicted branch.
+    /// Offers the slots `run`: each is kept for scoring if it is within `d_m`, in view and
+    /// of positive impact. (The observer itself passes, and is left out when ranking.)
     #[inline(always)]
     fn offer_run(&mut self, run: std::ops::Range<usize>) {
-        let sources = self.sources;
+        match self.sources.points {
+            Points::Interleaved(points) => self.offer_interleaved(points, run),
+            Points::Split { xs, ys } => self.offer_split(xs, ys, run),
+        }
+    }
+
+    /// [`offer_run`](Self::offer_run) one slot at a time. Branch-free: each slot is
+    /// written at the batch's end and kept only if it passes, so rejections cost no
+    /// mispredicted branch.
+    #[inline(always)]
+    fn offer_interleaved(&mut self, points: &[Vec2], run: std::ops::Range<usize>) {
         let first = run.start;
-        let points = &sources.point[run.clone()];
-        let impacts = &sources.impact[run];
-        for (k, (point, impact)) in points.iter().zip(impacts).enumerate() {
-            let slot = first + k;
+        let impacts = &self.sources.impact[run.clone()];
+        for (k, (point, impact)) in points[run].iter().zip(impacts).enumerate() {
             let offset = *point - self.observer.position;
             let distance_squared = offset.length_squared();
             let keep = (distance_squared <= self.max_distance_squared)
@@ -320,15 +346,94 @@ impl<'a, Skip: FnMut(usize) -> bool> Search<'a, Skip> {
                     offset,
                     distance_squared,
                     self.cos_half_field_of_view,
-                )
-                & (sources.entity(slot) != self.observer_entity);
+                );
             // len < BATCH (a full batch is flushed at once) and BATCH is a power of two:
             // the mask is a no-op that lets the compiler drop the bounds check.
             let i = self.batch.len % BATCH;
-            self.batch.slot[i] = slot as u32;
+            self.batch.slot[i] = (first + k) as u32;
             self.batch.len = i + usize::from(keep);
             if self.batch.len == BATCH {
                 self.flush();
+            }
+        }
+    }
+
+    /// [`offer_run`](Self::offer_run) four slots at a time, in SIMD lanes: the same tests
+    /// with the same operations in the same order (so the same decisions), then the four
+    /// slots written at the batch's end, each advancing it only if kept. Reads up to three
+    /// slots past the run (the arrays are padded), masked off.
+    #[inline(always)]
+    fn offer_split(&mut self, xs: &[f32], ys: &[f32], run: std::ops::Range<usize>) {
+        let position_x = Vec4::splat(self.observer.position.x);
+        let position_y = Vec4::splat(self.observer.position.y);
+        let forward_x = Vec4::splat(self.observer.forward.x);
+        let forward_y = Vec4::splat(self.observer.forward.y);
+        let max_distance_squared = Vec4::splat(self.max_distance_squared);
+        let cos_half = self.cos_half_field_of_view;
+        let bound_scale = Vec4::splat(cos_half * cos_half);
+        let impacts = self.sources.impact;
+        let mut slot = run.start;
+        while slot < run.end {
+            let lanes = (run.end - slot).min(4);
+            let (Some(x), Some(y), Some(impact)) = (
+                xs.get(slot..slot + 4),
+                ys.get(slot..slot + 4),
+                impacts.get(slot..slot + 4),
+            ) else {
+                // Only if the arrays were not padded: offer the rest one by one.
+                return self.offer_split_tail(xs, ys, slot..run.end);
+            };
+            let offset_x = Vec4::from_slice(x) - position_x;
+            let offset_y = Vec4::from_slice(y) - position_y;
+            let distance_squared = offset_x * offset_x + offset_y * offset_y;
+            let along = forward_x * offset_x + forward_y * offset_y;
+            let bound = bound_scale * distance_squared;
+            let ahead = along.cmpge(Vec4::ZERO);
+            let in_view = if cos_half >= 0.0 {
+                ahead & (along * along).cmpge(bound)
+            } else {
+                ahead | (along * along).cmple(bound)
+            };
+            let keep = distance_squared.cmple(max_distance_squared)
+                & Vec4::from_slice(impact).cmpgt(Vec4::ZERO)
+                & in_view;
+            let mask = keep.bitmask() & ((1u32 << lanes) - 1);
+            if self.batch.len > BATCH - 4 {
+                self.flush();
+            }
+            let batch = &mut *self.batch;
+            for lane in 0..4 {
+                // len ≤ BATCH − 4 before these four writes: the mask only drops the
+                // bounds check.
+                let i = batch.len % BATCH;
+                batch.slot[i] = (slot + lane) as u32;
+                batch.len = i + ((mask >> lane) & 1) as usize;
+            }
+            slot += 4;
+        }
+    }
+
+    /// The last slots of a run without padding, one by one (not reached with the index's
+    /// padded arrays; kept so that a short array cannot fault).
+    #[cold]
+    fn offer_split_tail(&mut self, xs: &[f32], ys: &[f32], run: std::ops::Range<usize>) {
+        for slot in run {
+            let offset = Vec2::new(xs[slot], ys[slot]) - self.observer.position;
+            let distance_squared = offset.length_squared();
+            if distance_squared <= self.max_distance_squared
+                && self.sources.impact[slot] > 0.0
+                && in_view(
+                    self.observer.forward,
+                    offset,
+                    distance_squared,
+                    self.cos_half_field_of_view,
+                )
+            {
+                if self.batch.len == BATCH {
+                    self.flush();
+                }
+                self.batch.slot[self.batch.len % BATCH] = slot as u32;
+                self.batch.len += 1;
             }
         }
     }
@@ -345,10 +450,11 @@ impl<'a, Skip: FnMut(usize) -> bool> Search<'a, Skip> {
                 id: self.sources.id[slot],
                 score: batch.score[i],
             };
-            if candidate.score > 0.0
-                && ranks_above(candidate, self.second)
-                && !(self.skip)(self.sources.entity(slot) as usize)
-            {
+            if candidate.score > 0.0 && ranks_above(candidate, self.second) {
+                let entity = self.sources.entity(slot);
+                if entity == self.observer_entity || (self.skip)(entity as usize) {
+                    continue;
+                }
                 rank(&mut self.best, &mut self.second, candidate);
             }
         }

@@ -9,7 +9,12 @@
 
 use glam::Vec2;
 
-/// The grid: `cell_start[c] .. cell_start[c + 1]` indexes `entries`/`points` for cell `c`.
+/// Extra coordinates after the last slot, so that a query may read four slots at a time
+/// from any slot without running off the arrays (what it reads there, it masks off).
+pub const SLOT_PADDING: usize = 3;
+
+/// The grid: `cell_start[c] .. cell_start[c + 1]` indexes `entries`, `xs` and `ys` for
+/// cell `c`.
 #[derive(Debug, Clone)]
 pub struct SpatialGrid {
     radius: f32,
@@ -22,7 +27,10 @@ pub struct SpatialGrid {
     max_cells: usize,
     cell_start: Vec<u32>,
     entries: Vec<u32>,
-    points: Vec<Vec2>,
+    /// Coordinates of the points in slot order, split (x and y apart, so that a query
+    /// loads four of each at once), with [`SLOT_PADDING`] more at the end.
+    xs: Vec<f32>,
+    ys: Vec<f32>,
     /// Points in the last rebuild.
     len: usize,
 }
@@ -41,7 +49,8 @@ impl SpatialGrid {
             max_cells,
             cell_start: vec![0; max_cells + 1],
             entries: vec![0; capacity],
-            points: vec![Vec2::ZERO; capacity],
+            xs: vec![0.0; capacity + SLOT_PADDING],
+            ys: vec![0.0; capacity + SLOT_PADDING],
             len: 0,
         }
     }
@@ -118,7 +127,8 @@ impl SpatialGrid {
             let cell = self.cell_index(*point);
             let cursor = self.cell_start[cell] as usize;
             self.entries[cursor] = index as u32;
-            self.points[cursor] = *point;
+            self.xs[cursor] = point.x;
+            self.ys[cursor] = point.y;
             self.cell_start[cell] = cursor as u32 + 1;
         }
         for cell in (1..=cells).rev() {
@@ -132,9 +142,18 @@ impl SpatialGrid {
         &self.entries[..self.len]
     }
 
-    /// The points in grid-slot order.
-    pub fn points(&self) -> &[Vec2] {
-        &self.points[..self.len]
+    /// The point in grid slot `slot`.
+    #[inline]
+    pub fn point(&self, slot: usize) -> Vec2 {
+        Vec2::new(self.xs[slot], self.ys[slot])
+    }
+
+    /// The points' x and y coordinates in grid-slot order, each followed by
+    /// [`SLOT_PADDING`] values that belong to no slot.
+    #[inline]
+    pub fn coordinates(&self) -> (&[f32], &[f32]) {
+        let end = self.len + SLOT_PADDING;
+        (&self.xs[..end], &self.ys[..end])
     }
 
     /// Calls `visit(slots)` with contiguous ranges of grid slots that together hold every
@@ -193,7 +212,7 @@ impl SpatialGrid {
     pub fn for_each_near(&self, centre: Vec2, mut visit: impl FnMut(u32, Vec2)) {
         self.for_each_run_near(centre, |run| {
             for slot in run {
-                visit(self.entries[slot], self.points[slot]);
+                visit(self.entries[slot], self.point(slot));
             }
         });
     }
