@@ -549,6 +549,78 @@ mod tests {
         }
     }
 
+    /// A dense scene (more candidates than a batch holds) with impacts of 0 among them.
+    fn dense_scene(count: usize, seed: u64) -> Scene {
+        let mut scene = Scene::new(World::y_up(), count as u32, 0);
+        let mut random = Random::new(seed);
+        for i in 0..count {
+            let position = glam::Vec3::new(random.range(-9.0, 9.0), 0.0, random.range(-9.0, 9.0));
+            let impact = if i % 7 == 0 {
+                0.0
+            } else {
+                random.range(0.5, 2.0)
+            };
+            scene
+                .add(
+                    EntityKind::Character,
+                    position,
+                    random.range(-PI, PI),
+                    1.6,
+                    impact,
+                )
+                .unwrap();
+        }
+        scene
+    }
+
+    #[test]
+    fn four_lane_filter_equals_the_one_by_one_filter() {
+        let scene = dense_scene(700, 21);
+        let weights = SubscoreWeights::normalised([0.3, 0.2, 0.4, 0.1]).unwrap();
+        let mut index = NeighbourIndex::new(700, 10.0);
+        index.rebuild(&scene);
+        // The scene's positions split into x and y, without padding: the last slots go
+        // through the tail path.
+        let xs: Vec<f32> = scene.ground_positions().iter().map(|p| p.x).collect();
+        let ys: Vec<f32> = scene.ground_positions().iter().map(|p| p.y).collect();
+        for field_of_view in [1.0, PI / 2.0, PI, 1.5 * PI, 2.0 * PI] {
+            let scorer = Scorer::new(super::super::score::ScoringConfig {
+                field_of_view,
+                ..Default::default()
+            });
+            for character in (0..700).step_by(7) {
+                let one_by_one =
+                    all_pairs_candidates(&scene, &scorer, character, &weights, |_| false);
+                let mut batch = CandidateBatch::default();
+                let grid = nearby_candidates(
+                    &scene,
+                    &index,
+                    &scorer,
+                    character,
+                    &weights,
+                    &mut batch,
+                    |_| false,
+                );
+                assert_eq!(grid, one_by_one, "grid, fov {field_of_view}");
+                let sources = Sources {
+                    points: Points::Split { xs: &xs, ys: &ys },
+                    ..Sources::of_scene(&scene)
+                };
+                let mut search = Search::new(
+                    &scene,
+                    sources,
+                    &scorer,
+                    character,
+                    &weights,
+                    &mut batch,
+                    |_| false,
+                );
+                search.offer_run(0..scene.len());
+                assert_eq!(search.finish(), one_by_one, "unpadded, fov {field_of_view}");
+            }
+        }
+    }
+
     #[test]
     fn batch_scores_equal_the_scorer() {
         let scorer = Scorer::new(Default::default());
