@@ -22,7 +22,7 @@ use crate::scene::Scene;
 
 /// Candidates scored per batch (a denser neighbourhood is scored in several batches).
 pub const BATCH: usize = 128;
-const _: () = assert!(BATCH.is_power_of_two());
+const _: () = assert!(BATCH.is_power_of_two() && BATCH % 4 == 0);
 
 /// The grid and the scoring data of every entity in grid order, rebuilt each frame.
 #[derive(Debug, Clone)]
@@ -219,6 +219,26 @@ impl CandidateBatch {
     }
 }
 
+/// For each 4-bit mask of kept lanes: the kept lanes in order (then zeros) and their count.
+const KEPT_LANES: [([u32; 4], usize); 16] = {
+    let mut table = [([0u32; 4], 0usize); 16];
+    let mut mask = 0;
+    while mask < 16 {
+        let mut count = 0;
+        let mut lane = 0;
+        while lane < 4 {
+            if mask & (1 << lane) != 0 {
+                table[mask].0[count] = lane as u32;
+                count += 1;
+            }
+            lane += 1;
+        }
+        table[mask].1 = count;
+        mask += 1;
+    }
+    table
+};
+
 /// True if `a` ranks above `b`: a higher score, or an equal score and a lower id (so the
 /// ranking does not depend on the order entities are visited in). Nothing ranks below
 /// the empty candidate.
@@ -397,18 +417,19 @@ impl<'a, Skip: FnMut(usize) -> bool> Search<'a, Skip> {
             let keep = distance_squared.cmple(max_distance_squared)
                 & Vec4::from_slice(impact).cmpgt(Vec4::ZERO)
                 & in_view;
-            let mask = keep.bitmask() & ((1u32 << lanes) - 1);
+            let mask = (keep.bitmask() & ((1u32 << lanes) - 1)) as usize;
             if self.batch.len > BATCH - 4 {
                 self.flush();
             }
+            // Compress: the kept lanes' slots, in order, to the batch's end (len ≤
+            // BATCH − 4 here), then advance by their count.
             let batch = &mut *self.batch;
-            for lane in 0..4 {
-                // len ≤ BATCH − 4 before these four writes: the mask only drops the
-                // bounds check.
-                let i = batch.len % BATCH;
-                batch.slot[i] = (slot + lane) as u32;
-                batch.len = i + ((mask >> lane) & 1) as usize;
+            let (kept, count) = KEPT_LANES[mask];
+            let end = &mut batch.slot[batch.len..batch.len + 4];
+            for (out, lane) in end.iter_mut().zip(kept) {
+                *out = slot as u32 + lane;
             }
+            batch.len += count;
             slot += 4;
         }
     }
@@ -444,18 +465,28 @@ impl<'a, Skip: FnMut(usize) -> bool> Search<'a, Skip> {
         let batch = &mut *self.batch;
         batch.gather(&self.sources, &self.observer);
         batch.score_all(self.scorer, &self.observer, self.weights);
-        for i in 0..batch.len.min(BATCH) {
-            let slot = batch.slot[i] as usize;
-            let candidate = Candidate {
-                id: self.sources.id[slot],
-                score: batch.score[i],
-            };
-            if candidate.score > 0.0 && ranks_above(candidate, self.second) {
-                let entity = self.sources.entity(slot);
-                if entity == self.observer_entity || (self.skip)(entity as usize) {
-                    continue;
+        let len = batch.len.min(BATCH);
+        // Four scores at a time: a group none of whose scores is positive and at least the
+        // second best's (a tie may still rank above it, by id) is skipped whole.
+        for group in (0..len).step_by(4) {
+            let scores = Vec4::from_slice(&batch.score[group..group + 4]);
+            let second = Vec4::splat(self.second.score);
+            if !(scores.cmpge(second) & scores.cmpgt(Vec4::ZERO)).any() {
+                continue;
+            }
+            for i in group..(group + 4).min(len) {
+                let slot = batch.slot[i] as usize;
+                let candidate = Candidate {
+                    id: self.sources.id[slot],
+                    score: batch.score[i],
+                };
+                if candidate.score > 0.0 && ranks_above(candidate, self.second) {
+                    let entity = self.sources.entity(slot);
+                    if entity == self.observer_entity || (self.skip)(entity as usize) {
+                        continue;
+                    }
+                    rank(&mut self.best, &mut self.second, candidate);
                 }
-                rank(&mut self.best, &mut self.second, candidate);
             }
         }
         batch.len = 0;
