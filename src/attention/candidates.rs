@@ -3,11 +3,12 @@
 //! [`NeighbourIndex`] rebuilds the spatial grid every frame and copies what the scoring
 //! needs (forward, velocity, impact, id) into grid order, so a query reads memory
 //! sequentially whatever the crowd's size. A query visits the grid cells around the
-//! character that may be in view; for each entity it only tests distance and view and
-//! appends its slot to a fixed-size [`CandidateBatch`] without branching; the batch then
-//! gathers the survivors' data and scores them in one straight-line loop that the compiler
-//! vectorises, and ranks them. The all-pairs search feeds the same batch from every
-//! entity: the test oracle and the benchmark baseline.
+//! character that may be in view; it tests distance, view and impact four entities at a
+//! time in SIMD lanes and appends the slots that pass to a fixed-size [`CandidateBatch`]
+//! without branching; the batch then gathers the survivors' data, scores them in one
+//! straight-line loop that the compiler vectorises, and ranks them (skipping groups of
+//! four below the second best). The all-pairs search feeds the same batch from every
+//! entity, one at a time: the test oracle and the benchmark baseline.
 
 use glam::{Vec2, Vec4};
 
