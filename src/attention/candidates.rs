@@ -581,22 +581,28 @@ mod tests {
         }
     }
 
-    /// A dense scene (more candidates than a batch holds) with impacts of 0 among them.
-    fn dense_scene(count: usize, seed: u64) -> Scene {
+    /// `count` characters at random in a square of half side `half_extent`, facing random
+    /// ways, with impacts from `impact(index, random)`.
+    fn random_scene(
+        count: usize,
+        half_extent: f32,
+        seed: u64,
+        impact: impl Fn(usize, &mut Random) -> f32,
+    ) -> Scene {
         let mut scene = Scene::new(World::y_up(), count as u32, 0);
         let mut random = Random::new(seed);
         for i in 0..count {
-            let position = glam::Vec3::new(random.range(-9.0, 9.0), 0.0, random.range(-9.0, 9.0));
-            let impact = if i % 7 == 0 {
-                0.0
-            } else {
-                random.range(0.5, 2.0)
-            };
+            let (x, z) = (
+                random.range(-half_extent, half_extent),
+                random.range(-half_extent, half_extent),
+            );
+            let heading = random.range(-PI, PI);
+            let impact = impact(i, &mut random);
             scene
                 .add(
                     EntityKind::Character,
-                    position,
-                    random.range(-PI, PI),
+                    glam::Vec3::new(x, 0.0, z),
+                    heading,
                     1.6,
                     impact,
                 )
@@ -607,7 +613,14 @@ mod tests {
 
     #[test]
     fn four_lane_filter_equals_the_one_by_one_filter() {
-        let scene = dense_scene(700, 21);
+        // Dense (more candidates than a batch holds), with impacts of 0 among them.
+        let scene = random_scene(700, 9.0, 21, |i, random| {
+            if i % 7 == 0 {
+                0.0
+            } else {
+                random.range(0.5, 2.0)
+            }
+        });
         let weights = SubscoreWeights::normalised([0.3, 0.2, 0.4, 0.1]).unwrap();
         let mut index = NeighbourIndex::new(700, 10.0);
         index.rebuild(&scene);
@@ -656,20 +669,7 @@ mod tests {
     #[test]
     fn batch_scores_equal_the_scorer() {
         let scorer = Scorer::new(Default::default());
-        let mut scene = Scene::new(World::y_up(), 200, 0);
-        let mut random = Random::new(8);
-        for _ in 0..200 {
-            let position = glam::Vec3::new(random.range(-6.0, 6.0), 0.0, random.range(-6.0, 6.0));
-            scene
-                .add(
-                    EntityKind::Character,
-                    position,
-                    random.range(-PI, PI),
-                    1.6,
-                    random.range(0.5, 2.0),
-                )
-                .unwrap();
-        }
+        let scene = random_scene(200, 6.0, 8, |_, random| random.range(0.5, 2.0));
         let weights = SubscoreWeights::normalised([0.3, 0.2, 0.4, 0.1]).unwrap();
         let mut index = NeighbourIndex::new(200, 10.0);
         index.rebuild(&scene);
