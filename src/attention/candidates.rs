@@ -611,6 +611,20 @@ mod tests {
         scene
     }
 
+    /// The grid search for `character`, skipping nothing.
+    fn grid_search(
+        scene: &Scene,
+        index: &NeighbourIndex,
+        scorer: &Scorer,
+        character: usize,
+        weights: &SubscoreWeights,
+    ) -> (Candidate, Candidate) {
+        let mut batch = CandidateBatch::default();
+        nearby_candidates(scene, index, scorer, character, weights, &mut batch, |_| {
+            false
+        })
+    }
+
     #[test]
     fn four_lane_filter_equals_the_one_by_one_filter() {
         // Dense (more candidates than a batch holds), with impacts of 0 among them.
@@ -637,15 +651,7 @@ mod tests {
                 let one_by_one =
                     all_pairs_candidates(&scene, &scorer, character, &weights, |_| false);
                 let mut batch = CandidateBatch::default();
-                let grid = nearby_candidates(
-                    &scene,
-                    &index,
-                    &scorer,
-                    character,
-                    &weights,
-                    &mut batch,
-                    |_| false,
-                );
+                let grid = grid_search(&scene, &index, &scorer, character, &weights);
                 assert_eq!(grid, one_by_one, "grid, fov {field_of_view}");
                 let sources = Sources {
                     points: Points::Split { xs: &xs, ys: &ys },
@@ -674,16 +680,7 @@ mod tests {
         let mut index = NeighbourIndex::new(200, 10.0);
         index.rebuild(&scene);
         for character in 0..200 {
-            let mut batch = CandidateBatch::default();
-            let (best, _) = nearby_candidates(
-                &scene,
-                &index,
-                &scorer,
-                character,
-                &weights,
-                &mut batch,
-                |_| false,
-            );
+            let (best, _) = grid_search(&scene, &index, &scorer, character, &weights);
             let observer = scene.character_entities()[character] as usize;
             let exact = (0..scene.len())
                 .filter(|&other| other != observer)
