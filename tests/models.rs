@@ -184,6 +184,16 @@ fn switching_to_or_from_the_crowd_model_starts_it_afresh() {
         .filter(|&&id| crowd.gaze(id).unwrap().target != NO_ENTITY)
         .count();
     assert!(looking > 0, "the saliency model looks at things");
+    // The crowd model's numbers of a saliency character: a fresh tracker's.
+    let initial_threshold = CrowdConfig::default().interest.initial_threshold;
+    for &id in &ids {
+        let gaze = crowd.gaze(id).unwrap();
+        assert_eq!(
+            (gaze.interest_count, gaze.s_max, gaze.attentive_fraction),
+            (0, 0.0, 0.0)
+        );
+        assert_eq!(gaze.threshold, initial_threshold.min(f32::MAX));
+    }
     // Saliency to baseline keeps the shared look until the baseline's first update.
     set_model(&mut crowd, AttentionModel::Baseline);
     let kept = ids

@@ -23,7 +23,7 @@ use crate::attention::baseline::BaselineConfig;
 use crate::attention::candidates::{
     all_pairs_candidates, nearby_candidates, CandidateBatch, NeighbourIndex,
 };
-use crate::attention::interest::{Candidate, InterestConfig, InterestTracker};
+use crate::attention::interest::{Candidate, InterestConfig};
 use crate::attention::plan::{Constraint, Plan, Recording};
 use crate::attention::saliency::SaliencyConfig;
 use crate::attention::score::{ScoreBreakdown, Scorer, ScoringConfig};
@@ -784,32 +784,32 @@ impl Crowd {
                     count,
                 )
             }
-            None => {
+            None => match tracker {
+                Some(tracker) => {
+                    let (attentive, observed) = tracker.attentive_seconds();
+                    let fraction = if observed > 0.0 {
+                        attentive / observed
+                    } else {
+                        0.0
+                    };
+                    (
+                        tracker.interest(),
+                        tracker.s_max(),
+                        tracker.threshold(),
+                        fraction,
+                        tracker.interest_count(),
+                    )
+                }
                 // Characters of the saliency and baseline models report what a fresh
-                // tracker would.
-                let fresh;
-                let tracker = match tracker {
-                    Some(tracker) => tracker,
-                    None => {
-                        fresh = InterestTracker::new(0.0, &self.shared.config.interest);
-                        &fresh
-                    }
-                };
-                let (attentive, observed) = tracker.attentive_seconds();
-                let fraction = if observed > 0.0 {
-                    attentive / observed
-                } else {
-                    0.0
-                };
-                let (target, s_max) = (tracker.interest(), tracker.s_max());
-                (
-                    target,
-                    s_max,
-                    tracker.threshold(),
-                    fraction,
-                    tracker.interest_count(),
-                )
-            }
+                // tracker would: no interest point, the initial threshold.
+                None => (
+                    NO_ENTITY,
+                    0.0,
+                    self.shared.config.interest.initial_threshold,
+                    0.0,
+                    0,
+                ),
+            },
         };
         let view = self.states.view(character);
         let look = self.shared.current_look(character, view);
