@@ -33,6 +33,9 @@ const OPEN: u8 = 1;
 /// Inside `cg_crowd_begin_step` or `cg_crowd_end_step`.
 const CHANGING: u8 = 2;
 
+/// What a range or end call says when no ranged step is open.
+const NO_STEP_OPEN: &str = "no ranged step is open: call cg_crowd_begin_step first";
+
 /// What a `cg_crowd*` points to: the core crowd, and the open ranged step, if any.
 ///
 /// The crowd sits in an `UnsafeCell` because `cg_crowd_step_range` calls on several threads
@@ -74,20 +77,24 @@ impl CrowdHandle {
         }
     }
 
+    /// Moves the phase from `from` to CHANGING, or fails with `refusal` (the phase was not
+    /// `from`).
+    fn enter_changing(&self, from: u8, refusal: &str) -> Result<()> {
+        self.phase
+            .compare_exchange(from, CHANGING, Ordering::SeqCst, Ordering::SeqCst)
+            .map(|_| ())
+            .map_err(|_| Error::WrongState(refusal.into()))
+    }
+
     /// Opens a ranged step (`cg_crowd_begin_step`).
     ///
     /// # Safety
     /// No other call on this handle may run, but `step_range` (which then fails).
     pub(crate) unsafe fn begin_step(&self, dt: f32) -> Result<()> {
-        if self
-            .phase
-            .compare_exchange(IDLE, CHANGING, Ordering::SeqCst, Ordering::SeqCst)
-            .is_err()
-        {
-            return Err(Error::WrongState(
-                "a ranged step is already open: call cg_crowd_end_step first".into(),
-            ));
-        }
+        self.enter_changing(
+            IDLE,
+            "a ranged step is already open: call cg_crowd_end_step first",
+        )?;
         // SAFETY: the phase is CHANGING, set by this thread: no range runs and, by the
         // caller's contract, no other call uses the crowd.
         let crowd = unsafe { &mut *self.crowd.get() };
@@ -121,9 +128,7 @@ impl CrowdHandle {
                 Some(ranges) => ranges.run_range(first, count),
                 None => Err(Error::Internal("an open step has no ranges".into())),
             },
-            _ => Err(Error::WrongState(
-                "no ranged step is open: call cg_crowd_begin_step first".into(),
-            )),
+            _ => Err(Error::WrongState(NO_STEP_OPEN.into())),
         };
         self.ranges_running.fetch_sub(1, Ordering::SeqCst);
         result
@@ -135,15 +140,7 @@ impl CrowdHandle {
     /// No other call on this handle may run, but `step_range` (which then fails or, when
     /// it got in first, makes this call fail).
     pub(crate) unsafe fn end_step(&self) -> Result<()> {
-        if self
-            .phase
-            .compare_exchange(OPEN, CHANGING, Ordering::SeqCst, Ordering::SeqCst)
-            .is_err()
-        {
-            return Err(Error::WrongState(
-                "no ranged step is open: call cg_crowd_begin_step first".into(),
-            ));
-        }
+        self.enter_changing(OPEN, NO_STEP_OPEN)?;
         if self.ranges_running.load(Ordering::SeqCst) != 0 {
             self.phase.store(OPEN, Ordering::SeqCst);
             return Err(Error::WrongState(
