@@ -3,6 +3,8 @@
 //!
 //! Each feature adds its per-frame calls here, after a warm-up that may allocate.
 
+mod support;
+
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 
@@ -329,25 +331,13 @@ fn view_blending_does_not_allocate_per_frame() {
 
 #[test]
 fn every_attention_model_and_gaze_ik_step_without_allocating() {
-    use crowdgaze::attention::{AttentionModel, CharacterParams};
     use crowdgaze::scenario::Scenario;
     use crowdgaze::{Crowd, CrowdConfig};
 
     let mut crowd = Crowd::new(CrowdConfig::default()).unwrap();
     let mut scenario = Scenario::street(90, 30, 6);
     scenario.populate(&mut crowd).unwrap();
-    let models = [
-        AttentionModel::Crowd,
-        AttentionModel::Saliency,
-        AttentionModel::Baseline,
-    ];
-    for (i, &id) in scenario.character_ids().iter().enumerate() {
-        let params = crowd.character_params(id).unwrap();
-        let model = models[i % 3];
-        crowd
-            .set_character_params(id, &CharacterParams { model, ..params })
-            .unwrap();
-    }
+    support::mix_attention_models(&mut crowd, scenario.character_ids());
     let viewer_at = |frame: usize| glam::Vec3::new(5.0, 1.7, frame as f32 * 0.01);
     let mut frame = 0usize;
     let mut advance = |crowd: &mut Crowd, scenario: &mut Scenario| {

@@ -1,10 +1,11 @@
 //! The crowd's worker threads allocate nothing per step: a global counting allocator sees
 //! every thread's allocations. This file holds one test, so nothing else runs beside it.
 
+mod support;
+
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use crowdgaze::attention::{AttentionModel, CharacterParams};
 use crowdgaze::scenario::Scenario;
 use crowdgaze::{Crowd, CrowdConfig};
 
@@ -50,18 +51,7 @@ fn stepping_on_worker_threads_does_not_allocate() {
     let mut crowd = Crowd::new(config).unwrap();
     let mut scenario = Scenario::street(600, 40, 3);
     scenario.populate(&mut crowd).unwrap();
-    let models = [
-        AttentionModel::Crowd,
-        AttentionModel::Saliency,
-        AttentionModel::Baseline,
-    ];
-    for (i, &id) in scenario.character_ids().to_vec().iter().enumerate() {
-        let params = crowd.character_params(id).unwrap();
-        let model = models[i % 3];
-        crowd
-            .set_character_params(id, &CharacterParams { model, ..params })
-            .unwrap();
-    }
+    support::mix_attention_models(&mut crowd, scenario.character_ids());
     let mut frame = 0;
     let mut advance = |crowd: &mut Crowd, scenario: &mut Scenario| {
         frame += 1;

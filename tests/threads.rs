@@ -2,7 +2,8 @@
 //! into ranges, ranges stepped concurrently from several threads, and the ranged step's
 //! state rules through the C API.
 
-use crowdgaze::attention::{AttentionModel, CharacterParams};
+mod support;
+
 use crowdgaze::crowd::{ExplicitTarget, TargetPriority};
 use crowdgaze::scenario::Scenario;
 use crowdgaze::{Crowd, CrowdConfig};
@@ -24,19 +25,8 @@ fn street(threads: u32) -> (Crowd, Scenario) {
     let mut crowd = Crowd::new(config).unwrap();
     let mut scenario = Scenario::street(PEOPLE, 40, 11);
     scenario.populate(&mut crowd).unwrap();
-    let models = [
-        AttentionModel::Crowd,
-        AttentionModel::Saliency,
-        AttentionModel::Baseline,
-    ];
     let ids = scenario.character_ids().to_vec();
-    for (i, &id) in ids.iter().enumerate() {
-        let params = crowd.character_params(id).unwrap();
-        let model = models[i % 3];
-        crowd
-            .set_character_params(id, &CharacterParams { model, ..params })
-            .unwrap();
-    }
+    support::mix_attention_models(&mut crowd, &ids);
     crowd
         .set_gaze_target(
             ids[7],

@@ -182,3 +182,21 @@ impl Street {
         self.crowd.push_and_step(self.time, Self::DT, &self.states);
     }
 }
+
+/// Puts the characters `ids` on the crowd, saliency and baseline models in turn (character
+/// `i` on model `i % 3`), so that a test steps all three side by side.
+pub fn mix_attention_models(crowd: &mut crowdgaze::Crowd, ids: &[u32]) {
+    use crowdgaze::attention::{AttentionModel, CharacterParams};
+    let models = [
+        AttentionModel::Crowd,
+        AttentionModel::Saliency,
+        AttentionModel::Baseline,
+    ];
+    for (i, &id) in ids.iter().enumerate() {
+        let params = crowd.character_params(id).unwrap();
+        let model = models[i % 3];
+        crowd
+            .set_character_params(id, &CharacterParams { model, ..params })
+            .unwrap();
+    }
+}
