@@ -341,7 +341,8 @@ fn array_pointer<T>(values: &[T], input: &mut Input) -> *const T {
 }
 
 /// The unit dual quaternion of a rotation by `angle` about the vertical, then a
-/// translation `t`.
+/// translation `t`. Written out rather than through `cg_dualquat_from_rt`, which refuses
+/// the NaN, infinite and huge values the fuzzer feeds in here on purpose.
 fn rigid(angle: f32, t: cg_vec3) -> cg_dualquat {
     let (s, c) = (angle / 2.0).sin_cos();
     let real = cg_quat {
