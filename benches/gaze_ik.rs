@@ -108,13 +108,13 @@ impl Scene {
         }
         let shifted = self.frame + (index as u32 * 7) % FRAMES_PER_TARGET;
         let segment = shifted / FRAMES_PER_TARGET;
-        if (segment + index as u32) % 10 == 0 {
+        if (segment + index as u32).is_multiple_of(10) {
             return None;
         }
         let time = (shifted % FRAMES_PER_TARGET) as f32 * DT - 1.5;
         // Alternate sides from one target to the next.
         let offset = setup.target_offset;
-        let flip = if segment % 2 == 0 { 1.0 } else { -1.0 };
+        let flip = if segment.is_multiple_of(2) { 1.0 } else { -1.0 };
         let mirrored = setup.transform.rotation
             * (setup.transform.rotation.conjugate() * offset * Vec3::new(flip, 1.0, 1.0));
         let target = setup.transform.position + mirrored + setup.target_velocity * time;

@@ -23,7 +23,7 @@ use crate::scene::Scene;
 
 /// Candidates scored per batch (a denser neighbourhood is scored in several batches).
 pub const BATCH: usize = 128;
-const _: () = assert!(BATCH.is_power_of_two() && BATCH % 4 == 0);
+const _: () = assert!(BATCH.is_power_of_two() && BATCH.is_multiple_of(4));
 
 /// The grid and the scoring data of every entity in grid order, rebuilt each frame.
 #[derive(Debug, Clone)]

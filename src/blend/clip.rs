@@ -58,7 +58,7 @@ impl KeyClip {
                 "a clip needs at least one joint".into(),
             ));
         }
-        if frames.is_empty() || frames.len() % joint_count != 0 {
+        if frames.is_empty() || !frames.len().is_multiple_of(joint_count) {
             return Err(Error::InvalidArgument(format!(
                 "{} transforms is not a whole number (>= 1) of frames of {joint_count} joints",
                 frames.len()

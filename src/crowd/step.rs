@@ -427,7 +427,7 @@ impl Shared {
             period => period,
         };
         state.lod.pending += frame.dt;
-        if (frame.step_index + u64::from(state.lod.stagger)) % u64::from(period) != 0 {
+        if !(frame.step_index + u64::from(state.lod.stagger)).is_multiple_of(u64::from(period)) {
             return;
         }
         let dt = std::mem::take(&mut state.lod.pending);

@@ -93,7 +93,7 @@ pub(crate) fn non_null<T>(pointer: *const T, what: &str) -> Result<()> {
 /// Checks that `pointer` may be dereferenced as a `T`: not NULL and aligned for `T`.
 fn check_pointer<T>(pointer: *const T, what: &str) -> Result<()> {
     non_null(pointer, what)?;
-    if (pointer as usize) % std::mem::align_of::<T>() != 0 {
+    if !(pointer as usize).is_multiple_of(std::mem::align_of::<T>()) {
         return Err(Error::InvalidArgument(format!(
             "{what} is not aligned to {} bytes",
             std::mem::align_of::<T>()
