@@ -85,6 +85,10 @@ fn blending(c: &mut Criterion) {
         .collect();
     let mut out = vec![DualQuat::IDENTITY; JOINTS];
 
+    println!(
+        "pose blends run {} joints side by side on this processor",
+        crowdgaze::blend::simd_lanes()
+    );
     let mut dlb = c.benchmark_group("dlb_27_joints");
     for (&k, w) in KEY_COUNTS.iter().zip(&all_weights) {
         dlb.bench_with_input(BenchmarkId::from_parameter(k), &k, |b, &k| {

@@ -24,10 +24,11 @@
 //! f32 rounding: about 1e−7 plus 1e−7 × the translations' size. p = 1e−6 suits metres; with
 //! centimetres use 1e−4 (the same 1 µm).
 
-use super::lanes::{dib4, DualQuat4, LANES};
+use super::lanes::{dib_lanes, run_widest, DualQuatLanes, LaneJob, LaneKeys, PoseKeys};
 use super::{check_pose_layout, check_weights, AsDualQuat};
 use crate::error::{Error, Result};
 use crate::math::dualquat::DualQuat;
+use crate::math::wide::Wide;
 
 /// Largest `max_iterations` accepted, so that a call always ends quickly.
 pub const MAX_ITERATIONS_LIMIT: u32 = 1000;
@@ -221,75 +222,123 @@ pub fn blend_pose_dib<Q: AsDualQuat, O: From<DualQuat>>(
     Ok(outcome)
 }
 
-/// Most keys whose four-joint groups are gathered once on the stack; beyond, they are
+/// Most keys whose joint groups are gathered once on the stack; beyond, they are
 /// gathered again at each iteration.
-const GATHERED_KEYS: usize = 32;
+const GATHERED_KEYS: usize = 8;
 
 /// Algorithm 1 for `joint_count` joints sharing `weights` (already checked;
 /// `inverse_total = 1 / Σ w_k`), where `input(k, j)` is joint `j` of key `k`; `write(j, …)`
-/// receives each joint's outcome. Four joints run side by side in SIMD lanes.
+/// receives each joint's outcome. Joints run side by side in SIMD lanes, as many as the
+/// processor's widest vectors hold (see [`run_widest`]).
 pub(crate) fn dib_joints(
     weights: &[f32],
     inverse_total: f64,
     settings: &DibSettings,
     joint_count: usize,
     input: impl Fn(usize, usize) -> DualQuat,
-    mut write: impl FnMut(usize, &DibOutcome),
+    write: impl FnMut(usize, &DibOutcome),
 ) {
-    // Joints `start .. start + 4` of key `k` (repeating the last joint past the end).
-    let gather = |k: usize, start: usize| {
-        let last = joint_count.saturating_sub(1);
-        DualQuat4::gather(std::array::from_fn(|lane| {
-            input(k, (start + lane).min(last))
-        }))
-    };
-    // One or two inputs with weight: the fixed point is known in closed form (the input, or
-    // ScLERP, where `x̂ = 0` exactly), so no iteration is needed.
-    let mut active = weights.iter().enumerate().filter(|(_, &w)| w > 0.0);
-    match (active.next(), active.next(), active.next()) {
-        (Some((only, _)), None, _) => {
-            for joint in 0..joint_count {
-                let q = input(only, joint);
-                write(
-                    joint,
-                    &DibOutcome::closed_form(q.try_normalize().unwrap_or(q)),
+    run_widest(DibJoints {
+        weights,
+        inverse_total,
+        settings,
+        joint_count,
+        input,
+        write,
+    })
+}
+
+/// The arguments of [`dib_joints`], run at a lane width.
+struct DibJoints<'a, I, O> {
+    weights: &'a [f32],
+    inverse_total: f64,
+    settings: &'a DibSettings,
+    joint_count: usize,
+    input: I,
+    write: O,
+}
+
+impl<I, O> LaneJob for DibJoints<'_, I, O>
+where
+    I: Fn(usize, usize) -> DualQuat,
+    O: FnMut(usize, &DibOutcome),
+{
+    type Output = ();
+
+    #[inline(always)]
+    fn run<W: Wide>(self) {
+        let DibJoints {
+            weights,
+            inverse_total,
+            settings,
+            joint_count,
+            input,
+            mut write,
+        } = self;
+        let group = |start: usize| PoseKeys {
+            input: &input,
+            joint_count,
+            start,
+        };
+        // One or two inputs with weight: the fixed point is known in closed form (the input,
+        // or ScLERP, where `x̂ = 0` exactly), so no iteration is needed.
+        let mut active = weights.iter().enumerate().filter(|(_, &w)| w > 0.0);
+        match (active.next(), active.next(), active.next()) {
+            (Some((only, _)), None, _) => {
+                for joint in 0..joint_count {
+                    let q = input(only, joint);
+                    write(
+                        joint,
+                        &DibOutcome::closed_form(q.try_normalize().unwrap_or(q)),
+                    );
+                }
+                return;
+            }
+            (Some((first, &w_first)), Some((second, &w_second)), None) => {
+                let t = (f64::from(w_second) / (f64::from(w_first) + f64::from(w_second))) as f32;
+                for start in (0..joint_count).step_by(W::LANES) {
+                    let used = joint_count - start;
+                    let keys = group(start);
+                    LaneKeys::<W>::key(&keys, first)
+                        .sclerp(keys.key(second), t)
+                        .scatter(|lane, blend| {
+                            if lane < used {
+                                write(start + lane, &DibOutcome::closed_form(blend));
+                            }
+                        });
+                }
+                return;
+            }
+            _ => {}
+        }
+        let mut gathered = [DualQuatLanes::<W>::zero(); GATHERED_KEYS];
+        for start in (0..joint_count).step_by(W::LANES) {
+            let lanes_used = (joint_count - start).min(W::LANES);
+            let write_joint = |lane: usize, outcome: &DibOutcome| write(start + lane, outcome);
+            if weights.len() <= GATHERED_KEYS {
+                for (k, slot) in gathered.iter_mut().enumerate().take(weights.len()) {
+                    if weights[k] > 0.0 {
+                        *slot = group(start).key(k);
+                    }
+                }
+                dib_lanes::<W>(
+                    weights,
+                    inverse_total,
+                    settings,
+                    lanes_used,
+                    &gathered[..],
+                    write_joint,
+                );
+            } else {
+                dib_lanes::<W>(
+                    weights,
+                    inverse_total,
+                    settings,
+                    lanes_used,
+                    &group(start),
+                    write_joint,
                 );
             }
-            return;
-        }
-        (Some((first, &w_first)), Some((second, &w_second)), None) => {
-            let t = (f64::from(w_second) / (f64::from(w_first) + f64::from(w_second))) as f32;
-            for start in (0..joint_count).step_by(LANES) {
-                let blended = gather(first, start)
-                    .sclerp(gather(second, start), t)
-                    .scatter();
-                for (lane, blend) in blended.iter().enumerate().take(joint_count - start) {
-                    write(start + lane, &DibOutcome::closed_form(*blend));
-                }
-            }
-            return;
-        }
-        _ => {}
-    }
-    let mut gathered = [DualQuat4::default(); GATHERED_KEYS];
-    for start in (0..joint_count).step_by(LANES) {
-        let lanes_used = (joint_count - start).min(LANES);
-        let outcomes = if weights.len() <= GATHERED_KEYS {
-            for (k, slot) in gathered.iter_mut().enumerate().take(weights.len()) {
-                if weights[k] > 0.0 {
-                    *slot = gather(k, start);
-                }
-            }
-            dib4(weights, inverse_total, settings, lanes_used, &|k| {
-                gathered[k]
-            })
-        } else {
-            dib4(weights, inverse_total, settings, lanes_used, &|k| {
-                gather(k, start)
-            })
-        };
-        for (lane, outcome) in outcomes.iter().enumerate().take(lanes_used) {
-            write(start + lane, outcome);
         }
     }
 }

@@ -9,10 +9,11 @@
 //! therefore never fails on valid weights. `‖·‖` is the dual quaternion norm: the result has
 //! a unit real part and a dual part orthogonal to it, a rigid transform.
 
-use super::lanes::{dlb4, DualQuat4, LANES};
+use super::lanes::{dlb_lanes, run_widest, LaneJob, PoseKeys};
 use super::{check_pose_layout, check_weights, inverse_total, unit_weight, AsDualQuat};
 use crate::error::Result;
 use crate::math::dualquat::DualQuat;
+use crate::math::wide::Wide;
 
 /// Below this fraction of `Σ w_k`, the aligned sum's real part is taken as cancelled and the
 /// pivot moves to the largest weight.
@@ -43,20 +44,48 @@ pub fn blend_pose_dlb<Q: AsDualQuat, O: From<DualQuat>>(
 ) -> Result<()> {
     check_pose_layout(keys.len(), weights.len(), joint_count, out.len())?;
     check_weights(weights.len(), weights)?;
-    for (chunk, slots) in out.chunks_mut(LANES).enumerate() {
-        let start = chunk * LANES;
-        let last = joint_count - 1;
-        let input = |k: usize| {
-            DualQuat4::gather(std::array::from_fn(|lane| {
-                keys[k * joint_count + (start + lane).min(last)].as_dual_quat()
-            }))
-        };
-        let blended = dlb4(weights, &input).scatter();
-        for (slot, q) in slots.iter_mut().zip(blended) {
-            *slot = q.into();
+    run_widest(PoseDlb {
+        keys,
+        weights,
+        joint_count,
+        out,
+    });
+    Ok(())
+}
+
+/// The arguments of [`blend_pose_dlb`], run at a lane width.
+struct PoseDlb<'a, Q, O> {
+    keys: &'a [Q],
+    weights: &'a [f32],
+    joint_count: usize,
+    out: &'a mut [O],
+}
+
+impl<Q: AsDualQuat, O: From<DualQuat>> LaneJob for PoseDlb<'_, Q, O> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run<W: Wide>(self) {
+        let PoseDlb {
+            keys,
+            weights,
+            joint_count,
+            out,
+        } = self;
+        for (chunk, slots) in out.chunks_mut(W::LANES).enumerate() {
+            let start = chunk * W::LANES;
+            let input = PoseKeys {
+                input: &|k: usize, joint: usize| keys[k * joint_count + joint].as_dual_quat(),
+                joint_count,
+                start,
+            };
+            dlb_lanes::<W>(weights, &input).scatter(|lane, q| {
+                if let Some(slot) = slots.get_mut(lane) {
+                    *slot = q.into();
+                }
+            });
         }
     }
-    Ok(())
 }
 
 /// DLB of the inputs `input(0) .. input(weights.len() − 1)`, weights already checked.

@@ -28,6 +28,14 @@ pub use view::{BlendMethod, KeyCamera, ViewBlender, ViewBlenderConfig, ViewDista
 use crate::error::{Error, Result};
 use crate::math::dualquat::DualQuat;
 
+/// How many joints the pose blends (DLB, DIB, ScLERP of two keys) compute side by side on
+/// this processor, one per SIMD lane: 16 where it has AVX-512F, 8 with AVX, else 4 (SSE2 on
+/// x86-64, NEON or plain floats elsewhere). Chosen at run time; every width gives the same
+/// bits, so results do not depend on it.
+pub fn simd_lanes() -> usize {
+    lanes::widest_lanes()
+}
+
 /// An element the blenders read as a unit dual quaternion. Implemented by [`DualQuat`]
 /// (taken as is: it must already be unit) and by the C ABI's `cg_dualquat` (normalised on
 /// reading), so C arrays are blended in place without a copy.

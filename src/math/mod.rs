@@ -7,3 +7,4 @@ pub mod ease;
 pub mod fast;
 pub mod packed;
 pub mod random;
+pub(crate) mod wide;

@@ -1,0 +1,700 @@
+//! Floats in SIMD lanes, generic over the width: glam's `Vec4` (SSE2 on x86-64, plain floats
+//! elsewhere) and 8- and 16-lane types ([`F8`], [`F16`]) for code compiled with AVX or
+//! AVX-512 enabled, so one lane-wise algorithm runs at whichever width the processor has.
+//!
+//! Every operation is the same IEEE operation on each lane (no fused multiply-add), so a lane
+//! gives bit-identical results at every width. [`F8`] and [`F16`] (x86-64 only) wrap the
+//! processor's AVX and AVX-512 instructions: they are used only after checking that the
+//! processor has them, inside functions compiled for them (see `blend::lanes`).
+
+use std::ops::{Add, BitAnd, BitOr, BitOrAssign, Div, Mul, Neg, Not, Sub};
+
+use glam::{BVec4A, Mat4, Vec4};
+
+/// Floats in `LANES` lanes, with the lane-wise operations the blending code needs.
+pub(crate) trait Wide:
+    Copy
+    + Add<Output = Self>
+    + Add<f32, Output = Self>
+    + Sub<Output = Self>
+    + Sub<f32, Output = Self>
+    + Mul<Output = Self>
+    + Mul<f32, Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
+{
+    /// One boolean per lane.
+    type Mask: Copy
+        + BitAnd<Output = Self::Mask>
+        + BitOr<Output = Self::Mask>
+        + BitOrAssign
+        + Not<Output = Self::Mask>;
+
+    /// Number of lanes.
+    const LANES: usize;
+
+    /// The same value in every lane.
+    fn splat(value: f32) -> Self;
+    /// Lane `i` is `f(i)` (for tests: the hot paths gather with [`Wide::transpose_in`]).
+    #[cfg_attr(not(test), allow(dead_code))]
+    fn from_fn(f: impl FnMut(usize) -> f32) -> Self;
+    /// Lane `i`.
+    fn lane(self, i: usize) -> f32;
+    /// Per lane: `a` where `mask`, else `b`.
+    fn select(mask: Self::Mask, a: Self, b: Self) -> Self;
+    /// Per lane `self < other`.
+    fn cmplt(self, other: Self) -> Self::Mask;
+    /// Per lane `self ≤ other`.
+    fn cmple(self, other: Self) -> Self::Mask;
+    /// Per lane `self > other`.
+    fn cmpgt(self, other: Self) -> Self::Mask;
+    /// Per lane `self ≥ other`.
+    fn cmpge(self, other: Self) -> Self::Mask;
+    /// Per lane square root.
+    fn sqrt(self) -> Self;
+    /// Per lane `1 / self`.
+    fn recip(self) -> Self;
+    /// Per lane maximum (operands are never NaN here).
+    fn max(self, other: Self) -> Self;
+    /// Mask lane `i` is `f(i)`.
+    fn mask_from_fn(f: impl FnMut(usize) -> bool) -> Self::Mask;
+    /// Whether mask lane `i` is set.
+    fn test(mask: Self::Mask, i: usize) -> bool;
+    /// Whether any mask lane is set.
+    fn any(mask: Self::Mask) -> bool;
+    /// Whether every mask lane is set.
+    fn all(mask: Self::Mask) -> bool;
+    /// Eight rows of `LANES` floats from eight-float columns: row `c` lane `i` is `f(i)[c]`.
+    fn transpose_in(f: impl FnMut(usize) -> [f32; 8]) -> [Self; 8];
+    /// The inverse of [`Wide::transpose_in`]: `f(i, column)` for each lane `i`.
+    fn transpose_out(rows: [Self; 8], f: impl FnMut(usize, [f32; 8]));
+}
+
+impl Wide for Vec4 {
+    type Mask = BVec4A;
+    const LANES: usize = 4;
+
+    #[inline(always)]
+    fn splat(value: f32) -> Self {
+        Vec4::splat(value)
+    }
+    #[inline(always)]
+    fn from_fn(mut f: impl FnMut(usize) -> f32) -> Self {
+        Vec4::new(f(0), f(1), f(2), f(3))
+    }
+    #[inline(always)]
+    fn lane(self, i: usize) -> f32 {
+        self[i]
+    }
+    #[inline(always)]
+    fn select(mask: BVec4A, a: Self, b: Self) -> Self {
+        Vec4::select(mask, a, b)
+    }
+    #[inline(always)]
+    fn cmplt(self, other: Self) -> BVec4A {
+        Vec4::cmplt(self, other)
+    }
+    #[inline(always)]
+    fn cmple(self, other: Self) -> BVec4A {
+        Vec4::cmple(self, other)
+    }
+    #[inline(always)]
+    fn cmpgt(self, other: Self) -> BVec4A {
+        Vec4::cmpgt(self, other)
+    }
+    #[inline(always)]
+    fn cmpge(self, other: Self) -> BVec4A {
+        Vec4::cmpge(self, other)
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        Vec4::sqrt(self)
+    }
+    #[inline(always)]
+    fn recip(self) -> Self {
+        Vec4::recip(self)
+    }
+    #[inline(always)]
+    fn max(self, other: Self) -> Self {
+        Vec4::max(self, other)
+    }
+    #[inline(always)]
+    fn mask_from_fn(mut f: impl FnMut(usize) -> bool) -> BVec4A {
+        BVec4A::new(f(0), f(1), f(2), f(3))
+    }
+    #[inline(always)]
+    fn test(mask: BVec4A, i: usize) -> bool {
+        mask.test(i)
+    }
+    #[inline(always)]
+    fn any(mask: BVec4A) -> bool {
+        mask.any()
+    }
+    #[inline(always)]
+    fn all(mask: BVec4A) -> bool {
+        mask.all()
+    }
+    #[inline(always)]
+    fn transpose_in(mut f: impl FnMut(usize) -> [f32; 8]) -> [Self; 8] {
+        let columns = [f(0), f(1), f(2), f(3)];
+        let half = |offset: usize| {
+            let column = |i: usize| Vec4::from_slice(&columns[i][offset..offset + 4]);
+            Mat4::from_cols(column(0), column(1), column(2), column(3)).transpose()
+        };
+        let (low, high) = (half(0), half(4));
+        [
+            low.x_axis,
+            low.y_axis,
+            low.z_axis,
+            low.w_axis,
+            high.x_axis,
+            high.y_axis,
+            high.z_axis,
+            high.w_axis,
+        ]
+    }
+    #[inline(always)]
+    fn transpose_out(rows: [Self; 8], mut f: impl FnMut(usize, [f32; 8])) {
+        let low = Mat4::from_cols(rows[0], rows[1], rows[2], rows[3]).transpose();
+        let high = Mat4::from_cols(rows[4], rows[5], rows[6], rows[7]).transpose();
+        for i in 0..4 {
+            let (l, h) = (low.col(i), high.col(i));
+            f(i, [l.x, l.y, l.z, l.w, h.x, h.y, h.z, h.w]);
+        }
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+pub(crate) use x86::{F16, F8};
+
+/// The 8- and 16-lane types, written with the processor's own vector instructions.
+///
+/// Their operations are `#[inline(always)]` wrappers of AVX and AVX-512 intrinsics: they may
+/// only run once the processor is known to have the instruction set (`blend::lanes`'s
+/// `run_widest` checks before it uses them, and the tests skip them otherwise), and they are
+/// compiled to single instructions where they are inlined into a function compiled for it.
+#[cfg(target_arch = "x86_64")]
+mod x86 {
+    use std::arch::x86_64::*;
+    use std::ops::{Add, BitAnd, BitOr, BitOrAssign, Div, Mul, Neg, Not, Sub};
+
+    use super::Wide;
+
+    /// Eight floats, one per lane: one AVX register. Only for processors with AVX.
+    #[derive(Debug, Clone, Copy)]
+    pub(crate) struct F8(__m256);
+
+    /// One boolean per lane of [`F8`]: all bits of the lane set or clear.
+    #[derive(Debug, Clone, Copy)]
+    pub(crate) struct M8(__m256);
+
+    /// Sixteen floats, one per lane: one AVX-512 register. Only for processors with AVX-512F.
+    #[derive(Debug, Clone, Copy)]
+    pub(crate) struct F16(__m512);
+
+    /// One boolean per lane of [`F16`]: an AVX-512 mask register.
+    #[derive(Debug, Clone, Copy)]
+    pub(crate) struct M16(__mmask16);
+
+    /// Declares a binary operator of a wide type as one intrinsic.
+    macro_rules! binary {
+        ($type:ident, $trait:ident, $method:ident, $intrinsic:ident) => {
+            impl $trait for $type {
+                type Output = Self;
+                #[inline(always)]
+                fn $method(self, other: Self) -> Self {
+                    // SAFETY: wide values exist only on processors with the instruction set
+                    // (see the module docs).
+                    $type(unsafe { $intrinsic(self.0, other.0) })
+                }
+            }
+            impl $trait<f32> for $type {
+                type Output = Self;
+                #[inline(always)]
+                fn $method(self, other: f32) -> Self {
+                    self.$method(<$type as Wide>::splat(other))
+                }
+            }
+        };
+    }
+
+    binary!(F8, Add, add, _mm256_add_ps);
+    binary!(F8, Sub, sub, _mm256_sub_ps);
+    binary!(F8, Mul, mul, _mm256_mul_ps);
+    binary!(F16, Add, add, _mm512_add_ps);
+    binary!(F16, Sub, sub, _mm512_sub_ps);
+    binary!(F16, Mul, mul, _mm512_mul_ps);
+
+    impl Div for F8 {
+        type Output = Self;
+        #[inline(always)]
+        fn div(self, other: Self) -> Self {
+            // SAFETY: AVX is present (module docs).
+            F8(unsafe { _mm256_div_ps(self.0, other.0) })
+        }
+    }
+
+    impl Div for F16 {
+        type Output = Self;
+        #[inline(always)]
+        fn div(self, other: Self) -> Self {
+            // SAFETY: AVX-512F is present (module docs).
+            F16(unsafe { _mm512_div_ps(self.0, other.0) })
+        }
+    }
+
+    impl Neg for F8 {
+        type Output = Self;
+        #[inline(always)]
+        fn neg(self) -> Self {
+            // SAFETY: AVX is present (module docs).
+            F8(unsafe { _mm256_xor_ps(self.0, _mm256_set1_ps(-0.0)) })
+        }
+    }
+
+    impl Neg for F16 {
+        type Output = Self;
+        #[inline(always)]
+        fn neg(self) -> Self {
+            // SAFETY: AVX-512F is present (module docs).
+            F16(unsafe {
+                _mm512_castsi512_ps(_mm512_xor_si512(
+                    _mm512_castps_si512(self.0),
+                    _mm512_set1_epi32(i32::MIN),
+                ))
+            })
+        }
+    }
+
+    impl BitAnd for M8 {
+        type Output = Self;
+        #[inline(always)]
+        fn bitand(self, other: Self) -> Self {
+            // SAFETY: AVX is present (module docs).
+            M8(unsafe { _mm256_and_ps(self.0, other.0) })
+        }
+    }
+
+    impl BitOr for M8 {
+        type Output = Self;
+        #[inline(always)]
+        fn bitor(self, other: Self) -> Self {
+            // SAFETY: AVX is present (module docs).
+            M8(unsafe { _mm256_or_ps(self.0, other.0) })
+        }
+    }
+
+    impl Not for M8 {
+        type Output = Self;
+        #[inline(always)]
+        fn not(self) -> Self {
+            // SAFETY: AVX is present (module docs).
+            M8(unsafe { _mm256_xor_ps(self.0, _mm256_castsi256_ps(_mm256_set1_epi32(-1))) })
+        }
+    }
+
+    impl BitAnd for M16 {
+        type Output = Self;
+        #[inline(always)]
+        fn bitand(self, other: Self) -> Self {
+            M16(self.0 & other.0)
+        }
+    }
+
+    impl BitOr for M16 {
+        type Output = Self;
+        #[inline(always)]
+        fn bitor(self, other: Self) -> Self {
+            M16(self.0 | other.0)
+        }
+    }
+
+    impl Not for M16 {
+        type Output = Self;
+        #[inline(always)]
+        fn not(self) -> Self {
+            M16(!self.0)
+        }
+    }
+
+    impl BitOrAssign for M8 {
+        #[inline(always)]
+        fn bitor_assign(&mut self, other: Self) {
+            *self = *self | other;
+        }
+    }
+
+    impl BitOrAssign for M16 {
+        #[inline(always)]
+        fn bitor_assign(&mut self, other: Self) {
+            *self = *self | other;
+        }
+    }
+
+    /// Transposes the 8 × 8 block `rows` in place (row `r` lane `i` ↔ row `i` lane `r`).
+    ///
+    /// # Safety
+    /// The processor has AVX.
+    #[inline(always)]
+    unsafe fn transpose8(rows: [__m256; 8]) -> [__m256; 8] {
+        let [r0, r1, r2, r3, r4, r5, r6, r7] = rows;
+        let (t0, t1) = (_mm256_unpacklo_ps(r0, r1), _mm256_unpackhi_ps(r0, r1));
+        let (t2, t3) = (_mm256_unpacklo_ps(r2, r3), _mm256_unpackhi_ps(r2, r3));
+        let (t4, t5) = (_mm256_unpacklo_ps(r4, r5), _mm256_unpackhi_ps(r4, r5));
+        let (t6, t7) = (_mm256_unpacklo_ps(r6, r7), _mm256_unpackhi_ps(r6, r7));
+        let u0 = _mm256_shuffle_ps::<0x44>(t0, t2);
+        let u1 = _mm256_shuffle_ps::<0xEE>(t0, t2);
+        let u2 = _mm256_shuffle_ps::<0x44>(t1, t3);
+        let u3 = _mm256_shuffle_ps::<0xEE>(t1, t3);
+        let u4 = _mm256_shuffle_ps::<0x44>(t4, t6);
+        let u5 = _mm256_shuffle_ps::<0xEE>(t4, t6);
+        let u6 = _mm256_shuffle_ps::<0x44>(t5, t7);
+        let u7 = _mm256_shuffle_ps::<0xEE>(t5, t7);
+        [
+            _mm256_permute2f128_ps::<0x20>(u0, u4),
+            _mm256_permute2f128_ps::<0x20>(u1, u5),
+            _mm256_permute2f128_ps::<0x20>(u2, u6),
+            _mm256_permute2f128_ps::<0x20>(u3, u7),
+            _mm256_permute2f128_ps::<0x31>(u0, u4),
+            _mm256_permute2f128_ps::<0x31>(u1, u5),
+            _mm256_permute2f128_ps::<0x31>(u2, u6),
+            _mm256_permute2f128_ps::<0x31>(u3, u7),
+        ]
+    }
+
+    /// Loads eight columns of eight floats and transposes them into eight rows.
+    ///
+    /// # Safety
+    /// The processor has AVX.
+    #[inline(always)]
+    unsafe fn rows_of(columns: [[f32; 8]; 8]) -> [__m256; 8] {
+        let mut loaded = [_mm256_setzero_ps(); 8];
+        for (row, column) in loaded.iter_mut().zip(&columns) {
+            *row = _mm256_loadu_ps(column.as_ptr());
+        }
+        transpose8(loaded)
+    }
+
+    /// Eight columns of eight floats from eight rows.
+    ///
+    /// # Safety
+    /// The processor has AVX.
+    #[inline(always)]
+    unsafe fn columns_of(rows: [__m256; 8]) -> [[f32; 8]; 8] {
+        let mut columns = [[0.0; 8]; 8];
+        for (column, row) in columns.iter_mut().zip(transpose8(rows)) {
+            _mm256_storeu_ps(column.as_mut_ptr(), row);
+        }
+        columns
+    }
+
+    impl Wide for F8 {
+        type Mask = M8;
+        const LANES: usize = 8;
+
+        #[inline(always)]
+        fn splat(value: f32) -> Self {
+            // SAFETY: AVX is present (module docs).
+            F8(unsafe { _mm256_set1_ps(value) })
+        }
+        #[inline(always)]
+        fn from_fn(f: impl FnMut(usize) -> f32) -> Self {
+            let values: [f32; 8] = std::array::from_fn(f);
+            // SAFETY: AVX is present (module docs); `values` holds 8 floats.
+            F8(unsafe { _mm256_loadu_ps(values.as_ptr()) })
+        }
+        #[inline(always)]
+        fn lane(self, i: usize) -> f32 {
+            let mut values = [0.0; 8];
+            // SAFETY: AVX is present (module docs); `values` holds 8 floats.
+            unsafe { _mm256_storeu_ps(values.as_mut_ptr(), self.0) };
+            values[i]
+        }
+        #[inline(always)]
+        fn select(mask: M8, a: Self, b: Self) -> Self {
+            // SAFETY: AVX is present (module docs).
+            F8(unsafe { _mm256_blendv_ps(b.0, a.0, mask.0) })
+        }
+        #[inline(always)]
+        fn cmplt(self, other: Self) -> M8 {
+            // SAFETY: AVX is present (module docs).
+            M8(unsafe { _mm256_cmp_ps::<_CMP_LT_OQ>(self.0, other.0) })
+        }
+        #[inline(always)]
+        fn cmple(self, other: Self) -> M8 {
+            // SAFETY: AVX is present (module docs).
+            M8(unsafe { _mm256_cmp_ps::<_CMP_LE_OQ>(self.0, other.0) })
+        }
+        #[inline(always)]
+        fn cmpgt(self, other: Self) -> M8 {
+            // SAFETY: AVX is present (module docs).
+            M8(unsafe { _mm256_cmp_ps::<_CMP_GT_OQ>(self.0, other.0) })
+        }
+        #[inline(always)]
+        fn cmpge(self, other: Self) -> M8 {
+            // SAFETY: AVX is present (module docs).
+            M8(unsafe { _mm256_cmp_ps::<_CMP_GE_OQ>(self.0, other.0) })
+        }
+        #[inline(always)]
+        fn sqrt(self) -> Self {
+            // SAFETY: AVX is present (module docs).
+            F8(unsafe { _mm256_sqrt_ps(self.0) })
+        }
+        #[inline(always)]
+        fn recip(self) -> Self {
+            F8::splat(1.0) / self
+        }
+        #[inline(always)]
+        fn max(self, other: Self) -> Self {
+            // SAFETY: AVX is present (module docs).
+            F8(unsafe { _mm256_max_ps(self.0, other.0) })
+        }
+        #[inline(always)]
+        fn mask_from_fn(mut f: impl FnMut(usize) -> bool) -> M8 {
+            let bits: [i32; 8] = std::array::from_fn(|i| if f(i) { -1 } else { 0 });
+            // SAFETY: AVX is present (module docs); `bits` holds 8 integers.
+            M8(unsafe { _mm256_castsi256_ps(_mm256_loadu_si256(bits.as_ptr().cast())) })
+        }
+        #[inline(always)]
+        fn test(mask: M8, i: usize) -> bool {
+            // SAFETY: AVX is present (module docs).
+            (unsafe { _mm256_movemask_ps(mask.0) } >> i) & 1 != 0
+        }
+        #[inline(always)]
+        fn any(mask: M8) -> bool {
+            // SAFETY: AVX is present (module docs).
+            unsafe { _mm256_movemask_ps(mask.0) != 0 }
+        }
+        #[inline(always)]
+        fn all(mask: M8) -> bool {
+            // SAFETY: AVX is present (module docs).
+            unsafe { _mm256_movemask_ps(mask.0) == 0xff }
+        }
+        #[inline(always)]
+        fn transpose_in(f: impl FnMut(usize) -> [f32; 8]) -> [Self; 8] {
+            // SAFETY: AVX is present (module docs).
+            let [r0, r1, r2, r3, r4, r5, r6, r7] = unsafe { rows_of(std::array::from_fn(f)) };
+            [
+                F8(r0),
+                F8(r1),
+                F8(r2),
+                F8(r3),
+                F8(r4),
+                F8(r5),
+                F8(r6),
+                F8(r7),
+            ]
+        }
+        #[inline(always)]
+        fn transpose_out(rows: [Self; 8], mut f: impl FnMut(usize, [f32; 8])) {
+            let [r0, r1, r2, r3, r4, r5, r6, r7] = rows;
+            let rows = [r0.0, r1.0, r2.0, r3.0, r4.0, r5.0, r6.0, r7.0];
+            // SAFETY: AVX is present (module docs).
+            let columns = unsafe { columns_of(rows) };
+            for (i, column) in columns.into_iter().enumerate() {
+                f(i, column);
+            }
+        }
+    }
+
+    impl Wide for F16 {
+        type Mask = M16;
+        const LANES: usize = 16;
+
+        #[inline(always)]
+        fn splat(value: f32) -> Self {
+            // SAFETY: AVX-512F is present (module docs).
+            F16(unsafe { _mm512_set1_ps(value) })
+        }
+        #[inline(always)]
+        fn from_fn(f: impl FnMut(usize) -> f32) -> Self {
+            let values: [f32; 16] = std::array::from_fn(f);
+            // SAFETY: AVX-512F is present (module docs); `values` holds 16 floats.
+            F16(unsafe { _mm512_loadu_ps(values.as_ptr()) })
+        }
+        #[inline(always)]
+        fn lane(self, i: usize) -> f32 {
+            let mut values = [0.0; 16];
+            // SAFETY: AVX-512F is present (module docs); `values` holds 16 floats.
+            unsafe { _mm512_storeu_ps(values.as_mut_ptr(), self.0) };
+            values[i]
+        }
+        #[inline(always)]
+        fn select(mask: M16, a: Self, b: Self) -> Self {
+            // SAFETY: AVX-512F is present (module docs).
+            F16(unsafe { _mm512_mask_blend_ps(mask.0, b.0, a.0) })
+        }
+        #[inline(always)]
+        fn cmplt(self, other: Self) -> M16 {
+            // SAFETY: AVX-512F is present (module docs).
+            M16(unsafe { _mm512_cmp_ps_mask::<_CMP_LT_OQ>(self.0, other.0) })
+        }
+        #[inline(always)]
+        fn cmple(self, other: Self) -> M16 {
+            // SAFETY: AVX-512F is present (module docs).
+            M16(unsafe { _mm512_cmp_ps_mask::<_CMP_LE_OQ>(self.0, other.0) })
+        }
+        #[inline(always)]
+        fn cmpgt(self, other: Self) -> M16 {
+            // SAFETY: AVX-512F is present (module docs).
+            M16(unsafe { _mm512_cmp_ps_mask::<_CMP_GT_OQ>(self.0, other.0) })
+        }
+        #[inline(always)]
+        fn cmpge(self, other: Self) -> M16 {
+            // SAFETY: AVX-512F is present (module docs).
+            M16(unsafe { _mm512_cmp_ps_mask::<_CMP_GE_OQ>(self.0, other.0) })
+        }
+        #[inline(always)]
+        fn sqrt(self) -> Self {
+            // SAFETY: AVX-512F is present (module docs).
+            F16(unsafe { _mm512_sqrt_ps(self.0) })
+        }
+        #[inline(always)]
+        fn recip(self) -> Self {
+            F16::splat(1.0) / self
+        }
+        #[inline(always)]
+        fn max(self, other: Self) -> Self {
+            // SAFETY: AVX-512F is present (module docs).
+            F16(unsafe { _mm512_max_ps(self.0, other.0) })
+        }
+        #[inline(always)]
+        fn mask_from_fn(mut f: impl FnMut(usize) -> bool) -> M16 {
+            M16((0..16).fold(0, |bits, i| bits | (u16::from(f(i)) << i)))
+        }
+        #[inline(always)]
+        fn test(mask: M16, i: usize) -> bool {
+            (mask.0 >> i) & 1 != 0
+        }
+        #[inline(always)]
+        fn any(mask: M16) -> bool {
+            mask.0 != 0
+        }
+        #[inline(always)]
+        fn all(mask: M16) -> bool {
+            mask.0 == u16::MAX
+        }
+        #[inline(always)]
+        fn transpose_in(mut f: impl FnMut(usize) -> [f32; 8]) -> [Self; 8] {
+            // Lanes 0–7 and 8–15 are two 8 × 8 transposes, joined into 16-lane rows.
+            let low: [[f32; 8]; 8] = std::array::from_fn(&mut f);
+            let high: [[f32; 8]; 8] = std::array::from_fn(|i| f(i + 8));
+            // SAFETY: AVX-512F (which implies AVX) is present (module docs).
+            unsafe {
+                let (low, high) = (rows_of(low), rows_of(high));
+                std::array::from_fn(|r| {
+                    let joined = _mm512_insertf64x4::<1>(
+                        _mm512_castpd256_pd512(_mm256_castps_pd(low[r])),
+                        _mm256_castps_pd(high[r]),
+                    );
+                    F16(_mm512_castpd_ps(joined))
+                })
+            }
+        }
+        #[inline(always)]
+        fn transpose_out(rows: [Self; 8], mut f: impl FnMut(usize, [f32; 8])) {
+            // SAFETY: AVX-512F (which implies AVX) is present (module docs).
+            unsafe {
+                let mut low = [_mm256_setzero_ps(); 8];
+                let mut high = [_mm256_setzero_ps(); 8];
+                for ((row, low), high) in rows.iter().zip(&mut low).zip(&mut high) {
+                    let row = _mm512_castps_pd(row.0);
+                    *low = _mm256_castpd_ps(_mm512_castpd512_pd256(row));
+                    *high = _mm256_castpd_ps(_mm512_extractf64x4_pd::<1>(row));
+                }
+                let (low, high) = (transpose8(low), transpose8(high));
+                for (i, row) in low.into_iter().chain(high).enumerate() {
+                    let mut column = [0.0; 8];
+                    _mm256_storeu_ps(column.as_mut_ptr(), row);
+                    f(i, column);
+                }
+            }
+        }
+    }
+}
+
+/// Runs a generic test function `f::<W>()` for every width this processor can run (the wider
+/// ones only where the processor has AVX or AVX-512F, as under valgrind it may not).
+#[cfg(test)]
+macro_rules! for_every_width {
+    ($f:ident ( $($arg:expr),* )) => {{
+        $f::<glam::Vec4>($($arg),*);
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::is_x86_feature_detected!("avx") {
+                $f::<$crate::math::wide::F8>($($arg),*);
+            }
+            if std::is_x86_feature_detected!("avx512f") {
+                $f::<$crate::math::wide::F16>($($arg),*);
+            }
+        }
+    }};
+}
+#[cfg(test)]
+pub(crate) use for_every_width;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn values(lanes: usize, offset: f32) -> Vec<f32> {
+        (0..lanes)
+            .map(|i| (i as f32 * 0.37 + offset).sin() * 3.0)
+            .collect()
+    }
+
+    /// Every operation of a wide type equals the scalar operation in each lane.
+    fn lane_wise<W: Wide>() {
+        let (a, b) = (values(W::LANES, 0.1), values(W::LANES, 1.3));
+        let (wa, wb) = (W::from_fn(|i| a[i]), W::from_fn(|i| b[i]));
+        let check = |w: W, f: &dyn Fn(f32, f32) -> f32| {
+            for i in 0..W::LANES {
+                assert_eq!(w.lane(i).to_bits(), f(a[i], b[i]).to_bits(), "lane {i}");
+            }
+        };
+        check(wa + wb, &|x, y| x + y);
+        check(wa - wb, &|x, y| x - y);
+        check(wa * wb, &|x, y| x * y);
+        check(wa * 2.5, &|x, _| x * 2.5);
+        check(wa + 2.5, &|x, _| x + 2.5);
+        check(wa - 2.5, &|x, _| x - 2.5);
+        check(wa / wb, &|x, y| x / y);
+        check(-wa, &|x, _| -x);
+        check(wa.max(wb), &|x, y| if x > y { x } else { y });
+        check((wa * wa).sqrt(), &|x, _| (x * x).sqrt());
+        check(wb.recip(), &|_, y| 1.0 / y);
+        check(W::splat(0.25), &|_, _| 0.25);
+        let less = wa.cmplt(wb);
+        check(W::select(less, wa, wb), &|x, y| if x < y { x } else { y });
+        check(W::select(!less, wa, wb), &|x, y| if x < y { y } else { x });
+        for i in 0..W::LANES {
+            assert_eq!(W::test(less, i), a[i] < b[i]);
+            assert_eq!(W::test(wa.cmple(wb), i), a[i] <= b[i]);
+            assert_eq!(W::test(wa.cmpgt(wb), i), a[i] > b[i]);
+            assert_eq!(W::test(wa.cmpge(wb), i), a[i] >= b[i]);
+            assert!(!W::test(less & !less, i));
+            assert!(W::test(less | !less, i));
+        }
+        let none = W::mask_from_fn(|_| false);
+        let last = W::mask_from_fn(|i| i == W::LANES - 1);
+        assert!(!W::any(none) && W::any(last) && !W::all(last));
+        assert!(W::all(!none));
+        let columns: Vec<[f32; 8]> = (0..W::LANES)
+            .map(|i| std::array::from_fn(|c| (i * 8 + c) as f32))
+            .collect();
+        let rows = W::transpose_in(|i| columns[i]);
+        for (c, row) in rows.iter().enumerate() {
+            for (i, column) in columns.iter().enumerate() {
+                assert_eq!(row.lane(i), column[c]);
+            }
+        }
+        let mut seen = vec![[0.0; 8]; W::LANES];
+        W::transpose_out(rows, |i, column| seen[i] = column);
+        assert_eq!(seen, columns);
+    }
+
+    #[test]
+    fn every_width_is_lane_wise_ieee() {
+        for_every_width!(lane_wise());
+    }
+}
