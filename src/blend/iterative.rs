@@ -19,10 +19,10 @@
 //! smallest measured `‖x̂‖` is returned and flagged as not converged.
 //!
 //! `‖x̂‖` is the Euclidean norm of the 8 components: half-angles in radians and
-//! half-translations in the inputs' length unit. The iteration runs in f32, four joints at a
-//! time in SIMD lanes (see `lanes`), to stay near the frame budget, so `‖x̂‖` cannot go below
-//! f32 rounding: about 1e−7 plus 1e−7 × the translations' size. p = 1e−6 suits metres; with
-//! centimetres use 1e−4 (the same 1 µm).
+//! half-translations in the inputs' length unit. The iteration runs in f32, 4, 8 or 16 joints
+//! at a time in SIMD lanes (see [`super::simd_lanes`]; the same bits at every width), to stay
+//! within the frame budget, so `‖x̂‖` cannot go below f32 rounding: about 1e−7 plus 1e−7 ×
+//! the translations' size. p = 1e−6 suits metres; with centimetres use 1e−4 (the same 1 µm).
 
 use super::lanes::{dib_lanes, run_widest, DualQuatLanes, LaneJob, LaneKeys, PoseKeys};
 use super::{check_pose_layout, check_weights, AsDualQuat};
