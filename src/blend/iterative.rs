@@ -24,11 +24,11 @@
 //! within the frame budget, so `‖x̂‖` cannot go below f32 rounding: about 1e−7 plus 1e−7 ×
 //! the translations' size. p = 1e−6 suits metres; with centimetres use 1e−4 (the same 1 µm).
 
-use super::lanes::{dib_lanes, run_widest, DualQuatLanes, LaneJob, LaneKeys, PoseKeys};
+use super::lanes::{dib_lanes, DualQuatLanes, LaneKeys, PoseKeys};
 use super::{check_pose_layout, check_weights, AsDualQuat};
 use crate::error::{Error, Result};
 use crate::math::dualquat::DualQuat;
-use crate::math::wide::Wide;
+use crate::math::wide::{run_widest, LaneJob, Wide};
 
 /// Largest `max_iterations` accepted, so that a call always ends quickly.
 pub const MAX_ITERATIONS_LIMIT: u32 = 1000;

@@ -1,6 +1,6 @@
 //! Many blends at once: DLB and DIB computed on several joints side by side, one joint per
-//! SIMD lane (structure of arrays), which halves the cost of whole-pose DIB against one joint
-//! at a time with four lanes, and halves it again with eight or sixteen.
+//! SIMD lane (structure of arrays), 4, 8 or 16 at a time (`math::wide::run_widest` picks the
+//! width; the README's blend section gives the measured cost at each).
 //!
 //! [`DualQuatLanes`] holds one component of `W::LANES` dual quaternions in each lane vector
 //! (see [`crate::math::wide`]). Its `log` and `exp` avoid per-lane branches: the arctangent is
@@ -11,73 +11,12 @@
 //! operations whatever the width, so a joint's blend does not depend on the width or on its
 //! neighbours.
 
-use glam::{Quat, Vec4};
+use glam::Quat;
 
 use super::iterative::{DibOutcome, DibSettings};
+use super::linear::CANCELLED_SUM;
 use crate::math::dualquat::DualQuat;
-use crate::math::wide::Wide;
-#[cfg(target_arch = "x86_64")]
-use crate::math::wide::{F16, F8};
-
-/// Work written once for any lane width: [`run_widest`] runs it at the widest width the
-/// processor offers, compiled for that instruction set.
-pub(crate) trait LaneJob {
-    /// What the job returns.
-    type Output;
-    /// The job at width `W`. Implementations mark it `#[inline(always)]` so that it is
-    /// compiled inside the instruction-set-specific caller.
-    fn run<W: Wide>(self) -> Self::Output;
-}
-
-/// Runs `job` with 16 lanes where the processor has AVX-512, 8 with AVX, else 4 (SSE2 on
-/// x86-64; plain floats on other architectures). Results are the same bits at every width.
-#[inline]
-pub(crate) fn run_widest<J: LaneJob>(job: J) -> J::Output {
-    #[cfg(target_arch = "x86_64")]
-    {
-        if std::is_x86_feature_detected!("avx512f") {
-            // SAFETY: the processor has AVX-512F, checked just above.
-            return unsafe { run_avx512(job) };
-        }
-        if std::is_x86_feature_detected!("avx") {
-            // SAFETY: the processor has AVX, checked just above.
-            return unsafe { run_avx(job) };
-        }
-    }
-    job.run::<Vec4>()
-}
-
-/// How many lanes [`run_widest`] runs with on this processor.
-pub(crate) fn widest_lanes() -> usize {
-    struct Lanes;
-    impl LaneJob for Lanes {
-        type Output = usize;
-        #[inline(always)]
-        fn run<W: Wide>(self) -> usize {
-            W::LANES
-        }
-    }
-    run_widest(Lanes)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f")]
-fn run_avx512<J: LaneJob>(job: J) -> J::Output {
-    job.run::<F16>()
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx")]
-fn run_avx<J: LaneJob>(job: J) -> J::Output {
-    job.run::<F8>()
-}
-
-/// The widest lane count of any [`Wide`] type.
-pub(crate) const MAX_LANES: usize = 16;
-
-/// Below this fraction of `Σ w_k`, an aligned sum's real part is taken as cancelled (as in
-/// [`super::linear`]).
-const CANCELLED_SUM: f32 = 1e-3;
+use crate::math::wide::{Wide, MAX_LANES};
 
 /// `W::LANES` dual quaternions, one per lane: `rx` holds the real parts' x of all of them,
 /// and so on.
@@ -638,6 +577,7 @@ mod tests {
     use crate::math::random::Random;
     use crate::math::wide::for_every_width;
     use glam::Vec3;
+    use glam::Vec4;
 
     fn random_transform(random: &mut Random, angle: f32) -> DualQuat {
         let axis = Vec3::new(
@@ -777,22 +717,6 @@ mod tests {
             assert_eq!(run::<W>(keys, weights, settings), four);
         }
         for_every_width!(same_as_four(&four, &keys, &weights, &settings));
-    }
-
-    #[test]
-    fn the_widest_width_the_processor_has_is_used() {
-        #[cfg(target_arch = "x86_64")]
-        let expected = if std::is_x86_feature_detected!("avx512f") {
-            16
-        } else if std::is_x86_feature_detected!("avx") {
-            8
-        } else {
-            4
-        };
-        #[cfg(not(target_arch = "x86_64"))]
-        let expected = 4;
-        assert_eq!(widest_lanes(), expected);
-        assert_eq!(crate::blend::simd_lanes(), expected);
     }
 
     #[test]

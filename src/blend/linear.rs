@@ -9,15 +9,15 @@
 //! therefore never fails on valid weights. `‖·‖` is the dual quaternion norm: the result has
 //! a unit real part and a dual part orthogonal to it, a rigid transform.
 
-use super::lanes::{dlb_lanes, run_widest, LaneJob, PoseKeys};
+use super::lanes::{dlb_lanes, PoseKeys};
 use super::{check_pose_layout, check_weights, inverse_total, unit_weight, AsDualQuat};
 use crate::error::Result;
 use crate::math::dualquat::DualQuat;
-use crate::math::wide::Wide;
+use crate::math::wide::{run_widest, LaneJob, Wide};
 
 /// Below this fraction of `Σ w_k`, the aligned sum's real part is taken as cancelled and the
-/// pivot moves to the largest weight.
-const CANCELLED_SUM: f32 = 1e-3;
+/// pivot moves to the largest weight (the lane version in `lanes` uses it too).
+pub(crate) const CANCELLED_SUM: f32 = 1e-3;
 
 /// DLB of `inputs` (unit dual quaternions) with weights `w_k`: one weight per input, finite,
 /// `≥ 0`, not all zero (they need not sum to 1: DLB is scale invariant).

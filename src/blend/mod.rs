@@ -33,7 +33,7 @@ use crate::math::dualquat::DualQuat;
 /// x86-64, NEON or plain floats elsewhere). Chosen at run time; every width gives the same
 /// bits, so results do not depend on it.
 pub fn simd_lanes() -> usize {
-    lanes::widest_lanes()
+    crate::math::wide::widest_lanes()
 }
 
 /// An element the blenders read as a unit dual quaternion. Implemented by [`DualQuat`]

@@ -1,11 +1,13 @@
-//! Floats in SIMD lanes, generic over the width: glam's `Vec4` (SSE2 on x86-64, plain floats
-//! elsewhere) and 8- and 16-lane types ([`F8`], [`F16`]) for code compiled with AVX or
-//! AVX-512 enabled, so one lane-wise algorithm runs at whichever width the processor has.
+//! Floats in SIMD lanes, generic over the width: glam's `Vec4` (SSE2 on x86-64, NEON on
+//! AArch64, plain floats elsewhere) and 8- and 16-lane types ([`F8`], [`F16`]) for code
+//! compiled with AVX or AVX-512 enabled, so one lane-wise algorithm runs at whichever width
+//! the processor has: [`run_widest`] checks the processor and runs a [`LaneJob`] compiled
+//! for it.
 //!
 //! Every operation is the same IEEE operation on each lane (no fused multiply-add), so a lane
 //! gives bit-identical results at every width. [`F8`] and [`F16`] (x86-64 only) wrap the
 //! processor's AVX and AVX-512 instructions: they are used only after checking that the
-//! processor has them, inside functions compiled for them (see `blend::lanes`).
+//! processor has them, inside functions compiled for them ([`run_widest`]).
 
 use std::ops::{Add, BitAnd, BitOr, BitOrAssign, Div, Mul, Neg, Not, Sub};
 
@@ -167,11 +169,69 @@ impl Wide for Vec4 {
 #[cfg(target_arch = "x86_64")]
 pub(crate) use x86::{F16, F8};
 
+/// The widest lane count of any [`Wide`] type.
+pub(crate) const MAX_LANES: usize = 16;
+
+/// Work written once for any lane width: [`run_widest`] runs it at the widest width the
+/// processor offers, compiled for that instruction set.
+pub(crate) trait LaneJob {
+    /// What the job returns.
+    type Output;
+    /// The job at width `W`. Implementations mark it `#[inline(always)]`, and everything it
+    /// calls too, so that it is compiled inside the instruction-set-specific caller (a call
+    /// left out of line is compiled without AVX and is slow).
+    fn run<W: Wide>(self) -> Self::Output;
+}
+
+/// Runs `job` with 16 lanes where the processor has AVX-512F, 8 with AVX, else 4 (glam's
+/// `Vec4`: SSE2 on x86-64, NEON on AArch64, plain floats elsewhere). Results are the same bits
+/// at every width.
+#[inline]
+pub(crate) fn run_widest<J: LaneJob>(job: J) -> J::Output {
+    #[cfg(target_arch = "x86_64")]
+    {
+        if std::is_x86_feature_detected!("avx512f") {
+            // SAFETY: the processor has AVX-512F, checked just above.
+            return unsafe { run_avx512(job) };
+        }
+        if std::is_x86_feature_detected!("avx") {
+            // SAFETY: the processor has AVX, checked just above.
+            return unsafe { run_avx(job) };
+        }
+    }
+    job.run::<Vec4>()
+}
+
+/// How many lanes [`run_widest`] runs with on this processor.
+pub(crate) fn widest_lanes() -> usize {
+    struct Lanes;
+    impl LaneJob for Lanes {
+        type Output = usize;
+        #[inline(always)]
+        fn run<W: Wide>(self) -> usize {
+            W::LANES
+        }
+    }
+    run_widest(Lanes)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+fn run_avx512<J: LaneJob>(job: J) -> J::Output {
+    job.run::<F16>()
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx")]
+fn run_avx<J: LaneJob>(job: J) -> J::Output {
+    job.run::<F8>()
+}
+
 /// The 8- and 16-lane types, written with the processor's own vector instructions.
 ///
 /// Their operations are `#[inline(always)]` wrappers of AVX and AVX-512 intrinsics: they may
-/// only run once the processor is known to have the instruction set (`blend::lanes`'s
-/// `run_widest` checks before it uses them, and the tests skip them otherwise), and they are
+/// only run once the processor is known to have the instruction set ([`run_widest`] checks
+/// before it uses them, and the tests skip them otherwise), and they are
 /// compiled to single instructions where they are inlined into a function compiled for it.
 #[cfg(target_arch = "x86_64")]
 mod x86 {
@@ -224,24 +284,8 @@ mod x86 {
     binary!(F16, Add, add, _mm512_add_ps);
     binary!(F16, Sub, sub, _mm512_sub_ps);
     binary!(F16, Mul, mul, _mm512_mul_ps);
-
-    impl Div for F8 {
-        type Output = Self;
-        #[inline(always)]
-        fn div(self, other: Self) -> Self {
-            // SAFETY: AVX is present (module docs).
-            F8(unsafe { _mm256_div_ps(self.0, other.0) })
-        }
-    }
-
-    impl Div for F16 {
-        type Output = Self;
-        #[inline(always)]
-        fn div(self, other: Self) -> Self {
-            // SAFETY: AVX-512F is present (module docs).
-            F16(unsafe { _mm512_div_ps(self.0, other.0) })
-        }
-    }
+    binary!(F8, Div, div, _mm256_div_ps);
+    binary!(F16, Div, div, _mm512_div_ps);
 
     impl Neg for F8 {
         type Output = Self;
@@ -317,19 +361,19 @@ mod x86 {
         }
     }
 
-    impl BitOrAssign for M8 {
-        #[inline(always)]
-        fn bitor_assign(&mut self, other: Self) {
-            *self = *self | other;
-        }
+    /// `a |= b` as `a = a | b`, for the mask types.
+    macro_rules! or_assign {
+        ($($mask:ident),*) => {$(
+            impl BitOrAssign for $mask {
+                #[inline(always)]
+                fn bitor_assign(&mut self, other: Self) {
+                    *self = *self | other;
+                }
+            }
+        )*};
     }
 
-    impl BitOrAssign for M16 {
-        #[inline(always)]
-        fn bitor_assign(&mut self, other: Self) {
-            *self = *self | other;
-        }
-    }
+    or_assign!(M8, M16);
 
     /// Transposes the 8 × 8 block `rows` in place (row `r` lane `i` ↔ row `i` lane `r`).
     ///
@@ -696,5 +740,21 @@ mod tests {
     #[test]
     fn every_width_is_lane_wise_ieee() {
         for_every_width!(lane_wise());
+    }
+
+    #[test]
+    fn the_widest_width_the_processor_has_is_used() {
+        #[cfg(target_arch = "x86_64")]
+        let expected = if std::is_x86_feature_detected!("avx512f") {
+            16
+        } else if std::is_x86_feature_detected!("avx") {
+            8
+        } else {
+            4
+        };
+        #[cfg(not(target_arch = "x86_64"))]
+        let expected = 4;
+        assert_eq!(widest_lanes(), expected);
+        assert_eq!(crate::blend::simd_lanes(), expected);
     }
 }
