@@ -1,49 +1,62 @@
 //! Finding each character's best and second-best entity, fast.
 //!
 //! [`NeighbourIndex`] rebuilds the spatial grid every frame and copies what the scoring
-//! needs (forward, velocity, impact, id) into grid order, so a query reads memory
-//! sequentially whatever the crowd's size. A query visits the grid cells around the
-//! character that may be in view; it tests distance, view and impact four entities at a
-//! time in SIMD lanes and appends the slots that pass to a fixed-size [`CandidateBatch`]
-//! without branching; the batch then gathers the survivors' data, scores them in one
-//! straight-line loop that the compiler vectorises, and ranks them (skipping groups of
-//! four below the second best). The all-pairs search feeds the same batch from every
-//! entity, one at a time: the test oracle and the benchmark baseline.
+//! needs (forward, velocity, impact, id) into grid order, x and y apart, so that a query
+//! reads memory sequentially whatever the crowd's size. A query visits the runs of grid
+//! slots around the character that may be in view; it tests distance, view and impact for
+//! a whole group of SIMD lanes at once (16 with AVX-512F, 8 with AVX, else 4: see
+//! [`crate::math::wide`]) and compresses the survivors' data into a fixed-size
+//! [`CandidateBatch`] without branching; the batch is then scored a group at a time and
+//! only the lanes that could enter the top two are ranked. The all-pairs search feeds the
+//! same batch from every entity of the scene, one at a time, and scores it four lanes at a
+//! time: the test oracle and the benchmark baseline.
 
 use glam::{Vec2, Vec4};
 
 use super::interest::Candidate;
-use super::score::{
-    orientation_score, periphery_score, proximity_score, speed_score, GroundState, Scorer,
-    SubscoreWeights,
-};
-use crate::math::fast::fast_acos;
-use crate::scene::grid::{SpatialGrid, SLOT_PADDING};
+use super::score::{GroundState, LaneScorer, Scorer, SubscoreWeights};
+use crate::math::wide::{run_widest, LaneJob, Wide, MAX_LANES};
+use crate::scene::grid::{SlotRuns, SpatialGrid, SLOT_PADDING};
 use crate::scene::Scene;
 
 /// Candidates scored per batch (a denser neighbourhood is scored in several batches).
 pub const BATCH: usize = 128;
-const _: () = assert!(BATCH.is_power_of_two() && BATCH.is_multiple_of(4));
+const _: () = assert!(BATCH.is_multiple_of(MAX_LANES));
+
+/// Room in a batch's arrays: a full batch and one more group of lanes, so that a group
+/// is always stored whole.
+const BATCH_ROOM: usize = BATCH + MAX_LANES;
 
 /// The grid and the scoring data of every entity in grid order, rebuilt each frame.
 #[derive(Debug, Clone)]
 pub struct NeighbourIndex {
     grid: SpatialGrid,
-    forward: Vec<Vec2>,
-    velocity: Vec<Vec2>,
+    // By grid slot, each followed by SLOT_PADDING values that belong to no slot (a query
+    // reads whole groups of lanes).
+    forward_x: Vec<f32>,
+    forward_y: Vec<f32>,
+    velocity_x: Vec<f32>,
+    velocity_y: Vec<f32>,
     impact: Vec<f32>,
-    id: Vec<u32>,
+    /// Id and entity index, as the bits of floats (moved through float lanes, never
+    /// computed with).
+    id: Vec<f32>,
+    entity: Vec<f32>,
 }
 
 impl NeighbourIndex {
     /// An index for at most `capacity` entities and queries of radius `radius` (metres).
     pub fn new(capacity: usize, radius: f32) -> NeighbourIndex {
+        let padded = || vec![0.0; capacity + SLOT_PADDING];
         NeighbourIndex {
             grid: SpatialGrid::new(capacity, radius),
-            forward: vec![Vec2::ZERO; capacity],
-            velocity: vec![Vec2::ZERO; capacity],
-            impact: vec![0.0; capacity + SLOT_PADDING],
-            id: vec![0; capacity],
+            forward_x: padded(),
+            forward_y: padded(),
+            velocity_x: padded(),
+            velocity_y: padded(),
+            impact: padded(),
+            id: padded(),
+            entity: padded(),
         }
     }
 
@@ -54,191 +67,64 @@ impl NeighbourIndex {
         let (impacts, ids) = (scene.impacts(), scene.ids());
         for (slot, &entity) in self.grid.entries().iter().enumerate() {
             let entity = entity as usize;
-            self.forward[slot] = forwards[entity];
-            self.velocity[slot] = velocities[entity];
+            self.forward_x[slot] = forwards[entity].x;
+            self.forward_y[slot] = forwards[entity].y;
+            self.velocity_x[slot] = velocities[entity].x;
+            self.velocity_y[slot] = velocities[entity].y;
             self.impact[slot] = impacts[entity];
-            self.id[slot] = ids[entity];
+            self.id[slot] = f32::from_bits(ids[entity]);
+            self.entity[slot] = f32::from_bits(entity as u32);
         }
     }
 
     /// Bytes of state per entity (grid-ordered copies and the grid's own arrays).
     pub fn bytes_per_entity() -> usize {
         use std::mem::size_of;
-        // forward, velocity and grid point; impact; id and grid entry; and the grid's four
-        // cell starts per entity.
-        size_of::<Vec2>() * 3 + size_of::<f32>() + size_of::<u32>() * 2 + size_of::<u32>() * 4
+        // forward, velocity and grid point; impact; id, entity index and grid entry; and the
+        // grid's four cell starts per entity.
+        size_of::<Vec2>() * 3 + size_of::<f32>() + size_of::<u32>() * 3 + size_of::<u32>() * 4
     }
 
     /// The grid.
     pub fn grid(&self) -> &SpatialGrid {
         &self.grid
     }
-
-    fn sources(&self) -> Sources<'_> {
-        let (xs, ys) = self.grid.coordinates();
-        Sources {
-            points: Points::Split { xs, ys },
-            entity: Some(self.grid.entries()),
-            forward: &self.forward,
-            velocity: &self.velocity,
-            impact: &self.impact[..xs.len()],
-            id: &self.id,
-        }
-    }
 }
 
-/// Where a search reads positions.
-#[derive(Clone, Copy)]
-enum Points<'a> {
-    /// The scene's ground positions (slot = entity index).
-    Interleaved(&'a [Vec2]),
-    /// The grid's coordinates, x and y apart, followed by [`SLOT_PADDING`] values, as is
-    /// the impact array: read four slots at a time.
-    Split { xs: &'a [f32], ys: &'a [f32] },
-}
-
-/// Where a search reads entity data, by slot: the index's grid-ordered copies, or the
-/// scene's own arrays (slot = entity index).
-#[derive(Clone, Copy)]
-struct Sources<'a> {
-    points: Points<'a>,
-    /// Entity index of each slot; `None` when the slot is the entity index.
-    entity: Option<&'a [u32]>,
-    forward: &'a [Vec2],
-    velocity: &'a [Vec2],
-    impact: &'a [f32],
-    id: &'a [u32],
-}
-
-impl<'a> Sources<'a> {
-    fn of_scene(scene: &'a Scene) -> Sources<'a> {
-        Sources {
-            points: Points::Interleaved(scene.ground_positions()),
-            entity: None,
-            forward: scene.forwards(),
-            velocity: scene.velocities(),
-            impact: scene.impacts(),
-            id: scene.ids(),
-        }
-    }
-
-    #[inline(always)]
-    fn entity(&self, slot: usize) -> u32 {
-        self.entity.map_or(slot as u32, |entities| entities[slot])
-    }
-
-    #[inline(always)]
-    fn point(&self, slot: usize) -> Vec2 {
-        match self.points {
-            Points::Interleaved(points) => points[slot],
-            Points::Split { xs, ys } => Vec2::new(xs[slot], ys[slot]),
-        }
-    }
-}
-
-/// Up to [`BATCH`] candidate slots, their data in structure-of-arrays form, and scores.
+/// Up to [`BATCH`] candidates (and room for one more group of lanes), their data in
+/// structure-of-arrays form, relative to the observer.
 #[derive(Debug, Clone)]
 pub struct CandidateBatch {
     len: usize,
-    slot: [u32; BATCH],
-    offset_x: [f32; BATCH],
-    offset_y: [f32; BATCH],
-    forward_x: [f32; BATCH],
-    forward_y: [f32; BATCH],
-    velocity_x: [f32; BATCH],
-    velocity_y: [f32; BATCH],
-    impact: [f32; BATCH],
-    score: [f32; BATCH],
+    /// Id and entity index of each candidate, as the bits of floats: moved through float
+    /// lanes with the rest, never computed with.
+    id: [f32; BATCH_ROOM],
+    entity: [f32; BATCH_ROOM],
+    offset_x: [f32; BATCH_ROOM],
+    offset_y: [f32; BATCH_ROOM],
+    forward_x: [f32; BATCH_ROOM],
+    forward_y: [f32; BATCH_ROOM],
+    velocity_x: [f32; BATCH_ROOM],
+    velocity_y: [f32; BATCH_ROOM],
+    impact: [f32; BATCH_ROOM],
 }
 
 impl Default for CandidateBatch {
     fn default() -> Self {
         CandidateBatch {
             len: 0,
-            slot: [0; BATCH],
-            offset_x: [0.0; BATCH],
-            offset_y: [0.0; BATCH],
-            forward_x: [0.0; BATCH],
-            forward_y: [0.0; BATCH],
-            velocity_x: [0.0; BATCH],
-            velocity_y: [0.0; BATCH],
-            impact: [0.0; BATCH],
-            score: [0.0; BATCH],
+            id: [0.0; BATCH_ROOM],
+            entity: [0.0; BATCH_ROOM],
+            offset_x: [0.0; BATCH_ROOM],
+            offset_y: [0.0; BATCH_ROOM],
+            forward_x: [0.0; BATCH_ROOM],
+            forward_y: [0.0; BATCH_ROOM],
+            velocity_x: [0.0; BATCH_ROOM],
+            velocity_y: [0.0; BATCH_ROOM],
+            impact: [0.0; BATCH_ROOM],
         }
     }
 }
-
-impl CandidateBatch {
-    /// Copies the data of the batched slots from `sources`, relative to `observer`.
-    fn gather(&mut self, sources: &Sources<'_>, observer: &GroundState) {
-        for i in 0..self.len.min(BATCH) {
-            let slot = self.slot[i] as usize;
-            let offset = sources.point(slot) - observer.position;
-            self.offset_x[i] = offset.x;
-            self.offset_y[i] = offset.y;
-            self.forward_x[i] = sources.forward[slot].x;
-            self.forward_y[i] = sources.forward[slot].y;
-            self.velocity_x[i] = sources.velocity[slot].x;
-            self.velocity_y[i] = sources.velocity[slot].y;
-            self.impact[i] = sources.impact[slot];
-        }
-    }
-
-    /// Scores every candidate with the formulas of [`super::score`] (the same functions,
-    /// so the results equal [`Scorer::score`]'s totals).
-    fn score_all(&mut self, scorer: &Scorer, observer: &GroundState, weights: &SubscoreWeights) {
-        let config = scorer.config();
-        let half_field_of_view = 0.5 * config.field_of_view;
-        let (speed_weight, periphery_max_angle) = (config.speed_weight, config.periphery_max_angle);
-        let len = self.len.min(BATCH);
-        for i in 0..len {
-            let (offset_x, offset_y) = (self.offset_x[i], self.offset_y[i]);
-            let distance = (offset_x * offset_x + offset_y * offset_y).sqrt();
-            let along = observer.forward.x * offset_x + observer.forward.y * offset_y;
-            // Divide unconditionally, then select: keeps the loop vectorisable.
-            let quotient = along / distance.max(1e-6);
-            let cos_view = if distance > 1e-6 { quotient } else { 1.0 };
-            let view_angle = fast_acos(cos_view);
-            let heading_angle = fast_acos(
-                observer.forward.x * self.forward_x[i] + observer.forward.y * self.forward_y[i],
-            );
-            let relative_x = self.velocity_x[i] - observer.velocity.x;
-            let relative_y = self.velocity_y[i] - observer.velocity.y;
-            let relative_speed = (relative_x * relative_x + relative_y * relative_y).sqrt();
-            self.score[i] = self.impact[i]
-                * (weights.proximity * proximity_score(distance)
-                    + weights.speed * speed_score(relative_speed, speed_weight)
-                    + weights.orientation * orientation_score(view_angle, heading_angle)
-                    + weights.periphery
-                        * periphery_score(
-                            view_angle,
-                            heading_angle,
-                            half_field_of_view,
-                            periphery_max_angle,
-                        ));
-        }
-    }
-}
-
-/// For each 4-bit mask of kept lanes: the kept lanes in order (then zeros) and their count.
-const KEPT_LANES: [([u32; 4], usize); 16] = {
-    let mut table = [([0u32; 4], 0usize); 16];
-    let mut mask = 0;
-    while mask < 16 {
-        let mut count = 0;
-        let mut lane = 0;
-        while lane < 4 {
-            if mask & (1 << lane) != 0 {
-                table[mask].0[count] = lane as u32;
-                count += 1;
-            }
-            lane += 1;
-        }
-        table[mask].1 = count;
-        mask += 1;
-    }
-    table
-};
 
 /// True if `a` ranks above `b`: a higher score, or an equal score and a lower id (so the
 /// ranking does not depend on the order entities are visited in). Nothing ranks below
@@ -259,249 +145,227 @@ fn rank(best: &mut Candidate, second: &mut Candidate, candidate: Candidate) {
     }
 }
 
-/// The view test without an arc cosine: is `offset` within the half field of view whose
-/// cosine is `cos_half` of `forward`? (An entity at the observer's position is inside.)
+/// The view test without an arc cosine, one entity per lane: is `offset` within the half
+/// field of view whose cosine is `cos_half` of the observer's forward direction? `along`
+/// is `offset` projected on that direction. (An entity at the observer's position is
+/// inside.)
 #[inline(always)]
-fn in_view(forward: Vec2, offset: Vec2, distance_squared: f32, cos_half: f32) -> bool {
-    let along = forward.dot(offset);
-    let bound = cos_half * cos_half * distance_squared;
+fn in_view<W: Wide>(along: W, distance_squared: W, cos_half: f32) -> W::Mask {
+    let ahead = along.cmpge(W::splat(0.0));
+    let along_squared = along * along;
+    let bound = distance_squared * (cos_half * cos_half);
     if cos_half >= 0.0 {
-        (along >= 0.0) & (along * along >= bound)
+        ahead & along_squared.cmpge(bound)
     } else {
-        (along >= 0.0) | (along * along <= bound)
+        ahead | along_squared.cmple(bound)
     }
 }
 
-/// True if a grid cell (by its lowest and highest corners) may hold an entity in view of an
-/// observer at `position` facing `forward`: with a field of view of at most 180°
-/// (`cos_half_field_of_view ≥ 0` up to rounding), cells wholly behind the observer are
-/// skipped.
-#[inline]
-fn cell_may_be_in_view(
-    position: Vec2,
-    forward: Vec2,
-    cos_half_field_of_view: f32,
-    low: Vec2,
-    high: Vec2,
-) -> bool {
-    // cos(π/2) rounds to −4e−8 in f32: a 180° view must still cull.
-    if cos_half_field_of_view < -1e-6 {
-        return true;
-    }
-    let (low, high) = (low - position, high - position);
-    // The largest dot product of `forward` with the cell's four corners.
-    let best = forward.x.max(0.0) * high.x
-        + forward.x.min(0.0) * low.x
-        + forward.y.max(0.0) * high.y
-        + forward.y.min(0.0) * low.y;
-    best >= 0.0
-}
-
-/// One character's search: filters offered slots by distance and view, batches the
-/// survivors, and keeps the best two.
-struct Search<'a, Skip: FnMut(usize) -> bool> {
+/// One character's ranking: who looks, how it scores, and its best two so far.
+struct Ranking<'a, Skip: FnMut(usize, u32) -> bool> {
     scorer: &'a Scorer,
     weights: &'a SubscoreWeights,
-    sources: Sources<'a>,
     observer: GroundState,
     observer_entity: u32,
-    max_distance_squared: f32,
-    cos_half_field_of_view: f32,
-    batch: &'a mut CandidateBatch,
     skip: Skip,
     best: Candidate,
     second: Candidate,
 }
 
-impl<'a, Skip: FnMut(usize) -> bool> Search<'a, Skip> {
+impl<'a, Skip: FnMut(usize, u32) -> bool> Ranking<'a, Skip> {
     fn new(
         scene: &Scene,
-        sources: Sources<'a>,
         scorer: &'a Scorer,
         character: usize,
         weights: &'a SubscoreWeights,
-        batch: &'a mut CandidateBatch,
         skip: Skip,
     ) -> Self {
         let observer_entity = scene.character_entities()[character];
-        batch.len = 0;
-        Search {
+        Ranking {
             scorer,
             weights,
-            sources,
             observer: scene.ground_state(observer_entity as usize),
             observer_entity,
-            max_distance_squared: scorer.max_distance_squared(),
-            cos_half_field_of_view: (0.5 * scorer.config().field_of_view).cos(),
-            batch,
             skip,
             best: Candidate::NONE,
             second: Candidate::NONE,
         }
     }
 
-    /// Offers the slots `run`: each is kept for scoring if it is within `d_m`, in view and
-    /// of positive impact. (The observer itself passes, and is left out when ranking.)
+    /// Scores the batch a group of `W::LANES` at a time and ranks the candidates that
+    /// could enter the top two (consulting `skip` only for those), then empties it.
     #[inline(always)]
-    fn offer_run(&mut self, run: std::ops::Range<usize>) {
-        match self.sources.points {
-            Points::Interleaved(points) => self.offer_interleaved(points, run),
-            Points::Split { xs, ys } => self.offer_split(xs, ys, run),
-        }
-    }
-
-    /// [`offer_run`](Self::offer_run) one slot at a time. Branch-free: each slot is
-    /// written at the batch's end and kept only if it passes, so rejections cost no
-    /// mispredicted branch.
-    #[inline(always)]
-    fn offer_interleaved(&mut self, points: &[Vec2], run: std::ops::Range<usize>) {
-        let first = run.start;
-        let impacts = &self.sources.impact[run.clone()];
-        for (k, (point, impact)) in points[run].iter().zip(impacts).enumerate() {
-            let offset = *point - self.observer.position;
-            let distance_squared = offset.length_squared();
-            let keep = (distance_squared <= self.max_distance_squared)
-                & (*impact > 0.0)
-                & in_view(
-                    self.observer.forward,
-                    offset,
-                    distance_squared,
-                    self.cos_half_field_of_view,
-                );
-            // len < BATCH (a full batch is flushed at once) and BATCH is a power of two:
-            // the mask is a no-op that lets the compiler drop the bounds check.
-            let i = self.batch.len % BATCH;
-            self.batch.slot[i] = (first + k) as u32;
-            self.batch.len = i + usize::from(keep);
-            if self.batch.len == BATCH {
-                self.flush();
-            }
-        }
-    }
-
-    /// [`offer_run`](Self::offer_run) four slots at a time, in SIMD lanes: the same tests
-    /// with the same operations in the same order (so the same decisions), then the four
-    /// slots written at the batch's end, each advancing it only if kept. Reads up to three
-    /// slots past the run (the arrays are padded), masked off.
-    #[inline(always)]
-    fn offer_split(&mut self, xs: &[f32], ys: &[f32], run: std::ops::Range<usize>) {
-        let position_x = Vec4::splat(self.observer.position.x);
-        let position_y = Vec4::splat(self.observer.position.y);
-        let forward_x = Vec4::splat(self.observer.forward.x);
-        let forward_y = Vec4::splat(self.observer.forward.y);
-        let max_distance_squared = Vec4::splat(self.max_distance_squared);
-        let cos_half = self.cos_half_field_of_view;
-        let bound_scale = Vec4::splat(cos_half * cos_half);
-        let impacts = self.sources.impact;
-        let mut slot = run.start;
-        while slot < run.end {
-            let lanes = (run.end - slot).min(4);
-            let (Some(x), Some(y), Some(impact)) = (
-                xs.get(slot..slot + 4),
-                ys.get(slot..slot + 4),
-                impacts.get(slot..slot + 4),
-            ) else {
-                // Only if the arrays were not padded: offer the rest one by one.
-                return self.offer_split_tail(xs, ys, slot..run.end);
-            };
-            let offset_x = Vec4::from_slice(x) - position_x;
-            let offset_y = Vec4::from_slice(y) - position_y;
-            let distance_squared = offset_x * offset_x + offset_y * offset_y;
-            let along = forward_x * offset_x + forward_y * offset_y;
-            let bound = bound_scale * distance_squared;
-            let ahead = along.cmpge(Vec4::ZERO);
-            let in_view = if cos_half >= 0.0 {
-                ahead & (along * along).cmpge(bound)
-            } else {
-                ahead | (along * along).cmple(bound)
-            };
-            let keep = distance_squared.cmple(max_distance_squared)
-                & Vec4::from_slice(impact).cmpgt(Vec4::ZERO)
-                & in_view;
-            let mask = (keep.bitmask() & ((1u32 << lanes) - 1)) as usize;
-            if self.batch.len > BATCH - 4 {
-                self.flush();
-            }
-            // Compress: the kept lanes' slots, in order, to the batch's end (len ≤
-            // BATCH − 4 here), then advance by their count.
-            let batch = &mut *self.batch;
-            let (kept, count) = KEPT_LANES[mask];
-            let end = &mut batch.slot[batch.len..batch.len + 4];
-            for (out, lane) in end.iter_mut().zip(kept) {
-                *out = slot as u32 + lane;
-            }
-            batch.len += count;
-            slot += 4;
-        }
-    }
-
-    /// The last slots of a run without padding, one by one (not reached with the index's
-    /// padded arrays; kept so that a short array cannot fault).
-    #[cold]
-    fn offer_split_tail(&mut self, xs: &[f32], ys: &[f32], run: std::ops::Range<usize>) {
-        for slot in run {
-            let offset = Vec2::new(xs[slot], ys[slot]) - self.observer.position;
-            let distance_squared = offset.length_squared();
-            if distance_squared <= self.max_distance_squared
-                && self.sources.impact[slot] > 0.0
-                && in_view(
-                    self.observer.forward,
-                    offset,
-                    distance_squared,
-                    self.cos_half_field_of_view,
-                )
-            {
-                if self.batch.len == BATCH {
-                    self.flush();
-                }
-                self.batch.slot[self.batch.len % BATCH] = slot as u32;
-                self.batch.len += 1;
-            }
-        }
-    }
-
-    /// Gathers, scores and ranks the batch (consulting `skip` only for candidates that
-    /// would enter the top two), and empties it.
-    fn flush(&mut self) {
-        let batch = &mut *self.batch;
-        batch.gather(&self.sources, &self.observer);
-        batch.score_all(self.scorer, &self.observer, self.weights);
-        let len = batch.len.min(BATCH);
-        // Four scores at a time: a group none of whose scores is positive and at least the
-        // second best's (a tie may still rank above it, by id) is skipped whole.
-        for group in (0..len).step_by(4) {
-            let scores = Vec4::from_slice(&batch.score[group..group + 4]);
-            let second = Vec4::splat(self.second.score);
-            if !(scores.cmpge(second) & scores.cmpgt(Vec4::ZERO)).any() {
-                continue;
-            }
-            for i in group..(group + 4).min(len) {
-                let slot = batch.slot[i] as usize;
+    fn flush<W: Wide>(&mut self, batch: &mut CandidateBatch) {
+        let scorer = LaneScorer::<W>::new(self.scorer, &self.observer, self.weights);
+        let len = batch.len;
+        let mut group = 0;
+        while group < len {
+            // start < len ≤ BATCH + LANES − 1 and start is a multiple of LANES, which
+            // divides BATCH, so start ≤ BATCH: a whole group fits in BATCH_ROOM (the min
+            // changes nothing; it lets the compiler drop the bounds checks).
+            let start = group.min(BATCH);
+            let load = |values: &[f32; BATCH_ROOM]| W::load(&values[start..start + W::LANES]);
+            let score = scorer.score(
+                load(&batch.offset_x),
+                load(&batch.offset_y),
+                load(&batch.forward_x),
+                load(&batch.forward_y),
+                load(&batch.velocity_x),
+                load(&batch.velocity_y),
+                load(&batch.impact),
+            );
+            // Lanes with a positive score at least the second best's (a tie may still rank
+            // above it, by id).
+            let rising = score.cmpge(W::splat(self.second.score))
+                & score.cmpgt(W::splat(0.0))
+                & W::first_lanes(len - start);
+            let mut lanes = W::bitmask(rising);
+            while lanes != 0 {
+                let lane = lanes.trailing_zeros() as usize;
+                lanes &= lanes - 1;
                 let candidate = Candidate {
-                    id: self.sources.id[slot],
-                    score: batch.score[i],
+                    id: batch.id[start + lane].to_bits(),
+                    score: score.lane(lane),
                 };
-                if candidate.score > 0.0 && ranks_above(candidate, self.second) {
-                    let entity = self.sources.entity(slot);
-                    if entity == self.observer_entity || (self.skip)(entity as usize) {
+                if ranks_above(candidate, self.second) {
+                    let entity = batch.entity[start + lane].to_bits();
+                    if entity == self.observer_entity || (self.skip)(entity as usize, candidate.id)
+                    {
                         continue;
                     }
                     rank(&mut self.best, &mut self.second, candidate);
                 }
             }
+            group += W::LANES;
         }
         batch.len = 0;
     }
+}
 
-    fn finish(mut self) -> (Candidate, Candidate) {
-        self.flush();
-        (self.best, self.second)
+/// One character's search of the grid: the runs of slots near it, filtered a group of
+/// lanes at a time into the batch, which is ranked whenever it fills.
+struct GridSearch<'a, Skip: FnMut(usize, u32) -> bool> {
+    ranking: Ranking<'a, Skip>,
+    index: &'a NeighbourIndex,
+    runs: SlotRuns,
+    batch: &'a mut CandidateBatch,
+}
+
+impl<Skip: FnMut(usize, u32) -> bool> LaneJob for GridSearch<'_, Skip> {
+    type Output = (Candidate, Candidate);
+
+    #[inline(always)]
+    fn run<W: Wide>(mut self) -> (Candidate, Candidate) {
+        self.batch.len = 0;
+        let runs = self.runs;
+        for &(first, end) in runs.as_slice() {
+            self.offer::<W>(first as usize, end as usize);
+        }
+        self.ranking.flush::<W>(self.batch);
+        (self.ranking.best, self.ranking.second)
+    }
+}
+
+impl<Skip: FnMut(usize, u32) -> bool> GridSearch<'_, Skip> {
+    /// Offers grid slots `first .. end`, a group of lanes at a time: each is kept if it is
+    /// within `d_m`, in view and of positive impact (the observer itself passes, and is
+    /// left out when ranking). The kept lanes' data are compressed to the batch's end.
+    /// Reads up to `LANES − 1` slots past `end` (the arrays are padded), masked off.
+    #[inline(always)]
+    fn offer<W: Wide>(&mut self, first: usize, end: usize) {
+        let index = self.index;
+        let (xs, ys) = index.grid.coordinates();
+        let sources = [
+            xs,
+            ys,
+            &index.impact,
+            &index.forward_x,
+            &index.forward_y,
+            &index.velocity_x,
+            &index.velocity_y,
+            &index.id,
+            &index.entity,
+        ];
+        // Checked once here for the loop's unchecked loads: every slot < end, and the
+        // arrays hold SLOT_PADDING ≥ LANES − 1 more (so this never fails).
+        assert!(sources
+            .iter()
+            .all(|values| end + SLOT_PADDING <= values.len()));
+        let observer = &self.ranking.observer;
+        let (position_x, position_y) =
+            (W::splat(observer.position.x), W::splat(observer.position.y));
+        let (forward_x, forward_y) = (W::splat(observer.forward.x), W::splat(observer.forward.y));
+        let max_distance_squared = W::splat(self.ranking.scorer.max_distance_squared());
+        let cos_half = self.ranking.scorer.cos_half_field_of_view();
+        let mut slot = first;
+        while slot < end {
+            // SAFETY (every load_at of the loop): slot + LANES ≤ end + SLOT_PADDING, checked
+            // above.
+            let load = |values: &[f32]| unsafe { W::load_at(values, slot) };
+            let offset_x = load(xs) - position_x;
+            let offset_y = load(ys) - position_y;
+            let impact = load(&index.impact);
+            let distance_squared = offset_x * offset_x + offset_y * offset_y;
+            let along = forward_x * offset_x + forward_y * offset_y;
+            let keep = distance_squared.cmple(max_distance_squared)
+                & impact.cmpgt(W::splat(0.0))
+                & in_view::<W>(along, distance_squared, cos_half)
+                & W::first_lanes(end - slot);
+            if W::any(keep) {
+                if self.batch.len >= BATCH {
+                    self.ranking.flush::<W>(self.batch);
+                }
+                let batch = &mut *self.batch;
+                let at = batch.len;
+                // SAFETY (every compress_store_at here): at < BATCH after the flush above,
+                // so at + LANES ≤ BATCH_ROOM.
+                let store = |values: W, out: &mut [f32; BATCH_ROOM]| unsafe {
+                    values.compress_store_at(keep, out, at)
+                };
+                store(load(&index.id), &mut batch.id);
+                store(load(&index.entity), &mut batch.entity);
+                store(offset_x, &mut batch.offset_x);
+                store(offset_y, &mut batch.offset_y);
+                store(load(&index.forward_x), &mut batch.forward_x);
+                store(load(&index.forward_y), &mut batch.forward_y);
+                store(load(&index.velocity_x), &mut batch.velocity_x);
+                store(load(&index.velocity_y), &mut batch.velocity_y);
+                store(impact, &mut batch.impact);
+                batch.len = at + W::bitmask(keep).count_ones() as usize;
+            }
+            slot += W::LANES;
+        }
+    }
+}
+
+/// The grid search for `character` at width `W` (what [`nearby_candidates`] runs at the
+/// widest width the processor has).
+fn grid_search<'a, Skip: FnMut(usize, u32) -> bool>(
+    scene: &Scene,
+    index: &'a NeighbourIndex,
+    scorer: &'a Scorer,
+    character: usize,
+    weights: &'a SubscoreWeights,
+    batch: &'a mut CandidateBatch,
+    skip: Skip,
+) -> GridSearch<'a, Skip> {
+    let ranking = Ranking::new(scene, scorer, character, weights, skip);
+    // With a field of view of at most 180° (cos(π/2) rounds to −4e−8 in f32, and a 180°
+    // view must still cull), cells wholly behind the observer are skipped.
+    let observer = &ranking.observer;
+    let ahead = (scorer.cos_half_field_of_view() >= -1e-6).then_some(observer.forward);
+    let runs = index.grid.runs_near(observer.position, ahead);
+    GridSearch {
+        ranking,
+        index,
+        runs,
+        batch,
     }
 }
 
 /// The best and second-best entities (positive score) for the character at dense index
-/// `character`, among the entities near it, skipping itself and every entity index for
-/// which `skip` is true. `index` must have been rebuilt from the scene's current state;
+/// `character`, among the entities near it, skipping itself and every entity for which
+/// `skip(entity index, id)` is true. `index` must have been rebuilt from the scene's current state;
 /// `batch` is scratch space (reused, so that nothing is cleared per query).
 pub fn nearby_candidates(
     scene: &Scene,
@@ -510,33 +374,69 @@ pub fn nearby_candidates(
     character: usize,
     weights: &SubscoreWeights,
     batch: &mut CandidateBatch,
-    skip: impl FnMut(usize) -> bool,
+    skip: impl FnMut(usize, u32) -> bool,
 ) -> (Candidate, Candidate) {
-    let sources = index.sources();
-    let mut search = Search::new(scene, sources, scorer, character, weights, batch, skip);
-    let (position, forward) = (search.observer.position, search.observer.forward);
-    let cos_half = search.cos_half_field_of_view;
-    let keep_cell = |low, high| cell_may_be_in_view(position, forward, cos_half, low, high);
-    index
-        .grid
-        .for_each_run_near_where(position, keep_cell, |run| search.offer_run(run));
-    search.finish()
+    run_widest(grid_search(
+        scene, index, scorer, character, weights, batch, skip,
+    ))
 }
 
 /// [`nearby_candidates`] by looking at every entity of the scene (the all-pairs loop),
-/// kept as a test oracle and a benchmark baseline. Needs no index.
+/// kept as a test oracle and a benchmark baseline. Needs no index. Filters one entity at a
+/// time (branch-free: each is written at the batch's end and kept only if it passes) and
+/// scores four lanes at a time.
 pub fn all_pairs_candidates(
     scene: &Scene,
     scorer: &Scorer,
     character: usize,
     weights: &SubscoreWeights,
-    skip: impl FnMut(usize) -> bool,
+    skip: impl FnMut(usize, u32) -> bool,
 ) -> (Candidate, Candidate) {
     let mut batch = CandidateBatch::default();
-    let sources = Sources::of_scene(scene);
-    let mut search = Search::new(scene, sources, scorer, character, weights, &mut batch, skip);
-    search.offer_run(0..scene.len());
-    search.finish()
+    let mut ranking = Ranking::new(scene, scorer, character, weights, skip);
+    let observer = ranking.observer;
+    let (max_distance_squared, cos_half) = (
+        scorer.max_distance_squared(),
+        scorer.cos_half_field_of_view(),
+    );
+    let impacts = scene.impacts();
+    for (entity, (point, impact)) in scene.ground_positions().iter().zip(impacts).enumerate() {
+        let offset = *point - observer.position;
+        let distance_squared = offset.length_squared();
+        let keep = (distance_squared <= max_distance_squared)
+            & (*impact > 0.0)
+            & in_view::<f32>(observer.forward.dot(offset), distance_squared, cos_half);
+        // len < BATCH (a full batch is ranked at once).
+        let at = batch.len % BATCH;
+        batch.entity[at] = f32::from_bits(entity as u32);
+        batch.len = at + usize::from(keep);
+        if batch.len == BATCH {
+            gather_from_scene(&mut batch, scene, &observer);
+            ranking.flush::<Vec4>(&mut batch);
+        }
+    }
+    gather_from_scene(&mut batch, scene, &observer);
+    ranking.flush::<Vec4>(&mut batch);
+    (ranking.best, ranking.second)
+}
+
+/// Fills the batch's data from the scene's arrays, by the entity indices it holds.
+fn gather_from_scene(batch: &mut CandidateBatch, scene: &Scene, observer: &GroundState) {
+    let (points, forwards) = (scene.ground_positions(), scene.forwards());
+    let (velocities, impacts) = (scene.velocities(), scene.impacts());
+    let ids = scene.ids();
+    for i in 0..batch.len.min(BATCH) {
+        let entity = batch.entity[i].to_bits() as usize;
+        batch.id[i] = f32::from_bits(ids[entity]);
+        let offset = points[entity] - observer.position;
+        batch.offset_x[i] = offset.x;
+        batch.offset_y[i] = offset.y;
+        batch.forward_x[i] = forwards[entity].x;
+        batch.forward_y[i] = forwards[entity].y;
+        batch.velocity_x[i] = velocities[entity].x;
+        batch.velocity_y[i] = velocities[entity].y;
+        batch.impact[i] = impacts[entity];
+    }
 }
 
 #[cfg(test)]
@@ -550,7 +450,7 @@ mod tests {
     #[test]
     fn index_state_size() {
         // Part of a character's state (Crowd::state_bytes_per_character).
-        assert_eq!(NeighbourIndex::bytes_per_entity(), 52);
+        assert_eq!(NeighbourIndex::bytes_per_entity(), 56);
     }
 
     #[test]
@@ -575,7 +475,7 @@ mod tests {
                 if (angle - 0.5 * fov).abs() < 1e-3 {
                     continue;
                 }
-                let inside = in_view(forward, offset, offset.length_squared(), cos_half);
+                let inside = in_view::<f32>(forward.dot(offset), offset.length_squared(), cos_half);
                 assert_eq!(inside, angle <= 0.5 * fov, "fov {fov}, angle {angle}");
             }
         }
@@ -611,8 +511,8 @@ mod tests {
         scene
     }
 
-    /// The grid search for `character`, skipping nothing.
-    fn grid_search(
+    /// The grid search for `character` at width `W`, skipping nothing.
+    fn search_at<W: Wide>(
         scene: &Scene,
         index: &NeighbourIndex,
         scorer: &Scorer,
@@ -620,14 +520,22 @@ mod tests {
         weights: &SubscoreWeights,
     ) -> (Candidate, Candidate) {
         let mut batch = CandidateBatch::default();
-        nearby_candidates(scene, index, scorer, character, weights, &mut batch, |_| {
-            false
-        })
+        let search = grid_search(
+            scene,
+            index,
+            scorer,
+            character,
+            weights,
+            &mut batch,
+            |_, _| false,
+        );
+        search.run::<W>()
     }
 
-    #[test]
-    fn four_lane_filter_equals_the_one_by_one_filter() {
-        // Dense (more candidates than a batch holds), with impacts of 0 among them.
+    /// The grid search at width `W` equals the all-pairs search on a dense scene (more
+    /// candidates than a batch holds) with impacts of 0 among them, for fields of view
+    /// narrow to full.
+    fn grid_equals_all_pairs<W: Wide>() {
         let scene = random_scene(700, 9.0, 21, |i, random| {
             if i % 7 == 0 {
                 0.0
@@ -638,38 +546,43 @@ mod tests {
         let weights = SubscoreWeights::normalised([0.3, 0.2, 0.4, 0.1]).unwrap();
         let mut index = NeighbourIndex::new(700, 10.0);
         index.rebuild(&scene);
-        // The scene's positions split into x and y, without padding: the last slots go
-        // through the tail path.
-        let xs: Vec<f32> = scene.ground_positions().iter().map(|p| p.x).collect();
-        let ys: Vec<f32> = scene.ground_positions().iter().map(|p| p.y).collect();
         for field_of_view in [1.0, PI / 2.0, PI, 1.5 * PI, 2.0 * PI] {
             let scorer = Scorer::new(super::super::score::ScoringConfig {
                 field_of_view,
                 ..Default::default()
             });
             for character in (0..700).step_by(7) {
-                let one_by_one =
-                    all_pairs_candidates(&scene, &scorer, character, &weights, |_| false);
-                let mut batch = CandidateBatch::default();
-                let grid = grid_search(&scene, &index, &scorer, character, &weights);
-                assert_eq!(grid, one_by_one, "grid, fov {field_of_view}");
-                let sources = Sources {
-                    points: Points::Split { xs: &xs, ys: &ys },
-                    ..Sources::of_scene(&scene)
-                };
-                let mut search = Search::new(
-                    &scene,
-                    sources,
-                    &scorer,
-                    character,
-                    &weights,
-                    &mut batch,
-                    |_| false,
-                );
-                search.offer_run(0..scene.len());
-                assert_eq!(search.finish(), one_by_one, "unpadded, fov {field_of_view}");
+                let all_pairs =
+                    all_pairs_candidates(&scene, &scorer, character, &weights, |_, _| false);
+                let grid = search_at::<W>(&scene, &index, &scorer, character, &weights);
+                assert_eq!(grid, all_pairs, "{} lanes, fov {field_of_view}", W::LANES);
             }
         }
+    }
+
+    #[test]
+    fn grid_search_equals_all_pairs_at_every_width() {
+        crate::math::wide::for_every_width!(grid_equals_all_pairs());
+    }
+
+    /// The grid search for `character` at the widest width, skipping nothing.
+    fn grid_search_widest(
+        scene: &Scene,
+        index: &NeighbourIndex,
+        scorer: &Scorer,
+        character: usize,
+        weights: &SubscoreWeights,
+    ) -> (Candidate, Candidate) {
+        let mut batch = CandidateBatch::default();
+        nearby_candidates(
+            scene,
+            index,
+            scorer,
+            character,
+            weights,
+            &mut batch,
+            |_, _| false,
+        )
     }
 
     #[test]
@@ -680,7 +593,7 @@ mod tests {
         let mut index = NeighbourIndex::new(200, 10.0);
         index.rebuild(&scene);
         for character in 0..200 {
-            let (best, _) = grid_search(&scene, &index, &scorer, character, &weights);
+            let (best, _) = grid_search_widest(&scene, &index, &scorer, character, &weights);
             let observer = scene.character_entities()[character] as usize;
             let exact = (0..scene.len())
                 .filter(|&other| other != observer)

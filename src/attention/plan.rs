@@ -166,7 +166,7 @@ impl Plan {
                     c,
                     &character_params.weights,
                     &mut batch,
-                    |other| !active[other],
+                    |other, _| !active[other],
                 );
                 best[2 * (f * character_count + c)] = first;
                 best[2 * (f * character_count + c) + 1] = second;

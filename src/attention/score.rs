@@ -13,13 +13,14 @@
 //!
 //! into `S = I_E (ω_p S_p + ω_s S_s + ω_o S_o + ω_pe S_pe)` (eq. 7).
 //!
-//! Angles use [`fast_acos`] and the proximity gaussian [`fast_exp`] (both within 1e-4 of
+//! Angles use [`fast_acos`] and the proximity gaussian [`crate::math::fast::fast_exp`] (both within 1e-4 of
 //! the exact functions).
 
 use glam::Vec2;
 use std::f32::consts::PI;
 
-use crate::math::fast::{fast_acos, fast_exp};
+use crate::math::fast::{acos_lanes, exp_lanes, fast_acos};
+use crate::math::wide::Wide;
 
 /// Settings of the scoring function shared by every character.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -138,20 +139,19 @@ pub struct ScoreBreakdown {
 /// `S_p(d) = exp(−(1 − d/2)² / 2)`: 1 at 2 m, ≈ 0.61 at 0 m, ≈ 0.32 at 5 m.
 #[inline]
 pub fn proximity_score(distance: f32) -> f32 {
-    let x = 1.0 - 0.5 * distance;
-    fast_exp(-0.5 * x * x)
+    proximity_lanes(distance)
 }
 
 /// `S_s = min(1, ω_sw · rs)`.
 #[inline]
 pub fn speed_score(relative_speed: f32, speed_weight: f32) -> f32 {
-    (speed_weight * relative_speed).min(1.0)
+    speed_lanes(relative_speed, speed_weight)
 }
 
 /// `S_o = (π − α) β / π²`: high for entities ahead and coming towards C.
 #[inline]
 pub fn orientation_score(view_angle: f32, heading_angle: f32) -> f32 {
-    (PI - view_angle) * heading_angle * (1.0 / (PI * PI))
+    orientation_lanes(view_angle, heading_angle)
 }
 
 /// `S_pe = α (π − β) / ((fov/2) π)` if `β ≤ β_m`, else 0: high for entities in the
@@ -163,13 +163,119 @@ pub fn periphery_score(
     half_field_of_view: f32,
     periphery_max_angle: f32,
 ) -> f32 {
-    // Computed unconditionally, then selected: a branch around the division would stop
-    // the batched scoring loop from vectorising.
-    let value = view_angle * (PI - heading_angle) / (half_field_of_view * PI);
-    if heading_angle > periphery_max_angle {
-        0.0
-    } else {
-        value
+    periphery_lanes(
+        view_angle,
+        heading_angle,
+        half_field_of_view,
+        periphery_max_angle,
+    )
+}
+
+// The subscores for one entity per lane: the one definition of each formula (the scalar
+// functions above are their one-lane form).
+
+#[inline(always)]
+fn proximity_lanes<W: Wide>(distance: W) -> W {
+    let x = W::splat(1.0) - distance * 0.5;
+    exp_lanes(x * -0.5 * x)
+}
+
+#[inline(always)]
+fn speed_lanes<W: Wide>(relative_speed: W, speed_weight: f32) -> W {
+    (relative_speed * speed_weight).min(W::splat(1.0))
+}
+
+#[inline(always)]
+fn orientation_lanes<W: Wide>(view_angle: W, heading_angle: W) -> W {
+    (W::splat(PI) - view_angle) * heading_angle * (1.0 / (PI * PI))
+}
+
+#[inline(always)]
+fn periphery_lanes<W: Wide>(
+    view_angle: W,
+    heading_angle: W,
+    half_field_of_view: f32,
+    periphery_max_angle: f32,
+) -> W {
+    // Computed in every lane, then selected.
+    let value = view_angle * (W::splat(PI) - heading_angle) / W::splat(half_field_of_view * PI);
+    W::select(
+        heading_angle.cmpgt(W::splat(periphery_max_angle)),
+        W::splat(0.0),
+        value,
+    )
+}
+
+/// The total score `S` of one entity per lane for one observer: what the candidate
+/// searches use. The same operations in the same order at every width (so the same bits),
+/// and the same subscore functions as [`Scorer::score`].
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct LaneScorer<W> {
+    forward_x: W,
+    forward_y: W,
+    velocity_x: W,
+    velocity_y: W,
+    weights: SubscoreWeights,
+    speed_weight: f32,
+    half_field_of_view: f32,
+    periphery_max_angle: f32,
+}
+
+impl<W: Wide> LaneScorer<W> {
+    /// The scorer for `observer` with its subscore `weights`.
+    #[inline(always)]
+    pub(crate) fn new(
+        scorer: &Scorer,
+        observer: &GroundState,
+        weights: &SubscoreWeights,
+    ) -> LaneScorer<W> {
+        LaneScorer {
+            forward_x: W::splat(observer.forward.x),
+            forward_y: W::splat(observer.forward.y),
+            velocity_x: W::splat(observer.velocity.x),
+            velocity_y: W::splat(observer.velocity.y),
+            weights: *weights,
+            speed_weight: scorer.config.speed_weight,
+            half_field_of_view: scorer.half_field_of_view,
+            periphery_max_angle: scorer.config.periphery_max_angle,
+        }
+    }
+
+    /// `S` for entities at `offset` from the observer (already pruned by distance and
+    /// view), facing `forward`, moving at `velocity`, with impact factor `impact`.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn score(
+        &self,
+        offset_x: W,
+        offset_y: W,
+        forward_x: W,
+        forward_y: W,
+        velocity_x: W,
+        velocity_y: W,
+        impact: W,
+    ) -> W {
+        let distance = (offset_x * offset_x + offset_y * offset_y).sqrt();
+        let along = self.forward_x * offset_x + self.forward_y * offset_y;
+        // Divide in every lane, then select: an entity at C's position is straight ahead.
+        let quotient = along / distance.max(W::splat(1e-6));
+        let cos_view = W::select(distance.cmpgt(W::splat(1e-6)), quotient, W::splat(1.0));
+        let view_angle = acos_lanes(cos_view);
+        let heading_angle = acos_lanes(self.forward_x * forward_x + self.forward_y * forward_y);
+        let relative_x = velocity_x - self.velocity_x;
+        let relative_y = velocity_y - self.velocity_y;
+        let relative_speed = (relative_x * relative_x + relative_y * relative_y).sqrt();
+        let weights = &self.weights;
+        impact
+            * (proximity_lanes(distance) * weights.proximity
+                + speed_lanes(relative_speed, self.speed_weight) * weights.speed
+                + orientation_lanes(view_angle, heading_angle) * weights.orientation
+                + periphery_lanes(
+                    view_angle,
+                    heading_angle,
+                    self.half_field_of_view,
+                    self.periphery_max_angle,
+                ) * weights.periphery)
     }
 }
 
@@ -276,6 +382,12 @@ impl Scorer {
     #[inline]
     pub fn max_distance_squared(&self) -> f32 {
         self.max_distance_squared
+    }
+
+    /// `cos(fov/2)`, for callers that prune by view themselves.
+    #[inline]
+    pub fn cos_half_field_of_view(&self) -> f32 {
+        self.cos_half_field_of_view
     }
 }
 

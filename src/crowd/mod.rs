@@ -708,7 +708,6 @@ impl Crowd {
     /// it, skipping itself and entities on cool-down, on the index of the last step.
     fn best_nearby(&self, character: usize) -> (Candidate, Candidate) {
         let tracker = self.states.models[character].tracker();
-        let ids = self.shared.scene.ids();
         nearby_candidates(
             &self.shared.scene,
             &self.shared.neighbours,
@@ -716,7 +715,7 @@ impl Crowd {
             character,
             &self.shared.params[character].weights,
             &mut CandidateBatch::default(),
-            |other| tracker.is_some_and(|tracker| tracker.is_cooling(ids[other])),
+            |_, id| tracker.is_some_and(|tracker| tracker.is_cooling(id)),
         )
     }
 
@@ -730,13 +729,12 @@ impl Crowd {
     /// [`best_all_pairs`](Self::best_all_pairs) by dense character index.
     pub fn best_all_pairs_dense(&self, character: usize) -> (Candidate, Candidate) {
         let tracker = self.states.models[character].tracker();
-        let ids = self.shared.scene.ids();
         all_pairs_candidates(
             &self.shared.scene,
             &self.shared.scorer,
             character,
             &self.shared.params[character].weights,
-            |other| tracker.is_some_and(|tracker| tracker.is_cooling(ids[other])),
+            |_, id| tracker.is_some_and(|tracker| tracker.is_cooling(id)),
         )
     }
 

@@ -437,7 +437,6 @@ impl Shared {
                 let ModelState::Crowd(tracker) = state.model else {
                     return;
                 };
-                let ids = self.scene.ids();
                 let (best, second) = nearby_candidates(
                     &self.scene,
                     &self.neighbours,
@@ -445,7 +444,7 @@ impl Shared {
                     character,
                     &self.params[character].weights,
                     batch,
-                    |other| tracker.is_cooling(ids[other]),
+                    |_, id| tracker.is_cooling(id),
                 );
                 tracker.update(best, second, frame.max_score, dt, &config.interest);
             }

@@ -66,6 +66,43 @@ pub(crate) trait Wide:
     fn any(mask: Self::Mask) -> bool;
     /// Whether every mask lane is set.
     fn all(mask: Self::Mask) -> bool;
+    /// Lanes `0..LANES` of `values`, which must hold at least `LANES` floats.
+    fn load(values: &[f32]) -> Self;
+    /// Per lane minimum (operands are never NaN here).
+    fn min(self, other: Self) -> Self;
+    /// Per lane absolute value (the sign bit cleared, as `f32::abs`).
+    fn abs(self) -> Self;
+    /// `2^self` for lanes holding whole numbers in [−126, 127] (built from exponent bits).
+    fn exp2_whole(self) -> Self;
+    /// The mask as bits: lane `i` is bit `i`.
+    fn bitmask(mask: Self::Mask) -> u32;
+    /// The mask of the first `count` lanes (every lane when `count ≥ LANES`).
+    fn first_lanes(count: usize) -> Self::Mask;
+    /// Lanes `at .. at + LANES` of `values`, without a bounds check (for hot loops whose
+    /// indices are checked once, before the loop).
+    ///
+    /// # Safety
+    /// `at + LANES ≤ values.len()`.
+    #[inline(always)]
+    unsafe fn load_at(values: &[f32], at: usize) -> Self {
+        debug_assert!(at + Self::LANES <= values.len());
+        // SAFETY: the caller guarantees the range is within `values`.
+        Self::load(unsafe { values.get_unchecked(at..at + Self::LANES) })
+    }
+    /// [`Wide::compress_store`] to `out[at..]`, without a bounds check.
+    ///
+    /// # Safety
+    /// `at + LANES ≤ out.len()`.
+    #[inline(always)]
+    unsafe fn compress_store_at(self, mask: Self::Mask, out: &mut [f32], at: usize) {
+        debug_assert!(at + Self::LANES <= out.len());
+        // SAFETY: the caller guarantees the range is within `out`.
+        self.compress_store(mask, unsafe { out.get_unchecked_mut(at..at + Self::LANES) });
+    }
+    /// Writes the lanes set in `mask`, in lane order, to the start of `out`, which must hold
+    /// at least `LANES` floats: the floats after the kept ones may be overwritten with
+    /// anything. Bits are moved unchanged (integers carried as float bits survive).
+    fn compress_store(self, mask: Self::Mask, out: &mut [f32]);
     /// Eight rows of `LANES` floats from eight-float columns: row `c` lane `i` is `f(i)[c]`.
     fn transpose_in(f: impl FnMut(usize) -> [f32; 8]) -> [Self; 8];
     /// The inverse of [`Wide::transpose_in`]: `f(i, column)` for each lane `i`.
@@ -137,6 +174,43 @@ impl Wide for Vec4 {
         mask.all()
     }
     #[inline(always)]
+    fn load(values: &[f32]) -> Self {
+        Vec4::from_slice(values)
+    }
+    #[inline(always)]
+    fn min(self, other: Self) -> Self {
+        Vec4::min(self, other)
+    }
+    #[inline(always)]
+    fn abs(self) -> Self {
+        Vec4::abs(self)
+    }
+    #[inline(always)]
+    fn exp2_whole(self) -> Self {
+        Vec4::new(
+            exp2_whole(self.x),
+            exp2_whole(self.y),
+            exp2_whole(self.z),
+            exp2_whole(self.w),
+        )
+    }
+    #[inline(always)]
+    fn bitmask(mask: BVec4A) -> u32 {
+        mask.bitmask()
+    }
+    #[inline(always)]
+    fn first_lanes(count: usize) -> BVec4A {
+        BVec4A::new(count > 0, count > 1, count > 2, count > 3)
+    }
+    #[inline(always)]
+    fn compress_store(self, mask: BVec4A, out: &mut [f32]) {
+        let values = self.to_array();
+        let (kept, _) = KEPT_LANES[mask.bitmask() as usize];
+        for (out, lane) in out[..4].iter_mut().zip(kept) {
+            *out = values[lane as usize];
+        }
+    }
+    #[inline(always)]
     fn transpose_in(mut f: impl FnMut(usize) -> [f32; 8]) -> [Self; 8] {
         let columns = [f(0), f(1), f(2), f(3)];
         let half = |offset: usize| {
@@ -164,6 +238,155 @@ impl Wide for Vec4 {
             f(i, [l.x, l.y, l.z, l.w, h.x, h.y, h.z, h.w]);
         }
     }
+}
+
+/// One lane: the scalar form of a lane-wise algorithm, the same operations on one float.
+impl Wide for f32 {
+    type Mask = bool;
+    const LANES: usize = 1;
+
+    #[inline(always)]
+    fn splat(value: f32) -> Self {
+        value
+    }
+    #[inline(always)]
+    fn from_fn(mut f: impl FnMut(usize) -> f32) -> Self {
+        f(0)
+    }
+    #[inline(always)]
+    fn lane(self, _: usize) -> f32 {
+        self
+    }
+    #[inline(always)]
+    fn select(mask: bool, a: Self, b: Self) -> Self {
+        if mask {
+            a
+        } else {
+            b
+        }
+    }
+    #[inline(always)]
+    fn cmplt(self, other: Self) -> bool {
+        self < other
+    }
+    #[inline(always)]
+    fn cmple(self, other: Self) -> bool {
+        self <= other
+    }
+    #[inline(always)]
+    fn cmpgt(self, other: Self) -> bool {
+        self > other
+    }
+    #[inline(always)]
+    fn cmpge(self, other: Self) -> bool {
+        self >= other
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        f32::sqrt(self)
+    }
+    #[inline(always)]
+    fn recip(self) -> Self {
+        1.0 / self
+    }
+    #[inline(always)]
+    fn max(self, other: Self) -> Self {
+        f32::max(self, other)
+    }
+    #[inline(always)]
+    fn mask_from_fn(mut f: impl FnMut(usize) -> bool) -> bool {
+        f(0)
+    }
+    #[inline(always)]
+    fn test(mask: bool, _: usize) -> bool {
+        mask
+    }
+    #[inline(always)]
+    fn any(mask: bool) -> bool {
+        mask
+    }
+    #[inline(always)]
+    fn all(mask: bool) -> bool {
+        mask
+    }
+    #[inline(always)]
+    fn load(values: &[f32]) -> Self {
+        values[0]
+    }
+    #[inline(always)]
+    fn min(self, other: Self) -> Self {
+        f32::min(self, other)
+    }
+    #[inline(always)]
+    fn abs(self) -> Self {
+        f32::abs(self)
+    }
+    #[inline(always)]
+    fn exp2_whole(self) -> Self {
+        exp2_whole(self)
+    }
+    #[inline(always)]
+    fn bitmask(mask: bool) -> u32 {
+        u32::from(mask)
+    }
+    #[inline(always)]
+    fn first_lanes(count: usize) -> bool {
+        count > 0
+    }
+    #[inline(always)]
+    fn compress_store(self, _: bool, out: &mut [f32]) {
+        out[0] = self;
+    }
+    #[inline(always)]
+    fn transpose_in(mut f: impl FnMut(usize) -> [f32; 8]) -> [Self; 8] {
+        f(0)
+    }
+    #[inline(always)]
+    fn transpose_out(rows: [Self; 8], mut f: impl FnMut(usize, [f32; 8])) {
+        f(0, rows);
+    }
+}
+
+/// `2^whole` for a whole number in [−126, 127], from its exponent bits. Without a float →
+/// integer conversion: adding 1.5·2²³ leaves the integer in the low bits of the sum, so a
+/// loop of these vectorises.
+#[inline(always)]
+fn exp2_whole(whole: f32) -> f32 {
+    const MAGIC: f32 = 12_582_912.0;
+    let biased = (whole + MAGIC)
+        .to_bits()
+        .wrapping_add(127)
+        .wrapping_sub(MAGIC.to_bits());
+    f32::from_bits(biased << 23)
+}
+
+/// For each 4-bit mask of kept lanes: the kept lanes in order (then zeros) and their count.
+pub(crate) const KEPT_LANES: [([u32; 4], usize); 16] = {
+    let mut table = [([0u32; 4], 0usize); 16];
+    let mut mask = 0;
+    while mask < 16 {
+        let mut count = 0;
+        let mut lane = 0;
+        while lane < 4 {
+            if mask & (1 << lane) != 0 {
+                table[mask].0[count] = lane as u32;
+                count += 1;
+            }
+            lane += 1;
+        }
+        table[mask].1 = count;
+        mask += 1;
+    }
+    table
+};
+
+/// Per lane `value` clamped to `[low, high]` with the comparisons of `f32::clamp` (so the
+/// same bits, signed zeros included).
+#[inline(always)]
+pub(crate) fn clamp<W: Wide>(value: W, low: f32, high: f32) -> W {
+    let (low, high) = (W::splat(low), W::splat(high));
+    let value = W::select(value.cmplt(low), low, value);
+    W::select(value.cmpgt(high), high, value)
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -449,10 +672,17 @@ mod x86 {
         }
         #[inline(always)]
         fn lane(self, i: usize) -> f32 {
-            let mut values = [0.0; 8];
-            // SAFETY: AVX is present (module docs); `values` holds 8 floats.
-            unsafe { _mm256_storeu_ps(values.as_mut_ptr(), self.0) };
-            values[i]
+            // A permutation within the lane's half, not a store and a load (which would
+            // wait for the store).
+            // SAFETY: AVX is present (module docs).
+            unsafe {
+                let half = if i & 4 == 0 {
+                    _mm256_castps256_ps128(self.0)
+                } else {
+                    _mm256_extractf128_ps::<1>(self.0)
+                };
+                _mm_cvtss_f32(_mm_permutevar_ps(half, _mm_set1_epi32((i & 3) as i32)))
+            }
         }
         #[inline(always)]
         fn select(mask: M8, a: Self, b: Self) -> Self {
@@ -515,6 +745,69 @@ mod x86 {
             unsafe { _mm256_movemask_ps(mask.0) == 0xff }
         }
         #[inline(always)]
+        fn load(values: &[f32]) -> Self {
+            let values = &values[..8];
+            // SAFETY: AVX is present (module docs); `values` holds 8 floats.
+            F8(unsafe { _mm256_loadu_ps(values.as_ptr()) })
+        }
+        #[inline(always)]
+        fn min(self, other: Self) -> Self {
+            // SAFETY: AVX is present (module docs).
+            F8(unsafe { _mm256_min_ps(self.0, other.0) })
+        }
+        #[inline(always)]
+        fn abs(self) -> Self {
+            // SAFETY: AVX is present (module docs).
+            F8(unsafe { _mm256_andnot_ps(_mm256_set1_ps(-0.0), self.0) })
+        }
+        #[inline(always)]
+        fn exp2_whole(self) -> Self {
+            // SAFETY: AVX is present (module docs); the integer steps run on 128-bit halves
+            // (SSE2), as 256-bit integer arithmetic needs AVX2.
+            unsafe {
+                let whole = _mm256_cvtps_epi32(self.0);
+                let bias = _mm_set1_epi32(127);
+                let exponent = |half: __m128i| _mm_slli_epi32::<23>(_mm_add_epi32(half, bias));
+                let low = exponent(_mm256_castsi256_si128(whole));
+                let high = exponent(_mm256_extractf128_si256::<1>(whole));
+                F8(_mm256_castsi256_ps(_mm256_set_m128i(high, low)))
+            }
+        }
+        #[inline(always)]
+        fn bitmask(mask: M8) -> u32 {
+            // SAFETY: AVX is present (module docs).
+            unsafe { _mm256_movemask_ps(mask.0) as u32 }
+        }
+        #[inline(always)]
+        fn first_lanes(count: usize) -> M8 {
+            let count = count.min(8) as f32;
+            // SAFETY: AVX is present (module docs).
+            M8(unsafe {
+                let lanes = _mm256_setr_ps(0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0);
+                _mm256_cmp_ps::<_CMP_LT_OQ>(lanes, _mm256_set1_ps(count))
+            })
+        }
+        #[inline(always)]
+        fn compress_store(self, mask: M8, out: &mut [f32]) {
+            let out = &mut out[..8];
+            let bits = Self::bitmask(mask) as usize;
+            let (low_lanes, low_count) = super::KEPT_LANES[bits & 15];
+            let low_count = low_count.min(4);
+            let (high_lanes, _) = super::KEPT_LANES[bits >> 4];
+            // SAFETY: AVX is present (module docs); each half is compressed by a lane
+            // permutation (`vpermilps`) and stored as 4 floats, the high half right after
+            // the low half's kept ones: at most 4 + 4 floats, and `out` holds 8.
+            unsafe {
+                let permute = |half: __m128, lanes: [u32; 4]| {
+                    _mm_permutevar_ps(half, _mm_loadu_si128(lanes.as_ptr().cast()))
+                };
+                let low = permute(_mm256_castps256_ps128(self.0), low_lanes);
+                let high = permute(_mm256_extractf128_ps::<1>(self.0), high_lanes);
+                _mm_storeu_ps(out.as_mut_ptr(), low);
+                _mm_storeu_ps(out[low_count..low_count + 4].as_mut_ptr(), high);
+            }
+        }
+        #[inline(always)]
         fn transpose_in(f: impl FnMut(usize) -> [f32; 8]) -> [Self; 8] {
             // SAFETY: AVX is present (module docs).
             let [r0, r1, r2, r3, r4, r5, r6, r7] = unsafe { rows_of(std::array::from_fn(f)) };
@@ -558,10 +851,12 @@ mod x86 {
         }
         #[inline(always)]
         fn lane(self, i: usize) -> f32 {
-            let mut values = [0.0; 16];
-            // SAFETY: AVX-512F is present (module docs); `values` holds 16 floats.
-            unsafe { _mm512_storeu_ps(values.as_mut_ptr(), self.0) };
-            values[i]
+            // A permutation, not a store and a load (which would wait for the store).
+            // SAFETY: AVX-512F is present (module docs).
+            unsafe {
+                let index = _mm512_set1_epi32((i & 15) as i32);
+                _mm512_cvtss_f32(_mm512_permutexvar_ps(index, self.0))
+            }
         }
         #[inline(always)]
         fn select(mask: M16, a: Self, b: Self) -> Self {
@@ -619,6 +914,52 @@ mod x86 {
             mask.0 == u16::MAX
         }
         #[inline(always)]
+        fn load(values: &[f32]) -> Self {
+            let values = &values[..16];
+            // SAFETY: AVX-512F is present (module docs); `values` holds 16 floats.
+            F16(unsafe { _mm512_loadu_ps(values.as_ptr()) })
+        }
+        #[inline(always)]
+        fn min(self, other: Self) -> Self {
+            // SAFETY: AVX-512F is present (module docs).
+            F16(unsafe { _mm512_min_ps(self.0, other.0) })
+        }
+        #[inline(always)]
+        fn abs(self) -> Self {
+            // SAFETY: AVX-512F is present (module docs).
+            F16(unsafe { _mm512_abs_ps(self.0) })
+        }
+        #[inline(always)]
+        fn exp2_whole(self) -> Self {
+            // SAFETY: AVX-512F is present (module docs).
+            F16(unsafe {
+                let biased = _mm512_add_epi32(_mm512_cvtps_epi32(self.0), _mm512_set1_epi32(127));
+                _mm512_castsi512_ps(_mm512_slli_epi32::<23>(biased))
+            })
+        }
+        #[inline(always)]
+        fn bitmask(mask: M16) -> u32 {
+            u32::from(mask.0)
+        }
+        #[inline(always)]
+        fn first_lanes(count: usize) -> M16 {
+            M16(if count >= 16 {
+                u16::MAX
+            } else {
+                (1u16 << count) - 1
+            })
+        }
+        #[inline(always)]
+        fn compress_store(self, mask: M16, out: &mut [f32]) {
+            let out = &mut out[..16];
+            // SAFETY: AVX-512F is present (module docs); `out` holds 16 floats. Compressed
+            // in a register, then stored whole (a compressing store to memory is slow on
+            // some processors).
+            unsafe {
+                _mm512_storeu_ps(out.as_mut_ptr(), _mm512_maskz_compress_ps(mask.0, self.0));
+            }
+        }
+        #[inline(always)]
         fn transpose_in(mut f: impl FnMut(usize) -> [f32; 8]) -> [Self; 8] {
             // Lanes 0–7 and 8–15 are two 8 × 8 transposes, joined into 16-lane rows.
             let low: [[f32; 8]; 8] = std::array::from_fn(&mut f);
@@ -662,6 +1003,7 @@ mod x86 {
 #[cfg(test)]
 macro_rules! for_every_width {
     ($f:ident ( $($arg:expr),* )) => {{
+        $f::<f32>($($arg),*);
         $f::<glam::Vec4>($($arg),*);
         #[cfg(target_arch = "x86_64")]
         {
@@ -721,8 +1063,48 @@ mod tests {
         }
         let none = W::mask_from_fn(|_| false);
         let last = W::mask_from_fn(|i| i == W::LANES - 1);
-        assert!(!W::any(none) && W::any(last) && !W::all(last));
+        assert!(!W::any(none) && W::any(last) && (W::LANES == 1 || !W::all(last)));
         assert!(W::all(!none));
+        check(W::load(&a), &|x, _| x);
+        check(wa.min(wb), &|x, y| x.min(y));
+        check(wa.abs(), &|x, _| x.abs());
+        check(clamp(wa, -1.0, 1.0), &|x, _| x.clamp(-1.0, 1.0));
+        let wholes: Vec<f32> = (0..W::LANES)
+            .map(|i| ((i * 17) % 254) as f32 - 126.0)
+            .collect();
+        let powers = W::load(&wholes).exp2_whole();
+        for (i, whole) in wholes.iter().enumerate() {
+            assert_eq!(powers.lane(i), 2f32.powi(*whole as i32), "2^{whole}");
+        }
+        // Integers carried as float bits (NaN patterns among them) move unchanged.
+        let index_bits: Vec<f32> = (0..W::LANES)
+            .map(|i| f32::from_bits((u32::MAX - 1).wrapping_add(i as u32)))
+            .collect();
+        let indices = W::load(&index_bits);
+        for i in 0..W::LANES {
+            assert_eq!(
+                indices.lane(i).to_bits(),
+                (u32::MAX - 1).wrapping_add(i as u32)
+            );
+            assert!(!W::test(W::first_lanes(i), i));
+            assert!(W::test(W::first_lanes(i + 1), i));
+            assert!(W::all(W::first_lanes(W::LANES + i)));
+        }
+        // Compress every mask of the first lanes' patterns (all of them up to 8 lanes).
+        for pattern in 0..(1u32 << W::LANES.min(8)) {
+            let bits = pattern | (pattern << 8) & ((1u64 << W::LANES) - 1) as u32;
+            let mask = W::mask_from_fn(|i| bits >> i & 1 != 0);
+            assert_eq!(W::bitmask(mask), bits);
+            let mut out = vec![f32::NAN; W::LANES + 1];
+            indices.compress_store(mask, &mut out);
+            let kept: Vec<u32> = (0..W::LANES as u32)
+                .filter(|i| bits >> i & 1 != 0)
+                .map(|i| (u32::MAX - 1).wrapping_add(i))
+                .collect();
+            let stored: Vec<u32> = out[..kept.len()].iter().map(|x| x.to_bits()).collect();
+            assert_eq!(stored, kept, "mask {bits:b}");
+            assert!(out[W::LANES].is_nan(), "wrote past LANES floats");
+        }
         let columns: Vec<[f32; 8]> = (0..W::LANES)
             .map(|i| std::array::from_fn(|c| (i * 8 + c) as f32))
             .collect();

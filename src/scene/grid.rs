@@ -9,9 +9,44 @@
 
 use glam::Vec2;
 
-/// Extra coordinates after the last slot, so that a query may read four slots at a time
-/// from any slot without running off the arrays (what it reads there, it masks off).
-pub const SLOT_PADDING: usize = 3;
+/// Extra coordinates after the last slot, so that a query may read a whole group of SIMD
+/// lanes (up to 16) from any slot without running off the arrays (what it reads there, it
+/// masks off).
+pub const SLOT_PADDING: usize = crate::math::wide::MAX_LANES - 1;
+
+/// Most runs one query makes: one per row, at most 7 rows (a query spans at most 3 cells
+/// each way, as cells are at least half the radius).
+pub const MAX_RUNS: usize = 2 * MAX_SPAN as usize + 1;
+
+/// Largest number of cells a query spans each way from its centre's cell.
+const MAX_SPAN: i32 = 3;
+
+/// `⌊x⌋` as an integer, saturating (far-away points stay valid), without a call to
+/// `floorf` (which x86-64's baseline instructions lack).
+#[inline]
+fn floor_to_i32(x: f32) -> i32 {
+    let truncated = x as i32;
+    if (truncated as f32) > x {
+        truncated.saturating_sub(1)
+    } else {
+        truncated
+    }
+}
+
+/// The runs of grid slots one query covers, each a contiguous range of slots.
+#[derive(Debug, Clone, Copy)]
+pub struct SlotRuns {
+    runs: [(u32, u32); MAX_RUNS],
+    len: usize,
+}
+
+impl SlotRuns {
+    /// The runs, each as (first slot, end slot).
+    #[inline]
+    pub fn as_slice(&self) -> &[(u32, u32)] {
+        &self.runs[..self.len]
+    }
+}
 
 /// The grid: `cell_start[c] .. cell_start[c + 1]` indexes `entries`, `xs` and `ys` for
 /// cell `c`.
@@ -63,8 +98,7 @@ impl SpatialGrid {
     #[inline]
     fn cell_of(&self, point: Vec2) -> (i32, i32) {
         let scaled = (point - self.origin) * self.inverse_cell_size;
-        // Saturating float → int casts keep far-away points valid.
-        (scaled.x.floor() as i32, scaled.y.floor() as i32)
+        (floor_to_i32(scaled.x), floor_to_i32(scaled.y))
     }
 
     /// The cell holding `point`, one of the points of the rebuild: within the grid's box, so
@@ -157,53 +191,77 @@ impl SpatialGrid {
     }
 
     /// Calls `visit(slots)` with contiguous ranges of grid slots that together hold every
-    /// point of the 5 × 5 cells around `centre` — a superset of the points within the
-    /// grid's radius of it. Each slot comes once.
+    /// point within the grid's radius of `centre` (see [`runs_near`](Self::runs_near)).
     #[inline]
-    pub fn for_each_run_near(&self, centre: Vec2, visit: impl FnMut(std::ops::Range<usize>)) {
-        self.for_each_run_near_where(centre, |_, _| true, visit);
+    pub fn for_each_run_near(&self, centre: Vec2, mut visit: impl FnMut(std::ops::Range<usize>)) {
+        for &(first, end) in self.runs_near(centre, None).as_slice() {
+            visit(first as usize..end as usize);
+        }
     }
 
-    /// Like [`for_each_run_near`](Self::for_each_run_near), but only over the cells for
-    /// which `keep_cell(lowest corner, highest corner)` is true (adjacent kept cells of a
-    /// row still come as one run).
-    #[inline]
-    pub fn for_each_run_near_where(
-        &self,
-        centre: Vec2,
-        keep_cell: impl Fn(Vec2, Vec2) -> bool,
-        mut visit: impl FnMut(std::ops::Range<usize>),
-    ) {
-        let span = (self.radius * self.inverse_cell_size).ceil() as i32;
+    /// The runs of grid slots that together hold every point within the grid's radius of
+    /// `centre` — whole cells, so a superset: the cells of the rows around it, each row
+    /// clipped to the circle — and, if `ahead` is given, of those only the cells that reach
+    /// the half-plane in front of `centre` facing `ahead` (`ahead · (p − centre) ≥ 0`).
+    /// One run per row; each slot comes once.
+    pub fn runs_near(&self, centre: Vec2, ahead: Option<Vec2>) -> SlotRuns {
+        let mut runs = SlotRuns {
+            runs: [(0, 0); MAX_RUNS],
+            len: 0,
+        };
+        // Cells are at least radius / 2 wide, so the span is 2, or 3 by rounding.
+        let span = ((self.radius * self.inverse_cell_size).ceil() as i32).min(MAX_SPAN);
         let (cx, cy) = self.cell_of(centre);
         let first_column = cx.saturating_sub(span).max(0);
         let last_column = cx.saturating_add(span).min(self.columns - 1);
-        if first_column > last_column {
-            return;
-        }
         let first_row = cy.saturating_sub(span).max(0);
         let last_row = cy.saturating_add(span).min(self.rows - 1);
         let size = self.cell_size;
+        // Rows are clipped by comparing coordinates, widened by a margin far above their
+        // rounding, so that no point that belongs is left out.
+        let margin =
+            0.01 * size + 1e-5 * (centre.abs().element_sum() + self.origin.abs().element_sum());
+        let radius_squared = self.radius * self.radius;
+        let column_at = |x: f32| floor_to_i32((x - self.origin.x) * self.inverse_cell_size);
         for row in first_row..=last_row {
             let low_y = self.origin.y + row as f32 * size;
-            let mut run_start: Option<i32> = None;
-            for column in first_column..=last_column + 1 {
-                let kept = column <= last_column && {
-                    let low = Vec2::new(self.origin.x + column as f32 * size, low_y);
-                    keep_cell(low, low + Vec2::splat(size))
-                };
-                match (kept, run_start) {
-                    (true, None) => run_start = Some(column),
-                    (false, Some(start)) => {
-                        let first = self.cell_start[(row * self.columns + start) as usize];
-                        let end = self.cell_start[(row * self.columns + column - 1) as usize + 1];
-                        visit(first as usize..end as usize);
-                        run_start = None;
-                    }
-                    _ => {}
+            let high_y = low_y + size;
+            // The circle: the row's points lie within `reach` of the centre in x.
+            let gap_y = (low_y - centre.y).max(centre.y - high_y).max(0.0);
+            if gap_y > self.radius + margin {
+                continue;
+            }
+            let reach = (radius_squared - gap_y * gap_y).max(0.0).sqrt() + margin;
+            let (mut low_x, mut high_x) = (centre.x - reach, centre.x + reach);
+            if let Some(forward) = ahead {
+                // A cell reaches the half-plane if `forward · (corner − centre) ≥ 0` at its
+                // best corner: the row fixes the y part, which bounds the x part.
+                let most_y = forward.y.max(0.0) * (high_y - centre.y)
+                    + forward.y.min(0.0) * (low_y - centre.y);
+                if forward.x > 0.0 {
+                    // Cells whose right edge is at least this.
+                    low_x = low_x.max(centre.x - most_y / forward.x - margin);
+                } else if forward.x < 0.0 {
+                    // Cells whose left edge is at most this.
+                    high_x = high_x.min(centre.x - most_y / forward.x + margin);
+                } else if most_y < 0.0 {
+                    continue;
                 }
             }
+            let first = first_column.max(column_at(low_x));
+            let last = last_column.min(column_at(high_x));
+            if first > last {
+                continue;
+            }
+            let row_start = (row * self.columns) as usize;
+            // At most 2 · MAX_SPAN + 1 rows, one run each: within MAX_RUNS.
+            runs.runs[runs.len % MAX_RUNS] = (
+                self.cell_start[row_start + first as usize],
+                self.cell_start[row_start + last as usize + 1],
+            );
+            runs.len += 1;
         }
+        runs
     }
 
     /// Calls `visit(index, point)` for every point [`for_each_run_near`](Self::for_each_run_near)
@@ -249,6 +307,26 @@ mod tests {
     }
 
     #[test]
+    fn floor_matches_the_library_floor() {
+        for x in [
+            -3.5f32,
+            -3.0,
+            -0.2,
+            -0.0,
+            0.0,
+            0.7,
+            2.0,
+            1e9,
+            -1e9,
+            3e9,
+            -3e9,
+            f32::NAN,
+        ] {
+            assert_eq!(floor_to_i32(x), x.floor() as i32, "{x}");
+        }
+    }
+
+    #[test]
     fn sprawling_scenes_grow_the_cells_instead_of_the_memory() {
         let points = [
             Vec2::new(-1e6, 1e6),
@@ -275,6 +353,7 @@ mod tests {
         let mut grid = SpatialGrid::new(400, 10.0);
         grid.rebuild(&points);
         let forward = Vec2::from_angle(0.7);
+        let (mut total_visited, mut total_all) = (0, 0);
         for centre in &points[..40] {
             let in_front = |low: Vec2, high: Vec2| {
                 [
@@ -288,15 +367,23 @@ mod tests {
             };
             let mut seen = vec![false; points.len()];
             let mut visited = 0;
-            grid.for_each_run_near_where(*centre, in_front, |run| {
-                for slot in run {
+            for &(first, end) in grid.runs_near(*centre, Some(forward)).as_slice() {
+                for slot in first as usize..end as usize {
                     seen[grid.entries()[slot] as usize] = true;
                     visited += 1;
+                    // Only cells that reach the half-plane (up to the rounding margin).
+                    let (cx, cy) = grid.cell_of(grid.point(slot));
+                    let low = grid.origin + Vec2::new(cx as f32, cy as f32) * grid.cell_size;
+                    assert!(in_front(
+                        low - Vec2::splat(0.1),
+                        low + Vec2::splat(grid.cell_size + 0.1)
+                    ));
                 }
-            });
+            }
             let mut all = 0;
             grid.for_each_near(*centre, |_, _| all += 1);
             assert!(visited <= all);
+            (total_visited, total_all) = (total_visited + visited, total_all + all);
             for (i, point) in points.iter().enumerate() {
                 let offset = *point - *centre;
                 if offset.length() <= 10.0 && forward.dot(offset) >= 0.0 {
@@ -304,5 +391,10 @@ mod tests {
                 }
             }
         }
+        // The half behind is mostly skipped.
+        assert!(
+            total_visited < total_all * 3 / 4,
+            "{total_visited} of {total_all}"
+        );
     }
 }
