@@ -58,6 +58,8 @@ pub struct SpatialGrid {
     origin: Vec2,
     columns: i32,
     rows: i32,
+    /// Cells a query spans each way from its centre's cell (set by each rebuild).
+    span: i32,
     /// Most cells the grid may use (sized at creation).
     max_cells: usize,
     cell_start: Vec<u32>,
@@ -81,6 +83,7 @@ impl SpatialGrid {
             origin: Vec2::ZERO,
             columns: 1,
             rows: 1,
+            span: MAX_SPAN,
             max_cells,
             cell_start: vec![0; max_cells + 1],
             entries: vec![0; capacity],
@@ -144,6 +147,9 @@ impl SpatialGrid {
         }
         self.cell_size = cell_size;
         self.inverse_cell_size = 1.0 / cell_size;
+        // Cells are at least radius / 2 wide, so the span is 2 (3 by rounding), or less
+        // for grown cells.
+        self.span = ((self.radius * self.inverse_cell_size).ceil() as i32).clamp(0, MAX_SPAN);
         self.origin = low;
         let cells = (self.columns * self.rows) as usize;
         self.cell_start[..=cells].fill(0);
@@ -209,8 +215,7 @@ impl SpatialGrid {
             runs: [(0, 0); MAX_RUNS],
             len: 0,
         };
-        // Cells are at least radius / 2 wide, so the span is 2, or 3 by rounding.
-        let span = ((self.radius * self.inverse_cell_size).ceil() as i32).min(MAX_SPAN);
+        let span = self.span;
         let (cx, cy) = self.cell_of(centre);
         let first_column = cx.saturating_sub(span).max(0);
         let last_column = cx.saturating_add(span).min(self.columns - 1);
@@ -223,6 +228,8 @@ impl SpatialGrid {
             0.01 * size + 1e-5 * (centre.abs().element_sum() + self.origin.abs().element_sum());
         let radius_squared = self.radius * self.radius;
         let column_at = |x: f32| floor_to_i32((x - self.origin.x) * self.inverse_cell_size);
+        // Divided once per query (the margin covers the rounding of the products).
+        let inverse_forward_x = ahead.map_or(0.0, |forward| 1.0 / forward.x);
         for row in first_row..=last_row {
             let low_y = self.origin.y + row as f32 * size;
             let high_y = low_y + size;
@@ -240,10 +247,10 @@ impl SpatialGrid {
                     + forward.y.min(0.0) * (low_y - centre.y);
                 if forward.x > 0.0 {
                     // Cells whose right edge is at least this.
-                    low_x = low_x.max(centre.x - most_y / forward.x - margin);
+                    low_x = low_x.max(centre.x - most_y * inverse_forward_x - margin);
                 } else if forward.x < 0.0 {
                     // Cells whose left edge is at most this.
-                    high_x = high_x.min(centre.x - most_y / forward.x + margin);
+                    high_x = high_x.min(centre.x - most_y * inverse_forward_x + margin);
                 } else if most_y < 0.0 {
                     continue;
                 }
