@@ -134,15 +134,23 @@ fn ranks_above(a: Candidate, b: Candidate) -> bool {
     a.score > b.score || (a.score == b.score && a.id < b.id)
 }
 
-/// Keeps the two highest-ranked candidates.
+/// Keeps the two highest-ranked candidates. Written as selects rather than branches: which
+/// way a candidate goes is unpredictable, and conditional moves never mispredict.
 #[inline]
 fn rank(best: &mut Candidate, second: &mut Candidate, candidate: Candidate) {
-    if ranks_above(candidate, *best) {
-        *second = *best;
-        *best = candidate;
-    } else if ranks_above(candidate, *second) {
-        *second = candidate;
-    }
+    let (above_best, above_second) = (
+        ranks_above(candidate, *best),
+        ranks_above(candidate, *second),
+    );
+    let new_second = if above_best {
+        *best
+    } else if above_second {
+        candidate
+    } else {
+        *second
+    };
+    *best = if above_best { candidate } else { *best };
+    *second = new_second;
 }
 
 /// The view test without an arc cosine, one entity per lane: is `offset` within the half
