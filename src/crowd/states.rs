@@ -120,9 +120,9 @@ macro_rules! define_states {
             #[inline]
             pub fn prefetch_attention(&self, index: usize) {
                 if index < self.len {
-                    prefetch_value(self.lod.wrapping_add(index));
-                    prefetch_value(self.models.wrapping_add(index));
-                    prefetch_value(self.model_randoms.wrapping_add(index));
+                    crate::math::prefetch(self.lod.wrapping_add(index));
+                    crate::math::prefetch(self.models.wrapping_add(index));
+                    crate::math::prefetch(self.model_randoms.wrapping_add(index));
                 }
             }
 
@@ -207,23 +207,4 @@ pub(super) fn bytes_per_character() -> usize {
         };
     }
     character_arrays!(sum_sizes)
-}
-
-/// Hints the processor to load the cache lines of the value at `value` (its first
-/// 256 bytes at most). A prefetch is only a hint: it never faults, whatever the address.
-#[inline(always)]
-pub(super) fn prefetch_value<T>(value: *const T) {
-    #[cfg(target_arch = "x86_64")]
-    {
-        use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
-        let bytes = value.cast::<i8>();
-        let mut offset = 0;
-        while offset < std::mem::size_of::<T>().min(256) {
-            // SAFETY: SSE is part of x86-64; a prefetch reads nothing and cannot fault.
-            unsafe { _mm_prefetch::<_MM_HINT_T0>(bytes.wrapping_add(offset)) };
-            offset += 64;
-        }
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    let _ = value;
 }

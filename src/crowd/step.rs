@@ -401,13 +401,12 @@ impl Shared {
     /// lives in the shared state: its parameters and its entity's ground state.
     #[inline]
     fn prefetch_attention(&self, character: usize) {
-        use super::states::prefetch_value;
-        prefetch_value(self.params.as_ptr().wrapping_add(character));
+        crate::math::prefetch(self.params.as_ptr().wrapping_add(character));
         if let Some(&entity) = self.scene.character_entities().get(character) {
             let entity = entity as usize;
-            prefetch_value(self.scene.ground_positions().as_ptr().wrapping_add(entity));
-            prefetch_value(self.scene.forwards().as_ptr().wrapping_add(entity));
-            prefetch_value(self.scene.velocities().as_ptr().wrapping_add(entity));
+            crate::math::prefetch(self.scene.ground_positions().as_ptr().wrapping_add(entity));
+            crate::math::prefetch(self.scene.forwards().as_ptr().wrapping_add(entity));
+            crate::math::prefetch(self.scene.velocities().as_ptr().wrapping_add(entity));
         }
     }
 

@@ -8,3 +8,22 @@ pub mod fast;
 pub mod packed;
 pub mod random;
 pub(crate) mod wide;
+
+/// Hints the processor to load the cache lines of the value at `value` (its first
+/// 256 bytes at most). A prefetch is only a hint: it never faults, whatever the address.
+#[inline(always)]
+pub(crate) fn prefetch<T>(value: *const T) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+        let bytes = value.cast::<i8>();
+        let mut offset = 0;
+        while offset < std::mem::size_of::<T>().min(256) {
+            // SAFETY: SSE is part of x86-64; a prefetch reads nothing and cannot fault.
+            unsafe { _mm_prefetch::<_MM_HINT_T0>(bytes.wrapping_add(offset)) };
+            offset += 64;
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = value;
+}
