@@ -1,15 +1,15 @@
 //! Finding each character's best and second-best entity, fast.
 //!
 //! [`NeighbourIndex`] rebuilds the spatial grid every frame and copies what the scoring
-//! needs (forward, velocity, impact, id) into grid order, x and y apart, so that a query
-//! reads memory sequentially whatever the crowd's size. A query visits the runs of grid
-//! slots around the character that may be in view; it tests distance, view and impact for
-//! a whole group of SIMD lanes at once (16 with AVX-512F, 8 with AVX, else 4: see
-//! [`crate::math::wide`]) and compresses the survivors' data into a fixed-size
-//! [`CandidateBatch`] without branching; the batch is then scored a group at a time and
-//! only the lanes that could enter the top two are ranked. The all-pairs search feeds the
-//! same batch from every entity of the scene, one at a time, and scores it four lanes at a
-//! time: the test oracle and the benchmark baseline.
+//! needs (forward, velocity, impact, id, entity index) into grid order, x and y apart, so
+//! that a query reads memory sequentially whatever the crowd's size. A query visits the
+//! runs of grid slots around the character that may be in view; it tests distance, view
+//! and impact for a whole group of SIMD lanes at once (16 with AVX-512F, 8 with AVX, else
+//! 4, chosen at run time; the same bits at every width) and compresses the survivors' data
+//! into a fixed-size [`CandidateBatch`] without branching; the batch is then scored a
+//! group at a time and only the lanes that could enter the top two are ranked. The
+//! all-pairs search feeds the same batch from every entity of the scene, one at a time,
+//! and scores it four lanes at a time: the test oracle and the benchmark baseline.
 
 use glam::{Vec2, Vec4};
 
@@ -208,8 +208,8 @@ impl<'a, Skip: FnMut(usize, u32) -> bool> Ranking<'a, Skip> {
         let len = batch.len;
         let mut group = 0;
         while group < len {
-            // start < len ≤ BATCH + LANES − 1 and start is a multiple of LANES, which
-            // divides BATCH, so start ≤ BATCH: a whole group fits in BATCH_ROOM (the min
+            // group < len ≤ BATCH + LANES − 1 and group is a multiple of LANES, which
+            // divides BATCH, so group ≤ BATCH: a whole group fits in BATCH_ROOM (the min
             // changes nothing; it lets the compiler drop the bounds checks).
             let start = group.min(BATCH);
             let load = |values: &[f32; BATCH_ROOM]| W::load(&values[start..start + W::LANES]);
@@ -346,8 +346,8 @@ impl<Skip: FnMut(usize, u32) -> bool> GridSearch<'_, Skip> {
     }
 }
 
-/// The grid search for `character` at width `W` (what [`nearby_candidates`] runs at the
-/// widest width the processor has).
+/// The grid search for `character`, ready to run at any width (what
+/// [`nearby_candidates`] runs at the widest width the processor has).
 fn grid_search<'a, Skip: FnMut(usize, u32) -> bool>(
     scene: &Scene,
     index: &'a NeighbourIndex,
