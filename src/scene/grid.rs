@@ -205,6 +205,14 @@ impl SpatialGrid {
         }
     }
 
+    /// How far (metres) a query around `centre` widens the rows it clips: far above the
+    /// rounding of the coordinates it compares (a few units in the last place of the
+    /// largest, about 1e−7 of it), so that no point that belongs is left out.
+    fn rounding_margin(&self, centre: Vec2) -> f32 {
+        0.01 * self.cell_size
+            + 1e-6 * (centre.abs().element_sum() + self.origin.abs().element_sum())
+    }
+
     /// The runs of grid slots that together hold every point within the grid's radius of
     /// `centre` — whole cells, so a superset: the cells of the rows around it, each row
     /// clipped to the circle — and, if `ahead` is given, of those only the cells that reach
@@ -222,10 +230,7 @@ impl SpatialGrid {
         let first_row = cy.saturating_sub(span).max(0);
         let last_row = cy.saturating_add(span).min(self.rows - 1);
         let size = self.cell_size;
-        // Rows are clipped by comparing coordinates, widened by a margin far above their
-        // rounding, so that no point that belongs is left out.
-        let margin =
-            0.01 * size + 1e-5 * (centre.abs().element_sum() + self.origin.abs().element_sum());
+        let margin = self.rounding_margin(centre);
         let radius_squared = self.radius * self.radius;
         let column_at = |x: f32| floor_to_i32((x - self.origin.x) * self.inverse_cell_size);
         // Divided once per query (the margin covers the rounding of the products).
@@ -351,15 +356,10 @@ mod tests {
         grid.for_each_near(Vec2::ZERO, |_, _| panic!("empty grid"));
     }
 
-    #[test]
-    fn culled_queries_still_see_every_point_of_the_kept_half() {
-        let mut random = Random::new(5);
-        let points: Vec<Vec2> = (0..400)
-            .map(|_| Vec2::new(random.range(-30.0, 30.0), random.range(-30.0, 30.0)))
-            .collect();
-        let mut grid = SpatialGrid::new(400, 10.0);
-        grid.rebuild(&points);
-        let forward = Vec2::from_angle(0.7);
+    /// Queries `grid` (of `points`) around 40 of its points facing `forward`: every point
+    /// within the radius in front is visited, only cells that reach the front are, and
+    /// none more than the unculled query visits. Returns the slots visited, culled and not.
+    fn check_culled_query(grid: &SpatialGrid, points: &[Vec2], forward: Vec2) -> (usize, usize) {
         let (mut total_visited, mut total_all) = (0, 0);
         for centre in &points[..40] {
             let in_front = |low: Vec2, high: Vec2| {
@@ -381,9 +381,10 @@ mod tests {
                     // Only cells that reach the half-plane (up to the rounding margin).
                     let (cx, cy) = grid.cell_of(grid.point(slot));
                     let low = grid.origin + Vec2::new(cx as f32, cy as f32) * grid.cell_size;
+                    let slack = grid.rounding_margin(*centre) + 0.01;
                     assert!(in_front(
-                        low - Vec2::splat(0.1),
-                        low + Vec2::splat(grid.cell_size + 0.1)
+                        low - Vec2::splat(slack),
+                        low + Vec2::splat(grid.cell_size + slack)
                     ));
                 }
             }
@@ -394,8 +395,34 @@ mod tests {
             for (i, point) in points.iter().enumerate() {
                 let offset = *point - *centre;
                 if offset.length() <= 10.0 && forward.dot(offset) >= 0.0 {
-                    assert!(seen[i], "missed a point in front");
+                    assert!(seen[i], "missed a point in front, facing {forward}");
                 }
+            }
+        }
+        (total_visited, total_all)
+    }
+
+    #[test]
+    fn culled_queries_still_see_every_point_of_the_kept_half() {
+        // Near the origin and far from it (where coordinates round coarsely), facing every
+        // way, the axes included.
+        let (mut total_visited, mut total_all) = (0, 0);
+        for shift in [Vec2::ZERO, Vec2::new(4.0e4, -7.0e4)] {
+            let mut random = Random::new(5);
+            let points: Vec<Vec2> = (0..400)
+                .map(|_| Vec2::new(random.range(-30.0, 30.0), random.range(-30.0, 30.0)) + shift)
+                .collect();
+            let mut grid = SpatialGrid::new(400, 10.0);
+            grid.rebuild(&points);
+            for angle in [0.7f32, 0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0] {
+                let forward = if angle.fract() == 0.0 {
+                    // Exactly along an axis: one of the components is zero.
+                    [Vec2::X, Vec2::Y, -Vec2::X, -Vec2::Y][angle as usize % 4]
+                } else {
+                    Vec2::from_angle(angle)
+                };
+                let (visited, all) = check_culled_query(&grid, &points, forward);
+                (total_visited, total_all) = (total_visited + visited, total_all + all);
             }
         }
         // The half behind is mostly skipped.
