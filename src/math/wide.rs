@@ -72,6 +72,10 @@ pub(crate) trait Wide:
     fn min(self, other: Self) -> Self;
     /// Per lane absolute value (the sign bit cleared, as `f32::abs`).
     fn abs(self) -> Self;
+    /// Per lane `self == other`.
+    fn cmpeq(self, other: Self) -> Self::Mask;
+    /// The same boolean in every mask lane.
+    fn mask_splat(value: bool) -> Self::Mask;
     /// `2^self` for lanes holding whole numbers in [−126, 127] (built from exponent bits).
     fn exp2_whole(self) -> Self;
     /// The mask as bits: lane `i` is bit `i`.
@@ -184,6 +188,14 @@ impl Wide for Vec4 {
     #[inline(always)]
     fn abs(self) -> Self {
         Vec4::abs(self)
+    }
+    #[inline(always)]
+    fn cmpeq(self, other: Self) -> BVec4A {
+        Vec4::cmpeq(self, other)
+    }
+    #[inline(always)]
+    fn mask_splat(value: bool) -> BVec4A {
+        BVec4A::splat(value)
     }
     #[inline(always)]
     fn exp2_whole(self) -> Self {
@@ -320,6 +332,14 @@ impl Wide for f32 {
     #[inline(always)]
     fn abs(self) -> Self {
         f32::abs(self)
+    }
+    #[inline(always)]
+    fn cmpeq(self, other: Self) -> bool {
+        self == other
+    }
+    #[inline(always)]
+    fn mask_splat(value: bool) -> bool {
+        value
     }
     #[inline(always)]
     fn exp2_whole(self) -> Self {
@@ -761,6 +781,17 @@ mod x86 {
             F8(unsafe { _mm256_andnot_ps(_mm256_set1_ps(-0.0), self.0) })
         }
         #[inline(always)]
+        fn cmpeq(self, other: Self) -> M8 {
+            // SAFETY: AVX is present (module docs).
+            M8(unsafe { _mm256_cmp_ps::<_CMP_EQ_OQ>(self.0, other.0) })
+        }
+        #[inline(always)]
+        fn mask_splat(value: bool) -> M8 {
+            let bits = if value { -1 } else { 0 };
+            // SAFETY: AVX is present (module docs).
+            M8(unsafe { _mm256_castsi256_ps(_mm256_set1_epi32(bits)) })
+        }
+        #[inline(always)]
         fn exp2_whole(self) -> Self {
             // SAFETY: AVX is present (module docs); the integer steps run on 128-bit halves
             // (SSE2), as 256-bit integer arithmetic needs AVX2.
@@ -930,6 +961,15 @@ mod x86 {
             F16(unsafe { _mm512_abs_ps(self.0) })
         }
         #[inline(always)]
+        fn cmpeq(self, other: Self) -> M16 {
+            // SAFETY: AVX-512F is present (module docs).
+            M16(unsafe { _mm512_cmp_ps_mask::<_CMP_EQ_OQ>(self.0, other.0) })
+        }
+        #[inline(always)]
+        fn mask_splat(value: bool) -> M16 {
+            M16(if value { u16::MAX } else { 0 })
+        }
+        #[inline(always)]
         fn exp2_whole(self) -> Self {
             // SAFETY: AVX-512F is present (module docs).
             F16(unsafe {
@@ -1068,6 +1108,11 @@ mod tests {
         check(W::load(&a), &|x, _| x);
         check(wa.min(wb), &|x, y| x.min(y));
         check(wa.abs(), &|x, _| x.abs());
+        for i in 0..W::LANES {
+            assert!(W::test(wa.cmpeq(wa), i));
+            assert_eq!(W::test(wa.cmpeq(wb), i), a[i] == b[i]);
+            assert!(W::test(W::mask_splat(true), i) && !W::test(W::mask_splat(false), i));
+        }
         check(clamp(wa, -1.0, 1.0), &|x, _| x.clamp(-1.0, 1.0));
         let wholes: Vec<f32> = (0..W::LANES)
             .map(|i| ((i * 17) % 254) as f32 - 126.0)
