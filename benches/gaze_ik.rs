@@ -29,6 +29,8 @@ use support::jacobian::JacobianIk;
 const CHARACTERS: usize = 1000;
 const DT: f32 = 1.0 / 30.0;
 const FRAMES_PER_TARGET: u32 = 90;
+/// The characters left for a last, smaller `update_batch` call in each frame.
+const LAST_BATCH: usize = CHARACTERS % BATCH_LANES;
 
 /// Where one character stands and what it looks at.
 struct Setup {
@@ -144,26 +146,25 @@ impl Scene {
         self.advance(1);
     }
 
-    /// Updates the next `BATCH_LANES` characters with one `GazeMotion::update_batch` call
-    /// (`CHARACTERS` is a multiple of `BATCH_LANES`): how a crowd updates its characters.
-    fn step_batch(&mut self) {
+    /// Updates the next `N` characters with one `GazeMotion::update_batch` call.
+    fn step_batch<const N: usize>(&mut self) {
         let first = self.next;
-        let requests: [Option<GazeRequest>; BATCH_LANES] =
+        let requests: [Option<GazeRequest>; N] =
             std::array::from_fn(|lane| self.request(first + lane));
-        let inputs: [GazeInput<'_>; BATCH_LANES] = std::array::from_fn(|lane| GazeInput {
+        let inputs: [GazeInput<'_>; N] = std::array::from_fn(|lane| GazeInput {
             character: self.setups[first + lane].transform,
             base: &self.base,
             request: requests[lane],
             dt: DT,
         });
-        let range = first..first + BATCH_LANES;
-        let motions = <&mut [GazeMotion; BATCH_LANES]>::try_from(&mut self.motions[range.clone()])
+        let range = first..first + N;
+        let motions = <&mut [GazeMotion; N]>::try_from(&mut self.motions[range.clone()])
             .expect("a whole batch");
-        let randoms = <&mut [Random; BATCH_LANES]>::try_from(&mut self.randoms[range])
-            .expect("a whole batch");
+        let randoms =
+            <&mut [Random; N]>::try_from(&mut self.randoms[range]).expect("a whole batch");
         let results = GazeMotion::update_batch(
             motions.each_mut(),
-            [&self.chain; BATCH_LANES],
+            [&self.chain; N],
             &self.config,
             inputs.each_ref(),
             randoms.each_mut(),
@@ -171,7 +172,7 @@ impl Scene {
         for result in results {
             result.expect("valid frame");
         }
-        self.advance(BATCH_LANES);
+        self.advance(N);
     }
 
     /// The spatial solve alone (one posture, no timing) for the next character's target.
@@ -210,16 +211,26 @@ impl Scene {
     /// A scene after 2 s, so that the motions are in their steady mix of phases.
     fn warmed_up(mix: bool) -> Scene {
         let mut scene = Scene::new(mix);
-        for _ in 0..60 * CHARACTERS / BATCH_LANES {
-            scene.step_batch();
+        for _ in 0..60 {
+            scene.frame_batched();
         }
         scene
     }
 
-    /// One crowd frame with `update_batch`.
+    /// One crowd frame with `update_batch`, `BATCH_LANES` characters per call and the last
+    /// few in one smaller call: how a crowd updates its characters.
     fn frame_batched(&mut self) {
         for _ in 0..CHARACTERS / BATCH_LANES {
-            self.step_batch();
+            self.step_batch::<BATCH_LANES>();
+        }
+        if LAST_BATCH > 0 {
+            self.step_batch::<{
+                if LAST_BATCH > 0 {
+                    LAST_BATCH
+                } else {
+                    1
+                }
+            }>();
         }
     }
 
@@ -309,11 +320,13 @@ fn summary() {
             calls += 1;
         }
     });
+    // The SIMD width the gaze IK runs at (the same detection as the blending's).
+    let lanes = crowdgaze::blend::simd_lanes();
     println!();
     println!("| 10-joint human chain, {CHARACTERS} characters | median ns per character-frame |");
     println!("|---|---:|");
-    println!("| `GazeMotion::update_batch` ({BATCH_LANES} per call), tracking | {tracking:.0} |");
-    println!("| `GazeMotion::update_batch` ({BATCH_LANES} per call), crowd mix | {mix:.0} |");
+    println!("| `GazeMotion::update_batch` ({BATCH_LANES} per call, {lanes} lanes), tracking | {tracking:.0} |");
+    println!("| `GazeMotion::update_batch` ({BATCH_LANES} per call, {lanes} lanes), crowd mix | {mix:.0} |");
     println!("| `GazeMotion::update` (1 per call), tracking | {single:.0} |");
     println!("| `spatial::solve` (1 per call, one posture), tracking | {solve:.0} |");
     println!(

@@ -19,9 +19,10 @@ use crate::attention::AttentionModel;
 use crate::error::{ensure_finite, Error, Result};
 use crate::ik::temporal::BATCH_LANES;
 use crate::ik::{
-    CharacterTransform, GazeChain, GazeInput, GazeMotion, GazeRequest, MotionStyle,
+    CharacterTransform, GazeChain, GazeConfig, GazeInput, GazeMotion, GazeRequest, MotionStyle,
     MAX_CHAIN_JOINTS,
 };
+use crate::math::random::Random;
 use crate::scene::ids::NO_ENTITY;
 
 /// Characters per task when [`Crowd::step`] shares a step among its worker threads.
@@ -411,7 +412,7 @@ impl Shared {
     }
 
     /// One frame for the characters of `slices`, the first of which is character `first`:
-    /// attention for each, then gaze IK for all, four at a time (or one of the two, as
+    /// attention for each, then gaze IK for all, a lane group at a time (or one of the two, as
     /// `frame.parts` says).
     fn step_characters(&self, frame: &Frame, first: usize, mut slices: CharacterSlices<'_>) {
         if frame.parts != StepParts::Gaze {
@@ -478,8 +479,9 @@ impl Shared {
         }
     }
 
-    /// Gaze IK for the characters of `slices` (the first is character `first`), four at a
-    /// time.
+    /// Gaze IK for the characters of `slices` (the first is character `first`),
+    /// [`BATCH_LANES`] per [`GazeMotion::update_batch`] call (which runs them as many at a
+    /// time as the processor's SIMD lanes hold).
     fn move_gaze(&self, dt: f32, first: usize, slices: CharacterSlices<'_>) {
         const LANES: usize = BATCH_LANES;
         let CharacterSlices {
@@ -532,23 +534,22 @@ impl Shared {
             let randoms = &mut gaze_randoms[start..start + lanes];
             // Inputs were checked when they came in: a failure here would be a bug, and it
             // leaves only that character's motion unchanged.
-            if let (
-                [motion_0, motion_1, motion_2, motion_3],
-                [random_0, random_1, random_2, random_3],
-            ) = (&mut *motions, &mut *randoms)
-            {
-                let _ = GazeMotion::update_batch(
-                    [motion_0, motion_1, motion_2, motion_3],
-                    [chains[0], chains[1], chains[2], chains[3]],
-                    &self.config.gaze,
-                    [&inputs[0], &inputs[1], &inputs[2], &inputs[3]],
-                    [random_0, random_1, random_2, random_3],
-                );
-            } else {
-                for (lane, (motion, random)) in motions.iter_mut().zip(randoms).enumerate() {
-                    let _ = motion.update(chains[lane], &self.config.gaze, &inputs[lane], random);
-                }
+            // One `update_batch` call for as many characters as `lanes` (a constant per arm).
+            macro_rules! update_lanes {
+                ($($count:literal)*) => {
+                    match lanes {
+                        $($count => update_batch::<$count>(
+                            motions,
+                            randoms,
+                            &chains,
+                            &self.config.gaze,
+                            &inputs,
+                        ),)*
+                        _ => unreachable!("1 to BATCH_LANES characters per batch"),
+                    }
+                };
             }
+            update_lanes!(1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16);
             start += lanes;
         }
     }
@@ -666,4 +667,26 @@ mod tests {
         assert_eq!(ClaimSet::mask(0, 60, 70), 0xF << 60);
         assert_eq!(ClaimSet::mask(2, 0, 64), 0);
     }
+}
+
+/// [`GazeMotion::update_batch`] for the first `N` characters of `chains` and `inputs`, whose
+/// motions and random streams are `motions` and `randoms` (`N` each). Results are dropped:
+/// the inputs were checked when they came in, and a failure leaves only that character's
+/// motion unchanged.
+fn update_batch<const N: usize>(
+    motions: &mut [GazeMotion],
+    randoms: &mut [Random],
+    chains: &[&GazeChain; BATCH_LANES],
+    config: &GazeConfig,
+    inputs: &[GazeInput<'_>; BATCH_LANES],
+) {
+    let motions = <&mut [GazeMotion; N]>::try_from(motions).expect("N motions");
+    let randoms = <&mut [Random; N]>::try_from(randoms).expect("N random streams");
+    let _ = GazeMotion::update_batch(
+        motions.each_mut(),
+        std::array::from_fn(|lane| chains[lane]),
+        config,
+        std::array::from_fn(|lane| &inputs[lane]),
+        randoms.each_mut(),
+    );
 }

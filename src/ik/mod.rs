@@ -20,7 +20,7 @@
 //! `translation(position) · rotation(heading about world up)`
 //! ([`CharacterTransform`](crate::ik::CharacterTransform)).
 //!
-//! A crowd's frame, four characters per call:
+//! A crowd's frame, [`BATCH_LANES`](crate::ik::temporal::BATCH_LANES) characters per call:
 //!
 //! ```
 //! use crowdgaze::ik::temporal::BATCH_LANES;
@@ -31,8 +31,8 @@
 //! let chain = GazeChain::human(Vec3::Y, Vec3::Z);
 //! let rest: Vec<Quat> = chain.joints().iter().map(|joint| joint.rest).collect();
 //! let config = GazeConfig::default();
-//! let mut motions = vec![GazeMotion::new(&chain); 8];
-//! let mut randoms: Vec<Random> = (0..8).map(|i| stream(42, Purpose::GazeTiming, i)).collect();
+//! let mut motions = vec![GazeMotion::new(&chain); 2 * BATCH_LANES];
+//! let mut randoms: Vec<Random> = (0..2 * BATCH_LANES as u64).map(|i| stream(42, Purpose::GazeTiming, i)).collect();
 //! for (chunk, (motions, randoms)) in motions
 //!     .chunks_exact_mut(BATCH_LANES)
 //!     .zip(randoms.chunks_exact_mut(BATCH_LANES))

@@ -56,8 +56,9 @@
 //! **Cost.** No trigonometry in the common case: rotations are kept as the cosine and sine of
 //! their half-angle, the fractional turn is Kapoulkine's corrected nlerp (within about 10⁻³ of
 //! the angle: the joints above correct it, the eyes end exactly on target), and clamping to
-//! the limits is a few multiplications. The solver runs four characters at a time, one per
-//! SIMD lane ([`solve`] is the one-character entry; the crowd goes through
+//! the limits is a few multiplications. The solver runs a lane group of characters at a time,
+//! one per SIMD lane: 16 where the processor has AVX-512F, 8 with AVX, else 4 (the same bits
+//! at every width; [`solve`] is the one-character entry, at 4 lanes; the crowd goes through
 //! [`crate::ik::GazeMotion::update_batch`]).
 
 // The lockstep loops index several per-lane and per-joint arrays with one index.
@@ -65,16 +66,15 @@
 
 use std::cell::Cell;
 
-use glam::{Quat, Vec3, Vec3A};
+use glam::{Quat, Vec3, Vec3A, Vec4};
 
 use super::chain::{
     GazeChain, JointGroup, JointLimits, CLAMP_SLACK, MAX_BODY_JOINTS, MAX_CHAIN_JOINTS,
 };
-use super::lanes::{
-    atan2_upper, gather, mask, sin_cos_quarter, Floats, Mask, F4, LANES, M4, Q4, V3,
-};
+use super::lanes::{atan2_upper, gather, mask, sin_cos_quarter, Floats, Mask, MAX_LANES, Q4, V3};
 use super::CharacterTransform;
 use crate::error::{ensure_all_finite, ensure_finite, Error, Result};
+use crate::math::wide::Wide;
 
 /// Angles that decide which groups of joints a gaze rotation recruits (radians).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -248,8 +248,9 @@ pub fn solve(
     ensure_all_finite(&head_target.to_array(), "head_target")?;
     ensure_all_finite(&eye_target.to_array(), "eye_target")?;
     let prepared = Prepared::new(config);
-    let mut goals = [Q4::IDENTITY; MAX_BODY_JOINTS];
-    let mut lanes = [None; LANES];
+    // One character: the narrowest lanes do (every width gives the same bits).
+    let mut goals = [Q4::<Vec4>::identity(); MAX_BODY_JOINTS];
+    let mut lanes = [None; MAX_LANES];
     lanes[0] = Some(BodyLane {
         chain,
         character,
@@ -265,8 +266,8 @@ pub fn solve(
         *delta = goal.lane(0);
     }
     if chain.has_eyes() {
-        let chains = [chain; LANES];
-        let bases = [base; LANES];
+        let chains = [chain; MAX_LANES];
+        let bases = [base; MAX_LANES];
         let target = V3::splat(eye_target.into());
         let side_sign = Floats::splat(side.resolved());
         for eye in 0..2 {
@@ -333,8 +334,8 @@ pub(crate) struct Prepared {
 /// cos and sin of half of `angle ∈ [0, π]`.
 #[inline]
 fn half_angle(angle: f32) -> (f32, f32) {
-    let (sin, cos) = sin_cos_quarter(Floats::splat(0.5 * angle));
-    (cos[0], sin[0])
+    let (sin, cos) = sin_cos_quarter(Floats::<Vec4>::splat(0.5 * angle));
+    (cos.lane(0), sin.lane(0))
 }
 
 /// Constants of the zone behind the character.
@@ -470,9 +471,15 @@ fn update_side(
 /// Per lane, the direction to aim at for `to_target`, applying the behind-the-character
 /// rule with the (resolved) side `side_sign` (±1).
 #[inline(always)]
-fn behind_adjusted(to_target: V3, forward: V3, up: V3, side_sign: F4, prepared: &Prepared) -> V3 {
+fn behind_adjusted<W: Wide>(
+    to_target: V3<W>,
+    forward: V3<W>,
+    up: V3<W>,
+    side_sign: Floats<W>,
+    prepared: &Prepared,
+) -> V3<W> {
     let ahead = to_target.dot(forward);
-    let behind = ahead.cmplt(Floats::ZERO);
+    let behind = ahead.cmplt(Floats::zero());
     if !behind.any() {
         return to_target;
     }
@@ -482,7 +489,7 @@ fn behind_adjusted(to_target: V3, forward: V3, up: V3, side_sign: F4, prepared: 
     let back = -ahead;
     let in_zone = behind & across.abs().cmplt(zone.tan_hysteresis * back);
     let on_side =
-        (across * side_sign).cmpgt(Floats::ZERO) & across.abs().cmpge(zone.tan_clearance * back);
+        (across * side_sign).cmpgt(Floats::zero()) & across.abs().cmpge(zone.tan_clearance * back);
     let replace = in_zone & !on_side;
     if !replace.any() {
         return to_target;
@@ -499,36 +506,36 @@ fn behind_adjusted(to_target: V3, forward: V3, up: V3, side_sign: F4, prepared: 
 /// Per lane, a rotation of angle θ ∈ [0, π] about a unit axis, kept as the cosine and sine
 /// of θ/2, so that the solver never needs θ itself.
 #[derive(Debug, Clone, Copy)]
-struct Turn {
-    axis: V3,
-    cos: F4,
-    sin: F4,
+struct Turn<W> {
+    axis: V3<W>,
+    cos: Floats<W>,
+    sin: Floats<W>,
 }
 
-impl Turn {
+impl<W: Wide> Turn<W> {
     /// θ, radians.
     #[inline(always)]
-    fn angle(self) -> F4 {
+    fn angle(self) -> Floats<W> {
         2.0 * atan2_upper(self.sin, self.cos)
     }
 
     /// The rotation by θ − `reserve` (given by its half-angle's cosine and sine) about the
     /// same axis, and where that is more than nothing (θ > reserve).
     #[inline(always)]
-    fn less(self, reserve_cos: F4, reserve_sin: F4) -> (Turn, M4) {
+    fn less(self, reserve_cos: Floats<W>, reserve_sin: Floats<W>) -> (Turn<W>, Mask<W>) {
         let sin = self.sin * reserve_cos - self.cos * reserve_sin;
         let turn = Turn {
             axis: self.axis,
             cos: self.cos * reserve_cos + self.sin * reserve_sin,
             sin,
         };
-        (turn, sin.cmpgt(Floats::ZERO))
+        (turn, sin.cmpgt(Floats::zero()))
     }
 
     /// The rotation by `t`·θ, `t ∈ (0, 1]`: a normalised lerp from identity with
     /// Kapoulkine's parameter correction (within about 10⁻³ of `t`·θ; exact for `t = 1`).
     #[inline(always)]
-    fn fraction(self, t: F4) -> Turn {
+    fn fraction(self, t: Floats<W>) -> Turn<W> {
         let d = self.cos;
         let k_a = 1.0904 + d * (-3.2452 + d * (3.55645 - d * 1.43519));
         let k_b = 0.848_013 + d * (-1.06021 + d * 0.215_638);
@@ -538,7 +545,7 @@ impl Turn {
         let cos = 1.0 + u * (self.cos - 1.0);
         let sin = u * self.sin;
         let norm = (cos * cos + sin * sin).sqrt().recip();
-        let whole = t.cmpge(Floats::ONE);
+        let whole = t.cmpge(Floats::one());
         Turn {
             axis: self.axis,
             cos: Floats::select(whole, self.cos, cos * norm),
@@ -551,7 +558,12 @@ impl Turn {
 /// length), faded out near the eye. `fallback_axis` is used when the two are
 /// (anti)parallel. Square roots only, no trigonometry (except within the near distance).
 #[inline(always)]
-fn gaze_rotation(forward: V3, to_target: V3, fallback_axis: V3, prepared: &Prepared) -> Turn {
+fn gaze_rotation<W: Wide>(
+    forward: V3<W>,
+    to_target: V3<W>,
+    fallback_axis: V3<W>,
+    prepared: &Prepared,
+) -> Turn<W> {
     let cross = forward.cross(to_target);
     let ahead = forward.dot(to_target);
     let cross_squared = cross.length_squared();
@@ -571,8 +583,8 @@ fn gaze_rotation(forward: V3, to_target: V3, fallback_axis: V3, prepared: &Prepa
     };
     if !generic.all() {
         // Degenerate: straight ahead (or at the eye) is no turn, straight behind a half turn.
-        let ahead_positive = ahead.cmpgt(Floats::ZERO);
-        let degenerate_cos = Floats::select(ahead_positive | !valid, Floats::ONE, Floats::ZERO);
+        let ahead_positive = ahead.cmpgt(Floats::zero());
+        let degenerate_cos = Floats::select(ahead_positive | !valid, Floats::one(), Floats::zero());
         turn = Turn {
             axis: V3::select(generic, turn.axis, fallback_axis),
             cos: Floats::select(generic, turn.cos, degenerate_cos),
@@ -592,20 +604,20 @@ fn gaze_rotation(forward: V3, to_target: V3, fallback_axis: V3, prepared: &Prepa
 
 /// Per lane, a joint's limits.
 #[derive(Debug, Clone, Copy)]
-pub(crate) struct Limits {
-    axis: V3,
-    min_cos: F4,
-    min_sin: F4,
-    max_cos: F4,
-    max_sin: F4,
-    cone_cos: F4,
-    cone_sin: F4,
+pub(crate) struct Limits<W> {
+    axis: V3<W>,
+    min_cos: Floats<W>,
+    min_sin: Floats<W>,
+    max_cos: Floats<W>,
+    max_sin: Floats<W>,
+    cone_cos: Floats<W>,
+    cone_sin: Floats<W>,
 }
 
-impl Limits {
+impl<W: Wide> Limits<W> {
     /// The same limits in every lane.
     #[inline(always)]
-    pub(crate) fn splat(limits: &JointLimits) -> Limits {
+    pub(crate) fn splat(limits: &JointLimits) -> Limits<W> {
         let (cone, min, max) = limits.half_angles();
         Limits {
             axis: V3::splat(limits.twist_axis().into()),
@@ -621,10 +633,10 @@ impl Limits {
     /// Each lane's limits of joint `indices[lane]` (free past the lane's joints).
     #[inline(always)]
     pub(crate) fn of_joints(
-        chains: &[&GazeChain; LANES],
+        chains: &[&GazeChain; MAX_LANES],
         same_chain: bool,
-        indices: [usize; LANES],
-    ) -> Limits {
+        indices: [usize; MAX_LANES],
+    ) -> Limits<W> {
         let uniform = indices.iter().all(|index| *index == indices[0]);
         if same_chain && uniform {
             if let Some(joint) = chains[0].joints().get(indices[0]) {
@@ -638,24 +650,40 @@ impl Limits {
     }
 
     #[inline(always)]
-    pub(crate) fn gather(f: impl Fn(usize) -> JointLimits) -> Limits {
-        let lanes = [f(0), f(1), f(2), f(3)];
-        let halves = lanes.map(|limits| limits.half_angles());
+    pub(crate) fn gather(f: impl Fn(usize) -> JointLimits) -> Limits<W> {
+        // Rows: the twist axis's x, y, z, then the cosine and sine of the half angles of
+        // the twist minimum, the twist maximum and the cone.
+        let mut rows = [[0.0; MAX_LANES]; 9];
+        for i in 0..W::LANES {
+            let limits = f(i);
+            let axis = limits.twist_axis();
+            let (cone, min, max) = limits.half_angles();
+            let column = [
+                axis.x, axis.y, axis.z, min.0, min.1, max.0, max.1, cone.0, cone.1,
+            ];
+            for (row, value) in rows.iter_mut().zip(column) {
+                row[i] = value;
+            }
+        }
         Limits {
-            axis: V3::gather(|i| lanes[i].twist_axis().into()),
-            min_cos: gather(|i| halves[i].1 .0),
-            min_sin: gather(|i| halves[i].1 .1),
-            max_cos: gather(|i| halves[i].2 .0),
-            max_sin: gather(|i| halves[i].2 .1),
-            cone_cos: gather(|i| halves[i].0 .0),
-            cone_sin: gather(|i| halves[i].0 .1),
+            axis: V3 {
+                x: Floats::load(&rows[0]),
+                y: Floats::load(&rows[1]),
+                z: Floats::load(&rows[2]),
+            },
+            min_cos: Floats::load(&rows[3]),
+            min_sin: Floats::load(&rows[4]),
+            max_cos: Floats::load(&rows[5]),
+            max_sin: Floats::load(&rows[6]),
+            cone_cos: Floats::load(&rows[7]),
+            cone_sin: Floats::load(&rows[8]),
         }
     }
 
     /// Per lane, [`JointLimits::clamp`]: the rotation within the limits nearest to
     /// `rotation`, and where it is `rotation` itself, unchanged.
     #[inline(always)]
-    pub(crate) fn clamp(&self, rotation: Q4) -> (Q4, M4) {
+    pub(crate) fn clamp(&self, rotation: Q4<W>) -> (Q4<W>, Mask<W>) {
         let projection = rotation.vector().dot(self.axis);
         let w = rotation.w;
         // With a slack of CLAMP_SLACK, so that a rotation clamped before counts as inside.
@@ -671,8 +699,8 @@ impl Limits {
         let length = twist_length_squared.sqrt();
         let degenerate = length.cmplt(Floats::splat(1e-9));
         let inverse = length.recip();
-        let twist_cos = Floats::select(degenerate, Floats::ONE, w * inverse);
-        let twist_sin = Floats::select(degenerate, Floats::ZERO, projection * inverse);
+        let twist_cos = Floats::select(degenerate, Floats::one(), w * inverse);
+        let twist_sin = Floats::select(degenerate, Floats::zero(), projection * inverse);
         let twist = Q4::from_parts(self.axis.scale(twist_sin), twist_cos);
         let swing = rotation.mul(twist.conjugate());
         let to_min = twist_cos * self.min_cos + twist_sin * self.min_sin;
@@ -698,7 +726,7 @@ impl Limits {
             let clamped_swing = Q4::select(
                 swing_sin.cmpgt(Floats::splat(1e-9)),
                 Q4::from_parts(swing_vector.scale(self.cone_sin / swing_sin), self.cone_cos),
-                Q4::IDENTITY,
+                Q4::identity(),
             );
             Q4::select(swing_inside, swing, clamped_swing)
         };
@@ -712,7 +740,7 @@ impl Limits {
 /// rotation `turn`, within its limits: returns the local delta and the world rotation it
 /// makes.
 #[inline(always)]
-fn turn_joint(limits: &Limits, joint_rotation: Q4, turn: Turn) -> (Q4, Q4) {
+fn turn_joint<W: Wide>(limits: &Limits<W>, joint_rotation: Q4<W>, turn: Turn<W>) -> (Q4<W>, Q4<W>) {
     let local_axis = joint_rotation.conjugate().rotate(turn.axis);
     let wanted = Q4::from_parts(local_axis.scale(turn.sin), turn.cos);
     let (delta, unchanged) = limits.clamp(wanted);
@@ -737,18 +765,18 @@ pub(crate) struct BodyLane<'a> {
 
 /// Per lane, a world frame.
 #[derive(Debug, Clone, Copy)]
-pub(crate) struct Frames {
-    pub(crate) position: V3,
-    pub(crate) rotation: Q4,
+pub(crate) struct Frames<W> {
+    pub(crate) position: V3<W>,
+    pub(crate) rotation: Q4<W>,
 }
 
-impl Frames {
+impl<W: Wide> Frames<W> {
     /// Each lane's chain root.
     #[inline(always)]
     pub(crate) fn roots(
-        chains: &[&GazeChain; LANES],
-        characters: &[&CharacterTransform; LANES],
-    ) -> Frames {
+        chains: &[&GazeChain; MAX_LANES],
+        characters: &[&CharacterTransform; MAX_LANES],
+    ) -> Frames<W> {
         Frames {
             position: V3::gather(|i| root_frame(chains[i], characters[i]).position),
             rotation: Q4::gather(|i| characters[i].rotation),
@@ -757,7 +785,7 @@ impl Frames {
 
     /// Moves to the next joint down the chain: `offset` in the current frame, then `rotation`.
     #[inline(always)]
-    pub(crate) fn descend(&mut self, offset: V3, rotation: Q4) {
+    pub(crate) fn descend(&mut self, offset: V3<W>, rotation: Q4<W>) {
         self.position = self.position.add(self.rotation.rotate(offset));
         self.rotation = self.rotation.mul(rotation);
     }
@@ -765,7 +793,11 @@ impl Frames {
 
 /// Each lane's joint `index` offset (zero past the lane's body joints).
 #[inline(always)]
-pub(crate) fn offsets(chains: &[&GazeChain; LANES], same_chain: bool, index: usize) -> V3 {
+pub(crate) fn offsets<W: Wide>(
+    chains: &[&GazeChain; MAX_LANES],
+    same_chain: bool,
+    index: usize,
+) -> V3<W> {
     if same_chain {
         return V3::splat(chains[0].joints()[index].offset.into());
     }
@@ -777,51 +809,62 @@ pub(crate) fn offsets(chains: &[&GazeChain; LANES], same_chain: bool, index: usi
 
 /// True if every lane has the same chain.
 #[inline(always)]
-pub(crate) fn same_chain(chains: &[&GazeChain; LANES]) -> bool {
+pub(crate) fn same_chain(chains: &[&GazeChain; MAX_LANES]) -> bool {
     chains.iter().all(|chain| std::ptr::eq(*chain, chains[0]))
 }
 
-/// The spatial solve of the body joints (spine, cervicals, head) of up to four characters,
+/// Each lane's base rotation of joint `index` (identity past the lane's body joints, which
+/// number `body[lane]`); `shared` if every lane has the same base pose.
+#[inline(always)]
+fn base_rotations<W: Wide>(
+    lane: &[BodyLane<'_>; MAX_LANES],
+    body: &[usize; MAX_LANES],
+    shared: bool,
+    index: usize,
+) -> Q4<W> {
+    if shared {
+        return Q4::splat(lane[0].base[index]);
+    }
+    Q4::gather(|i| {
+        if index < body[i] {
+            lane[i].base[index]
+        } else {
+            Quat::IDENTITY
+        }
+    })
+}
+
+/// The spatial solve of the body joints (spine, cervicals, head) of up to `W::LANES`
+/// characters,
 /// one per lane, each towards its `head_target`: writes the deltas that are not identity
 /// into `goals[joint]` (per lane; they come in as identity), and returns each lane's
 /// solution and turn side, and the heads' final world frames. `None` lanes are skipped.
 /// Inputs are assumed checked.
-pub(crate) fn solve_bodies(
+#[inline(always)]
+pub(crate) fn solve_bodies<W: Wide>(
     prepared: &Prepared,
-    lanes: [Option<BodyLane<'_>>; LANES],
-    goals: &mut [Q4; MAX_BODY_JOINTS],
-) -> ([Option<(SpatialSolution, TurnSide)>; LANES], Frames) {
+    lanes: [Option<BodyLane<'_>>; MAX_LANES],
+    goals: &mut [Q4<W>; MAX_BODY_JOINTS],
+) -> ([Option<(SpatialSolution, TurnSide)>; MAX_LANES], Frames<W>) {
     let Some(filler) = lanes.iter().flatten().next().copied() else {
         return (
-            [None; LANES],
+            [None; MAX_LANES],
             Frames {
-                position: V3::ZERO,
-                rotation: Q4::IDENTITY,
+                position: V3::zero(),
+                rotation: Q4::identity(),
             },
         );
     };
-    let lane: [BodyLane<'_>; LANES] = std::array::from_fn(|i| lanes[i].unwrap_or(filler));
-    let chains: [&GazeChain; LANES] = lane.map(|l| l.chain);
-    let characters: [&CharacterTransform; LANES] = lane.map(|l| l.character);
+    let lane: [BodyLane<'_>; MAX_LANES] = std::array::from_fn(|i| lanes[i].unwrap_or(filler));
+    let chains: [&GazeChain; MAX_LANES] = lane.map(|l| l.chain);
+    let characters: [&CharacterTransform; MAX_LANES] = lane.map(|l| l.character);
     let same = same_chain(&chains);
-    let body: [usize; LANES] = chains.map(GazeChain::body_count);
+    let body: [usize; MAX_LANES] = chains.map(GazeChain::body_count);
     let joints = body.iter().copied().max().unwrap_or(0);
     let shared_base = same && lane.iter().all(|l| std::ptr::eq(l.base, lane[0].base));
     // Multiplying by an identity base rotation changes no bit: skipped when every lane shares
     // one base pose and this joint's is identity (a crowd at rest).
     let identity_base = |index: usize| shared_base && lane[0].base[index] == Quat::IDENTITY;
-    let base = |index: usize| {
-        if shared_base {
-            return Q4::splat(lane[0].base[index]);
-        }
-        Q4::gather(|i| {
-            if index < body[i] {
-                lane[i].base[index]
-            } else {
-                Quat::IDENTITY
-            }
-        })
-    };
     // The global eye in the base posture.
     let roots = Frames::roots(&chains, &characters);
     let spine_count = chains[0].spine_count();
@@ -835,7 +878,10 @@ pub(crate) fn solve_bodies(
                 .position
                 .add(frame.rotation.rotate(offsets(&chains, same, index)));
         } else {
-            frame.descend(offsets(&chains, same, index), base(index));
+            frame.descend(
+                offsets(&chains, same, index),
+                base_rotations(&lane, &body, shared_base, index),
+            );
         }
         if index + 1 == spine_count {
             above_spine = frame;
@@ -856,8 +902,8 @@ pub(crate) fn solve_bodies(
     let target = V3::gather(|i| lane[i].head_target.into());
     let to_target = target.sub(eye);
     let mut sides = lane.map(|l| l.side);
-    let mut switched = [false; LANES];
-    for i in 0..LANES {
+    let mut switched = [false; MAX_LANES];
+    for i in 0..W::LANES {
         if lanes[i].is_some() {
             switched[i] = update_side(
                 to_target.lane(i),
@@ -877,8 +923,8 @@ pub(crate) fn solve_bodies(
     let (spine_reserve_cos, spine_reserve_sin) = prepared.eyes_head_and_neck_half;
     let head_recruited = !has_eyes | first.cos.cmplt(Floats::splat(eyes_only_cos));
     let spine_recruited = first.cos.cmplt(Floats::splat(spine_reserve_cos));
-    let head_reserve_cos = Floats::select(has_eyes, Floats::splat(eyes_only_cos), Floats::ONE);
-    let head_reserve_sin = Floats::select(has_eyes, Floats::splat(eyes_only_sin), Floats::ZERO);
+    let head_reserve_cos = Floats::select(has_eyes, Floats::splat(eyes_only_cos), Floats::one());
+    let head_reserve_sin = Floats::select(has_eyes, Floats::splat(eyes_only_sin), Floats::zero());
 
     // Joints below the first that may move keep their base frames: start above them.
     let (first_joint, mut frame) = if !(head_recruited | spine_recruited).any() {
@@ -895,7 +941,9 @@ pub(crate) fn solve_bodies(
         let joint_rotation = if identity_base(index) {
             frame.rotation
         } else {
-            frame.rotation.mul(base(index))
+            frame
+                .rotation
+                .mul(base_rotations(&lane, &body, shared_base, index))
         };
         let in_chain = if same {
             Mask::splat(true)
@@ -908,7 +956,7 @@ pub(crate) fn solve_bodies(
             mask(|i| index < chains[i].spine_count())
         };
         let recruited = in_chain & ((is_spine & spine_recruited) | (!is_spine & head_recruited));
-        let mut delta = Q4::IDENTITY;
+        let mut delta = Q4::identity();
         if recruited.any() {
             let remaining = if index == 0 {
                 first
@@ -935,9 +983,9 @@ pub(crate) fn solve_bodies(
                 } else {
                     2.0 / (gather(|i| above_in_group(chains[i])) + 2.0)
                 };
-                let limits = Limits::of_joints(&chains, same, [index; LANES]);
+                let limits = Limits::of_joints(&chains, same, [index; MAX_LANES]);
                 let (turned, turn) = turn_joint(&limits, joint_rotation, budget.fraction(share));
-                delta = Q4::select(moves, turned, Q4::IDENTITY);
+                delta = Q4::select(moves, turned, Q4::identity());
                 // The joint turns the global eye rigidly about itself.
                 let moved_eye = frame.position.add(turn.rotate(eye.sub(frame.position)));
                 eye = V3::select(moves, moved_eye, eye);
@@ -951,10 +999,10 @@ pub(crate) fn solve_bodies(
     }
     let angles = first.angle();
     let solutions = std::array::from_fn(|i| {
-        lanes[i].map(|_| {
+        lanes[i].filter(|_| i < W::LANES).map(|_| {
             (
                 SpatialSolution {
-                    gaze_angle: angles[i],
+                    gaze_angle: angles.lane(i),
                     side_switched: switched[i],
                 },
                 sides[i],
@@ -967,26 +1015,26 @@ pub(crate) fn solve_bodies(
 /// Per lane, one eye's frame before its delta: position, rotation, and the eye's forward and
 /// up axes in its own frame. Lanes without eyes get the head's global eye.
 #[derive(Debug, Clone, Copy)]
-pub(crate) struct EyeFrames {
-    pub(crate) position: V3,
-    pub(crate) rotation: Q4,
-    pub(crate) local_forward: V3,
-    local_up: V3,
+pub(crate) struct EyeFrames<W: Wide> {
+    pub(crate) position: V3<W>,
+    pub(crate) rotation: Q4<W>,
+    pub(crate) local_forward: V3<W>,
+    local_up: V3<W>,
     /// Lanes whose chain has eyes.
-    pub(crate) has_eyes: M4,
+    pub(crate) has_eyes: Mask<W>,
     /// Each lane's joint index of this eye (0 without eyes).
-    pub(crate) index: [usize; LANES],
+    pub(crate) index: [usize; MAX_LANES],
 }
 
-impl EyeFrames {
+impl<W: Wide> EyeFrames<W> {
     /// Eye `eye` (0 left, 1 right) of each lane, below the heads' final frames.
     #[inline(always)]
     pub(crate) fn new(
-        chains: &[&GazeChain; LANES],
-        bases: &[&[Quat]; LANES],
-        heads: &Frames,
+        chains: &[&GazeChain; MAX_LANES],
+        bases: &[&[Quat]; MAX_LANES],
+        heads: &Frames<W>,
         eye: usize,
-    ) -> EyeFrames {
+    ) -> EyeFrames<W> {
         let index = chains.map(|chain| chain.eye_indices().map_or(0, |eyes| eyes[eye]));
         let has_eyes = mask(|i| chains[i].has_eyes());
         // The eye's offset and its forward and up axes in its own frame.
@@ -1011,7 +1059,7 @@ impl EyeFrames {
             let (offset, forward, up) = eye_data(chains[0], index[0]);
             (V3::splat(offset), V3::splat(forward), V3::splat(up))
         } else {
-            let data: [(Vec3A, Vec3A, Vec3A); LANES] =
+            let data: [(Vec3A, Vec3A, Vec3A); MAX_LANES] =
                 std::array::from_fn(|i| eye_data(chains[i], index[i]));
             (
                 V3::gather(|i| data[i].0),
@@ -1049,11 +1097,11 @@ impl EyeFrames {
     #[inline(always)]
     pub(crate) fn goal(
         &self,
-        chains: &[&GazeChain; LANES],
+        chains: &[&GazeChain; MAX_LANES],
         prepared: &Prepared,
-        target: V3,
-        side_sign: F4,
-    ) -> Q4 {
+        target: V3<W>,
+        side_sign: Floats<W>,
+    ) -> Q4<W> {
         let forward = self.rotation.rotate(self.local_forward);
         let up = self.rotation.rotate(self.local_up);
         let aimed = behind_adjusted(target.sub(self.position), forward, up, side_sign, prepared);
@@ -1061,15 +1109,15 @@ impl EyeFrames {
         let limits = Limits::of_joints(chains, same_chain(chains), self.index);
         let (delta, _) = turn_joint(&limits, self.rotation, turn);
         Q4::select(
-            self.has_eyes & turn.sin.cmpgt(Floats::ZERO),
+            self.has_eyes & turn.sin.cmpgt(Floats::zero()),
             delta,
-            Q4::IDENTITY,
+            Q4::identity(),
         )
     }
 
     /// Per lane, the unit gaze direction for the eye's delta `delta`.
     #[inline(always)]
-    pub(crate) fn direction(&self, delta: Q4) -> V3 {
+    pub(crate) fn direction(&self, delta: Q4<W>) -> V3<W> {
         let direction = self.rotation.mul(delta).rotate(self.local_forward);
         direction.scale(direction.length_squared().sqrt().recip())
     }

@@ -38,19 +38,22 @@
 //! the spatial solution, such as an eye target crossing straight behind the head), then
 //! clamped to its limits, so both hold on every frame.
 //!
-//! **Batches.** [`GazeMotion::update_batch`] updates up to [`BATCH_LANES`] characters in one
-//! call, one per SIMD lane; [`GazeMotion::update`] is a batch of one (and costs about as much
-//! as a full batch). A character's results are exactly the same whatever batch it is in
-//! and wherever, so a crowd stays deterministic however its characters are split between
-//! threads.
+//! **Batches.** [`GazeMotion::update_batch`] updates up to [`BATCH_LANES`] (16) characters in
+//! one call, in lane groups of as many as the processor's SIMD registers hold (16 with
+//! AVX-512F, 8 with AVX, else 4; chosen at run time), one character per lane; batches of up
+//! to four, such as [`GazeMotion::update`] (a batch of one, which costs about as much as four),
+//! run at four lanes. Every width computes the same IEEE operations in each lane, so a
+//! character's results are exactly the same whatever batch it is in, wherever, and whatever
+//! the width: a crowd stays deterministic however its characters are split between threads
+//! and whichever processor runs it.
 
 // The lockstep loops index several per-lane and per-joint arrays with one index.
 #![allow(clippy::needless_range_loop)]
 
-use glam::{Quat, Vec3, Vec3A};
+use glam::{Quat, Vec3, Vec3A, Vec4};
 
 use super::chain::{GazeChain, JointGroup, MAX_BODY_JOINTS, MAX_CHAIN_JOINTS};
-use super::lanes::{gather, interpolate_or, mask, Floats, Mask, F4, LANES, M4, Q4, V3};
+use super::lanes::{gather, interpolate_or, mask, Floats, Mask, MAX_LANES, Q4, V3};
 use super::rotation::{angle_between, step_toward};
 use super::spatial::{
     self, BodyLane, EyeFrames, Frames, Limits, Prepared, SpatialConfig, TurnSide,
@@ -60,9 +63,11 @@ use crate::error::{ensure_all_finite, ensure_finite, Error, Result};
 use crate::math::ease::{head_progress, saccade_progress, Ease};
 use crate::math::packed::PackedQuat;
 use crate::math::random::Random;
+use crate::math::wide::{run_widest, LaneJob, Wide};
 
-/// How many characters [`GazeMotion::update_batch`] best takes at once.
-pub const BATCH_LANES: usize = LANES;
+/// How many characters [`GazeMotion::update_batch`] takes at most, and best takes at once: the
+/// widest lane group (16, AVX-512F); narrower processors run a batch in several groups.
+pub const BATCH_LANES: usize = MAX_LANES;
 
 /// Timing of gaze motions. Seconds, radians, metres.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -453,7 +458,9 @@ impl GazeMotion {
 
     /// [`GazeMotion::update`] for `N` characters at once, `1 ≤ N ≤ BATCH_LANES` (each with its
     /// own chain, input and random stream): the same results as `N` separate calls, computed
-    /// together, one character per SIMD lane — four characters cost about as much as one.
+    /// together, one character per SIMD lane, in lane groups of the processor's width (16
+    /// with AVX-512F, 8 with AVX, else 4; 4 for `N ≤ 4`) — a lane group costs about as much
+    /// as one character.
     /// Each character's result is independent: one failing leaves only its motion unchanged.
     ///
     /// A crowd updates its characters in chunks of [`BATCH_LANES`] (and the last few with a
@@ -467,7 +474,7 @@ impl GazeMotion {
     ) -> [Result<()>; N] {
         const {
             assert!(
-                N >= 1 && N <= LANES,
+                N >= 1 && N <= BATCH_LANES,
                 "1 to BATCH_LANES characters per batch"
             )
         };
@@ -477,24 +484,67 @@ impl GazeMotion {
         let results: [Result<()>; N] =
             std::array::from_fn(|lane| motions[lane].check(chains[lane], inputs[lane]));
         let ok: [bool; N] = std::array::from_fn(|lane| results[lane].is_ok());
-        let Some(filler) = (0..N).find(|lane| ok[*lane]) else {
+        if !ok.contains(&true) {
             return results;
-        };
+        }
         let prepared = Prepared::new(&config.spatial);
+        let (mut motions, mut randoms) = (motions, randoms);
+        let groups = UpdateGroups {
+            motions: &mut motions,
+            chains: &chains,
+            config,
+            inputs: &inputs,
+            randoms: &mut randoms,
+            ok: &ok,
+            prepared: &prepared,
+        };
+        if N <= 4 {
+            // A few characters: four lanes fill them at less cost than wider ones (the same
+            // bits at every width).
+            groups.run::<Vec4>();
+        } else {
+            run_widest(groups);
+        }
+        results
+    }
+
+    /// [`GazeMotion::update_batch`] for one lane group of at most `W::LANES` characters
+    /// (`motions.len()`, and as many chains, inputs, random streams and `ok` flags), whose
+    /// checks are done: `ok[i]` says whether character `i` passed them.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn update_lanes<W: Wide>(
+        motions: &mut [&mut GazeMotion],
+        chains: &[&GazeChain],
+        config: &GazeConfig,
+        inputs: &[&GazeInput<'_>],
+        randoms: &mut [&mut Random],
+        ok: &[bool],
+        prepared: &Prepared,
+    ) {
+        let Some(filler) = (0..motions.len()).find(|lane| ok[*lane]) else {
+            return;
+        };
         let timing = &config.timing;
+        let n = motions.len();
         // Every SIMD lane gets a character: lanes past N or failing their checks compute a
         // copy of the first good one, and their results are dropped.
-        let used = |lane: usize| lane < N && ok[lane];
+        let used = |lane: usize| lane < n && ok[lane];
         let pick = |lane: usize| if used(lane) { lane } else { filler };
-        let lane_chains: [&GazeChain; LANES] = std::array::from_fn(|lane| chains[pick(lane)]);
-        let lane_inputs: [&GazeInput<'_>; LANES] = std::array::from_fn(|lane| inputs[pick(lane)]);
-        let lane_bases: [&[Quat]; LANES] = lane_inputs.map(|input| input.base);
-        let characters: [&CharacterTransform; LANES] = lane_inputs.map(|input| &input.character);
+        let lane_chains: [&GazeChain; MAX_LANES] = std::array::from_fn(|lane| chains[pick(lane)]);
+        let lane_inputs: [&GazeInput<'_>; MAX_LANES] =
+            std::array::from_fn(|lane| inputs[pick(lane)]);
+        let lane_bases: [&[Quat]; MAX_LANES] = lane_inputs.map(|input| input.base);
+        let characters: [&CharacterTransform; MAX_LANES] =
+            lane_inputs.map(|input| &input.character);
 
         // 1. Lanes with a target: is it a new one? Then the spatial solve of the bodies.
-        let mut new_target = [false; N];
-        let mut sides: [TurnSide; N] = std::array::from_fn(|lane| motions[lane].side);
-        for lane in 0..N {
+        let mut new_target = [false; MAX_LANES];
+        let mut sides = [TurnSide::UNDECIDED; MAX_LANES];
+        for lane in 0..n {
+            sides[lane] = motions[lane].side;
+        }
+        for lane in 0..n {
             if let (true, Some(request)) = (ok[lane], &inputs[lane].request) {
                 let motion = &*motions[lane];
                 let active = matches!(motion.phase, GazePhase::Shifting | GazePhase::Holding);
@@ -510,9 +560,9 @@ impl GazeMotion {
                 }
             }
         }
-        let mut goals = [Q4::IDENTITY; MAX_BODY_JOINTS];
+        let mut goals = [Q4::<W>::identity(); MAX_BODY_JOINTS];
         let (solved, solved_heads) = spatial::solve_bodies(
-            &prepared,
+            prepared,
             std::array::from_fn(|lane| {
                 if !used(lane) {
                     return None;
@@ -529,11 +579,11 @@ impl GazeMotion {
         );
 
         // 2. Each character's phase, timing and eased fractions.
-        let mut fractions = [[0.0f32; 3]; LANES];
-        let mut max_steps = [[0.0f32; 3]; LANES];
-        let mut moving = [false; LANES];
-        let mut returning = [false; LANES];
-        for lane in 0..N {
+        let mut fractions = [[0.0f32; 3]; MAX_LANES];
+        let mut max_steps = [[0.0f32; 3]; MAX_LANES];
+        let mut moving = [false; MAX_LANES];
+        let mut returning = [false; MAX_LANES];
+        for lane in 0..n {
             if !ok[lane] {
                 continue;
             }
@@ -592,7 +642,7 @@ impl GazeMotion {
 
         // 3. Body joints.
         let same = spatial::same_chain(&lane_chains);
-        let body: [usize; LANES] = lane_chains.map(GazeChain::body_count);
+        let body: [usize; MAX_LANES] = lane_chains.map(GazeChain::body_count);
         let joints = body.iter().copied().max().unwrap_or(0);
         let mut at_rest = Mask::splat(true);
         // Lanes whose every body joint ends exactly on the spatial solution.
@@ -610,7 +660,7 @@ impl GazeMotion {
                     Quat::IDENTITY
                 }
             });
-            let groups: [usize; LANES] = std::array::from_fn(|lane| {
+            let groups: [usize; MAX_LANES] = std::array::from_fn(|lane| {
                 if index < body[lane] {
                     spatial::group_of(lane_chains[lane], index).index()
                 } else {
@@ -618,19 +668,19 @@ impl GazeMotion {
                 }
             });
             let start = || {
-                Q4::unpack(std::array::from_fn(|lane| {
+                Q4::unpack(|lane| {
                     if used(lane) && index < body[lane] {
                         motions[lane].start[index]
                     } else {
                         PackedQuat::IDENTITY
                     }
-                }))
+                })
             };
-            let goal = Q4::select(moving_mask, goals[index], Q4::IDENTITY);
+            let goal = Q4::select(moving_mask, goals[index], Q4::identity());
             let (settled, rest) = settle(
                 &lane_chains,
                 same,
-                [index; LANES],
+                [index; MAX_LANES],
                 start,
                 current,
                 goal,
@@ -639,7 +689,7 @@ impl GazeMotion {
             );
             at_rest &= !blend | rest;
             on_goal &= !in_chain | settled.equals(goal);
-            for lane in 0..N {
+            for lane in 0..n {
                 if blend.test(lane) {
                     motions[lane].deltas[index] = settled.lane(lane);
                 }
@@ -647,7 +697,7 @@ impl GazeMotion {
         }
         // The heads' frames: the spatial solve's when every character is on its solution
         // (following its target), else the forward kinematics of the new pose.
-        let all_on_goal = (0..LANES).all(|lane| !used(lane) || on_goal.test(lane));
+        let all_on_goal = (0..W::LANES).all(|lane| !used(lane) || on_goal.test(lane));
         let heads = if all_on_goal {
             solved_heads
         } else {
@@ -693,8 +743,8 @@ impl GazeMotion {
                 1.0
             }
         });
-        let mut origins = [V3::ZERO; 2];
-        let mut directions = [V3::ZERO; 2];
+        let mut origins = [V3::zero(); 2];
+        let mut directions = [V3::zero(); 2];
         for eye in 0..2 {
             let frames = EyeFrames::new(&lane_chains, &lane_bases, &heads, eye);
             let mut delta = Q4::gather(|lane| {
@@ -706,16 +756,16 @@ impl GazeMotion {
             });
             let blend = blending & frames.has_eyes;
             if blend.any() {
-                let goal = frames.goal(&lane_chains, &prepared, eye_target, side_sign);
-                let goal = Q4::select(mask(|lane| moving[lane]), goal, Q4::IDENTITY);
+                let goal = frames.goal(&lane_chains, prepared, eye_target, side_sign);
+                let goal = Q4::select(mask(|lane| moving[lane]), goal, Q4::identity());
                 let start = || {
-                    Q4::unpack(std::array::from_fn(|lane| {
+                    Q4::unpack(|lane| {
                         if used(lane) && lane_chains[lane].has_eyes() {
                             motions[lane].start[frames.index[lane]]
                         } else {
                             PackedQuat::IDENTITY
                         }
-                    }))
+                    })
                 };
                 let (settled, rest) = settle(
                     &lane_chains,
@@ -729,7 +779,7 @@ impl GazeMotion {
                 );
                 delta = Q4::select(blend, settled, delta);
                 at_rest &= !blend | rest;
-                for lane in 0..N {
+                for lane in 0..n {
                     if blend.test(lane) {
                         motions[lane].deltas[frames.index[lane]] = delta.lane(lane);
                     }
@@ -750,7 +800,7 @@ impl GazeMotion {
         }
 
         // 5. Phase changes, and the rays for debug drawing.
-        for lane in 0..N {
+        for lane in 0..n {
             if !ok[lane] {
                 continue;
             }
@@ -776,7 +826,6 @@ impl GazeMotion {
                 motion.eye_directions[eye] = directions[eye].lane(lane).into();
             }
         }
-        results
     }
 
     /// The current deltas become the start of a new shift or return.
@@ -835,19 +884,19 @@ impl GazeMotion {
 /// joint where it is. So a shift starts exactly from where the joints are.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn settle(
-    chains: &[&GazeChain; LANES],
+fn settle<W: Wide>(
+    chains: &[&GazeChain; MAX_LANES],
     same_chain: bool,
-    indices: [usize; LANES],
-    start: impl Fn() -> Q4,
-    current: Q4,
-    goal: Q4,
-    fraction: F4,
-    max_step: F4,
-) -> (Q4, M4) {
+    indices: [usize; MAX_LANES],
+    start: impl Fn() -> Q4<W>,
+    current: Q4<W>,
+    goal: Q4<W>,
+    fraction: Floats<W>,
+    max_step: Floats<W>,
+) -> (Q4<W>, Mask<W>) {
     // Once a group has arrived (f_P = 1), its joints follow the goal, which the spatial
     // solve already clamped: no interpolation, no clamping, unless the speed limit binds.
-    let arrived = fraction.cmpge(Floats::ONE).all();
+    let arrived = fraction.cmpge(Floats::one()).all();
     let wanted = if arrived {
         goal
     } else {
@@ -857,15 +906,16 @@ fn settle(
     // Within the speed limit iff 1 − |current·wanted| ≤ 1 − cos(max/2), which is at least
     // h²/2 − h⁴/24 for h = max/2: a test without trigonometry; the rare lanes over the limit
     // are stepped one by one.
-    let dot = current.dot(wanted).abs().min(Floats::ONE);
+    let dot = current.dot(wanted).abs().min(Floats::one());
     let half = 0.5 * max_step;
     let half_squared = half * half;
     let fast = (1.0 - dot).cmple(half_squared * (0.5 - half_squared / 24.0));
     let stepped = if fast.all() {
         wanted
     } else {
-        let slow =
-            Q4::gather(|lane| step_toward(current.lane(lane), wanted.lane(lane), max_step[lane]));
+        let slow = Q4::gather(|lane| {
+            step_toward(current.lane(lane), wanted.lane(lane), max_step.lane(lane))
+        });
         Q4::select(fast, wanted, slow)
     };
     if arrived && fast.all() {
@@ -898,6 +948,41 @@ fn head_turn(base: &[Quat], from: &[Quat], to: impl Iterator<Item = Quat>) -> f3
     angle_between(head_from, head_to)
 }
 
+/// [`GazeMotion::update_batch`]'s characters, checked, updated in lane groups of the width
+/// [`run_widest`] picks.
+struct UpdateGroups<'a, 'm, 'r, 'c, 'i, 'b> {
+    motions: &'a mut [&'m mut GazeMotion],
+    chains: &'a [&'c GazeChain],
+    config: &'a GazeConfig,
+    inputs: &'a [&'i GazeInput<'b>],
+    randoms: &'a mut [&'r mut Random],
+    /// Which characters passed their checks.
+    ok: &'a [bool],
+    prepared: &'a Prepared,
+}
+
+impl LaneJob for UpdateGroups<'_, '_, '_, '_, '_, '_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run<W: Wide>(self) {
+        let count = self.motions.len();
+        let mut first = 0;
+        while first < count {
+            let end = count.min(first + W::LANES);
+            GazeMotion::update_lanes::<W>(
+                &mut self.motions[first..end],
+                &self.chains[first..end],
+                self.config,
+                &self.inputs[first..end],
+                &mut self.randoms[first..end],
+                &self.ok[first..end],
+                self.prepared,
+            );
+            first = end;
+        }
+    }
+}
 #[cfg(test)]
 mod tests {
     use super::*;
