@@ -986,6 +986,164 @@ impl LaneJob for UpdateGroups<'_, '_, '_, '_, '_, '_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::ik::chain::{ChainJoint, JointLimits, JointRole};
+    use crate::math::random::{stream, Purpose};
+    use crate::math::wide::for_every_width;
+
+    /// One character's state after a frame, floats as their bits.
+    type State = (
+        Vec<[u32; 4]>,
+        [[u32; 3]; 2],
+        [[u32; 3]; 2],
+        GazePhase,
+        TurnSide,
+    );
+
+    /// A vector's bits.
+    fn bits(v: Vec3) -> [u32; 3] {
+        v.to_array().map(f32::to_bits)
+    }
+
+    /// A short chain without eyes (spine, neck, head), so that lane groups mix chains.
+    fn eyeless_chain() -> GazeChain {
+        let limits = |yaw: f32, swing: f32| {
+            JointLimits::new(
+                Vec3::Y,
+                swing.to_radians(),
+                -yaw.to_radians(),
+                yaw.to_radians(),
+            )
+        };
+        let joints = [
+            (
+                JointRole::Spine,
+                Vec3::new(0.0, 0.1, 0.0),
+                limits(10.0, 8.0),
+            ),
+            (
+                JointRole::Spine,
+                Vec3::new(0.0, 0.2, 0.0),
+                limits(10.0, 8.0),
+            ),
+            (
+                JointRole::Cervical,
+                Vec3::new(0.0, 0.25, 0.02),
+                limits(35.0, 30.0),
+            ),
+            (
+                JointRole::Head,
+                Vec3::new(0.0, 0.1, 0.0),
+                limits(40.0, 30.0),
+            ),
+        ]
+        .map(|(role, offset, limits)| ChainJoint::new(role, offset, Quat::IDENTITY, limits));
+        GazeChain::new(&joints, Vec3::Z, Vec3::Y, Vec3::new(0.0, 1.0, 0.0)).expect("valid chain")
+    }
+
+    /// 16 characters (three kinds of chain and base pose, each placed and turned its own way,
+    /// with targets that jump, go behind and drop out) run for `frames` frames in lane groups
+    /// of `W`: every character's state after every frame.
+    fn run_at<W: Wide>(frames: usize) -> Vec<Vec<State>> {
+        let human = GazeChain::human(Vec3::Y, Vec3::Z);
+        let eyeless = eyeless_chain();
+        let rest: Vec<Quat> = human.joints().iter().map(|joint| joint.rest).collect();
+        let animated: Vec<Quat> = (0..10)
+            .map(|i| {
+                Quat::from_rotation_x(0.02 * i as f32) * Quat::from_rotation_y(-0.03 * i as f32)
+            })
+            .collect();
+        let eyeless_rest = vec![Quat::IDENTITY; eyeless.joint_count()];
+        let config = GazeConfig::default();
+        let count = 16;
+        let chains: Vec<&GazeChain> = (0..count)
+            .map(|i| if i % 5 == 3 { &eyeless } else { &human })
+            .collect();
+        let mut motions: Vec<GazeMotion> = chains.iter().map(|c| GazeMotion::new(c)).collect();
+        let mut randoms: Vec<Random> = (0..count)
+            .map(|i| stream(5, Purpose::GazeTiming, i as u64))
+            .collect();
+        let prepared = Prepared::new(&config.spatial);
+        let mut history = Vec::new();
+        for frame in 0..frames {
+            let inputs: Vec<GazeInput<'_>> = (0..count)
+                .map(|i| {
+                    let base = match (i % 5, i % 2) {
+                        (3, _) => &eyeless_rest,
+                        (_, 0) => &rest,
+                        _ => &animated,
+                    };
+                    let phase = (frame + 23 * i) % 90;
+                    let yaw = ((i * 47 + frame / 30 * 61) % 340) as f32 - 170.0;
+                    let position = Vec3::new(i as f32, 0.0, (i % 3) as f32);
+                    let target = position
+                        + Vec3::new(yaw.to_radians().sin(), 1.6, yaw.to_radians().cos()) * 2.0
+                        + Vec3::X * (frame as f32 * 0.02);
+                    GazeInput {
+                        character: CharacterTransform::from_heading(
+                            position,
+                            Vec3::Y,
+                            i as f32 * 0.7,
+                        ),
+                        base,
+                        request: (phase < 70)
+                            .then(|| GazeRequest::at((frame / 30 + i) as u64, target)),
+                        dt: 1.0 / 30.0,
+                    }
+                })
+                .collect();
+            let input_refs: Vec<&GazeInput<'_>> = inputs.iter().collect();
+            let mut motion_refs: Vec<&mut GazeMotion> = motions.iter_mut().collect();
+            let mut random_refs: Vec<&mut Random> = randoms.iter_mut().collect();
+            UpdateGroups {
+                motions: &mut motion_refs,
+                chains: &chains,
+                config: &config,
+                inputs: &input_refs,
+                randoms: &mut random_refs,
+                ok: &[true; 16],
+                prepared: &prepared,
+            }
+            .run::<W>();
+            history.push(
+                motions
+                    .iter()
+                    .map(|m| {
+                        (
+                            m.deltas()
+                                .iter()
+                                .map(|q| q.to_array().map(f32::to_bits))
+                                .collect(),
+                            m.eye_origins().map(bits),
+                            m.eye_directions().map(bits),
+                            m.phase(),
+                            m.turn_side(),
+                        )
+                    })
+                    .collect(),
+            );
+        }
+        history
+    }
+
+    /// The batched gaze IK does not depend on the width it runs at: the same bits for every
+    /// character at 4, 8 and 16 lanes.
+    #[test]
+    fn update_batch_gives_the_same_bits_at_every_width() {
+        let frames = 200;
+        let four = run_at::<Vec4>(frames);
+        let phases: std::collections::HashSet<String> = four
+            .iter()
+            .flat_map(|frame| frame.iter().map(|state| format!("{:?}", state.3)))
+            .collect();
+        assert_eq!(phases.len(), 4, "every phase is exercised: {phases:?}");
+        fn same_as_four<W: Wide>(four: &[Vec<State>], frames: usize) {
+            let wide = run_at::<W>(frames);
+            for (frame, (wide, four)) in wide.iter().zip(four).enumerate() {
+                assert_eq!(wide, four, "frame {frame} at {} lanes", W::LANES);
+            }
+        }
+        for_every_width!(same_as_four(&four, frames));
+    }
 
     #[test]
     fn motion_state_is_small() {
