@@ -637,6 +637,28 @@ impl Shared {
     }
 }
 
+/// [`GazeMotion::update_batch`] for the first `N` characters of `chains` and `inputs`, whose
+/// motions and random streams are `motions` and `randoms` (`N` each). Results are dropped:
+/// the inputs were checked when they came in, and a failure leaves only that character's
+/// motion unchanged.
+fn update_batch<const N: usize>(
+    motions: &mut [GazeMotion],
+    randoms: &mut [Random],
+    chains: &[&GazeChain; BATCH_LANES],
+    config: &GazeConfig,
+    inputs: &[GazeInput<'_>; BATCH_LANES],
+) {
+    let motions = <&mut [GazeMotion; N]>::try_from(motions).expect("N motions");
+    let randoms = <&mut [Random; N]>::try_from(randoms).expect("N random streams");
+    let _ = GazeMotion::update_batch(
+        motions.each_mut(),
+        std::array::from_fn(|lane| chains[lane]),
+        config,
+        std::array::from_fn(|lane| &inputs[lane]),
+        randoms.each_mut(),
+    );
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -667,26 +689,4 @@ mod tests {
         assert_eq!(ClaimSet::mask(0, 60, 70), 0xF << 60);
         assert_eq!(ClaimSet::mask(2, 0, 64), 0);
     }
-}
-
-/// [`GazeMotion::update_batch`] for the first `N` characters of `chains` and `inputs`, whose
-/// motions and random streams are `motions` and `randoms` (`N` each). Results are dropped:
-/// the inputs were checked when they came in, and a failure leaves only that character's
-/// motion unchanged.
-fn update_batch<const N: usize>(
-    motions: &mut [GazeMotion],
-    randoms: &mut [Random],
-    chains: &[&GazeChain; BATCH_LANES],
-    config: &GazeConfig,
-    inputs: &[GazeInput<'_>; BATCH_LANES],
-) {
-    let motions = <&mut [GazeMotion; N]>::try_from(motions).expect("N motions");
-    let randoms = <&mut [Random; N]>::try_from(randoms).expect("N random streams");
-    let _ = GazeMotion::update_batch(
-        motions.each_mut(),
-        std::array::from_fn(|lane| chains[lane]),
-        config,
-        std::array::from_fn(|lane| &inputs[lane]),
-        randoms.each_mut(),
-    );
 }

@@ -13,6 +13,9 @@
 //! Everything here is `#[inline(always)]`: it must be compiled inside the
 //! instruction-set-specific functions that run it.
 
+// The gathers fill several per-lane rows with one lane index.
+#![allow(clippy::needless_range_loop)]
+
 use std::ops::{Add, BitAnd, BitAndAssign, BitOr, Div, Mul, Neg, Not, Sub};
 
 use glam::{Quat, Vec3A};
