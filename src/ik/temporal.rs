@@ -498,7 +498,10 @@ impl GazeMotion {
             ok: &ok,
             prepared: &prepared,
         };
-        if N <= 4 {
+        if N == 1 {
+            // One character: the one-lane (scalar) form of the same code.
+            groups.run::<f32>();
+        } else if N <= 4 {
             // A few characters: four lanes fill them at less cost than wider ones (the same
             // bits at every width).
             groups.run::<Vec4>();

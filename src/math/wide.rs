@@ -27,6 +27,7 @@ pub(crate) trait Wide:
 {
     /// One boolean per lane.
     type Mask: Copy
+        + std::fmt::Debug
         + BitAnd<Output = Self::Mask>
         + BitOr<Output = Self::Mask>
         + BitOrAssign
