@@ -573,26 +573,6 @@ mod tests {
         crate::math::wide::for_every_width!(grid_equals_all_pairs());
     }
 
-    /// The grid search for `character` at the widest width, skipping nothing.
-    fn grid_search_widest(
-        scene: &Scene,
-        index: &NeighbourIndex,
-        scorer: &Scorer,
-        character: usize,
-        weights: &SubscoreWeights,
-    ) -> (Candidate, Candidate) {
-        let mut batch = CandidateBatch::default();
-        nearby_candidates(
-            scene,
-            index,
-            scorer,
-            character,
-            weights,
-            &mut batch,
-            |_, _| false,
-        )
-    }
-
     #[test]
     fn batch_scores_equal_the_scorer() {
         let scorer = Scorer::new(Default::default());
@@ -601,7 +581,16 @@ mod tests {
         let mut index = NeighbourIndex::new(200, 10.0);
         index.rebuild(&scene);
         for character in 0..200 {
-            let (best, _) = grid_search_widest(&scene, &index, &scorer, character, &weights);
+            let mut batch = CandidateBatch::default();
+            let (best, _) = nearby_candidates(
+                &scene,
+                &index,
+                &scorer,
+                character,
+                &weights,
+                &mut batch,
+                |_, _| false,
+            );
             let observer = scene.character_entities()[character] as usize;
             let exact = (0..scene.len())
                 .filter(|&other| other != observer)

@@ -382,7 +382,7 @@ fn exp2_whole(whole: f32) -> f32 {
 }
 
 /// For each 4-bit mask of kept lanes: the kept lanes in order (then zeros) and their count.
-pub(crate) const KEPT_LANES: [([u32; 4], usize); 16] = {
+const KEPT_LANES: [([u32; 4], usize); 16] = {
     let mut table = [([0u32; 4], 0usize); 16];
     let mut mask = 0;
     while mask < 16 {
