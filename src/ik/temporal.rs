@@ -459,8 +459,8 @@ impl GazeMotion {
     /// [`GazeMotion::update`] for `N` characters at once, `1 ≤ N ≤ BATCH_LANES` (each with its
     /// own chain, input and random stream): the same results as `N` separate calls, computed
     /// together, one character per SIMD lane, in lane groups of the processor's width (16
-    /// with AVX-512F, 8 with AVX, else 4; 4 for `N ≤ 4`) — a lane group costs about as much
-    /// as one character.
+    /// with AVX-512F, 8 with AVX, else 4; four for `N ≤ 4`, one for `N = 1`) — a lane
+    /// group costs about as much as one character.
     /// Each character's result is independent: one failing leaves only its motion unchanged.
     ///
     /// A crowd updates its characters in chunks of [`BATCH_LANES`] (and the last few with a
