@@ -3,9 +3,10 @@
 //! Each rebuild fits the grid to the points' bounding box with square cells of side
 //! `radius / 2` (larger if the box would need more cells than the grid has room for), and
 //! counting-sorts the points by cell, row by row. A query of the grid's radius then reads
-//! the 5 × 5 cells around a point as five contiguous runs of the sorted points — no hashing,
-//! no duplicates, and sequential memory. (25 cells of (r/2)² cover 6.25 r², against 9 r²
-//! for 3 × 3 cells of side r.)
+//! the cells of the 5 rows around a point, each row clipped to the circle (and, if asked, to
+//! the half-plane in front), as one contiguous run of the sorted points per row — no
+//! hashing, no duplicates, and sequential memory. (25 cells of (r/2)² cover 6.25 r², against
+//! 9 r² for 3 × 3 cells of side r; the clipping trims the corners.)
 
 use glam::Vec2;
 
