@@ -265,18 +265,34 @@ impl<W: Wide> LaneScorer<W> {
         let relative_x = velocity_x - self.velocity_x;
         let relative_y = velocity_y - self.velocity_y;
         let relative_speed = (relative_x * relative_x + relative_y * relative_y).sqrt();
-        let weights = &self.weights;
-        impact
-            * (proximity_lanes(distance) * weights.proximity
-                + speed_lanes(relative_speed, self.speed_weight) * weights.speed
-                + orientation_lanes(view_angle, heading_angle) * weights.orientation
-                + periphery_lanes(
+        total_lanes(
+            impact,
+            [
+                proximity_lanes(distance),
+                speed_lanes(relative_speed, self.speed_weight),
+                orientation_lanes(view_angle, heading_angle),
+                periphery_lanes(
                     view_angle,
                     heading_angle,
                     self.half_field_of_view,
                     self.periphery_max_angle,
-                ) * weights.periphery)
+                ),
+            ],
+            &self.weights,
+        )
     }
+}
+
+/// `S = I_E (ω_p S_p + ω_s S_s + ω_o S_o + ω_pe S_pe)` (eq. 7) from the subscores
+/// `[S_p, S_s, S_o, S_pe]`, one entity per lane.
+#[inline(always)]
+fn total_lanes<W: Wide>(impact: W, subscores: [W; 4], weights: &SubscoreWeights) -> W {
+    let [proximity, speed, orientation, periphery] = subscores;
+    impact
+        * (proximity * weights.proximity
+            + speed * weights.speed
+            + orientation * weights.orientation
+            + periphery * weights.periphery)
 }
 
 /// Angle between two unit vectors (radians in [0, π], within 1e-4 of the exact value).
@@ -357,11 +373,7 @@ impl Scorer {
             self.half_field_of_view,
             self.config.periphery_max_angle,
         );
-        let total = impact
-            * (weights.proximity * proximity
-                + weights.speed * speed
-                + weights.orientation * orientation
-                + weights.periphery * periphery);
+        let total = total_lanes(impact, [proximity, speed, orientation, periphery], weights);
         ScoreBreakdown {
             distance,
             view_angle,
