@@ -42,6 +42,8 @@ pub struct NeighbourIndex {
     /// computed with).
     id: Vec<f32>,
     entity: Vec<f32>,
+    /// Grid slot of each entity.
+    slot_of_entity: Vec<u32>,
 }
 
 impl NeighbourIndex {
@@ -57,6 +59,7 @@ impl NeighbourIndex {
             impact: padded(),
             id: padded(),
             entity: padded(),
+            slot_of_entity: vec![0; capacity],
         }
     }
 
@@ -74,15 +77,16 @@ impl NeighbourIndex {
             self.impact[slot] = impacts[entity];
             self.id[slot] = f32::from_bits(ids[entity]);
             self.entity[slot] = f32::from_bits(entity as u32);
+            self.slot_of_entity[entity] = slot as u32;
         }
     }
 
     /// Bytes of state per entity (grid-ordered copies and the grid's own arrays).
     pub fn bytes_per_entity() -> usize {
         use std::mem::size_of;
-        // forward, velocity and grid point; impact; id, entity index and grid entry; and the
-        // grid's four cell starts per entity.
-        size_of::<Vec2>() * 3 + size_of::<f32>() + size_of::<u32>() * 3 + size_of::<u32>() * 4
+        // forward, velocity and grid point; impact; id, entity index, grid entry and slot of
+        // each entity; and the grid's four cell starts per entity.
+        size_of::<Vec2>() * 3 + size_of::<f32>() + size_of::<u32>() * 4 + size_of::<u32>() * 4
     }
 
     /// The grid.
@@ -107,6 +111,8 @@ pub struct CandidateBatch {
     velocity_x: [f32; BATCH_ROOM],
     velocity_y: [f32; BATCH_ROOM],
     impact: [f32; BATCH_ROOM],
+    /// Each candidate's score, once the batch is scored (0 past `len`).
+    score: [f32; BATCH_ROOM],
 }
 
 impl Default for CandidateBatch {
@@ -122,6 +128,7 @@ impl Default for CandidateBatch {
             velocity_x: [0.0; BATCH_ROOM],
             velocity_y: [0.0; BATCH_ROOM],
             impact: [0.0; BATCH_ROOM],
+            score: [0.0; BATCH_ROOM],
         }
     }
 }
@@ -200,12 +207,19 @@ impl<'a, Skip: FnMut(usize, u32) -> bool> Ranking<'a, Skip> {
         }
     }
 
-    /// Scores the batch a group of `W::LANES` at a time and ranks the candidates that
-    /// could enter the top two (consulting `skip` only for those), then empties it.
+    /// Scores the batch a group of `W::LANES` at a time, then ranks the few candidates
+    /// that could enter the top two (consulting `skip` only for those), and empties it.
+    ///
+    /// Scoring keeps each lane's two highest scores; from them comes a score that at least
+    /// two candidates of the batch reach (see [`Wide::reduce_max`] below), and a candidate
+    /// below it can enter the top two no more than one below `second` can. Usually two
+    /// candidates are ranked. If one of those is skipped, the lower ones may count after
+    /// all: the batch is ranked again from where it started, against `second` alone.
     #[inline(always)]
     fn flush<W: Wide>(&mut self, batch: &mut CandidateBatch) {
         let scorer = LaneScorer::<W>::new(self.scorer, &self.observer, self.weights);
         let len = batch.len;
+        let (mut highest, mut next_highest) = (W::splat(0.0), W::splat(0.0));
         let mut group = 0;
         while group < len {
             // group < len ≤ BATCH + LANES − 1 and group is a multiple of LANES, which
@@ -222,23 +236,50 @@ impl<'a, Skip: FnMut(usize, u32) -> bool> Ranking<'a, Skip> {
                 load(&batch.velocity_y),
                 load(&batch.impact),
             );
+            let score = W::select(W::first_lanes(len - start), score, W::splat(0.0));
+            score.store(&mut batch.score[start..start + W::LANES]);
+            next_highest = next_highest.max(highest.min(score));
+            highest = highest.max(score);
+            group += W::LANES;
+        }
+        // Each lane gives a score other than the batch's highest one (the lanes holding the
+        // highest score give their second): the largest of these is at most the batch's
+        // second-highest score.
+        let top = highest.reduce_max();
+        let floor = W::select(highest.cmpeq(W::splat(top)), next_highest, highest).reduce_max();
+        let before = (self.best, self.second);
+        if self.rank_scored::<W>(batch, floor) {
+            (self.best, self.second) = before;
+            self.rank_scored::<W>(batch, 0.0);
+        }
+        batch.len = 0;
+    }
+
+    /// Ranks the scored candidates of the batch whose score is positive and at least
+    /// `floor` and `second`'s, a group of lanes at a time. True if any was skipped.
+    #[inline(always)]
+    fn rank_scored<W: Wide>(&mut self, batch: &CandidateBatch, floor: f32) -> bool {
+        let mut skipped = false;
+        let mut group = 0;
+        while group < batch.len {
+            let start = group.min(BATCH);
+            let score = W::load(&batch.score[start..start + W::LANES]);
             // Lanes with a positive score at least the second best's (a tie may still rank
-            // above it, by id).
-            let rising = score.cmpge(W::splat(self.second.score))
-                & score.cmpgt(W::splat(0.0))
-                & W::first_lanes(len - start);
+            // above it, by id). Lanes past `len` scored 0.
+            let rising =
+                score.cmpge(W::splat(self.second.score.max(floor))) & score.cmpgt(W::splat(0.0));
             let mut lanes = W::bitmask(rising);
             while lanes != 0 {
                 let lane = lanes.trailing_zeros() as usize;
                 lanes &= lanes - 1;
                 let candidate = Candidate {
                     id: batch.id[start + lane].to_bits(),
-                    score: score.lane(lane),
+                    score: batch.score[start + lane],
                 };
                 if ranks_above(candidate, self.second) {
-                    let entity = batch.entity[start + lane].to_bits();
-                    if entity == self.observer_entity || (self.skip)(entity as usize, candidate.id)
-                    {
+                    let entity = batch.entity[start + lane].to_bits() as usize;
+                    if (self.skip)(entity, candidate.id) {
+                        skipped = true;
                         continue;
                     }
                     rank(&mut self.best, &mut self.second, candidate);
@@ -246,7 +287,7 @@ impl<'a, Skip: FnMut(usize, u32) -> bool> Ranking<'a, Skip> {
             }
             group += W::LANES;
         }
-        batch.len = 0;
+        skipped
     }
 }
 
@@ -256,6 +297,8 @@ struct GridSearch<'a, Skip: FnMut(usize, u32) -> bool> {
     ranking: Ranking<'a, Skip>,
     index: &'a NeighbourIndex,
     runs: SlotRuns,
+    /// The observer's own grid slot (it passes every test, and is no candidate).
+    own_slot: usize,
     batch: &'a mut CandidateBatch,
 }
 
@@ -276,8 +319,8 @@ impl<Skip: FnMut(usize, u32) -> bool> LaneJob for GridSearch<'_, Skip> {
 
 impl<Skip: FnMut(usize, u32) -> bool> GridSearch<'_, Skip> {
     /// Offers grid slots `first .. end`, a group of lanes at a time: each is kept if it is
-    /// within `d_m`, in view and of positive impact (the observer itself passes, and is
-    /// left out when ranking). The kept lanes' data are compressed to the batch's end.
+    /// within `d_m`, in view and of positive impact, and is not the observer's own slot.
+    /// The kept lanes' data are compressed to the batch's end.
     /// Reads up to `LANES − 1` slots past `end` (the arrays are padded), masked off.
     #[inline(always)]
     fn offer<W: Wide>(&mut self, first: usize, end: usize) {
@@ -305,6 +348,7 @@ impl<Skip: FnMut(usize, u32) -> bool> GridSearch<'_, Skip> {
         let (forward_x, forward_y) = (W::splat(observer.forward.x), W::splat(observer.forward.y));
         let max_distance_squared = W::splat(self.ranking.scorer.max_distance_squared());
         let cos_half = self.ranking.scorer.cos_half_field_of_view();
+        let own_slot = self.own_slot;
         let mut slot = first;
         while slot < end {
             // SAFETY (every load_at of the loop): slot + LANES ≤ end + SLOT_PADDING, checked
@@ -318,7 +362,10 @@ impl<Skip: FnMut(usize, u32) -> bool> GridSearch<'_, Skip> {
             let keep = distance_squared.cmple(max_distance_squared)
                 & impact.cmpgt(W::splat(0.0))
                 & in_view::<W>(along, distance_squared, cos_half)
-                & W::first_lanes(end - slot);
+                & W::first_lanes(end - slot)
+                // Not lane own_slot − slot (no lane when it is outside 0 .. LANES).
+                & !(W::first_lanes((own_slot + 1).saturating_sub(slot))
+                    & !W::first_lanes(own_slot.saturating_sub(slot)));
             if W::any(keep) {
                 if self.batch.len >= BATCH {
                     self.ranking.flush::<W>(self.batch);
@@ -363,10 +410,12 @@ fn grid_search<'a, Skip: FnMut(usize, u32) -> bool>(
     let observer = &ranking.observer;
     let ahead = (scorer.cos_half_field_of_view() >= -1e-6).then_some(observer.forward);
     let runs = index.grid.runs_near(observer.position, ahead);
+    let own_slot = index.slot_of_entity[ranking.observer_entity as usize] as usize;
     GridSearch {
         ranking,
         index,
         runs,
+        own_slot,
         batch,
     }
 }
@@ -413,7 +462,8 @@ pub fn all_pairs_candidates(
         let distance_squared = offset.length_squared();
         let keep = (distance_squared <= max_distance_squared)
             & (*impact > 0.0)
-            & in_view::<f32>(observer.forward.dot(offset), distance_squared, cos_half);
+            & in_view::<f32>(observer.forward.dot(offset), distance_squared, cos_half)
+            & (entity != ranking.observer_entity as usize);
         // len < BATCH (a full batch is ranked at once).
         let at = batch.len % BATCH;
         batch.entity[at] = f32::from_bits(entity as u32);
@@ -458,7 +508,7 @@ mod tests {
     #[test]
     fn index_state_size() {
         // Part of a character's state (Crowd::state_bytes_per_character).
-        assert_eq!(NeighbourIndex::bytes_per_entity(), 56);
+        assert_eq!(NeighbourIndex::bytes_per_entity(), 60);
     }
 
     #[test]
@@ -490,7 +540,8 @@ mod tests {
     }
 
     /// `count` characters at random in a square of half side `half_extent`, facing random
-    /// ways, with impacts from `impact(index, random)`.
+    /// ways, with impacts from `impact(index, random)`; every tenth is the twin of the one
+    /// before (same place, heading and impact: the same score, ranked by id).
     fn random_scene(
         count: usize,
         half_extent: f32,
@@ -499,13 +550,17 @@ mod tests {
     ) -> Scene {
         let mut scene = Scene::new(World::y_up(), count as u32, 0);
         let mut random = Random::new(seed);
+        let mut previous = (0.0, 0.0, 0.0, 0.0);
         for i in 0..count {
-            let (x, z) = (
-                random.range(-half_extent, half_extent),
-                random.range(-half_extent, half_extent),
-            );
-            let heading = random.range(-PI, PI);
-            let impact = impact(i, &mut random);
+            if i % 10 != 9 {
+                previous = (
+                    random.range(-half_extent, half_extent),
+                    random.range(-half_extent, half_extent),
+                    random.range(-PI, PI),
+                    impact(i, &mut random),
+                );
+            }
+            let (x, z, heading, impact) = previous;
             scene
                 .add(
                     EntityKind::Character,
@@ -519,30 +574,25 @@ mod tests {
         scene
     }
 
-    /// The grid search for `character` at width `W`, skipping nothing.
+    /// The grid search for `character` at width `W`, skipping the entities for which
+    /// `skip(entity index, id)` is true.
     fn search_at<W: Wide>(
         scene: &Scene,
         index: &NeighbourIndex,
         scorer: &Scorer,
         character: usize,
         weights: &SubscoreWeights,
+        skip: impl FnMut(usize, u32) -> bool,
     ) -> (Candidate, Candidate) {
         let mut batch = CandidateBatch::default();
-        let search = grid_search(
-            scene,
-            index,
-            scorer,
-            character,
-            weights,
-            &mut batch,
-            |_, _| false,
-        );
+        let search = grid_search(scene, index, scorer, character, weights, &mut batch, skip);
         search.run::<W>()
     }
 
     /// The grid search at width `W` equals the all-pairs search on a dense scene (more
-    /// candidates than a batch holds) with impacts of 0 among them, for fields of view
-    /// narrow to full.
+    /// candidates than a batch holds) with impacts of 0 and equal scores among them, for
+    /// fields of view narrow to full; and again when the two best and every eleventh id
+    /// are skipped (so the skipped ones are among those that could enter the top two).
     fn grid_equals_all_pairs<W: Wide>() {
         let scene = random_scene(700, 9.0, 21, |i, random| {
             if i % 7 == 0 {
@@ -562,8 +612,20 @@ mod tests {
             for character in (0..700).step_by(7) {
                 let all_pairs =
                     all_pairs_candidates(&scene, &scorer, character, &weights, |_, _| false);
-                let grid = search_at::<W>(&scene, &index, &scorer, character, &weights);
+                let grid =
+                    search_at::<W>(&scene, &index, &scorer, character, &weights, |_, _| false);
                 assert_eq!(grid, all_pairs, "{} lanes, fov {field_of_view}", W::LANES);
+                let skipped = |_, id: u32| {
+                    id == all_pairs.0.id || id == all_pairs.1.id || id.is_multiple_of(11)
+                };
+                let all_pairs = all_pairs_candidates(&scene, &scorer, character, &weights, skipped);
+                let grid = search_at::<W>(&scene, &index, &scorer, character, &weights, skipped);
+                assert_eq!(
+                    grid,
+                    all_pairs,
+                    "{} lanes, fov {field_of_view}, skipping",
+                    W::LANES
+                );
             }
         }
     }

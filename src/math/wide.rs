@@ -83,6 +83,10 @@ pub(crate) trait Wide:
     fn bitmask(mask: Self::Mask) -> u32;
     /// The mask of the first `count` lanes (every lane when `count ≥ LANES`).
     fn first_lanes(count: usize) -> Self::Mask;
+    /// The largest lane (lanes are never NaN here).
+    fn reduce_max(self) -> f32;
+    /// Writes the lanes to the start of `out`, which must hold at least `LANES` floats.
+    fn store(self, out: &mut [f32]);
     /// Lanes `at .. at + LANES` of `values`, without a bounds check (for hot loops whose
     /// indices are checked once, before the loop).
     ///
@@ -214,6 +218,14 @@ impl Wide for Vec4 {
     #[inline(always)]
     fn first_lanes(count: usize) -> BVec4A {
         BVec4A::new(count > 0, count > 1, count > 2, count > 3)
+    }
+    #[inline(always)]
+    fn reduce_max(self) -> f32 {
+        self.max_element()
+    }
+    #[inline(always)]
+    fn store(self, out: &mut [f32]) {
+        self.write_to_slice(&mut out[..4]);
     }
     #[inline(always)]
     fn compress_store(self, mask: BVec4A, out: &mut [f32]) {
@@ -353,6 +365,14 @@ impl Wide for f32 {
     #[inline(always)]
     fn first_lanes(count: usize) -> bool {
         count > 0
+    }
+    #[inline(always)]
+    fn reduce_max(self) -> f32 {
+        self
+    }
+    #[inline(always)]
+    fn store(self, out: &mut [f32]) {
+        out[0] = self;
     }
     #[inline(always)]
     fn compress_store(self, _: bool, out: &mut [f32]) {
@@ -820,6 +840,24 @@ mod x86 {
             })
         }
         #[inline(always)]
+        fn reduce_max(self) -> f32 {
+            // SAFETY: AVX is present (module docs).
+            unsafe {
+                let half = _mm_max_ps(
+                    _mm256_castps256_ps128(self.0),
+                    _mm256_extractf128_ps::<1>(self.0),
+                );
+                let pairs = _mm_max_ps(half, _mm_movehl_ps(half, half));
+                _mm_cvtss_f32(_mm_max_ss(pairs, _mm_shuffle_ps::<0b01>(pairs, pairs)))
+            }
+        }
+        #[inline(always)]
+        fn store(self, out: &mut [f32]) {
+            let out = &mut out[..8];
+            // SAFETY: AVX is present (module docs); `out` holds 8 floats.
+            unsafe { _mm256_storeu_ps(out.as_mut_ptr(), self.0) }
+        }
+        #[inline(always)]
         fn compress_store(self, mask: M8, out: &mut [f32]) {
             let out = &mut out[..8];
             let bits = Self::bitmask(mask) as usize;
@@ -991,6 +1029,17 @@ mod x86 {
             })
         }
         #[inline(always)]
+        fn reduce_max(self) -> f32 {
+            // SAFETY: AVX-512F is present (module docs).
+            unsafe { _mm512_reduce_max_ps(self.0) }
+        }
+        #[inline(always)]
+        fn store(self, out: &mut [f32]) {
+            let out = &mut out[..16];
+            // SAFETY: AVX-512F is present (module docs); `out` holds 16 floats.
+            unsafe { _mm512_storeu_ps(out.as_mut_ptr(), self.0) }
+        }
+        #[inline(always)]
         fn compress_store(self, mask: M16, out: &mut [f32]) {
             let out = &mut out[..16];
             // SAFETY: AVX-512F is present (module docs); `out` holds 16 floats. Compressed
@@ -1115,6 +1164,16 @@ mod tests {
             assert!(W::test(W::mask_splat(true), i) && !W::test(W::mask_splat(false), i));
         }
         check(clamp(wa, -1.0, 1.0), &|x, _| x.clamp(-1.0, 1.0));
+        assert_eq!(wa.reduce_max(), a.iter().copied().fold(f32::MIN, f32::max));
+        for top in 0..W::LANES {
+            // The largest value in each lane in turn.
+            let lifted = W::select(W::mask_from_fn(|i| i == top), W::splat(9.0), wb);
+            assert_eq!(lifted.reduce_max(), 9.0, "lane {top}");
+        }
+        let mut stored = vec![f32::NAN; W::LANES + 1];
+        wa.store(&mut stored);
+        assert_eq!(&stored[..W::LANES], &a[..]);
+        assert!(stored[W::LANES].is_nan(), "wrote past LANES floats");
         let wholes: Vec<f32> = (0..W::LANES)
             .map(|i| ((i * 17) % 254) as f32 - 126.0)
             .collect();
