@@ -16,7 +16,7 @@ use glam::{Vec2, Vec4};
 use super::interest::Candidate;
 use super::score::{GroundState, LaneScorer, Scorer, SubscoreWeights};
 use crate::math::wide::{run_widest, LaneJob, Wide, MAX_LANES};
-use crate::scene::grid::{SlotRuns, SpatialGrid, SLOT_PADDING};
+use crate::scene::grid::{SpatialGrid, SLOT_PADDING};
 use crate::scene::Scene;
 
 /// Candidates scored per batch (a denser neighbourhood is scored in several batches).
@@ -296,7 +296,8 @@ impl<'a, Skip: FnMut(usize, u32) -> bool> Ranking<'a, Skip> {
 struct GridSearch<'a, Skip: FnMut(usize, u32) -> bool> {
     ranking: Ranking<'a, Skip>,
     index: &'a NeighbourIndex,
-    runs: SlotRuns,
+    /// The forward direction whose half-plane the grid query keeps, if any.
+    ahead: Option<Vec2>,
     /// The observer's own grid slot (it passes every test, and is no candidate).
     own_slot: usize,
     batch: &'a mut CandidateBatch,
@@ -308,7 +309,8 @@ impl<Skip: FnMut(usize, u32) -> bool> LaneJob for GridSearch<'_, Skip> {
     #[inline(always)]
     fn run<W: Wide>(mut self) -> (Candidate, Candidate) {
         self.batch.len = 0;
-        let runs = self.runs;
+        let observer = &self.ranking.observer;
+        let runs = (self.index.grid).runs_near_lanes::<W>(observer.position, self.ahead);
         for &(first, end) in runs.as_slice() {
             self.offer::<W>(first as usize, end as usize);
         }
@@ -409,12 +411,11 @@ fn grid_search<'a, Skip: FnMut(usize, u32) -> bool>(
     // view must still cull), cells wholly behind the observer are skipped.
     let observer = &ranking.observer;
     let ahead = (scorer.cos_half_field_of_view() >= -1e-6).then_some(observer.forward);
-    let runs = index.grid.runs_near(observer.position, ahead);
     let own_slot = index.slot_of_entity[ranking.observer_entity as usize] as usize;
     GridSearch {
         ranking,
         index,
-        runs,
+        ahead,
         own_slot,
         batch,
     }

@@ -85,6 +85,8 @@ pub(crate) trait Wide:
     fn first_lanes(count: usize) -> Self::Mask;
     /// The largest lane (lanes are never NaN here).
     fn reduce_max(self) -> f32;
+    /// Lane `i` holds `i`.
+    fn lane_numbers() -> Self;
     /// Writes the lanes to the start of `out`, which must hold at least `LANES` floats.
     fn store(self, out: &mut [f32]);
     /// Lanes `at .. at + LANES` of `values`, without a bounds check (for hot loops whose
@@ -222,6 +224,10 @@ impl Wide for Vec4 {
     #[inline(always)]
     fn reduce_max(self) -> f32 {
         self.max_element()
+    }
+    #[inline(always)]
+    fn lane_numbers() -> Self {
+        Vec4::new(0.0, 1.0, 2.0, 3.0)
     }
     #[inline(always)]
     fn store(self, out: &mut [f32]) {
@@ -369,6 +375,10 @@ impl Wide for f32 {
     #[inline(always)]
     fn reduce_max(self) -> f32 {
         self
+    }
+    #[inline(always)]
+    fn lane_numbers() -> Self {
+        0.0
     }
     #[inline(always)]
     fn store(self, out: &mut [f32]) {
@@ -852,6 +862,11 @@ mod x86 {
             }
         }
         #[inline(always)]
+        fn lane_numbers() -> Self {
+            // SAFETY: AVX is present (module docs).
+            F8(unsafe { _mm256_setr_ps(0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0) })
+        }
+        #[inline(always)]
         fn store(self, out: &mut [f32]) {
             let out = &mut out[..8];
             // SAFETY: AVX is present (module docs); `out` holds 8 floats.
@@ -1034,6 +1049,16 @@ mod x86 {
             unsafe { _mm512_reduce_max_ps(self.0) }
         }
         #[inline(always)]
+        fn lane_numbers() -> Self {
+            // SAFETY: AVX-512F is present (module docs).
+            F16(unsafe {
+                _mm512_setr_ps(
+                    0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0, 10.0, 11.0, 12.0, 13.0, 14.0,
+                    15.0,
+                )
+            })
+        }
+        #[inline(always)]
         fn store(self, out: &mut [f32]) {
             let out = &mut out[..16];
             // SAFETY: AVX-512F is present (module docs); `out` holds 16 floats.
@@ -1165,6 +1190,9 @@ mod tests {
         }
         check(clamp(wa, -1.0, 1.0), &|x, _| x.clamp(-1.0, 1.0));
         assert_eq!(wa.reduce_max(), a.iter().copied().fold(f32::MIN, f32::max));
+        for i in 0..W::LANES {
+            assert_eq!(W::lane_numbers().lane(i), i as f32);
+        }
         for top in 0..W::LANES {
             // The largest value in each lane in turn.
             let lifted = W::select(W::mask_from_fn(|i| i == top), W::splat(9.0), wb);

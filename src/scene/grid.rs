@@ -5,10 +5,13 @@
 //! counting-sorts the points by cell, row by row. A query of the grid's radius then reads
 //! the cells of the 5 rows around a point, each row clipped to the circle (and, if asked, to
 //! the half-plane in front), as one contiguous run of the sorted points per row — no
-//! hashing, no duplicates, and sequential memory. (25 cells of (r/2)² cover 6.25 r², against
+//! hashing, no duplicates, and sequential memory. The rows are clipped in SIMD lanes, as
+//! many at once as the lanes hold, without a branch per row. (25 cells of (r/2)² cover 6.25 r², against
 //! 9 r² for 3 × 3 cells of side r; the clipping trims the corners.)
 
 use glam::Vec2;
+
+use crate::math::wide::{clamp, Wide, MAX_LANES};
 
 /// Extra coordinates after the last slot, so that a query may read a whole group of SIMD
 /// lanes (up to 16) from any slot without running off the arrays (what it reads there, it
@@ -21,6 +24,14 @@ pub const MAX_RUNS: usize = 2 * MAX_SPAN as usize + 1;
 
 /// Largest number of cells a query spans each way from its centre's cell.
 const MAX_SPAN: i32 = 3;
+
+/// Room for the runs of one query: [`MAX_RUNS`] rounded up to a power of two (so that
+/// storing a run masks its index rather than dividing it).
+const RUN_ROOM: usize = MAX_RUNS.next_power_of_two();
+
+/// Most cells a grid has: 2²³, so that row and column numbers are exact in an `f32` (a
+/// query clips rows in SIMD lanes, in floats).
+const MOST_CELLS: usize = 1 << 23;
 
 /// `⌊x⌋` as an integer, saturating (far-away points stay valid), without a call to
 /// `floorf` (which x86-64's baseline instructions lack).
@@ -37,7 +48,7 @@ fn floor_to_i32(x: f32) -> i32 {
 /// The runs of grid slots one query covers, each a contiguous range of slots.
 #[derive(Debug, Clone, Copy)]
 pub struct SlotRuns {
-    runs: [(u32, u32); MAX_RUNS],
+    runs: [(u32, u32); RUN_ROOM],
     len: usize,
 }
 
@@ -76,7 +87,7 @@ pub struct SpatialGrid {
 impl SpatialGrid {
     /// A grid for at most `capacity` points, answering queries of radius `radius` (metres).
     pub fn new(capacity: usize, radius: f32) -> SpatialGrid {
-        let max_cells = (capacity.max(1) * 4).max(64);
+        let max_cells = (capacity.max(1) * 4).clamp(64, MOST_CELLS);
         SpatialGrid {
             radius,
             cell_size: radius / 2.0,
@@ -220,8 +231,16 @@ impl SpatialGrid {
     /// the half-plane in front of `centre` facing `ahead` (`ahead · (p − centre) ≥ 0`).
     /// One run per row; each slot comes once.
     pub fn runs_near(&self, centre: Vec2, ahead: Option<Vec2>) -> SlotRuns {
+        self.runs_near_lanes::<f32>(centre, ahead)
+    }
+
+    /// [`runs_near`](Self::runs_near), clipping `W::LANES` rows at a time (the same
+    /// operations in every lane, so the same runs at every width). A row with no cell to
+    /// visit gets an empty run.
+    #[inline(always)]
+    pub(crate) fn runs_near_lanes<W: Wide>(&self, centre: Vec2, ahead: Option<Vec2>) -> SlotRuns {
         let mut runs = SlotRuns {
-            runs: [(0, 0); MAX_RUNS],
+            runs: [(0, 0); RUN_ROOM],
             len: 0,
         };
         let span = self.span;
@@ -230,49 +249,76 @@ impl SpatialGrid {
         let last_column = cx.saturating_add(span).min(self.columns - 1);
         let first_row = cy.saturating_sub(span).max(0);
         let last_row = cy.saturating_add(span).min(self.rows - 1);
+        if first_column > last_column {
+            return runs;
+        }
         let size = self.cell_size;
         let margin = self.rounding_margin(centre);
         let radius_squared = self.radius * self.radius;
-        let column_at = |x: f32| floor_to_i32((x - self.origin.x) * self.inverse_cell_size);
+        // Column numbers, exact in floats (at most MOST_CELLS cells).
+        let (lowest, past_highest) = (first_column as f32, (last_column + 1) as f32);
+        let column_of = |x: W| (x - self.origin.x) * self.inverse_cell_size;
+        let (centre_x, centre_y) = (W::splat(centre.x), W::splat(centre.y));
         // Divided once per query (the margin covers the rounding of the products).
         let inverse_forward_x = ahead.map_or(0.0, |forward| 1.0 / forward.x);
-        for row in first_row..=last_row {
-            let low_y = self.origin.y + row as f32 * size;
+        let mut row = first_row;
+        while row <= last_row {
+            let rows = (last_row - row + 1) as usize;
+            let low_y = (W::splat(row as f32) + W::lane_numbers()) * size + self.origin.y;
             let high_y = low_y + size;
             // The circle: the row's points lie within `reach` of the centre in x.
-            let gap_y = (low_y - centre.y).max(centre.y - high_y).max(0.0);
-            if gap_y > self.radius + margin {
-                continue;
-            }
-            let reach = (radius_squared - gap_y * gap_y).max(0.0).sqrt() + margin;
-            let (mut low_x, mut high_x) = (centre.x - reach, centre.x + reach);
+            let gap_y = (low_y - centre_y).max(centre_y - high_y).max(W::splat(0.0));
+            let mut beyond = gap_y.cmpgt(W::splat(self.radius + margin));
+            let reach = (W::splat(radius_squared) - gap_y * gap_y)
+                .max(W::splat(0.0))
+                .sqrt()
+                + margin;
+            let (mut low_x, mut high_x) = (centre_x - reach, centre_x + reach);
             if let Some(forward) = ahead {
                 // A cell reaches the half-plane if `forward · (corner − centre) ≥ 0` at its
                 // best corner: the row fixes the y part, which bounds the x part.
-                let most_y = forward.y.max(0.0) * (high_y - centre.y)
-                    + forward.y.min(0.0) * (low_y - centre.y);
+                let most_y = (high_y - centre_y) * forward.y.max(0.0)
+                    + (low_y - centre_y) * forward.y.min(0.0);
                 if forward.x > 0.0 {
                     // Cells whose right edge is at least this.
-                    low_x = low_x.max(centre.x - most_y * inverse_forward_x - margin);
+                    low_x = low_x.max(centre_x - most_y * inverse_forward_x - margin);
                 } else if forward.x < 0.0 {
                     // Cells whose left edge is at most this.
-                    high_x = high_x.min(centre.x - most_y * inverse_forward_x + margin);
-                } else if most_y < 0.0 {
-                    continue;
+                    high_x = high_x.min(centre_x - most_y * inverse_forward_x + margin);
+                } else {
+                    beyond |= most_y.cmplt(W::splat(0.0));
                 }
             }
-            let first = first_column.max(column_at(low_x));
-            let last = last_column.min(column_at(high_x));
-            if first > last {
-                continue;
-            }
-            let row_start = (row * self.columns) as usize;
-            // At most 2 · MAX_SPAN + 1 rows, one run each: within MAX_RUNS.
-            runs.runs[runs.len % MAX_RUNS] = (
-                self.cell_start[row_start + first as usize],
-                self.cell_start[row_start + last as usize + 1],
+            // The first column, at least first_column ≥ 0 (so truncating is the floor), and
+            // one past the last as ⌊x + 1⌋, at least 0 (x + 1 may round up to a whole
+            // number: one cell more, never one fewer). An empty run starts past the last.
+            let firsts = W::select(
+                beyond,
+                W::splat(past_highest),
+                clamp(column_of(low_x), lowest, past_highest),
             );
-            runs.len += 1;
+            let ends = clamp(column_of(high_x) + 1.0, 0.0, past_highest);
+            let (mut first_at, mut end_at) = ([0.0; MAX_LANES], [0.0; MAX_LANES]);
+            firsts.store(&mut first_at);
+            ends.store(&mut end_at);
+            for (lane, (first, end)) in first_at
+                .iter()
+                .zip(&end_at)
+                .take(rows.min(W::LANES))
+                .enumerate()
+            {
+                let (first, end) = (*first as usize, *end as usize);
+                // first ≤ end ≤ last_column + 1 ≤ columns: both starts are within the row
+                // or the next row's first.
+                let row_start = (row as usize + lane) * self.columns as usize;
+                // At most 2 · MAX_SPAN + 1 rows, one run each: within RUN_ROOM.
+                runs.runs[runs.len % RUN_ROOM] = (
+                    self.cell_start[row_start + first],
+                    self.cell_start[row_start + end.max(first)],
+                );
+                runs.len += 1;
+            }
+            row += W::LANES as i32;
         }
         runs
     }
@@ -431,5 +477,39 @@ mod tests {
             total_visited < total_all * 3 / 4,
             "{total_visited} of {total_all}"
         );
+    }
+
+    /// The runs clipped `W::LANES` rows at a time are those clipped one row at a time, for
+    /// centres inside the grid, on its edges and outside it, facing every way or none.
+    fn runs_at_width_equal_runs_one_row_at_a_time<W: Wide>() {
+        let mut random = Random::new(9);
+        let points: Vec<Vec2> = (0..300)
+            .map(|_| Vec2::new(random.range(-25.0, 25.0), random.range(-40.0, 40.0)))
+            .collect();
+        let mut grid = SpatialGrid::new(300, 10.0);
+        grid.rebuild(&points);
+        let aheads = [
+            None,
+            Some(Vec2::X),
+            Some(-Vec2::Y),
+            Some(Vec2::from_angle(2.2)),
+        ];
+        let outside: Vec<Vec2> = (0..100)
+            .map(|_| Vec2::new(random.range(-60.0, 60.0), random.range(-80.0, 80.0)))
+            .collect();
+        for &centre in points.iter().chain(&outside) {
+            for ahead in aheads {
+                let (one, wide) = (
+                    grid.runs_near(centre, ahead),
+                    grid.runs_near_lanes::<W>(centre, ahead),
+                );
+                assert_eq!(one.as_slice(), wide.as_slice(), "{} lanes", W::LANES);
+            }
+        }
+    }
+
+    #[test]
+    fn runs_are_the_same_at_every_width() {
+        crate::math::wide::for_every_width!(runs_at_width_equal_runs_one_row_at_a_time());
     }
 }
