@@ -1,15 +1,16 @@
 //! Finding each character's best and second-best entity, fast.
 //!
 //! [`NeighbourIndex`] rebuilds the spatial grid every frame and copies what the scoring
-//! needs (forward, velocity, impact, id, entity index) into grid order, x and y apart, so
-//! that a query reads memory sequentially whatever the crowd's size. A query visits the
-//! runs of grid slots around the character that may be in view; it tests distance, view
-//! and impact for a whole group of SIMD lanes at once (16 with AVX-512F, 8 with AVX, else
-//! 4, chosen at run time; the same bits at every width) and compresses the survivors' data
-//! into a fixed-size [`CandidateBatch`] without branching; the batch is then scored a
-//! group at a time and only the lanes that could enter the top two are ranked. The
-//! all-pairs search feeds the same batch from every entity of the scene, one at a time,
-//! and scores it four lanes at a time: the test oracle and the benchmark baseline.
+//! needs (forward, velocity, impact) into grid order, x and y apart, so that a query reads
+//! memory sequentially whatever the crowd's size. A query visits the runs of grid slots
+//! around the character that may be in view; it tests distance, view and impact for a
+//! whole group of SIMD lanes at once (16 with AVX-512F, 8 with AVX, else 4, chosen at run
+//! time; the same bits at every width) and compresses the survivors' data and slot numbers
+//! into a fixed-size [`CandidateBatch`] without branching. The batch is then scored a group
+//! at a time, each lane keeping its two highest scores, and only the candidates at least
+//! the batch's second-highest score — usually two — are ranked (their ids looked up by
+//! slot). The all-pairs search feeds the same batch from every entity of the scene, one at
+//! a time, and scores it four lanes at a time: the test oracle and the benchmark baseline.
 
 use glam::{Vec2, Vec4};
 
@@ -38,10 +39,6 @@ pub struct NeighbourIndex {
     velocity_x: Vec<f32>,
     velocity_y: Vec<f32>,
     impact: Vec<f32>,
-    /// Id and entity index, as the bits of floats (moved through float lanes, never
-    /// computed with).
-    id: Vec<f32>,
-    entity: Vec<f32>,
     /// Grid slot of each entity.
     slot_of_entity: Vec<u32>,
 }
@@ -57,8 +54,6 @@ impl NeighbourIndex {
             velocity_x: padded(),
             velocity_y: padded(),
             impact: padded(),
-            id: padded(),
-            entity: padded(),
             slot_of_entity: vec![0; capacity],
         }
     }
@@ -67,7 +62,7 @@ impl NeighbourIndex {
     pub fn rebuild(&mut self, scene: &Scene) {
         self.grid.rebuild(scene.ground_positions());
         let (forwards, velocities) = (scene.forwards(), scene.velocities());
-        let (impacts, ids) = (scene.impacts(), scene.ids());
+        let impacts = scene.impacts();
         for (slot, &entity) in self.grid.entries().iter().enumerate() {
             let entity = entity as usize;
             self.forward_x[slot] = forwards[entity].x;
@@ -75,8 +70,6 @@ impl NeighbourIndex {
             self.velocity_x[slot] = velocities[entity].x;
             self.velocity_y[slot] = velocities[entity].y;
             self.impact[slot] = impacts[entity];
-            self.id[slot] = f32::from_bits(ids[entity]);
-            self.entity[slot] = f32::from_bits(entity as u32);
             self.slot_of_entity[entity] = slot as u32;
         }
     }
@@ -84,9 +77,9 @@ impl NeighbourIndex {
     /// Bytes of state per entity (grid-ordered copies and the grid's own arrays).
     pub fn bytes_per_entity() -> usize {
         use std::mem::size_of;
-        // forward, velocity and grid point; impact; id, entity index, grid entry and slot of
-        // each entity; and the grid's four cell starts per entity.
-        size_of::<Vec2>() * 3 + size_of::<f32>() + size_of::<u32>() * 4 + size_of::<u32>() * 4
+        // forward, velocity and grid point; impact; grid entry and slot of each entity; and
+        // the grid's four cell starts per entity.
+        size_of::<Vec2>() * 3 + size_of::<f32>() + size_of::<u32>() * 2 + size_of::<u32>() * 4
     }
 
     /// The grid.
@@ -100,10 +93,10 @@ impl NeighbourIndex {
 #[derive(Debug, Clone)]
 pub struct CandidateBatch {
     len: usize,
-    /// Id and entity index of each candidate, as the bits of floats: moved through float
-    /// lanes with the rest, never computed with.
-    id: [f32; BATCH_ROOM],
-    entity: [f32; BATCH_ROOM],
+    /// Where each candidate came from (a grid slot, or an entity index for the all-pairs
+    /// search), as the bits of floats: moved through float lanes with the rest, never
+    /// computed with.
+    source: [f32; BATCH_ROOM],
     offset_x: [f32; BATCH_ROOM],
     offset_y: [f32; BATCH_ROOM],
     forward_x: [f32; BATCH_ROOM],
@@ -119,8 +112,7 @@ impl Default for CandidateBatch {
     fn default() -> Self {
         CandidateBatch {
             len: 0,
-            id: [0.0; BATCH_ROOM],
-            entity: [0.0; BATCH_ROOM],
+            source: [0.0; BATCH_ROOM],
             offset_x: [0.0; BATCH_ROOM],
             offset_y: [0.0; BATCH_ROOM],
             forward_x: [0.0; BATCH_ROOM],
@@ -182,6 +174,11 @@ struct Ranking<'a, Skip: FnMut(usize, u32) -> bool> {
     weights: &'a SubscoreWeights,
     observer: GroundState,
     observer_entity: u32,
+    /// The entity index of each batch source (the grid's entries), or `None` if the
+    /// sources are entity indices.
+    entity_of_source: Option<&'a [u32]>,
+    /// Id of each entity.
+    ids: &'a [u32],
     skip: Skip,
     best: Candidate,
     second: Candidate,
@@ -189,10 +186,11 @@ struct Ranking<'a, Skip: FnMut(usize, u32) -> bool> {
 
 impl<'a, Skip: FnMut(usize, u32) -> bool> Ranking<'a, Skip> {
     fn new(
-        scene: &Scene,
+        scene: &'a Scene,
         scorer: &'a Scorer,
         character: usize,
         weights: &'a SubscoreWeights,
+        entity_of_source: Option<&'a [u32]>,
         skip: Skip,
     ) -> Self {
         let observer_entity = scene.character_entities()[character];
@@ -201,6 +199,8 @@ impl<'a, Skip: FnMut(usize, u32) -> bool> Ranking<'a, Skip> {
             weights,
             observer: scene.ground_state(observer_entity as usize),
             observer_entity,
+            entity_of_source,
+            ids: scene.ids(),
             skip,
             best: Candidate::NONE,
             second: Candidate::NONE,
@@ -272,12 +272,15 @@ impl<'a, Skip: FnMut(usize, u32) -> bool> Ranking<'a, Skip> {
             while lanes != 0 {
                 let lane = lanes.trailing_zeros() as usize;
                 lanes &= lanes - 1;
+                let source = batch.source[start + lane].to_bits() as usize;
+                let entity = self
+                    .entity_of_source
+                    .map_or(source, |entities| entities[source] as usize);
                 let candidate = Candidate {
-                    id: batch.id[start + lane].to_bits(),
+                    id: self.ids[entity],
                     score: batch.score[start + lane],
                 };
                 if ranks_above(candidate, self.second) {
-                    let entity = batch.entity[start + lane].to_bits() as usize;
                     if (self.skip)(entity, candidate.id) {
                         skipped = true;
                         continue;
@@ -336,8 +339,6 @@ impl<Skip: FnMut(usize, u32) -> bool> GridSearch<'_, Skip> {
             &index.forward_y,
             &index.velocity_x,
             &index.velocity_y,
-            &index.id,
-            &index.entity,
         ];
         // Checked once here for the loop's unchecked loads: every slot < end, and the
         // arrays hold SLOT_PADDING ≥ LANES − 1 more (so this never fails).
@@ -379,8 +380,7 @@ impl<Skip: FnMut(usize, u32) -> bool> GridSearch<'_, Skip> {
                 let store = |values: W, out: &mut [f32; BATCH_ROOM]| unsafe {
                     values.compress_store_at(keep, out, at)
                 };
-                store(load(&index.id), &mut batch.id);
-                store(load(&index.entity), &mut batch.entity);
+                store(W::counting_from(slot as u32), &mut batch.source);
                 store(offset_x, &mut batch.offset_x);
                 store(offset_y, &mut batch.offset_y);
                 store(load(&index.forward_x), &mut batch.forward_x);
@@ -398,7 +398,7 @@ impl<Skip: FnMut(usize, u32) -> bool> GridSearch<'_, Skip> {
 /// The grid search for `character`, ready to run at any width (what
 /// [`nearby_candidates`] runs at the widest width the processor has).
 fn grid_search<'a, Skip: FnMut(usize, u32) -> bool>(
-    scene: &Scene,
+    scene: &'a Scene,
     index: &'a NeighbourIndex,
     scorer: &'a Scorer,
     character: usize,
@@ -406,7 +406,8 @@ fn grid_search<'a, Skip: FnMut(usize, u32) -> bool>(
     batch: &'a mut CandidateBatch,
     skip: Skip,
 ) -> GridSearch<'a, Skip> {
-    let ranking = Ranking::new(scene, scorer, character, weights, skip);
+    let entries = Some(index.grid.entries());
+    let ranking = Ranking::new(scene, scorer, character, weights, entries, skip);
     // With a field of view of at most 180° (cos(π/2) rounds to −4e−8 in f32, and a 180°
     // view must still cull), cells wholly behind the observer are skipped.
     let observer = &ranking.observer;
@@ -451,7 +452,7 @@ pub fn all_pairs_candidates(
     skip: impl FnMut(usize, u32) -> bool,
 ) -> (Candidate, Candidate) {
     let mut batch = CandidateBatch::default();
-    let mut ranking = Ranking::new(scene, scorer, character, weights, skip);
+    let mut ranking = Ranking::new(scene, scorer, character, weights, None, skip);
     let observer = ranking.observer;
     let (max_distance_squared, cos_half) = (
         scorer.max_distance_squared(),
@@ -467,7 +468,7 @@ pub fn all_pairs_candidates(
             & (entity != ranking.observer_entity as usize);
         // len < BATCH (a full batch is ranked at once).
         let at = batch.len % BATCH;
-        batch.entity[at] = f32::from_bits(entity as u32);
+        batch.source[at] = f32::from_bits(entity as u32);
         batch.len = at + usize::from(keep);
         if batch.len == BATCH {
             gather_from_scene(&mut batch, scene, &observer);
@@ -483,10 +484,8 @@ pub fn all_pairs_candidates(
 fn gather_from_scene(batch: &mut CandidateBatch, scene: &Scene, observer: &GroundState) {
     let (points, forwards) = (scene.ground_positions(), scene.forwards());
     let (velocities, impacts) = (scene.velocities(), scene.impacts());
-    let ids = scene.ids();
     for i in 0..batch.len.min(BATCH) {
-        let entity = batch.entity[i].to_bits() as usize;
-        batch.id[i] = f32::from_bits(ids[entity]);
+        let entity = batch.source[i].to_bits() as usize;
         let offset = points[entity] - observer.position;
         batch.offset_x[i] = offset.x;
         batch.offset_y[i] = offset.y;
@@ -509,7 +508,7 @@ mod tests {
     #[test]
     fn index_state_size() {
         // Part of a character's state (Crowd::state_bytes_per_character).
-        assert_eq!(NeighbourIndex::bytes_per_entity(), 60);
+        assert_eq!(NeighbourIndex::bytes_per_entity(), 52);
     }
 
     #[test]
