@@ -40,7 +40,7 @@ def main():
         return "–" if value is None else f"{value:.{digits}f}"
 
     def ratio(slow, fast):
-        return "–" if slow is None or fast is None else f"{slow / fast:.1f}×"
+        return "–" if slow is None or fast is None else f"{slow / fast:.2f}×"
 
     print("Crowd step, plaza at 0.25 people/m² (µs per character-frame, criterion medians)")
     print()
