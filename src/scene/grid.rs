@@ -1,13 +1,15 @@
 //! A uniform grid over the ground plane, rebuilt every frame without allocation.
 //!
-//! Each rebuild fits the grid to the points' bounding box with square cells of side
-//! `radius / 2` (larger if the box would need more cells than the grid has room for), and
-//! counting-sorts the points by cell, row by row. A query of the grid's radius then reads
-//! the cells of the 5 rows around a point, each row clipped to the circle (and, if asked, to
-//! the half-plane in front), as one contiguous run of the sorted points per row — no
-//! hashing, no duplicates, and sequential memory. The rows are clipped in SIMD lanes, as
-//! many at once as the lanes hold, without a branch per row. (25 cells of (r/2)² cover 6.25 r², against
-//! 9 r² for 3 × 3 cells of side r; the clipping trims the corners.)
+//! Each rebuild fits the grid to the points' bounding box with cells `radius / 8` wide and
+//! `radius / 2` tall (larger if the box would need more cells than the grid has room for),
+//! and counting-sorts the points by cell, row by row. A query of the grid's radius then
+//! reads the 5 rows around a point, each row clipped to the circle (and, if asked, to the
+//! half-plane in front), as one contiguous run of the sorted points per row — no hashing,
+//! no duplicates, and sequential memory. Tall rows keep the runs few; narrow columns let
+//! each run end close to the circle and the half-plane (at 0.25 points/m² a query facing
+//! one way offers 58 points, against 81 with square cells of radius / 2, for the 39 within
+//! reach in front). The rows are clipped in SIMD lanes, as many at once as the lanes hold,
+//! without a branch per row.
 
 use glam::Vec2;
 
@@ -22,8 +24,16 @@ pub const SLOT_PADDING: usize = crate::math::wide::MAX_LANES - 1;
 /// each way, as cells are at least half the radius).
 pub const MAX_RUNS: usize = 2 * MAX_SPAN as usize + 1;
 
-/// Largest number of cells a query spans each way from its centre's cell.
+/// Largest number of rows a query spans each way from its centre's row.
 const MAX_SPAN: i32 = 3;
+
+/// Columns per query radius: cells are `radius / 8` wide and `radius / 2` tall (or larger
+/// for a sprawling scene). Narrow columns clip each row's run close to the circle and the
+/// half-plane; tall rows keep the runs few.
+const COLUMNS_PER_RADIUS: f32 = 8.0;
+
+/// Largest number of columns a query spans each way from its centre's column.
+const MAX_COLUMN_SPAN: i32 = COLUMNS_PER_RADIUS as i32 + 1;
 
 /// Room for the runs of one query: [`MAX_RUNS`] rounded up to a power of two (so that
 /// storing a run masks its index rather than dividing it).
@@ -65,13 +75,16 @@ impl SlotRuns {
 #[derive(Debug, Clone)]
 pub struct SpatialGrid {
     radius: f32,
-    cell_size: f32,
-    inverse_cell_size: f32,
+    /// Width and height of a cell.
+    cell_size: Vec2,
+    inverse_cell_size: Vec2,
     origin: Vec2,
     columns: i32,
     rows: i32,
-    /// Cells a query spans each way from its centre's cell (set by each rebuild).
-    span: i32,
+    /// Columns and rows a query spans each way from its centre's cell (set by each
+    /// rebuild).
+    column_span: i32,
+    row_span: i32,
     /// Most cells the grid may use (sized at creation).
     max_cells: usize,
     cell_start: Vec<u32>,
@@ -90,12 +103,13 @@ impl SpatialGrid {
         let max_cells = (capacity.max(1) * 4).clamp(64, MOST_CELLS);
         SpatialGrid {
             radius,
-            cell_size: radius / 2.0,
-            inverse_cell_size: 2.0 / radius,
+            cell_size: Vec2::new(radius / COLUMNS_PER_RADIUS, radius / 2.0),
+            inverse_cell_size: Vec2::new(COLUMNS_PER_RADIUS / radius, 2.0 / radius),
             origin: Vec2::ZERO,
             columns: 1,
             rows: 1,
-            span: MAX_SPAN,
+            column_span: MAX_COLUMN_SPAN,
+            row_span: MAX_SPAN,
             max_cells,
             cell_start: vec![0; max_cells + 1],
             entries: vec![0; capacity],
@@ -105,8 +119,9 @@ impl SpatialGrid {
         }
     }
 
-    /// Side of a cell in metres (half the query radius, or more for a sprawling scene).
-    pub fn cell_size(&self) -> f32 {
+    /// Width and height of a cell in metres (an eighth and half of the query radius, or
+    /// more for a sprawling scene).
+    pub fn cell_size(&self) -> Vec2 {
         self.cell_size
     }
 
@@ -142,14 +157,14 @@ impl SpatialGrid {
             low = Vec2::ZERO;
             high = Vec2::ZERO;
         }
-        // Cells of radius/2, grown until the bounding box fits in max_cells. A box wider
-        // than a float holds (points near ±f32::MAX) counts as f32::MAX wide, or the
-        // doubling below would never end.
+        // Cells of radius/8 × radius/2, grown until the bounding box fits in max_cells. A
+        // box wider than a float holds (points near ±f32::MAX) counts as f32::MAX wide, or
+        // the doubling below would never end.
         let extent = (high - low).max(Vec2::ZERO).min(Vec2::splat(f32::MAX));
-        let mut cell_size = self.radius / 2.0;
+        let mut cell_size = Vec2::new(self.radius / COLUMNS_PER_RADIUS, self.radius / 2.0);
         loop {
-            let columns = (extent.x / cell_size).floor() as f64 + 1.0;
-            let rows = (extent.y / cell_size).floor() as f64 + 1.0;
+            let columns = (extent.x / cell_size.x).floor() as f64 + 1.0;
+            let rows = (extent.y / cell_size.y).floor() as f64 + 1.0;
             if columns * rows <= self.max_cells as f64 {
                 self.columns = columns as i32;
                 self.rows = rows as i32;
@@ -158,10 +173,12 @@ impl SpatialGrid {
             cell_size *= 2.0;
         }
         self.cell_size = cell_size;
-        self.inverse_cell_size = 1.0 / cell_size;
-        // Cells are at least radius / 2 wide, so the span is 2 (3 by rounding), or less
-        // for grown cells.
-        self.span = ((self.radius * self.inverse_cell_size).ceil() as i32).clamp(0, MAX_SPAN);
+        self.inverse_cell_size = cell_size.recip();
+        // Cells are at least radius / 8 wide and radius / 2 tall, so the spans are 8 and 2
+        // (one more by rounding), or less for grown cells.
+        let spans = (self.radius * self.inverse_cell_size).ceil();
+        self.column_span = (spans.x as i32).clamp(0, MAX_COLUMN_SPAN);
+        self.row_span = (spans.y as i32).clamp(0, MAX_SPAN);
         self.origin = low;
         let cells = (self.columns * self.rows) as usize;
         self.cell_start[..=cells].fill(0);
@@ -221,7 +238,7 @@ impl SpatialGrid {
     /// rounding of the coordinates it compares (a few units in the last place of the
     /// largest, about 1e−7 of it), so that no point that belongs is left out.
     fn rounding_margin(&self, centre: Vec2) -> f32 {
-        0.01 * self.cell_size
+        0.01 * self.cell_size.min_element()
             + 1e-6 * (centre.abs().element_sum() + self.origin.abs().element_sum())
     }
 
@@ -243,29 +260,29 @@ impl SpatialGrid {
             runs: [(0, 0); RUN_ROOM],
             len: 0,
         };
-        let span = self.span;
+        let (column_span, row_span) = (self.column_span, self.row_span);
         let (cx, cy) = self.cell_of(centre);
-        let first_column = cx.saturating_sub(span).max(0);
-        let last_column = cx.saturating_add(span).min(self.columns - 1);
-        let first_row = cy.saturating_sub(span).max(0);
-        let last_row = cy.saturating_add(span).min(self.rows - 1);
+        let first_column = cx.saturating_sub(column_span).max(0);
+        let last_column = cx.saturating_add(column_span).min(self.columns - 1);
+        let first_row = cy.saturating_sub(row_span).max(0);
+        let last_row = cy.saturating_add(row_span).min(self.rows - 1);
         if first_column > last_column {
             return runs;
         }
-        let size = self.cell_size;
+        let height = self.cell_size.y;
         let margin = self.rounding_margin(centre);
         let radius_squared = self.radius * self.radius;
         // Column numbers, exact in floats (at most MOST_CELLS cells).
         let (lowest, past_highest) = (first_column as f32, (last_column + 1) as f32);
-        let column_of = |x: W| (x - self.origin.x) * self.inverse_cell_size;
+        let column_of = |x: W| (x - self.origin.x) * self.inverse_cell_size.x;
         let (centre_x, centre_y) = (W::splat(centre.x), W::splat(centre.y));
         // Divided once per query (the margin covers the rounding of the products).
         let inverse_forward_x = ahead.map_or(0.0, |forward| 1.0 / forward.x);
         let mut row = first_row;
         while row <= last_row {
             let rows = (last_row - row + 1) as usize;
-            let low_y = (W::splat(row as f32) + W::lane_numbers()) * size + self.origin.y;
-            let high_y = low_y + size;
+            let low_y = (W::splat(row as f32) + W::lane_numbers()) * height + self.origin.y;
+            let high_y = low_y + height;
             // The circle: the row's points lie within `reach` of the centre in x.
             let gap_y = (low_y - centre_y).max(centre_y - high_y).max(W::splat(0.0));
             let mut beyond = gap_y.cmpgt(W::splat(self.radius + margin));
@@ -395,7 +412,7 @@ mod tests {
         ];
         let mut grid = SpatialGrid::new(4, 10.0);
         grid.rebuild(&points);
-        assert!(grid.cell_size() > 5.0);
+        assert!(grid.cell_size().x > 10.0 / COLUMNS_PER_RADIUS && grid.cell_size().y > 5.0);
         let mut near = Vec::new();
         grid.for_each_near(Vec2::ZERO, |i, _| near.push(i));
         assert!(near.contains(&2) && near.contains(&3));
@@ -431,7 +448,7 @@ mod tests {
                     let slack = grid.rounding_margin(*centre) + 0.01;
                     assert!(in_front(
                         low - Vec2::splat(slack),
-                        low + Vec2::splat(grid.cell_size + slack)
+                        low + grid.cell_size + Vec2::splat(slack)
                     ));
                 }
             }
