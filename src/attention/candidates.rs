@@ -210,9 +210,9 @@ impl<'a, Skip: FnMut(usize, u32) -> bool> Ranking<'a, Skip> {
     /// Scores the batch a group of `W::LANES` at a time, then ranks the few candidates
     /// that could enter the top two (consulting `skip` only for those), and empties it.
     ///
-    /// Scoring keeps each lane's two highest scores; from them comes a score that at least
-    /// two candidates of the batch reach (see [`Wide::reduce_max`] below), and a candidate
-    /// below it can enter the top two no more than one below `second` can. Usually two
+    /// Scoring keeps each lane's two highest scores; from them comes a floor that at least
+    /// two candidates of the batch reach (the comment at `floor` says why), and a candidate
+    /// below it can no more enter the top two than one below `second` can. Usually two
     /// candidates are ranked. If one of those is skipped, the lower ones may count after
     /// all: the batch is ranked again from where it started, against `second` alone.
     #[inline(always)]

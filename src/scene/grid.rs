@@ -246,7 +246,7 @@ impl SpatialGrid {
     /// `centre` — whole cells, so a superset: the cells of the rows around it, each row
     /// clipped to the circle — and, if `ahead` is given, of those only the cells that reach
     /// the half-plane in front of `centre` facing `ahead` (`ahead · (p − centre) ≥ 0`).
-    /// One run per row; each slot comes once.
+    /// One run per row (empty where the row has no such cell); each slot comes once.
     pub fn runs_near(&self, centre: Vec2, ahead: Option<Vec2>) -> SlotRuns {
         self.runs_near_lanes::<f32>(centre, ahead)
     }
