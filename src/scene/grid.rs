@@ -20,8 +20,8 @@ use crate::math::wide::{clamp, Wide, MAX_LANES};
 /// masks off).
 pub const SLOT_PADDING: usize = crate::math::wide::MAX_LANES - 1;
 
-/// Most runs one query makes: one per row, at most 7 rows (a query spans at most 3 cells
-/// each way, as cells are at least half the radius).
+/// Most runs one query makes: one per row, at most 7 rows (a query spans at most 3 rows
+/// each way, as rows are at least half the radius tall).
 pub const MAX_RUNS: usize = 2 * MAX_SPAN as usize + 1;
 
 /// Largest number of rows a query spans each way from its centre's row.
