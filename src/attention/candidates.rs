@@ -17,7 +17,7 @@ use glam::{Vec2, Vec4};
 use super::interest::Candidate;
 use super::score::{GroundState, LaneScorer, Scorer, SubscoreWeights};
 use crate::math::wide::{run_widest, LaneJob, Wide, MAX_LANES};
-use crate::scene::grid::{SpatialGrid, SLOT_PADDING};
+use crate::scene::grid::{SpatialGrid, RUN_ROOM, SLOT_PADDING};
 use crate::scene::Scene;
 
 /// Candidates scored per batch (a denser neighbourhood is scored in several batches).
@@ -80,6 +80,19 @@ impl NeighbourIndex {
         // forward, velocity and grid point; impact; grid entry and slot of each entity; and
         // the grid's four cell starts per entity.
         size_of::<Vec2>() * 3 + size_of::<f32>() + size_of::<u32>() * 2 + size_of::<u32>() * 4
+    }
+
+    /// One past the last slot at which every grid-ordered array (the grid's coordinates
+    /// too) holds a whole group of lanes: a query may load a group at any slot below it.
+    fn group_slot_limit(&self) -> usize {
+        let (xs, ys) = self.grid.coordinates();
+        [xs, ys, &self.impact, &self.forward_x, &self.forward_y]
+            .iter()
+            .map(|values| values.len())
+            .chain([self.velocity_x.len(), self.velocity_y.len()])
+            .min()
+            .unwrap_or(0)
+            .saturating_sub(SLOT_PADDING)
     }
 
     /// The grid.
@@ -303,19 +316,39 @@ struct GridSearch<'a, Skip: FnMut(usize, u32) -> bool> {
     ahead: Option<Vec2>,
     /// The observer's own grid slot (it passes every test, and is no candidate).
     own_slot: usize,
+    /// One past the last slot whose group of lanes every grid-ordered array holds.
+    slot_limit: usize,
     batch: &'a mut CandidateBatch,
 }
 
-impl<Skip: FnMut(usize, u32) -> bool> LaneJob for GridSearch<'_, Skip> {
+// For a reference, so that `run_widest` is handed a pointer: the search is built with
+// narrow stores, and copying it whole for the call (wide loads of them) stalled the query.
+impl<Skip: FnMut(usize, u32) -> bool> LaneJob for &mut GridSearch<'_, Skip> {
     type Output = (Candidate, Candidate);
 
     #[inline(always)]
-    fn run<W: Wide>(mut self) -> (Candidate, Candidate) {
+    fn run<W: Wide>(self) -> (Candidate, Candidate) {
         self.batch.len = 0;
         let observer = &self.ranking.observer;
         let runs = (self.index.grid).runs_near_lanes::<W>(observer.position, self.ahead);
+        // The runs' first two groups of lanes each, listed without branching on their
+        // lengths (an empty group is written and not counted); a longer run's rest is
+        // offered on its own.
+        let mut groups = [(0usize, 0usize); 2 * RUN_ROOM];
+        let mut listed = 0;
         for &(first, end) in runs.as_slice() {
-            self.offer::<W>(first as usize, end as usize);
+            let (first, end) = (first as usize, end as usize);
+            let middle = (first + W::LANES).min(end);
+            groups[listed % (2 * RUN_ROOM)] = (first, middle);
+            listed += usize::from(first < end);
+            groups[listed % (2 * RUN_ROOM)] = (middle, (middle + W::LANES).min(end));
+            listed += usize::from(middle < end);
+            if middle + W::LANES < end {
+                self.offer::<W>(middle + W::LANES, end);
+            }
+        }
+        for &(first, end) in &groups[..listed.min(2 * RUN_ROOM)] {
+            self.offer_group::<W>(first, end);
         }
         self.ranking.flush::<W>(self.batch);
         (self.ranking.best, self.ranking.second)
@@ -323,75 +356,66 @@ impl<Skip: FnMut(usize, u32) -> bool> LaneJob for GridSearch<'_, Skip> {
 }
 
 impl<Skip: FnMut(usize, u32) -> bool> GridSearch<'_, Skip> {
-    /// Offers grid slots `first .. end`, a group of lanes at a time: each is kept if it is
-    /// within `d_m`, in view and of positive impact, and is not the observer's own slot.
-    /// The kept lanes' data are compressed to the batch's end.
-    /// Reads up to `LANES − 1` slots past `end` (the arrays are padded), masked off.
+    /// Offers grid slots `first .. end`, a group of lanes at a time (see
+    /// [`offer_group`](Self::offer_group)).
     #[inline(always)]
     fn offer<W: Wide>(&mut self, first: usize, end: usize) {
-        let index = self.index;
-        let (xs, ys) = index.grid.coordinates();
-        let sources = [
-            xs,
-            ys,
-            &index.impact,
-            &index.forward_x,
-            &index.forward_y,
-            &index.velocity_x,
-            &index.velocity_y,
-        ];
-        // Checked once here for the loop's unchecked loads: every slot < end, and the
-        // arrays hold SLOT_PADDING ≥ LANES − 1 more (so this never fails).
-        assert!(sources
-            .iter()
-            .all(|values| end + SLOT_PADDING <= values.len()));
-        let observer = &self.ranking.observer;
-        let (position_x, position_y) =
-            (W::splat(observer.position.x), W::splat(observer.position.y));
-        let (forward_x, forward_y) = (W::splat(observer.forward.x), W::splat(observer.forward.y));
-        let max_distance_squared = W::splat(self.ranking.scorer.max_distance_squared());
-        let cos_half = self.ranking.scorer.cos_half_field_of_view();
-        let own_slot = self.own_slot;
         let mut slot = first;
         while slot < end {
-            // SAFETY (every load_at of the loop): slot + LANES ≤ end + SLOT_PADDING, checked
-            // above.
-            let load = |values: &[f32]| unsafe { W::load_at(values, slot) };
-            let offset_x = load(xs) - position_x;
-            let offset_y = load(ys) - position_y;
-            let impact = load(&index.impact);
-            let distance_squared = offset_x * offset_x + offset_y * offset_y;
-            let along = forward_x * offset_x + forward_y * offset_y;
-            let keep = distance_squared.cmple(max_distance_squared)
-                & impact.cmpgt(W::splat(0.0))
-                & in_view::<W>(along, distance_squared, cos_half)
-                & W::first_lanes(end - slot)
-                // Not lane own_slot − slot (no lane when it is outside 0 .. LANES).
-                & !(W::first_lanes((own_slot + 1).saturating_sub(slot))
-                    & !W::first_lanes(own_slot.saturating_sub(slot)));
-            if W::any(keep) {
-                if self.batch.len >= BATCH {
-                    self.ranking.flush::<W>(self.batch);
-                }
-                let batch = &mut *self.batch;
-                let at = batch.len;
-                // SAFETY (every compress_store_at here): at < BATCH after the flush above,
-                // so at + LANES ≤ BATCH_ROOM.
-                let store = |values: W, out: &mut [f32; BATCH_ROOM]| unsafe {
-                    values.compress_store_at(keep, out, at)
-                };
-                store(W::counting_from(slot as u32), &mut batch.source);
-                store(offset_x, &mut batch.offset_x);
-                store(offset_y, &mut batch.offset_y);
-                store(load(&index.forward_x), &mut batch.forward_x);
-                store(load(&index.forward_y), &mut batch.forward_y);
-                store(load(&index.velocity_x), &mut batch.velocity_x);
-                store(load(&index.velocity_y), &mut batch.velocity_y);
-                store(impact, &mut batch.impact);
-                batch.len = at + W::bitmask(keep).count_ones() as usize;
-            }
+            self.offer_group::<W>(slot, end.min(slot + W::LANES));
             slot += W::LANES;
         }
+    }
+
+    /// Offers grid slots `first .. end` (at most `W::LANES` of them) in one group of lanes:
+    /// each is kept if it is within `d_m`, in view and of positive impact, and is not the
+    /// observer's own slot. The kept lanes' data are compressed to the batch's end (all
+    /// lanes are stored, none counted if none is kept: no branch to mispredict).
+    /// Reads up to `LANES − 1` slots past `end` (the arrays are padded), masked off.
+    #[inline(always)]
+    fn offer_group<W: Wide>(&mut self, first: usize, end: usize) {
+        let index = self.index;
+        let (xs, ys) = index.grid.coordinates();
+        // Checked here for the unchecked loads below: the arrays hold SLOT_PADDING ≥
+        // LANES − 1 values past every slot (so this never fails).
+        assert!(first < end && end - first <= W::LANES && end <= self.slot_limit);
+        // SAFETY (every load_at here): first + LANES ≤ end + SLOT_PADDING ≤ the length of
+        // each array, checked above (slot_limit is the least of them minus SLOT_PADDING).
+        let load = |values: &[f32]| unsafe { W::load_at(values, first) };
+        let observer = &self.ranking.observer;
+        let offset_x = load(xs) - W::splat(observer.position.x);
+        let offset_y = load(ys) - W::splat(observer.position.y);
+        let impact = load(&index.impact);
+        let distance_squared = offset_x * offset_x + offset_y * offset_y;
+        let along =
+            W::splat(observer.forward.x) * offset_x + W::splat(observer.forward.y) * offset_y;
+        let own_slot = self.own_slot;
+        let keep = distance_squared.cmple(W::splat(self.ranking.scorer.max_distance_squared()))
+            & impact.cmpgt(W::splat(0.0))
+            & in_view::<W>(along, distance_squared, self.ranking.scorer.cos_half_field_of_view())
+            & W::first_lanes(end - first)
+            // Not lane own_slot − first (no lane when it is outside 0 .. LANES).
+            & !(W::first_lanes((own_slot + 1).saturating_sub(first))
+                & !W::first_lanes(own_slot.saturating_sub(first)));
+        if self.batch.len >= BATCH {
+            self.ranking.flush::<W>(self.batch);
+        }
+        let batch = &mut *self.batch;
+        let at = batch.len;
+        // SAFETY (every compress_store_at here): at < BATCH after the flush above, so
+        // at + LANES ≤ BATCH_ROOM.
+        let store = |values: W, out: &mut [f32; BATCH_ROOM]| unsafe {
+            values.compress_store_at(keep, out, at)
+        };
+        store(W::counting_from(first as u32), &mut batch.source);
+        store(offset_x, &mut batch.offset_x);
+        store(offset_y, &mut batch.offset_y);
+        store(load(&index.forward_x), &mut batch.forward_x);
+        store(load(&index.forward_y), &mut batch.forward_y);
+        store(load(&index.velocity_x), &mut batch.velocity_x);
+        store(load(&index.velocity_y), &mut batch.velocity_y);
+        store(impact, &mut batch.impact);
+        batch.len = at + W::bitmask(keep).count_ones() as usize;
     }
 }
 
@@ -418,6 +442,7 @@ fn grid_search<'a, Skip: FnMut(usize, u32) -> bool>(
         index,
         ahead,
         own_slot,
+        slot_limit: index.group_slot_limit(),
         batch,
     }
 }
@@ -435,7 +460,7 @@ pub fn nearby_candidates(
     batch: &mut CandidateBatch,
     skip: impl FnMut(usize, u32) -> bool,
 ) -> (Candidate, Candidate) {
-    run_widest(grid_search(
+    run_widest(&mut grid_search(
         scene, index, scorer, character, weights, batch, skip,
     ))
 }
@@ -585,8 +610,8 @@ mod tests {
         skip: impl FnMut(usize, u32) -> bool,
     ) -> (Candidate, Candidate) {
         let mut batch = CandidateBatch::default();
-        let search = grid_search(scene, index, scorer, character, weights, &mut batch, skip);
-        search.run::<W>()
+        let mut search = grid_search(scene, index, scorer, character, weights, &mut batch, skip);
+        (&mut search).run::<W>()
     }
 
     /// The grid search at width `W` equals the all-pairs search on a dense scene (more

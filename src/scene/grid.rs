@@ -37,7 +37,7 @@ const MAX_COLUMN_SPAN: i32 = COLUMNS_PER_RADIUS as i32 + 1;
 
 /// Room for the runs of one query: [`MAX_RUNS`] rounded up to a power of two (so that
 /// storing a run masks its index rather than dividing it).
-const RUN_ROOM: usize = MAX_RUNS.next_power_of_two();
+pub(crate) const RUN_ROOM: usize = MAX_RUNS.next_power_of_two();
 
 /// Most cells a grid has: 2²³, so that row and column numbers are exact in an `f32` (a
 /// query clips rows in SIMD lanes, in floats).
