@@ -20,9 +20,10 @@ use crowdgaze::Crowd;
 #[test]
 fn every_per_character_type_has_its_recorded_size() {
     assert_eq!(size_of::<CharacterParams>(), 24);
-    // A score histogram (64 16-bit counts and their total) and 20 four-byte fields.
-    assert_eq!(size_of::<ScoreHistogram>(), 132);
-    assert_eq!(size_of::<InterestTracker>(), 212);
+    // A score histogram (64 16-bit counts, their total and the quantile cursor's bin and
+    // count below it) and 20 four-byte fields.
+    assert_eq!(size_of::<ScoreHistogram>(), 140);
+    assert_eq!(size_of::<InterestTracker>(), 220);
     // The crowd's base pose of each chain joint.
     assert_eq!(size_of::<[PackedQuat; MAX_CHAIN_JOINTS]>(), 120);
     // Deltas (240), packed start pose (120), eye rays (48), last targets (24), target key
@@ -34,10 +35,10 @@ fn every_per_character_type_has_its_recorded_size() {
     // The crowd's saliency state: one channel for the eyes, one for the head.
     assert_eq!(size_of::<FixationChannel>(), 20);
     assert_eq!(size_of::<BaselineState>(), 20);
-    // A character keeps the state of its own attention model only: the tracker (212) or
+    // A character keeps the state of its own attention model only: the tracker (220) or
     // the look, saliency and baseline state (76), and a tag.
     assert_eq!(size_of::<GlanceState>(), 76);
-    assert_eq!(size_of::<ModelState>(), 216);
+    assert_eq!(size_of::<ModelState>(), 224);
     // Each entity's share of the scene and of the neighbour index.
     assert_eq!(Scene::bytes_per_entity(), 77);
     assert_eq!(NeighbourIndex::bytes_per_entity(), 52);
@@ -46,9 +47,9 @@ fn every_per_character_type_has_its_recorded_size() {
 #[test]
 fn state_per_character_adds_up() {
     // 24 parameters + 4 chain index + 120 packed base pose + 1 posed flag + 20 explicit
-    // target + 216 attention model state + 464 gaze motion + 2 × 8 random streams + 12 level
+    // target + 224 attention model state + 464 gaze motion + 2 × 8 random streams + 12 level
     // of detail, + 77 scene + 52 neighbour index.
-    assert_eq!(Crowd::state_bytes_per_character(), 1006);
+    assert_eq!(Crowd::state_bytes_per_character(), 1014);
     // The design's budget.
     assert!(Crowd::state_bytes_per_character() <= 1024);
 }

@@ -4,7 +4,9 @@
 //! whole series is known and [`exact_quantile`] sorts it. Online, [`ScoreHistogram`] keeps
 //! a fixed 64-bin histogram of the scores (normalised by `S_MAX`), from which any quantile
 //! can be read in O(64) with no allocation — the level is not fixed in advance, which the
-//! online tracker needs to correct for its reaction delay.
+//! online tracker needs to correct for its reaction delay. The tracker reads it every
+//! frame with [`ScoreHistogram::quantile_near`], which starts where the last answer was
+//! (usually the answer again, or a bin away) and gives the same value.
 
 /// The `p`-quantile (`p` ∈ [0, 1]) of `values` by linear interpolation between order
 /// statistics (the "type 7" rule of R and numpy). Sorts `values` in place. `None` if empty.
@@ -31,6 +33,10 @@ pub const HISTOGRAM_BINS: usize = 64;
 pub struct ScoreHistogram {
     counts: [u16; HISTOGRAM_BINS],
     total: u32,
+    /// The bin where [`quantile_near`](Self::quantile_near) last found its answer.
+    cursor_bin: u32,
+    /// Samples in the bins below `cursor_bin` (kept up to date by every push).
+    cursor_below: u32,
 }
 
 impl Default for ScoreHistogram {
@@ -38,6 +44,8 @@ impl Default for ScoreHistogram {
         ScoreHistogram {
             counts: [0; HISTOGRAM_BINS],
             total: 0,
+            cursor_bin: 0,
+            cursor_below: 0,
         }
     }
 }
@@ -57,13 +65,18 @@ impl ScoreHistogram {
             ((value.clamp(0.0, 1.0) * HISTOGRAM_BINS as f32) as usize).min(HISTOGRAM_BINS - 1);
         if self.counts[bin] == u16::MAX {
             self.total = 0;
-            for count in &mut self.counts {
+            self.cursor_below = 0;
+            for (index, count) in self.counts.iter_mut().enumerate() {
                 *count /= 2;
                 self.total += u32::from(*count);
+                if index < self.cursor_bin as usize {
+                    self.cursor_below += u32::from(*count);
+                }
             }
         }
         self.counts[bin] += 1;
         self.total += 1;
+        self.cursor_below += u32::from(bin < self.cursor_bin as usize);
     }
 
     /// The `level`-quantile (level in [0, 1]) of the samples, `None` if there are none.
@@ -94,6 +107,36 @@ impl ScoreHistogram {
             }
         }
         Some(1.0)
+    }
+
+    /// [`quantile`](Self::quantile), searched from the bin of the last answer rather than
+    /// from the first bin: the same value, found in a step or two when the level and the
+    /// samples change little between calls (as they do frame to frame).
+    pub fn quantile_near(&mut self, level: f32) -> Option<f32> {
+        if self.total == 0 {
+            return None;
+        }
+        let target = level.clamp(0.0, 1.0) * self.total as f32;
+        // As in `quantile`: the first bin whose cumulative count reaches `needed`.
+        let needed = ceil_to_u32(target).max(1);
+        let (mut bin, mut below) = (self.cursor_bin as usize, self.cursor_below);
+        // Down while the bins below already reach it (below ≥ needed ≥ 1, so bin > 0)...
+        while below >= needed && bin > 0 {
+            bin -= 1;
+            below -= u32::from(self.counts[bin]);
+        }
+        // ...up while this bin does not.
+        while bin < HISTOGRAM_BINS && below + u32::from(self.counts[bin]) < needed {
+            below += u32::from(self.counts[bin]);
+            bin += 1;
+        }
+        let Some(&count) = self.counts.get(bin) else {
+            // No bin reaches it (as in `quantile`; the cursor stays where it was).
+            return Some(1.0);
+        };
+        (self.cursor_bin, self.cursor_below) = (bin as u32, below);
+        let inside = ((target - below as f32) / f32::from(count)).clamp(0.0, 1.0);
+        Some((bin as f32 + inside) / HISTOGRAM_BINS as f32)
     }
 }
 
@@ -187,6 +230,43 @@ mod tests {
             }
         }
         assert_eq!(ScoreHistogram::default().quantile(0.5), None);
+    }
+
+    /// `quantile_near` gives `quantile`'s value whatever came before: levels that wander
+    /// and jump, samples pushed between the reads (above and below the cursor), and the
+    /// halving of every count.
+    #[test]
+    fn quantile_near_equals_quantile() {
+        let mut random = Random::new(13);
+        let mut histogram = ScoreHistogram::default();
+        assert_eq!(histogram.quantile_near(0.5), None);
+        let mut level = 0.5f32;
+        for read in 0..40_000 {
+            let pushes = if read < 100 { 3 } else { random.below(3) };
+            for _ in 0..pushes {
+                let value = if read % 1_000 < 500 {
+                    random.next_f32().powi(3)
+                } else {
+                    random.next_f32()
+                };
+                histogram.push(value);
+            }
+            if read % 4_000 == 3_999 {
+                // Fill one bin to the top: every count halves.
+                for _ in 0..u16::MAX {
+                    histogram.push(0.3);
+                }
+            }
+            level = if read % 97 == 0 {
+                random.next_f32()
+            } else {
+                (level + random.range(-0.02, 0.02)).clamp(0.0, 1.0)
+            };
+            let expected = histogram.quantile(level);
+            assert_eq!(histogram.quantile_near(level), expected, "read {read}");
+        }
+        assert_eq!(histogram.quantile_near(1.0), histogram.quantile(1.0));
+        assert_eq!(histogram.quantile_near(0.0), histogram.quantile(0.0));
     }
 
     #[test]
