@@ -41,6 +41,10 @@ pub struct NeighbourIndex {
     impact: Vec<f32>,
     /// Grid slot of each entity.
     slot_of_entity: Vec<u32>,
+    /// One past the last slot at which every grid-ordered array (the grid's coordinates
+    /// too) holds a whole group of lanes: a query may load a group at any slot below it.
+    /// Set by each rebuild from the arrays' lengths.
+    group_slot_limit: usize,
 }
 
 impl NeighbourIndex {
@@ -55,6 +59,7 @@ impl NeighbourIndex {
             velocity_y: padded(),
             impact: padded(),
             slot_of_entity: vec![0; capacity],
+            group_slot_limit: 0,
         }
     }
 
@@ -72,6 +77,14 @@ impl NeighbourIndex {
             self.impact[slot] = impacts[entity];
             self.slot_of_entity[entity] = slot as u32;
         }
+        let (xs, ys) = self.grid.coordinates();
+        self.group_slot_limit = [xs, ys, &self.impact, &self.forward_x, &self.forward_y]
+            .iter()
+            .map(|values| values.len())
+            .chain([self.velocity_x.len(), self.velocity_y.len()])
+            .min()
+            .unwrap_or(0)
+            .saturating_sub(SLOT_PADDING);
     }
 
     /// Bytes of state per entity (grid-ordered copies and the grid's own arrays).
@@ -80,19 +93,6 @@ impl NeighbourIndex {
         // forward, velocity and grid point; impact; grid entry and slot of each entity; and
         // the grid's four cell starts per entity.
         size_of::<Vec2>() * 3 + size_of::<f32>() + size_of::<u32>() * 2 + size_of::<u32>() * 4
-    }
-
-    /// One past the last slot at which every grid-ordered array (the grid's coordinates
-    /// too) holds a whole group of lanes: a query may load a group at any slot below it.
-    fn group_slot_limit(&self) -> usize {
-        let (xs, ys) = self.grid.coordinates();
-        [xs, ys, &self.impact, &self.forward_x, &self.forward_y]
-            .iter()
-            .map(|values| values.len())
-            .chain([self.velocity_x.len(), self.velocity_y.len()])
-            .min()
-            .unwrap_or(0)
-            .saturating_sub(SLOT_PADDING)
     }
 
     /// The grid.
@@ -442,7 +442,7 @@ fn grid_search<'a, Skip: FnMut(usize, u32) -> bool>(
         index,
         ahead,
         own_slot,
-        slot_limit: index.group_slot_limit(),
+        slot_limit: index.group_slot_limit,
         batch,
     }
 }
