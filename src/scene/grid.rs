@@ -357,14 +357,30 @@ mod tests {
     use super::*;
     use crate::math::random::Random;
 
+    /// `count` points drawn from `random` uniformly within `half_size` of `centre`, and a
+    /// grid of radius 10 m and room for `capacity` points rebuilt from them.
+    fn scattered(
+        random: &mut Random,
+        count: usize,
+        half_size: Vec2,
+        centre: Vec2,
+        capacity: usize,
+    ) -> (Vec<Vec2>, SpatialGrid) {
+        let points: Vec<Vec2> = (0..count)
+            .map(|_| {
+                let x = random.range(-half_size.x, half_size.x);
+                Vec2::new(x, random.range(-half_size.y, half_size.y)) + centre
+            })
+            .collect();
+        let mut grid = SpatialGrid::new(capacity, 10.0);
+        grid.rebuild(&points);
+        (points, grid)
+    }
+
     #[test]
     fn finds_every_point_within_the_radius_exactly_once() {
-        let mut random = Random::new(3);
-        let points: Vec<Vec2> = (0..500)
-            .map(|_| Vec2::new(random.range(-60.0, 60.0), random.range(-60.0, 60.0)))
-            .collect();
-        let mut grid = SpatialGrid::new(600, 10.0);
-        grid.rebuild(&points);
+        let (points, grid) =
+            scattered(&mut Random::new(3), 500, Vec2::splat(60.0), Vec2::ZERO, 600);
         let mut centres = points[..50].to_vec();
         centres.push(Vec2::new(-200.0, 300.0));
         for centre in &centres {
@@ -472,12 +488,7 @@ mod tests {
         // way, the axes included.
         let (mut total_visited, mut total_all) = (0, 0);
         for shift in [Vec2::ZERO, Vec2::new(4.0e4, -7.0e4)] {
-            let mut random = Random::new(5);
-            let points: Vec<Vec2> = (0..400)
-                .map(|_| Vec2::new(random.range(-30.0, 30.0), random.range(-30.0, 30.0)) + shift)
-                .collect();
-            let mut grid = SpatialGrid::new(400, 10.0);
-            grid.rebuild(&points);
+            let (points, grid) = scattered(&mut Random::new(5), 400, Vec2::splat(30.0), shift, 400);
             for angle in [0.7f32, 0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0] {
                 let forward = if angle.fract() == 0.0 {
                     // Exactly along an axis: one of the components is zero.
@@ -500,11 +511,7 @@ mod tests {
     /// centres inside the grid, on its edges and outside it, facing every way or none.
     fn runs_at_width_equal_runs_one_row_at_a_time<W: Wide>() {
         let mut random = Random::new(9);
-        let points: Vec<Vec2> = (0..300)
-            .map(|_| Vec2::new(random.range(-25.0, 25.0), random.range(-40.0, 40.0)))
-            .collect();
-        let mut grid = SpatialGrid::new(300, 10.0);
-        grid.rebuild(&points);
+        let (points, grid) = scattered(&mut random, 300, Vec2::new(25.0, 40.0), Vec2::ZERO, 300);
         let aheads = [
             None,
             Some(Vec2::X),
