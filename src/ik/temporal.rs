@@ -528,6 +528,12 @@ impl GazeMotion {
         let Some(filler) = (0..motions.len()).find(|lane| ok[*lane]) else {
             return;
         };
+        if (0..motions.len())
+            .all(|lane| !ok[lane] || motions[lane].is_resting(inputs[lane].request.as_ref()))
+        {
+            Self::rest_lanes::<W>(motions, chains, inputs, ok, filler);
+            return;
+        }
         let timing = &config.timing;
         let n = motions.len();
         // Every SIMD lane gets a character: lanes past N or failing their checks compute a
@@ -831,6 +837,91 @@ impl GazeMotion {
         }
     }
 
+    /// True if the motion is at rest (idle: every delta identity) and `request` is none: an
+    /// update then only carries the eye rays along with the character. A lane group whose
+    /// every character rests skips everything else, so [`update_batch`](Self::update_batch)
+    /// is several times cheaper for a batch of resting characters than for one that mixes
+    /// them with moving ones (the results are the same bits either way).
+    #[inline]
+    pub fn is_resting(&self, request: Option<&GazeRequest>) -> bool {
+        self.phase == GazePhase::Idle && request.is_none()
+    }
+
+    /// [`update_lanes`](Self::update_lanes) for a lane group whose every character that
+    /// passed its checks (`ok`) rests ([`is_resting`](Self::is_resting)): the eye rays of
+    /// the base pose, by the same operations the full update makes on such a character (its
+    /// deltas are identity and are multiplied in as such), so the same bits, without reading
+    /// the deltas or solving anything.
+    #[inline(always)]
+    fn rest_lanes<W: Wide>(
+        motions: &mut [&mut GazeMotion],
+        chains: &[&GazeChain],
+        inputs: &[&GazeInput<'_>],
+        ok: &[bool],
+        filler: usize,
+    ) {
+        let n = motions.len();
+        let used = |lane: usize| lane < n && ok[lane];
+        let pick = |lane: usize| if used(lane) { lane } else { filler };
+        let lane_chains: [&GazeChain; MAX_LANES] = std::array::from_fn(|lane| chains[pick(lane)]);
+        let lane_bases: [&[Quat]; MAX_LANES] = std::array::from_fn(|lane| inputs[pick(lane)].base);
+        let characters: [&CharacterTransform; MAX_LANES] =
+            std::array::from_fn(|lane| &inputs[pick(lane)].character);
+        let same = spatial::same_chain(&lane_chains);
+        let shared_base = same
+            && lane_bases
+                .iter()
+                .all(|base| std::ptr::eq(*base, lane_bases[0]));
+        let body: [usize; MAX_LANES] = lane_chains.map(GazeChain::body_count);
+        let joints = body.iter().copied().max().unwrap_or(0);
+        let mut heads = Frames::<W>::roots(&lane_chains, &characters);
+        for index in 0..joints {
+            let base = if shared_base {
+                Q4::splat(lane_bases[0][index])
+            } else {
+                Q4::gather(|lane| {
+                    if index < body[lane] {
+                        lane_bases[lane][index]
+                    } else {
+                        Quat::IDENTITY
+                    }
+                })
+            };
+            heads.position = heads.position.add(heads.rotation.rotate(spatial::offsets(
+                &lane_chains,
+                same,
+                index,
+            )));
+            // The identity delta multiplied in, as the full update does.
+            heads.rotation = heads.rotation.mul(base).mul(Q4::identity());
+        }
+        let mut origins = [V3::zero(); 2];
+        let mut directions = [V3::zero(); 2];
+        for eye in 0..2 {
+            let frames = EyeFrames::new(&lane_chains, &lane_bases, &heads, eye);
+            origins[eye] = frames.position;
+            directions[eye] = frames.direction(Q4::identity());
+        }
+        let eyeless = !mask(|lane| lane_chains[lane].has_eyes());
+        if eyeless.any() {
+            let forward = heads
+                .rotation
+                .rotate(V3::gather(|lane| lane_chains[lane].eye_forward().into()));
+            for eye in 0..2 {
+                directions[eye] = V3::select(eyeless, forward, directions[eye]);
+            }
+        }
+        for lane in 0..n {
+            if ok[lane] {
+                let motion = &mut *motions[lane];
+                for eye in 0..2 {
+                    motion.eye_origins[eye] = origins[eye].lane(lane).into();
+                    motion.eye_directions[eye] = directions[eye].lane(lane).into();
+                }
+            }
+        }
+    }
+
     /// The current deltas become the start of a new shift or return.
     fn remember_start(&mut self) {
         let count = self.joint_count as usize;
@@ -1044,9 +1135,9 @@ mod tests {
     }
 
     /// 16 characters (three kinds of chain and base pose, each placed and turned its own way,
-    /// with targets that jump, go behind and drop out) run for `frames` frames in lane groups
-    /// of `W`: every character's state after every frame.
-    fn run_at<W: Wide>(frames: usize) -> Vec<Vec<State>> {
+    /// with targets that jump, go behind and drop out) run for `frames` frames in batches of
+    /// `batch` characters, in lane groups of `W`: every character's state after every frame.
+    fn run_at<W: Wide>(frames: usize, batch: usize) -> Vec<Vec<State>> {
         let human = GazeChain::human(Vec3::Y, Vec3::Z);
         let eyeless = eyeless_chain();
         let rest: Vec<Quat> = human.joints().iter().map(|joint| joint.rest).collect();
@@ -1097,16 +1188,19 @@ mod tests {
             let input_refs: Vec<&GazeInput<'_>> = inputs.iter().collect();
             let mut motion_refs: Vec<&mut GazeMotion> = motions.iter_mut().collect();
             let mut random_refs: Vec<&mut Random> = randoms.iter_mut().collect();
-            UpdateGroups {
-                motions: &mut motion_refs,
-                chains: &chains,
-                config: &config,
-                inputs: &input_refs,
-                randoms: &mut random_refs,
-                ok: &[true; 16],
-                prepared: &prepared,
+            for first in (0..count).step_by(batch) {
+                let end = count.min(first + batch);
+                UpdateGroups {
+                    motions: &mut motion_refs[first..end],
+                    chains: &chains[first..end],
+                    config: &config,
+                    inputs: &input_refs[first..end],
+                    randoms: &mut random_refs[first..end],
+                    ok: &[true; 16][first..end],
+                    prepared: &prepared,
+                }
+                .run::<W>();
             }
-            .run::<W>();
             history.push(
                 motions
                     .iter()
@@ -1133,19 +1227,46 @@ mod tests {
     #[test]
     fn update_batch_gives_the_same_bits_at_every_width() {
         let frames = 200;
-        let four = run_at::<Vec4>(frames);
+        let four = run_at::<Vec4>(frames, 16);
         let phases: std::collections::HashSet<String> = four
             .iter()
             .flat_map(|frame| frame.iter().map(|state| format!("{:?}", state.3)))
             .collect();
         assert_eq!(phases.len(), 4, "every phase is exercised: {phases:?}");
         fn same_as_four<W: Wide>(four: &[Vec<State>], frames: usize) {
-            let wide = run_at::<W>(frames);
+            let wide = run_at::<W>(frames, 16);
             for (frame, (wide, four)) in wide.iter().zip(four).enumerate() {
                 assert_eq!(wide, four, "frame {frame} at {} lanes", W::LANES);
             }
         }
         for_every_width!(same_as_four(&four, frames));
+    }
+
+    /// A character at rest with nothing to look at gets the same bits from the resting
+    /// characters' short update (its lane group rests wholly: here, a batch of one) as from
+    /// the full update (its group has moving characters), frame after frame.
+    #[test]
+    fn resting_characters_get_the_same_bits_from_the_short_update() {
+        let frames = 600;
+        let together = run_at::<Vec4>(frames, 16);
+        let alone = run_at::<Vec4>(frames, 1);
+        // Updates of a resting character (idle before and after) in a group where another
+        // character moves: the short update ran for it alone, the full one in the group.
+        let idle = |state: &State| state.3 == GazePhase::Idle;
+        let compared: usize = together
+            .windows(2)
+            .filter(|frames| !frames[1].iter().all(idle))
+            .map(|frames| {
+                let (before, after) = (&frames[0], &frames[1]);
+                (0..after.len())
+                    .filter(|&character| idle(&before[character]) && idle(&after[character]))
+                    .count()
+            })
+            .sum();
+        assert!(compared >= 40, "only {compared} resting updates compared");
+        for (frame, (alone, together)) in alone.iter().zip(&together).enumerate() {
+            assert_eq!(alone, together, "frame {frame}");
+        }
     }
 
     #[test]
