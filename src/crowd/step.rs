@@ -28,6 +28,11 @@ use crate::scene::ids::NO_ENTITY;
 /// Characters per task when [`Crowd::step`] shares a step among its worker threads.
 const CHARACTERS_PER_TASK: usize = 128;
 
+/// Characters the gaze IK sorts into moving and resting ones at a time.
+const SORT_CHUNK: usize = 128;
+// A position in a chunk is a byte.
+const _: () = assert!(SORT_CHUNK <= 256);
+
 /// From this many characters on, attention visits characters in spatial-grid order: the
 /// neighbours' data (about 40 bytes an entity) then outgrows the caches, and visiting
 /// neighbours one after another keeps it in them (each character's own state, read out of
@@ -479,11 +484,14 @@ impl Shared {
         }
     }
 
-    /// Gaze IK for the characters of `slices` (the first is character `first`),
+    /// Gaze IK for the characters of `slices` (the first is character `first`), up to
     /// [`BATCH_LANES`] per [`GazeMotion::update_batch`] call (which runs them as many at a
-    /// time as the processor's SIMD lanes hold).
+    /// time as the processor's SIMD lanes hold). Within each chunk of [`SORT_CHUNK`]
+    /// characters, those at rest with nothing to look at are batched apart from the
+    /// others: a lane group costs the same whichever of its lanes move, and a group of
+    /// resting characters skips the blending of every joint. (A character's result does not
+    /// depend on its batch.)
     fn move_gaze(&self, dt: f32, first: usize, slices: CharacterSlices<'_>) {
-        const LANES: usize = BATCH_LANES;
         let CharacterSlices {
             models,
             motions,
@@ -491,67 +499,136 @@ impl Shared {
             ..
         } = slices;
         let count = motions.len();
-        let mut start = 0;
-        while start < count {
-            let lanes = (count - start).min(LANES);
-            let local = |lane: usize| (start + lane).min(count - 1);
-            let requests: [Option<GazeRequest>; LANES] = std::array::from_fn(|lane| {
-                let local = local(lane);
+        let mut chunk = 0;
+        while chunk < count {
+            let len = (count - chunk).min(SORT_CHUNK);
+            let motions = &mut motions[chunk..chunk + len];
+            let randoms = &mut gaze_randoms[chunk..chunk + len];
+            let requests: [Option<GazeRequest>; SORT_CHUNK] = std::array::from_fn(|local| {
+                if local >= len {
+                    return None;
+                }
                 let view = CharacterView {
-                    model: &models[local],
+                    model: &models[chunk + local],
                     motion: &motions[local],
                 };
-                self.gaze_request(first + local, view)
+                self.gaze_request(first + chunk + local, view)
             });
-            let transforms: [CharacterTransform; LANES] =
-                std::array::from_fn(|lane| self.character_transform(first + local(lane)));
-            let chains: [&GazeChain; LANES] = std::array::from_fn(|lane| {
-                &self.chains[self.chain_of[first + local(lane)] as usize]
-            });
-            // Rest poses are read in place; a pose the engine set is unpacked here.
-            let mut unpacked = [[Quat::IDENTITY; MAX_CHAIN_JOINTS]; LANES];
-            for (lane, unpacked) in unpacked.iter_mut().enumerate() {
-                let character = first + local(lane);
-                if self.posed[character] {
-                    *unpacked = self.base_pose(character);
+            let resting = |local: usize| motions[local].is_resting(requests[local].as_ref());
+            // The moving characters first, then the resting ones.
+            let mut order = [0u8; SORT_CHUNK];
+            let mut moving = 0;
+            for local in 0..len {
+                if !resting(local) {
+                    order[moving] = local as u8;
+                    moving += 1;
                 }
             }
-            let bases: [&[Quat; MAX_CHAIN_JOINTS]; LANES] = std::array::from_fn(|lane| {
-                let character = first + local(lane);
-                if self.posed[character] {
-                    &unpacked[lane]
-                } else {
-                    &self.chain_rests[self.chain_of[character] as usize]
+            let mut at = moving;
+            for local in 0..len {
+                if resting(local) {
+                    order[at] = local as u8;
+                    at += 1;
                 }
-            });
-            let inputs: [GazeInput<'_>; LANES] = std::array::from_fn(|lane| GazeInput {
-                character: transforms[lane],
-                base: &bases[lane][..chains[lane].joint_count()],
-                request: requests[lane],
-                dt,
-            });
-            let motions = &mut motions[start..start + lanes];
-            let randoms = &mut gaze_randoms[start..start + lanes];
-            // Inputs were checked when they came in: a failure here would be a bug, and it
-            // leaves only that character's motion unchanged.
-            // One `update_batch` call for as many characters as `lanes` (a constant per arm).
-            macro_rules! update_lanes {
-                ($($count:literal)*) => {
-                    match lanes {
-                        $($count => update_batch::<$count>(
-                            motions,
-                            randoms,
-                            &chains,
-                            &self.config.gaze,
-                            &inputs,
-                        ),)*
-                        _ => unreachable!("1 to BATCH_LANES characters per batch"),
-                    }
-                };
             }
-            update_lanes!(1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16);
-            start += lanes;
+            let mut motions: [Option<&mut GazeMotion>; SORT_CHUNK] = {
+                let mut each = motions.iter_mut();
+                std::array::from_fn(|_| each.next())
+            };
+            let mut randoms: [Option<&mut Random>; SORT_CHUNK] = {
+                let mut each = randoms.iter_mut();
+                std::array::from_fn(|_| each.next())
+            };
+            for (part_start, part_end) in [(0, moving), (moving, len)] {
+                let mut start = part_start;
+                while start < part_end {
+                    let lanes = (part_end - start).min(BATCH_LANES);
+                    let group = &order[start..start + lanes];
+                    self.move_group(
+                        dt,
+                        first + chunk,
+                        group,
+                        &requests,
+                        &mut motions,
+                        &mut randoms,
+                    );
+                    start += lanes;
+                }
+            }
+            chunk += len;
         }
+    }
+
+    /// Gaze IK for one batch: the characters `first + group[i]`, whose requests are
+    /// `requests[group[i]]` and whose motions and random streams are taken from
+    /// `motions[group[i]]` and `randoms[group[i]]` (each `Some`, and `group` without
+    /// repeats).
+    fn move_group(
+        &self,
+        dt: f32,
+        first: usize,
+        group: &[u8],
+        requests: &[Option<GazeRequest>; SORT_CHUNK],
+        motions: &mut [Option<&mut GazeMotion>; SORT_CHUNK],
+        randoms: &mut [Option<&mut Random>; SORT_CHUNK],
+    ) {
+        const LANES: usize = BATCH_LANES;
+        let lanes = group.len();
+        let local = |lane: usize| usize::from(group[lane.min(lanes - 1)]);
+        let transforms: [CharacterTransform; LANES] =
+            std::array::from_fn(|lane| self.character_transform(first + local(lane)));
+        let chains: [&GazeChain; LANES] =
+            std::array::from_fn(|lane| &self.chains[self.chain_of[first + local(lane)] as usize]);
+        // Rest poses are read in place; a pose the engine set is unpacked here.
+        let mut unpacked = [[Quat::IDENTITY; MAX_CHAIN_JOINTS]; LANES];
+        for (lane, unpacked) in unpacked.iter_mut().enumerate().take(lanes) {
+            let character = first + local(lane);
+            if self.posed[character] {
+                *unpacked = self.base_pose(character);
+            }
+        }
+        let bases: [&[Quat; MAX_CHAIN_JOINTS]; LANES] = std::array::from_fn(|lane| {
+            let character = first + local(lane);
+            if self.posed[character] && lane < lanes {
+                &unpacked[lane]
+            } else {
+                &self.chain_rests[self.chain_of[character] as usize]
+            }
+        });
+        let inputs: [GazeInput<'_>; LANES] = std::array::from_fn(|lane| GazeInput {
+            character: transforms[lane],
+            base: &bases[lane][..chains[lane].joint_count()],
+            request: requests[local(lane)],
+            dt,
+        });
+        let mut motions = group.iter().map(|&local| {
+            motions[usize::from(local)]
+                .take()
+                .expect("each character of a chunk once")
+        });
+        let mut randoms = group.iter().map(|&local| {
+            randoms[usize::from(local)]
+                .take()
+                .expect("each character of a chunk once")
+        });
+        // Inputs were checked when they came in: a failure here would be a bug, and it
+        // leaves only that character's motion unchanged.
+        // One `update_batch` call for as many characters as `lanes` (a constant per arm).
+        macro_rules! update_lanes {
+            ($($count:literal)*) => {
+                match lanes {
+                    $($count => update_batch::<$count>(
+                        std::array::from_fn(|_| motions.next().expect("a motion per lane")),
+                        std::array::from_fn(|_| randoms.next().expect("a stream per lane")),
+                        &chains,
+                        &self.config.gaze,
+                        &inputs,
+                    ),)*
+                    _ => unreachable!("1 to BATCH_LANES characters per batch"),
+                }
+            };
+        }
+        update_lanes!(1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16);
     }
 
     /// The automatic interest point of a character (dense index) and its `S_max`.
@@ -638,24 +715,22 @@ impl Shared {
 }
 
 /// [`GazeMotion::update_batch`] for the first `N` characters of `chains` and `inputs`, whose
-/// motions and random streams are `motions` and `randoms` (`N` each). Results are dropped:
-/// the inputs were checked when they came in, and a failure leaves only that character's
-/// motion unchanged.
+/// motions and random streams are `motions` and `randoms`. Results are dropped: the inputs
+/// were checked when they came in, and a failure leaves only that character's motion
+/// unchanged.
 fn update_batch<const N: usize>(
-    motions: &mut [GazeMotion],
-    randoms: &mut [Random],
+    motions: [&mut GazeMotion; N],
+    randoms: [&mut Random; N],
     chains: &[&GazeChain; BATCH_LANES],
     config: &GazeConfig,
     inputs: &[GazeInput<'_>; BATCH_LANES],
 ) {
-    let motions = <&mut [GazeMotion; N]>::try_from(motions).expect("N motions");
-    let randoms = <&mut [Random; N]>::try_from(randoms).expect("N random streams");
     let _ = GazeMotion::update_batch(
-        motions.each_mut(),
+        motions,
         std::array::from_fn(|lane| chains[lane]),
         config,
         std::array::from_fn(|lane| &inputs[lane]),
-        randoms.each_mut(),
+        randoms,
     );
 }
 
