@@ -484,9 +484,38 @@ impl GazeMotion {
         let results: [Result<()>; N] =
             std::array::from_fn(|lane| motions[lane].check(chains[lane], inputs[lane]));
         let ok: [bool; N] = std::array::from_fn(|lane| results[lane].is_ok());
-        if !ok.contains(&true) {
-            return results;
+        if ok.contains(&true) {
+            Self::update_checked(motions, chains, config, inputs, randoms, &ok);
         }
+        results
+    }
+
+    /// [`update_batch`](Self::update_batch) for inputs known to pass its checks: the
+    /// crowd's, whose every part was checked when it came in (its configuration when the
+    /// crowd was made, poses, positions and targets when they were set). Debug builds
+    /// check them again.
+    pub(crate) fn update_batch_prechecked<const N: usize>(
+        motions: [&mut GazeMotion; N],
+        chains: [&GazeChain; N],
+        config: &GazeConfig,
+        inputs: [&GazeInput<'_>; N],
+        randoms: [&mut Random; N],
+    ) {
+        debug_assert!(config.validate().is_ok());
+        debug_assert!((0..N).all(|lane| motions[lane].check(chains[lane], inputs[lane]).is_ok()));
+        Self::update_checked(motions, chains, config, inputs, randoms, &[true; N]);
+    }
+
+    /// [`update_batch`](Self::update_batch) once its checks are done: `ok[lane]` says which
+    /// characters passed them (the others are left as they are).
+    fn update_checked<const N: usize>(
+        motions: [&mut GazeMotion; N],
+        chains: [&GazeChain; N],
+        config: &GazeConfig,
+        inputs: [&GazeInput<'_>; N],
+        randoms: [&mut Random; N],
+        ok: &[bool; N],
+    ) {
         let prepared = Prepared::new(&config.spatial);
         let (mut motions, mut randoms) = (motions, randoms);
         let groups = UpdateGroups {
@@ -495,7 +524,7 @@ impl GazeMotion {
             config,
             inputs: &inputs,
             randoms: &mut randoms,
-            ok: &ok,
+            ok,
             prepared: &prepared,
         };
         if N == 1 {
@@ -508,7 +537,6 @@ impl GazeMotion {
         } else {
             run_widest(groups);
         }
-        results
     }
 
     /// [`GazeMotion::update_batch`] for one lane group of at most `W::LANES` characters
