@@ -30,6 +30,9 @@ const CHARACTERS_PER_TASK: usize = 128;
 
 /// Characters the gaze IK sorts into moving and resting ones at a time.
 const SORT_CHUNK: usize = 128;
+
+/// How many characters ahead the gaze step prefetches a character's state.
+const GAZE_PREFETCH_AHEAD: usize = 8;
 // A position in a chunk is a byte.
 const _: () = assert!(SORT_CHUNK <= 256);
 
@@ -502,11 +505,19 @@ impl Shared {
         let mut chunk = 0;
         while chunk < count {
             let len = (count - chunk).min(SORT_CHUNK);
+            let ahead_motions = motions.as_ptr();
             let motions = &mut motions[chunk..chunk + len];
             let randoms = &mut gaze_randoms[chunk..chunk + len];
             let requests: [Option<GazeRequest>; SORT_CHUNK] = std::array::from_fn(|local| {
                 if local >= len {
                     return None;
+                }
+                let ahead = chunk + local + GAZE_PREFETCH_AHEAD;
+                if ahead < count {
+                    crate::math::prefetch(models.as_ptr().wrapping_add(ahead));
+                    let motion = ahead_motions.wrapping_add(ahead).cast::<[u8; 256]>();
+                    crate::math::prefetch(motion);
+                    crate::math::prefetch(motion.wrapping_add(1));
                 }
                 let view = CharacterView {
                     model: &models[chunk + local],
@@ -515,21 +526,16 @@ impl Shared {
                 self.gaze_request(first + chunk + local, view)
             });
             let resting = |local: usize| motions[local].is_resting(requests[local].as_ref());
-            // The moving characters first, then the resting ones.
+            // The moving characters first, then the resting ones (backwards). Each is
+            // written at both ends and only one end moves on: no branch to mispredict.
             let mut order = [0u8; SORT_CHUNK];
-            let mut moving = 0;
+            let (mut moving, mut back) = (0, len);
             for local in 0..len {
-                if !resting(local) {
-                    order[moving] = local as u8;
-                    moving += 1;
-                }
-            }
-            let mut at = moving;
-            for local in 0..len {
-                if resting(local) {
-                    order[at] = local as u8;
-                    at += 1;
-                }
+                let rests = resting(local);
+                order[moving] = local as u8;
+                order[back - 1] = local as u8;
+                moving += usize::from(!rests);
+                back -= usize::from(rests);
             }
             let mut motions: [Option<&mut GazeMotion>; SORT_CHUNK] = {
                 let mut each = motions.iter_mut();
@@ -611,8 +617,6 @@ impl Shared {
                 .take()
                 .expect("each character of a chunk once")
         });
-        // Inputs were checked when they came in: a failure here would be a bug, and it
-        // leaves only that character's motion unchanged.
         // One `update_batch` call for as many characters as `lanes` (a constant per arm).
         macro_rules! update_lanes {
             ($($count:literal)*) => {
@@ -715,9 +719,8 @@ impl Shared {
 }
 
 /// [`GazeMotion::update_batch`] for the first `N` characters of `chains` and `inputs`, whose
-/// motions and random streams are `motions` and `randoms`. Results are dropped: the inputs
-/// were checked when they came in, and a failure leaves only that character's motion
-/// unchanged.
+/// motions and random streams are `motions` and `randoms`, without its checks: every input
+/// was checked when it came in.
 fn update_batch<const N: usize>(
     motions: [&mut GazeMotion; N],
     randoms: [&mut Random; N],
@@ -725,7 +728,7 @@ fn update_batch<const N: usize>(
     config: &GazeConfig,
     inputs: &[GazeInput<'_>; BATCH_LANES],
 ) {
-    let _ = GazeMotion::update_batch(
+    GazeMotion::update_batch_prechecked(
         motions,
         std::array::from_fn(|lane| chains[lane]),
         config,
