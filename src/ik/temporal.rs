@@ -45,7 +45,9 @@
 //! run at four lanes. Every width computes the same IEEE operations in each lane, so a
 //! character's results are exactly the same whatever batch it is in, wherever, and whatever
 //! the width: a crowd stays deterministic however its characters are split between threads
-//! and whichever processor runs it.
+//! and whichever processor runs it. A lane group whose every character rests
+//! ([`GazeMotion::is_resting`]) takes a short update that gives the same bits, so batching
+//! resting characters apart from moving ones (as the crowd does) makes them cheap.
 
 // The lockstep loops index several per-lane and per-joint arrays with one index.
 #![allow(clippy::needless_range_loop)]
