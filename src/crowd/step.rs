@@ -30,11 +30,11 @@ const CHARACTERS_PER_TASK: usize = 128;
 
 /// Characters the gaze IK sorts into moving and resting ones at a time.
 const SORT_CHUNK: usize = 128;
+// A position in a chunk is a byte.
+const _: () = assert!(SORT_CHUNK <= 256);
 
 /// How many characters ahead the gaze step prefetches a character's state.
 const GAZE_PREFETCH_AHEAD: usize = 8;
-// A position in a chunk is a byte.
-const _: () = assert!(SORT_CHUNK <= 256);
 
 /// From this many characters on, attention visits characters in spatial-grid order: the
 /// neighbours' data (about 40 bytes an entity) then outgrows the caches, and visiting
@@ -490,10 +490,10 @@ impl Shared {
     /// Gaze IK for the characters of `slices` (the first is character `first`), up to
     /// [`BATCH_LANES`] per [`GazeMotion::update_batch`] call (which runs them as many at a
     /// time as the processor's SIMD lanes hold). Within each chunk of [`SORT_CHUNK`]
-    /// characters, those at rest with nothing to look at are batched apart from the
-    /// others: a lane group costs the same whichever of its lanes move, and a group of
-    /// resting characters skips the blending of every joint. (A character's result does not
-    /// depend on its batch.)
+    /// characters, those at rest with nothing to look at ([`GazeMotion::is_resting`]) are
+    /// batched apart from the others: a lane group costs the same whichever of its lanes
+    /// move, and a group of resting characters only carries their eye rays along. (A
+    /// character's result does not depend on its batch.)
     fn move_gaze(&self, dt: f32, first: usize, slices: CharacterSlices<'_>) {
         let CharacterSlices {
             models,
@@ -512,6 +512,8 @@ impl Shared {
                 if local >= len {
                     return None;
                 }
+                // The attention model state and the whole motion state (464 bytes) of a
+                // character a few ahead.
                 let ahead = chunk + local + GAZE_PREFETCH_AHEAD;
                 if ahead < count {
                     crate::math::prefetch(models.as_ptr().wrapping_add(ahead));
