@@ -827,16 +827,7 @@ impl GazeMotion {
             origins[eye] = frames.position;
             directions[eye] = frames.direction(delta);
         }
-        // Chains without eyes: both rays are the head's global eye.
-        let eyeless = !mask(|lane| lane_chains[lane].has_eyes());
-        if eyeless.any() {
-            let forward = heads
-                .rotation
-                .rotate(V3::gather(|lane| lane_chains[lane].eye_forward().into()));
-            for eye in 0..2 {
-                directions[eye] = V3::select(eyeless, forward, directions[eye]);
-            }
-        }
+        eyeless_directions(&lane_chains, &heads, &mut directions);
 
         // 5. Phase changes, and the rays for debug drawing.
         for lane in 0..n {
@@ -860,10 +851,21 @@ impl GazeMotion {
                 motion.phase = GazePhase::Idle;
                 motion.side = TurnSide::UNDECIDED;
             }
-            for eye in 0..2 {
-                motion.eye_origins[eye] = origins[eye].lane(lane).into();
-                motion.eye_directions[eye] = directions[eye].lane(lane).into();
-            }
+            motion.set_eye_rays(&origins, &directions, lane);
+        }
+    }
+
+    /// Keeps lane `lane` of the eye rays (left, right) as this motion's.
+    #[inline(always)]
+    fn set_eye_rays<W: Wide>(
+        &mut self,
+        origins: &[V3<W>; 2],
+        directions: &[V3<W>; 2],
+        lane: usize,
+    ) {
+        for eye in 0..2 {
+            self.eye_origins[eye] = origins[eye].lane(lane).into();
+            self.eye_directions[eye] = directions[eye].lane(lane).into();
         }
     }
 
@@ -932,22 +934,10 @@ impl GazeMotion {
             origins[eye] = frames.position;
             directions[eye] = frames.direction(Q4::identity());
         }
-        let eyeless = !mask(|lane| lane_chains[lane].has_eyes());
-        if eyeless.any() {
-            let forward = heads
-                .rotation
-                .rotate(V3::gather(|lane| lane_chains[lane].eye_forward().into()));
-            for eye in 0..2 {
-                directions[eye] = V3::select(eyeless, forward, directions[eye]);
-            }
-        }
+        eyeless_directions(&lane_chains, &heads, &mut directions);
         for lane in 0..n {
             if ok[lane] {
-                let motion = &mut *motions[lane];
-                for eye in 0..2 {
-                    motion.eye_origins[eye] = origins[eye].lane(lane).into();
-                    motion.eye_directions[eye] = directions[eye].lane(lane).into();
-                }
+                motions[lane].set_eye_rays(&origins, &directions, lane);
             }
         }
     }
@@ -1048,6 +1038,25 @@ fn settle<W: Wide>(
     let limits = Limits::of_joints(chains, same_chain, indices);
     let (clamped, _) = limits.clamp(stepped);
     (clamped, clamped.is_identity())
+}
+
+/// Chains without eyes: both rays of such a lane are the head's global eye, its forward
+/// direction carried by the head's frame.
+#[inline(always)]
+fn eyeless_directions<W: Wide>(
+    chains: &[&GazeChain; MAX_LANES],
+    heads: &Frames<W>,
+    directions: &mut [V3<W>; 2],
+) {
+    let eyeless = !mask(|lane| chains[lane].has_eyes());
+    if eyeless.any() {
+        let forward = heads
+            .rotation
+            .rotate(V3::gather(|lane| chains[lane].eye_forward().into()));
+        for direction in directions {
+            *direction = V3::select(eyeless, forward, *direction);
+        }
+    }
 }
 
 /// `f_P(elapsed / duration)`, 1 for a zero duration.
