@@ -740,32 +740,30 @@ impl GazeMotion {
         let heads = if all_on_goal {
             solved_heads
         } else {
-            // Multiplied as in the spatial solve, (parent · base) · delta, so that both ways
-            // give the same values and a character's result never depends on its batch.
-            let mut heads = Frames::roots(&lane_chains, &characters);
-            for index in 0..joints {
-                let base = Q4::gather(|lane| {
-                    if index < body[lane] {
-                        lane_bases[lane][index]
-                    } else {
-                        Quat::IDENTITY
-                    }
-                });
-                let delta = Q4::gather(|lane| {
-                    if used(lane) && index < body[lane] {
-                        motions[lane].deltas[index]
-                    } else {
-                        Quat::IDENTITY
-                    }
-                });
-                heads.position = heads.position.add(heads.rotation.rotate(spatial::offsets(
-                    &lane_chains,
-                    same,
-                    index,
-                )));
-                heads.rotation = heads.rotation.mul(base).mul(delta);
-            }
-            heads
+            heads_by_kinematics(
+                &lane_chains,
+                &characters,
+                same,
+                joints,
+                |index| {
+                    Q4::gather(|lane| {
+                        if index < body[lane] {
+                            lane_bases[lane][index]
+                        } else {
+                            Quat::IDENTITY
+                        }
+                    })
+                },
+                |index| {
+                    Q4::gather(|lane| {
+                        if used(lane) && index < body[lane] {
+                            motions[lane].deltas[index]
+                        } else {
+                            Quat::IDENTITY
+                        }
+                    })
+                },
+            )
         };
 
         // 4. Eyes: vergence from the current head, or back to rest; then the eye rays.
@@ -906,27 +904,27 @@ impl GazeMotion {
                 .all(|base| std::ptr::eq(*base, lane_bases[0]));
         let body: [usize; MAX_LANES] = lane_chains.map(GazeChain::body_count);
         let joints = body.iter().copied().max().unwrap_or(0);
-        let mut heads = Frames::<W>::roots(&lane_chains, &characters);
-        for index in 0..joints {
-            let base = if shared_base {
-                Q4::splat(lane_bases[0][index])
-            } else {
-                Q4::gather(|lane| {
-                    if index < body[lane] {
-                        lane_bases[lane][index]
-                    } else {
-                        Quat::IDENTITY
-                    }
-                })
-            };
-            heads.position = heads.position.add(heads.rotation.rotate(spatial::offsets(
-                &lane_chains,
-                same,
-                index,
-            )));
-            // The identity delta multiplied in, as the full update does.
-            heads.rotation = heads.rotation.mul(base).mul(Q4::identity());
-        }
+        let heads = heads_by_kinematics::<W>(
+            &lane_chains,
+            &characters,
+            same,
+            joints,
+            |index| {
+                if shared_base {
+                    Q4::splat(lane_bases[0][index])
+                } else {
+                    Q4::gather(|lane| {
+                        if index < body[lane] {
+                            lane_bases[lane][index]
+                        } else {
+                            Quat::IDENTITY
+                        }
+                    })
+                }
+            },
+            // The identity deltas multiplied in, as the full update does.
+            |_| Q4::identity(),
+        );
         let mut origins = [V3::zero(); 2];
         let mut directions = [V3::zero(); 2];
         for eye in 0..2 {
@@ -1038,6 +1036,29 @@ fn settle<W: Wide>(
     let limits = Limits::of_joints(chains, same_chain, indices);
     let (clamped, _) = limits.clamp(stepped);
     (clamped, clamped.is_identity())
+}
+
+/// The heads' world frames by forward kinematics from each lane's chain root, joint `index`
+/// turning by `base(index)` then `delta(index)` (past a lane's body joints, identity).
+/// Multiplied as in the spatial solve, (parent · base) · delta, so that both ways give the
+/// same values and a character's result never depends on its batch. `same_chain`: every
+/// lane has the same chain.
+#[inline(always)]
+fn heads_by_kinematics<W: Wide>(
+    chains: &[&GazeChain; MAX_LANES],
+    characters: &[&CharacterTransform; MAX_LANES],
+    same_chain: bool,
+    joints: usize,
+    base: impl Fn(usize) -> Q4<W>,
+    delta: impl Fn(usize) -> Q4<W>,
+) -> Frames<W> {
+    let mut heads = Frames::roots(chains, characters);
+    for index in 0..joints {
+        let offset = spatial::offsets(chains, same_chain, index);
+        heads.position = heads.position.add(heads.rotation.rotate(offset));
+        heads.rotation = heads.rotation.mul(base(index)).mul(delta(index));
+    }
+    heads
 }
 
 /// Chains without eyes: both rays of such a lane are the head's global eye, its forward
