@@ -100,9 +100,7 @@ impl ScoreHistogram {
             for (i, &count) in chunk.iter().enumerate() {
                 let count = u32::from(count);
                 if below + count >= needed {
-                    let inside = ((target - below as f32) / count as f32).clamp(0.0, 1.0);
-                    let bin = chunk_index * 8 + i;
-                    return Some((bin as f32 + inside) / HISTOGRAM_BINS as f32);
+                    return Some(value_in_bin(chunk_index * 8 + i, below, count, target));
                 }
                 below += count;
             }
@@ -136,9 +134,16 @@ impl ScoreHistogram {
             return Some(1.0);
         };
         (self.cursor_bin, self.cursor_below) = (bin as u32, below);
-        let inside = ((target - below as f32) / f32::from(count)).clamp(0.0, 1.0);
-        Some((bin as f32 + inside) / HISTOGRAM_BINS as f32)
+        Some(value_in_bin(bin, below, u32::from(count), target))
     }
+}
+
+/// The normalised score at which the cumulative count reaches `target` inside bin `bin`,
+/// which holds `count` samples above `below` ones: linear within the bin.
+#[inline]
+fn value_in_bin(bin: usize, below: u32, count: u32, target: f32) -> f32 {
+    let inside = ((target - below as f32) / count as f32).clamp(0.0, 1.0);
+    (bin as f32 + inside) / HISTOGRAM_BINS as f32
 }
 
 /// `⌈x⌉` for `x` in [0, 2³²) (no call to `ceilf`, which x86-64's baseline lacks).
