@@ -1,15 +1,15 @@
 //! Finding each character's best and second-best entity, fast.
 //!
 //! [`NeighbourIndex`] rebuilds the spatial grid every frame and copies what the scoring
-//! needs (forward, velocity, impact) into grid order, x and y apart, so that a query reads
-//! memory sequentially whatever the crowd's size. A query visits the runs of grid slots
-//! around the character that may be in view; it tests distance, view and impact for a
-//! whole group of SIMD lanes at once (16 with AVX-512F, 8 with AVX, else 4, chosen at run
-//! time; the same bits at every width) and compresses the survivors' data and slot numbers
-//! into a fixed-size [`CandidateBatch`] without branching. The batch is then scored a group
-//! at a time, each lane keeping its two highest scores, and only the candidates at least
-//! the batch's second-highest score — usually two — are ranked (their ids looked up by
-//! slot). The all-pairs search feeds the same batch from every entity of the scene, one at
+//! needs (forward, velocity, impact, id) into grid order, x and y apart, so that a query
+//! reads memory sequentially whatever the crowd's size. A query visits the runs of grid
+//! slots around the character that may be in view; it tests distance, view and impact for
+//! a whole group of SIMD lanes at once (16 with AVX-512F, 8 with AVX, else 4, chosen at run
+//! time; the same bits at every width) and compresses the survivors' data and ids into a
+//! fixed-size [`CandidateBatch`] without branching. The batch is then scored a group at a
+//! time, each lane keeping its two highest scores, and only the candidates at least the
+//! batch's second-highest score — usually two — are ranked, with the ids the batch carries
+//! (no lookup that waits on a load). The all-pairs search feeds the same batch from every entity of the scene, one at
 //! a time, and scores it four lanes at a time: the test oracle and the benchmark baseline.
 
 use glam::{Vec2, Vec4};
@@ -39,6 +39,9 @@ pub struct NeighbourIndex {
     velocity_x: Vec<f32>,
     velocity_y: Vec<f32>,
     impact: Vec<f32>,
+    /// Id of the entity at each slot, as the bits of a float (moved through the float lanes
+    /// into the batch, never computed with).
+    id_bits: Vec<f32>,
     /// Grid slot of each entity.
     slot_of_entity: Vec<u32>,
     /// One past the last slot at which every grid-ordered array (the grid's coordinates
@@ -58,6 +61,7 @@ impl NeighbourIndex {
             velocity_x: padded(),
             velocity_y: padded(),
             impact: padded(),
+            id_bits: padded(),
             slot_of_entity: vec![0; capacity],
             group_slot_limit: 0,
         }
@@ -67,7 +71,7 @@ impl NeighbourIndex {
     pub fn rebuild(&mut self, scene: &Scene) {
         self.grid.rebuild(scene.ground_positions());
         let (forwards, velocities) = (scene.forwards(), scene.velocities());
-        let impacts = scene.impacts();
+        let (impacts, ids) = (scene.impacts(), scene.ids());
         for (slot, &entity) in self.grid.entries().iter().enumerate() {
             let entity = entity as usize;
             self.forward_x[slot] = forwards[entity].x;
@@ -75,13 +79,18 @@ impl NeighbourIndex {
             self.velocity_x[slot] = velocities[entity].x;
             self.velocity_y[slot] = velocities[entity].y;
             self.impact[slot] = impacts[entity];
+            self.id_bits[slot] = f32::from_bits(ids[entity]);
             self.slot_of_entity[entity] = slot as u32;
         }
         let (xs, ys) = self.grid.coordinates();
         self.group_slot_limit = [xs, ys, &self.impact, &self.forward_x, &self.forward_y]
             .iter()
             .map(|values| values.len())
-            .chain([self.velocity_x.len(), self.velocity_y.len()])
+            .chain([
+                self.velocity_x.len(),
+                self.velocity_y.len(),
+                self.id_bits.len(),
+            ])
             .min()
             .unwrap_or(0)
             .saturating_sub(SLOT_PADDING);
@@ -90,9 +99,9 @@ impl NeighbourIndex {
     /// Bytes of state per entity (grid-ordered copies and the grid's own arrays).
     pub fn bytes_per_entity() -> usize {
         use std::mem::size_of;
-        // forward, velocity and grid point; impact; grid entry and slot of each entity; and
-        // the grid's four cell starts per entity.
-        size_of::<Vec2>() * 3 + size_of::<f32>() + size_of::<u32>() * 2 + size_of::<u32>() * 4
+        // forward, velocity and grid point; impact; id by slot, grid entry and slot of each
+        // entity; and the grid's four cell starts per entity.
+        size_of::<Vec2>() * 3 + size_of::<f32>() + size_of::<u32>() * 3 + size_of::<u32>() * 4
     }
 
     /// The grid.
@@ -106,10 +115,10 @@ impl NeighbourIndex {
 #[derive(Debug, Clone)]
 pub struct CandidateBatch {
     len: usize,
-    /// Where each candidate came from (a grid slot, or an entity index for the all-pairs
-    /// search), as the bits of floats: moved through float lanes with the rest, never
-    /// computed with.
-    source: [f32; BATCH_ROOM],
+    /// Each candidate's id, as the bits of a float: moved through float lanes with the
+    /// rest, never computed with. (The all-pairs search puts entity indices here while it
+    /// filters, and their ids once it gathers the data.)
+    id_bits: [f32; BATCH_ROOM],
     offset_x: [f32; BATCH_ROOM],
     offset_y: [f32; BATCH_ROOM],
     forward_x: [f32; BATCH_ROOM],
@@ -125,7 +134,7 @@ impl Default for CandidateBatch {
     fn default() -> Self {
         CandidateBatch {
             len: 0,
-            source: [0.0; BATCH_ROOM],
+            id_bits: [0.0; BATCH_ROOM],
             offset_x: [0.0; BATCH_ROOM],
             offset_y: [0.0; BATCH_ROOM],
             forward_x: [0.0; BATCH_ROOM],
@@ -182,28 +191,22 @@ fn in_view<W: Wide>(along: W, distance_squared: W, cos_half: f32) -> W::Mask {
 }
 
 /// One character's ranking: who looks, how it scores, and its best two so far.
-struct Ranking<'a, Skip: FnMut(usize, u32) -> bool> {
+struct Ranking<'a, Skip: FnMut(u32) -> bool> {
     scorer: &'a Scorer,
     weights: &'a SubscoreWeights,
     observer: GroundState,
     observer_entity: u32,
-    /// The entity index of each batch source (the grid's entries), or `None` if the
-    /// sources are entity indices.
-    entity_of_source: Option<&'a [u32]>,
-    /// Id of each entity.
-    ids: &'a [u32],
     skip: Skip,
     best: Candidate,
     second: Candidate,
 }
 
-impl<'a, Skip: FnMut(usize, u32) -> bool> Ranking<'a, Skip> {
+impl<'a, Skip: FnMut(u32) -> bool> Ranking<'a, Skip> {
     fn new(
         scene: &'a Scene,
         scorer: &'a Scorer,
         character: usize,
         weights: &'a SubscoreWeights,
-        entity_of_source: Option<&'a [u32]>,
         skip: Skip,
     ) -> Self {
         let observer_entity = scene.character_entities()[character];
@@ -212,8 +215,6 @@ impl<'a, Skip: FnMut(usize, u32) -> bool> Ranking<'a, Skip> {
             weights,
             observer: scene.ground_state(observer_entity as usize),
             observer_entity,
-            entity_of_source,
-            ids: scene.ids(),
             skip,
             best: Candidate::NONE,
             second: Candidate::NONE,
@@ -285,16 +286,12 @@ impl<'a, Skip: FnMut(usize, u32) -> bool> Ranking<'a, Skip> {
             while lanes != 0 {
                 let lane = lanes.trailing_zeros() as usize;
                 lanes &= lanes - 1;
-                let source = batch.source[start + lane].to_bits() as usize;
-                let entity = self
-                    .entity_of_source
-                    .map_or(source, |entities| entities[source] as usize);
                 let candidate = Candidate {
-                    id: self.ids[entity],
+                    id: batch.id_bits[start + lane].to_bits(),
                     score: batch.score[start + lane],
                 };
                 if ranks_above(candidate, self.second) {
-                    if (self.skip)(entity, candidate.id) {
+                    if (self.skip)(candidate.id) {
                         skipped = true;
                         continue;
                     }
@@ -309,7 +306,7 @@ impl<'a, Skip: FnMut(usize, u32) -> bool> Ranking<'a, Skip> {
 
 /// One character's search of the grid: the runs of slots near it, filtered a group of
 /// lanes at a time into the batch, which is ranked whenever it fills.
-struct GridSearch<'a, Skip: FnMut(usize, u32) -> bool> {
+struct GridSearch<'a, Skip: FnMut(u32) -> bool> {
     ranking: Ranking<'a, Skip>,
     index: &'a NeighbourIndex,
     /// The forward direction whose half-plane the grid query keeps, if any.
@@ -323,7 +320,7 @@ struct GridSearch<'a, Skip: FnMut(usize, u32) -> bool> {
 
 // For a reference, so that `run_widest` is handed a pointer: the search is built with
 // narrow stores, and copying it whole for the call (wide loads of them) stalled the query.
-impl<Skip: FnMut(usize, u32) -> bool> LaneJob for &mut GridSearch<'_, Skip> {
+impl<Skip: FnMut(u32) -> bool> LaneJob for &mut GridSearch<'_, Skip> {
     type Output = (Candidate, Candidate);
 
     #[inline(always)]
@@ -355,7 +352,7 @@ impl<Skip: FnMut(usize, u32) -> bool> LaneJob for &mut GridSearch<'_, Skip> {
     }
 }
 
-impl<Skip: FnMut(usize, u32) -> bool> GridSearch<'_, Skip> {
+impl<Skip: FnMut(u32) -> bool> GridSearch<'_, Skip> {
     /// Offers grid slots `first .. end`, a group of lanes at a time (see
     /// [`offer_group`](Self::offer_group)).
     #[inline(always)]
@@ -407,7 +404,7 @@ impl<Skip: FnMut(usize, u32) -> bool> GridSearch<'_, Skip> {
         let store = |values: W, out: &mut [f32; BATCH_ROOM]| unsafe {
             values.compress_store_at(keep, out, at)
         };
-        store(W::counting_from(first as u32), &mut batch.source);
+        store(load(&index.id_bits), &mut batch.id_bits);
         store(offset_x, &mut batch.offset_x);
         store(offset_y, &mut batch.offset_y);
         store(load(&index.forward_x), &mut batch.forward_x);
@@ -421,7 +418,7 @@ impl<Skip: FnMut(usize, u32) -> bool> GridSearch<'_, Skip> {
 
 /// The grid search for `character`, ready to run at any width (what
 /// [`nearby_candidates`] runs at the widest width the processor has).
-fn grid_search<'a, Skip: FnMut(usize, u32) -> bool>(
+fn grid_search<'a, Skip: FnMut(u32) -> bool>(
     scene: &'a Scene,
     index: &'a NeighbourIndex,
     scorer: &'a Scorer,
@@ -430,8 +427,7 @@ fn grid_search<'a, Skip: FnMut(usize, u32) -> bool>(
     batch: &'a mut CandidateBatch,
     skip: Skip,
 ) -> GridSearch<'a, Skip> {
-    let entries = Some(index.grid.entries());
-    let ranking = Ranking::new(scene, scorer, character, weights, entries, skip);
+    let ranking = Ranking::new(scene, scorer, character, weights, skip);
     // With a field of view of at most 180° (cos(π/2) rounds to −4e−8 in f32, and a 180°
     // view must still cull), cells wholly behind the observer are skipped.
     let observer = &ranking.observer;
@@ -449,7 +445,7 @@ fn grid_search<'a, Skip: FnMut(usize, u32) -> bool>(
 
 /// The best and second-best entities (positive score) for the character at dense index
 /// `character`, among the entities near it, skipping itself and every entity for which
-/// `skip(entity index, id)` is true. `index` must have been rebuilt from the scene's current state;
+/// `skip(id)` is true. `index` must have been rebuilt from the scene's current state;
 /// `batch` is scratch space (reused, so that nothing is cleared per query).
 pub fn nearby_candidates(
     scene: &Scene,
@@ -458,7 +454,7 @@ pub fn nearby_candidates(
     character: usize,
     weights: &SubscoreWeights,
     batch: &mut CandidateBatch,
-    skip: impl FnMut(usize, u32) -> bool,
+    skip: impl FnMut(u32) -> bool,
 ) -> (Candidate, Candidate) {
     run_widest(&mut grid_search(
         scene, index, scorer, character, weights, batch, skip,
@@ -474,10 +470,10 @@ pub fn all_pairs_candidates(
     scorer: &Scorer,
     character: usize,
     weights: &SubscoreWeights,
-    skip: impl FnMut(usize, u32) -> bool,
+    skip: impl FnMut(u32) -> bool,
 ) -> (Candidate, Candidate) {
     let mut batch = CandidateBatch::default();
-    let mut ranking = Ranking::new(scene, scorer, character, weights, None, skip);
+    let mut ranking = Ranking::new(scene, scorer, character, weights, skip);
     let observer = ranking.observer;
     let (max_distance_squared, cos_half) = (
         scorer.max_distance_squared(),
@@ -493,7 +489,7 @@ pub fn all_pairs_candidates(
             & (entity != ranking.observer_entity as usize);
         // len < BATCH (a full batch is ranked at once).
         let at = batch.len % BATCH;
-        batch.source[at] = f32::from_bits(entity as u32);
+        batch.id_bits[at] = f32::from_bits(entity as u32);
         batch.len = at + usize::from(keep);
         if batch.len == BATCH {
             gather_from_scene(&mut batch, scene, &observer);
@@ -505,12 +501,15 @@ pub fn all_pairs_candidates(
     (ranking.best, ranking.second)
 }
 
-/// Fills the batch's data from the scene's arrays, by the entity indices it holds.
+/// Fills the batch's data from the scene's arrays, by the entity indices it holds, and
+/// replaces those with the entities' ids.
 fn gather_from_scene(batch: &mut CandidateBatch, scene: &Scene, observer: &GroundState) {
     let (points, forwards) = (scene.ground_positions(), scene.forwards());
     let (velocities, impacts) = (scene.velocities(), scene.impacts());
+    let ids = scene.ids();
     for i in 0..batch.len.min(BATCH) {
-        let entity = batch.source[i].to_bits() as usize;
+        let entity = batch.id_bits[i].to_bits() as usize;
+        batch.id_bits[i] = f32::from_bits(ids[entity]);
         let offset = points[entity] - observer.position;
         batch.offset_x[i] = offset.x;
         batch.offset_y[i] = offset.y;
@@ -533,7 +532,7 @@ mod tests {
     #[test]
     fn index_state_size() {
         // Part of a character's state (Crowd::state_bytes_per_character).
-        assert_eq!(NeighbourIndex::bytes_per_entity(), 52);
+        assert_eq!(NeighbourIndex::bytes_per_entity(), 56);
     }
 
     #[test]
@@ -600,14 +599,14 @@ mod tests {
     }
 
     /// The grid search for `character` at width `W`, skipping the entities for which
-    /// `skip(entity index, id)` is true.
+    /// `skip(id)` is true.
     fn search_at<W: Wide>(
         scene: &Scene,
         index: &NeighbourIndex,
         scorer: &Scorer,
         character: usize,
         weights: &SubscoreWeights,
-        skip: impl FnMut(usize, u32) -> bool,
+        skip: impl FnMut(u32) -> bool,
     ) -> (Candidate, Candidate) {
         let mut batch = CandidateBatch::default();
         let mut search = grid_search(scene, index, scorer, character, weights, &mut batch, skip);
@@ -636,13 +635,11 @@ mod tests {
             });
             for character in (0..700).step_by(7) {
                 let all_pairs =
-                    all_pairs_candidates(&scene, &scorer, character, &weights, |_, _| false);
-                let grid =
-                    search_at::<W>(&scene, &index, &scorer, character, &weights, |_, _| false);
+                    all_pairs_candidates(&scene, &scorer, character, &weights, |_| false);
+                let grid = search_at::<W>(&scene, &index, &scorer, character, &weights, |_| false);
                 assert_eq!(grid, all_pairs, "{} lanes, fov {field_of_view}", W::LANES);
-                let skipped = |_, id: u32| {
-                    id == all_pairs.0.id || id == all_pairs.1.id || id.is_multiple_of(11)
-                };
+                let skipped =
+                    |id: u32| id == all_pairs.0.id || id == all_pairs.1.id || id.is_multiple_of(11);
                 let all_pairs = all_pairs_candidates(&scene, &scorer, character, &weights, skipped);
                 let grid = search_at::<W>(&scene, &index, &scorer, character, &weights, skipped);
                 assert_eq!(
@@ -676,7 +673,7 @@ mod tests {
                 character,
                 &weights,
                 &mut batch,
-                |_, _| false,
+                |_| false,
             );
             let observer = scene.character_entities()[character] as usize;
             let exact = (0..scene.len())

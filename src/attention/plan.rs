@@ -166,7 +166,7 @@ impl Plan {
                     c,
                     &character_params.weights,
                     &mut batch,
-                    |other, _| !active[other],
+                    |id| scene.index_of(id).is_none_or(|other| !active[other]),
                 );
                 best[2 * (f * character_count + c)] = first;
                 best[2 * (f * character_count + c) + 1] = second;

@@ -715,7 +715,7 @@ impl Crowd {
             character,
             &self.shared.params[character].weights,
             &mut CandidateBatch::default(),
-            |_, id| tracker.is_some_and(|tracker| tracker.is_cooling(id)),
+            |id| tracker.is_some_and(|tracker| tracker.is_cooling(id)),
         )
     }
 
@@ -734,7 +734,7 @@ impl Crowd {
             &self.shared.scorer,
             character,
             &self.shared.params[character].weights,
-            |_, id| tracker.is_some_and(|tracker| tracker.is_cooling(id)),
+            |id| tracker.is_some_and(|tracker| tracker.is_cooling(id)),
         )
     }
 

@@ -478,7 +478,7 @@ impl Shared {
                     character,
                     &self.params[character].weights,
                     batch,
-                    |_, id| tracker.is_cooling(id),
+                    |id| tracker.is_cooling(id),
                 );
                 tracker.update(best, second, frame.max_score, dt, &config.interest);
             }

@@ -87,9 +87,6 @@ pub(crate) trait Wide:
     fn reduce_max(self) -> f32;
     /// Lane `i` holds `i`.
     fn lane_numbers() -> Self;
-    /// Lane `i` holds the bits of the integer `start + i` (wrapping): numbers carried
-    /// through float lanes, never computed with.
-    fn counting_from(start: u32) -> Self;
     /// Writes the lanes to the start of `out`, which must hold at least `LANES` floats.
     fn store(self, out: &mut [f32]);
     /// Lanes `at .. at + LANES` of `values`, without a bounds check (for hot loops whose
@@ -231,12 +228,6 @@ impl Wide for Vec4 {
     #[inline(always)]
     fn lane_numbers() -> Self {
         Vec4::new(0.0, 1.0, 2.0, 3.0)
-    }
-    #[inline(always)]
-    fn counting_from(start: u32) -> Self {
-        Vec4::from_array(std::array::from_fn(|i| {
-            f32::from_bits(start.wrapping_add(i as u32))
-        }))
     }
     #[inline(always)]
     fn store(self, out: &mut [f32]) {
@@ -388,10 +379,6 @@ impl Wide for f32 {
     #[inline(always)]
     fn lane_numbers() -> Self {
         0.0
-    }
-    #[inline(always)]
-    fn counting_from(start: u32) -> Self {
-        f32::from_bits(start)
     }
     #[inline(always)]
     fn store(self, out: &mut [f32]) {
@@ -880,17 +867,6 @@ mod x86 {
             F8(unsafe { _mm256_setr_ps(0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0) })
         }
         #[inline(always)]
-        fn counting_from(start: u32) -> Self {
-            // SAFETY: AVX is present (module docs); the integer additions run on 128-bit
-            // halves (SSE2), as 256-bit integer arithmetic needs AVX2.
-            F8(unsafe {
-                let start = _mm_set1_epi32(start as i32);
-                let low = _mm_add_epi32(start, _mm_setr_epi32(0, 1, 2, 3));
-                let high = _mm_add_epi32(start, _mm_setr_epi32(4, 5, 6, 7));
-                _mm256_castsi256_ps(_mm256_set_m128i(high, low))
-            })
-        }
-        #[inline(always)]
         fn store(self, out: &mut [f32]) {
             let out = &mut out[..8];
             // SAFETY: AVX is present (module docs); `out` holds 8 floats.
@@ -1083,15 +1059,6 @@ mod x86 {
             })
         }
         #[inline(always)]
-        fn counting_from(start: u32) -> Self {
-            // SAFETY: AVX-512F is present (module docs).
-            F16(unsafe {
-                let numbers =
-                    _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
-                _mm512_castsi512_ps(_mm512_add_epi32(_mm512_set1_epi32(start as i32), numbers))
-            })
-        }
-        #[inline(always)]
         fn store(self, out: &mut [f32]) {
             let out = &mut out[..16];
             // SAFETY: AVX-512F is present (module docs); `out` holds 16 floats.
@@ -1225,8 +1192,6 @@ mod tests {
         assert_eq!(wa.reduce_max(), a.iter().copied().fold(f32::MIN, f32::max));
         for i in 0..W::LANES {
             assert_eq!(W::lane_numbers().lane(i), i as f32);
-            let counted = W::counting_from(u32::MAX - 2).lane(i).to_bits();
-            assert_eq!(counted, (u32::MAX - 2).wrapping_add(i as u32));
         }
         for top in 0..W::LANES {
             // The largest value in each lane in turn.
