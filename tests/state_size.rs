@@ -41,15 +41,15 @@ fn every_per_character_type_has_its_recorded_size() {
     assert_eq!(size_of::<ModelState>(), 224);
     // Each entity's share of the scene and of the neighbour index.
     assert_eq!(Scene::bytes_per_entity(), 77);
-    assert_eq!(NeighbourIndex::bytes_per_entity(), 56);
+    assert_eq!(NeighbourIndex::bytes_per_entity(), 52);
 }
 
 #[test]
 fn state_per_character_adds_up() {
     // 24 parameters + 4 chain index + 120 packed base pose + 1 posed flag + 20 explicit
     // target + 224 attention model state + 464 gaze motion + 2 × 8 random streams + 12 level
-    // of detail, + 77 scene + 56 neighbour index.
-    assert_eq!(Crowd::state_bytes_per_character(), 1018);
+    // of detail, + 77 scene + 52 neighbour index.
+    assert_eq!(Crowd::state_bytes_per_character(), 1014);
     // The design's budget.
     assert!(Crowd::state_bytes_per_character() <= 1024);
 }

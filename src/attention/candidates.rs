@@ -1,7 +1,7 @@
 //! Finding each character's best and second-best entity, fast.
 //!
 //! [`NeighbourIndex`] rebuilds the spatial grid every frame and copies what the scoring
-//! needs (forward, velocity, impact, id) into grid order, x and y apart, so that a query
+//! needs (heading, velocity, impact, id) into grid order, x and y apart, so that a query
 //! reads memory sequentially whatever the crowd's size. A query visits the runs of grid
 //! slots around the character that may be in view; it tests distance, view and impact for
 //! a whole group of SIMD lanes at once (16 with AVX-512F, 8 with AVX, else 4, chosen at run
@@ -34,8 +34,7 @@ pub struct NeighbourIndex {
     grid: SpatialGrid,
     // By grid slot, each followed by SLOT_PADDING values that belong to no slot (a query
     // reads whole groups of lanes).
-    forward_x: Vec<f32>,
-    forward_y: Vec<f32>,
+    heading: Vec<f32>,
     velocity_x: Vec<f32>,
     velocity_y: Vec<f32>,
     impact: Vec<f32>,
@@ -56,8 +55,7 @@ impl NeighbourIndex {
         let padded = || vec![0.0; capacity + SLOT_PADDING];
         NeighbourIndex {
             grid: SpatialGrid::new(capacity, radius),
-            forward_x: padded(),
-            forward_y: padded(),
+            heading: padded(),
             velocity_x: padded(),
             velocity_y: padded(),
             impact: padded(),
@@ -70,12 +68,11 @@ impl NeighbourIndex {
     /// Rebuilds the grid and the grid-ordered copies from the scene's current state.
     pub fn rebuild(&mut self, scene: &Scene) {
         self.grid.rebuild(scene.ground_positions());
-        let (forwards, velocities) = (scene.forwards(), scene.velocities());
+        let (headings, velocities) = (scene.headings(), scene.velocities());
         let (impacts, ids) = (scene.impacts(), scene.ids());
         for (slot, &entity) in self.grid.entries().iter().enumerate() {
             let entity = entity as usize;
-            self.forward_x[slot] = forwards[entity].x;
-            self.forward_y[slot] = forwards[entity].y;
+            self.heading[slot] = headings[entity];
             self.velocity_x[slot] = velocities[entity].x;
             self.velocity_y[slot] = velocities[entity].y;
             self.impact[slot] = impacts[entity];
@@ -83,7 +80,7 @@ impl NeighbourIndex {
             self.slot_of_entity[entity] = slot as u32;
         }
         let (xs, ys) = self.grid.coordinates();
-        self.group_slot_limit = [xs, ys, &self.impact, &self.forward_x, &self.forward_y]
+        self.group_slot_limit = [xs, ys, &self.impact, &self.heading]
             .iter()
             .map(|values| values.len())
             .chain([
@@ -99,9 +96,9 @@ impl NeighbourIndex {
     /// Bytes of state per entity (grid-ordered copies and the grid's own arrays).
     pub fn bytes_per_entity() -> usize {
         use std::mem::size_of;
-        // forward, velocity and grid point; impact; id by slot, grid entry and slot of each
-        // entity; and the grid's four cell starts per entity.
-        size_of::<Vec2>() * 3 + size_of::<f32>() + size_of::<u32>() * 3 + size_of::<u32>() * 4
+        // velocity and grid point; heading and impact; id by slot, grid entry and slot of
+        // each entity; and the grid's four cell starts per entity.
+        size_of::<Vec2>() * 2 + size_of::<f32>() * 2 + size_of::<u32>() * 3 + size_of::<u32>() * 4
     }
 
     /// The grid.
@@ -121,8 +118,7 @@ pub struct CandidateBatch {
     id_bits: [f32; BATCH_ROOM],
     offset_x: [f32; BATCH_ROOM],
     offset_y: [f32; BATCH_ROOM],
-    forward_x: [f32; BATCH_ROOM],
-    forward_y: [f32; BATCH_ROOM],
+    heading: [f32; BATCH_ROOM],
     velocity_x: [f32; BATCH_ROOM],
     velocity_y: [f32; BATCH_ROOM],
     impact: [f32; BATCH_ROOM],
@@ -137,8 +133,7 @@ impl Default for CandidateBatch {
             id_bits: [0.0; BATCH_ROOM],
             offset_x: [0.0; BATCH_ROOM],
             offset_y: [0.0; BATCH_ROOM],
-            forward_x: [0.0; BATCH_ROOM],
-            forward_y: [0.0; BATCH_ROOM],
+            heading: [0.0; BATCH_ROOM],
             velocity_x: [0.0; BATCH_ROOM],
             velocity_y: [0.0; BATCH_ROOM],
             impact: [0.0; BATCH_ROOM],
@@ -244,8 +239,7 @@ impl<'a, Skip: FnMut(u32) -> bool> Ranking<'a, Skip> {
             let score = scorer.score(
                 load(&batch.offset_x),
                 load(&batch.offset_y),
-                load(&batch.forward_x),
-                load(&batch.forward_y),
+                load(&batch.heading),
                 load(&batch.velocity_x),
                 load(&batch.velocity_y),
                 load(&batch.impact),
@@ -407,8 +401,7 @@ impl<Skip: FnMut(u32) -> bool> GridSearch<'_, Skip> {
         store(load(&index.id_bits), &mut batch.id_bits);
         store(offset_x, &mut batch.offset_x);
         store(offset_y, &mut batch.offset_y);
-        store(load(&index.forward_x), &mut batch.forward_x);
-        store(load(&index.forward_y), &mut batch.forward_y);
+        store(load(&index.heading), &mut batch.heading);
         store(load(&index.velocity_x), &mut batch.velocity_x);
         store(load(&index.velocity_y), &mut batch.velocity_y);
         store(impact, &mut batch.impact);
@@ -504,7 +497,7 @@ pub fn all_pairs_candidates(
 /// Fills the batch's data from the scene's arrays, by the entity indices it holds, and
 /// replaces those with the entities' ids.
 fn gather_from_scene(batch: &mut CandidateBatch, scene: &Scene, observer: &GroundState) {
-    let (points, forwards) = (scene.ground_positions(), scene.forwards());
+    let (points, headings) = (scene.ground_positions(), scene.headings());
     let (velocities, impacts) = (scene.velocities(), scene.impacts());
     let ids = scene.ids();
     for i in 0..batch.len.min(BATCH) {
@@ -513,8 +506,7 @@ fn gather_from_scene(batch: &mut CandidateBatch, scene: &Scene, observer: &Groun
         let offset = points[entity] - observer.position;
         batch.offset_x[i] = offset.x;
         batch.offset_y[i] = offset.y;
-        batch.forward_x[i] = forwards[entity].x;
-        batch.forward_y[i] = forwards[entity].y;
+        batch.heading[i] = headings[entity];
         batch.velocity_x[i] = velocities[entity].x;
         batch.velocity_y[i] = velocities[entity].y;
         batch.impact[i] = impacts[entity];
@@ -532,7 +524,7 @@ mod tests {
     #[test]
     fn index_state_size() {
         // Part of a character's state (Crowd::state_bytes_per_character).
-        assert_eq!(NeighbourIndex::bytes_per_entity(), 56);
+        assert_eq!(NeighbourIndex::bytes_per_entity(), 52);
     }
 
     #[test]

@@ -13,11 +13,12 @@
 //!
 //! into `S = I_E (ω_p S_p + ω_s S_s + ω_o S_o + ω_pe S_pe)` (eq. 7).
 //!
-//! Angles use [`fast_acos`] and the proximity gaussian [`crate::math::fast::fast_exp`] (both within 1e-4 of
-//! the exact functions).
+//! `α` uses [`fast_acos`] and the proximity gaussian [`crate::math::fast::fast_exp`] (both
+//! within 1e-4 of the exact functions); `β` is the difference of the two headings, taken the
+//! short way round (no arc cosine).
 
 use glam::Vec2;
-use std::f32::consts::PI;
+use std::f32::consts::{PI, TAU};
 
 use crate::math::fast::{acos_lanes, exp_lanes, fast_acos};
 use crate::math::wide::Wide;
@@ -107,6 +108,9 @@ pub struct GroundState {
     pub position: Vec2,
     /// Unit forward direction on the ground plane.
     pub forward: Vec2,
+    /// Heading (radians) in [−π, π): the angle of `forward` (see
+    /// [`crate::math::wrap_angle`]).
+    pub heading: f32,
     /// Velocity on the ground plane (m/s).
     pub velocity: Vec2,
 }
@@ -166,9 +170,16 @@ pub fn periphery_score(
     periphery_lanes(
         view_angle,
         heading_angle,
-        half_field_of_view,
+        inverse_periphery_scale(half_field_of_view),
         periphery_max_angle,
     )
+}
+
+/// `1 / ((fov/2) π)`: the periphery subscore multiplies by it (a division per entity
+/// would cost more).
+#[inline]
+fn inverse_periphery_scale(half_field_of_view: f32) -> f32 {
+    1.0 / (half_field_of_view * PI)
 }
 
 // The subscores for one entity per lane: the one definition of each formula (the scalar
@@ -178,6 +189,13 @@ pub fn periphery_score(
 fn proximity_lanes<W: Wide>(distance: W) -> W {
     let x = W::splat(1.0) - distance * 0.5;
     exp_lanes(x * -0.5 * x)
+}
+
+/// `β` from headings in [−π, π]: their difference, the short way round, in [0, π].
+#[inline(always)]
+fn heading_angle_lanes<W: Wide>(heading: W, observer_heading: W) -> W {
+    let difference = (heading - observer_heading).abs();
+    difference.min(W::splat(TAU) - difference)
 }
 
 #[inline(always)]
@@ -194,11 +212,11 @@ fn orientation_lanes<W: Wide>(view_angle: W, heading_angle: W) -> W {
 fn periphery_lanes<W: Wide>(
     view_angle: W,
     heading_angle: W,
-    half_field_of_view: f32,
+    inverse_periphery_scale: f32,
     periphery_max_angle: f32,
 ) -> W {
     // Computed in every lane, then selected.
-    let value = view_angle * (W::splat(PI) - heading_angle) / W::splat(half_field_of_view * PI);
+    let value = view_angle * (W::splat(PI) - heading_angle) * inverse_periphery_scale;
     W::select(
         heading_angle.cmpgt(W::splat(periphery_max_angle)),
         W::splat(0.0),
@@ -213,11 +231,12 @@ fn periphery_lanes<W: Wide>(
 pub(crate) struct LaneScorer<W> {
     forward_x: W,
     forward_y: W,
+    heading: W,
     velocity_x: W,
     velocity_y: W,
     weights: SubscoreWeights,
     speed_weight: f32,
-    half_field_of_view: f32,
+    inverse_periphery_scale: f32,
     periphery_max_angle: f32,
 }
 
@@ -232,25 +251,25 @@ impl<W: Wide> LaneScorer<W> {
         LaneScorer {
             forward_x: W::splat(observer.forward.x),
             forward_y: W::splat(observer.forward.y),
+            heading: W::splat(observer.heading),
             velocity_x: W::splat(observer.velocity.x),
             velocity_y: W::splat(observer.velocity.y),
             weights: *weights,
             speed_weight: scorer.config.speed_weight,
-            half_field_of_view: scorer.half_field_of_view,
+            inverse_periphery_scale: inverse_periphery_scale(scorer.half_field_of_view),
             periphery_max_angle: scorer.config.periphery_max_angle,
         }
     }
 
     /// `S` for entities at `offset` from the observer (already pruned by distance and
-    /// view), facing `forward`, moving at `velocity`, with impact factor `impact`.
+    /// view), at `heading` (in [−π, π)), moving at `velocity`, with impact factor `impact`.
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn score(
         &self,
         offset_x: W,
         offset_y: W,
-        forward_x: W,
-        forward_y: W,
+        heading: W,
         velocity_x: W,
         velocity_y: W,
         impact: W,
@@ -261,7 +280,7 @@ impl<W: Wide> LaneScorer<W> {
         let quotient = along / distance.max(W::splat(1e-6));
         let cos_view = W::select(distance.cmpgt(W::splat(1e-6)), quotient, W::splat(1.0));
         let view_angle = acos_lanes(cos_view);
-        let heading_angle = acos_lanes(self.forward_x * forward_x + self.forward_y * forward_y);
+        let heading_angle = heading_angle_lanes(heading, self.heading);
         let relative_x = velocity_x - self.velocity_x;
         let relative_y = velocity_y - self.velocity_y;
         let relative_speed = (relative_x * relative_x + relative_y * relative_y).sqrt();
@@ -274,7 +293,7 @@ impl<W: Wide> LaneScorer<W> {
                 periphery_lanes(
                     view_angle,
                     heading_angle,
-                    self.half_field_of_view,
+                    self.inverse_periphery_scale,
                     self.periphery_max_angle,
                 ),
             ],
@@ -293,12 +312,6 @@ fn total_lanes<W: Wide>(impact: W, subscores: [W; 4], weights: &SubscoreWeights)
             + speed * weights.speed
             + orientation * weights.orientation
             + periphery * weights.periphery)
-}
-
-/// Angle between two unit vectors (radians in [0, π], within 1e-4 of the exact value).
-#[inline]
-fn angle_between(a: Vec2, b: Vec2) -> f32 {
-    fast_acos(a.dot(b))
 }
 
 /// Precomputed per-call constants of the scoring function.
@@ -362,7 +375,7 @@ impl Scorer {
             };
         }
         let view_angle = fast_acos(cos_view);
-        let heading_angle = angle_between(observer.forward, entity.forward);
+        let heading_angle = heading_angle_lanes(entity.heading, observer.heading);
         let relative_speed = (entity.velocity - observer.velocity).length();
         let proximity = proximity_score(distance);
         let speed = speed_score(relative_speed, self.config.speed_weight);
@@ -445,6 +458,7 @@ mod tests {
         GroundState {
             position: Vec2::new(x, y),
             forward,
+            heading: crate::math::wrap_angle(forward.to_angle()),
             velocity: forward * speed,
         }
     }

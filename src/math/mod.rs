@@ -9,6 +9,20 @@ pub mod packed;
 pub mod random;
 pub(crate) mod wide;
 
+/// `angle` (radians, finite) wrapped into [−π, π): the same direction. Angles already in
+/// that range come back unchanged, bit for bit.
+#[inline]
+pub fn wrap_angle(angle: f32) -> f32 {
+    use std::f32::consts::{PI, TAU};
+    if (-PI..PI).contains(&angle) {
+        angle
+    } else {
+        // rem_euclid may round up to TAU itself (then −π + TAU = π: still the same
+        // direction, and within [−π, π]).
+        (angle + PI).rem_euclid(TAU) - PI
+    }
+}
+
 /// Hints the processor to load the cache lines of the value at `value` (its first
 /// 256 bytes at most). A prefetch is only a hint: it never faults, whatever the address.
 #[inline(always)]

@@ -12,6 +12,7 @@ pub mod ids;
 use glam::{Vec2, Vec3};
 
 use crate::error::{Error, Result};
+use crate::math::wrap_angle;
 use crate::world::World;
 use ids::{EntityKind, IdTable, NO_ENTITY};
 
@@ -174,7 +175,7 @@ impl Scene {
         self.position.push(position);
         self.look_at_height.push(look_at_height);
         self.ground.push(ground);
-        self.heading.push(heading);
+        self.heading.push(wrap_angle(heading));
         self.forward.push(Vec2::from_angle(heading));
         self.velocity.push(Vec2::ZERO);
         self.turn_rate.push(0.0);
@@ -324,7 +325,7 @@ impl Scene {
             self.position[index] = update.position;
             self.ground[index] = ground;
             self.velocity[index] = velocity;
-            self.heading[index] = heading;
+            self.heading[index] = wrap_angle(heading);
             self.forward[index] = Vec2::from_angle(heading);
             self.last_time[index] = time;
         }
@@ -367,7 +368,7 @@ impl Scene {
     pub fn ground_positions(&self) -> &[Vec2] {
         &self.ground
     }
-    /// Headings (radians), by entity index.
+    /// Headings (radians, wrapped into [−π, π)), by entity index.
     pub fn headings(&self) -> &[f32] {
         &self.heading
     }
@@ -404,6 +405,7 @@ impl Scene {
         crate::attention::score::GroundState {
             position: self.ground[index],
             forward: self.forward[index],
+            heading: self.heading[index],
             velocity: self.velocity[index],
         }
     }
