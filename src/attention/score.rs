@@ -510,6 +510,31 @@ mod tests {
     }
 
     #[test]
+    fn heading_angle_is_the_angle_between_the_forward_directions() {
+        let mut random = crate::math::random::Random::new(17);
+        let mut worst = 0.0f64;
+        for i in 0..20_000 {
+            // Headings of any size (the scene wraps them), and some exactly ±π apart.
+            let observer = random.range(-40.0, 40.0);
+            let entity = if i % 100 == 0 {
+                observer + PI
+            } else {
+                random.range(-40.0, 40.0)
+            };
+            let turn = (entity as f64 - observer as f64).rem_euclid(std::f64::consts::TAU);
+            let exact = turn.min(std::f64::consts::TAU - turn);
+            let beta = heading_angle_lanes(
+                crate::math::wrap_angle(entity),
+                crate::math::wrap_angle(observer),
+            );
+            assert!((0.0..=PI).contains(&beta), "{beta}");
+            worst = worst.max((beta as f64 - exact).abs());
+        }
+        // The wrapped headings' rounding (a few 1e−7).
+        assert!(worst < 1e-6, "worst {worst}");
+    }
+
+    #[test]
     fn weights_are_normalised_or_rejected() {
         let w = SubscoreWeights::normalised([1.0, 1.0, 2.0, 0.0]).unwrap();
         assert_eq!(w.to_array(), [0.25, 0.25, 0.5, 0.0]);

@@ -9,17 +9,19 @@ pub mod packed;
 pub mod random;
 pub(crate) mod wide;
 
-/// `angle` (radians, finite) wrapped into [−π, π): the same direction. Angles already in
-/// that range come back unchanged, bit for bit.
+/// `angle` (radians, finite) wrapped into [−π, π] (π only by rounding): the same direction
+/// to within the rounding of the result. Angles already in [−π, π) come back unchanged, bit
+/// for bit.
 #[inline]
 pub fn wrap_angle(angle: f32) -> f32 {
-    use std::f32::consts::{PI, TAU};
+    use std::f32::consts::PI;
     if (-PI..PI).contains(&angle) {
         angle
     } else {
-        // rem_euclid may round up to TAU itself (then −π + TAU = π: still the same
-        // direction, and within [−π, π]).
-        (angle + PI).rem_euclid(TAU) - PI
+        // In f64: with f32's 2π, a large angle's remainder would drift from the direction
+        // (by 0.3 rad at 10⁷ rad).
+        use std::f64::consts::{PI, TAU};
+        ((f64::from(angle) + PI).rem_euclid(TAU) - PI) as f32
     }
 }
 
@@ -40,4 +42,26 @@ pub(crate) fn prefetch<T>(value: *const T) {
     }
     #[cfg(not(target_arch = "x86_64"))]
     let _ = value;
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f32::consts::PI;
+
+    #[test]
+    fn wrapped_angles_keep_their_direction() {
+        for angle in [0.0f32, 1.0, -PI, PI - 1e-6, -3.0, 3.0] {
+            assert_eq!(wrap_angle(angle).to_bits(), angle.to_bits(), "{angle}");
+        }
+        for angle in [PI, -PI - 1e-6, 7.0, -7.0, 100.0, -1234.5, 1e7] {
+            let wrapped = wrap_angle(angle);
+            assert!((-PI..=PI).contains(&wrapped), "{angle} -> {wrapped}");
+            let (a, b) = (
+                glam::Vec2::from_angle(angle),
+                glam::Vec2::from_angle(wrapped),
+            );
+            assert!(a.distance(b) < 1e-6, "{angle} -> {wrapped}");
+        }
+    }
 }
