@@ -407,7 +407,7 @@ impl Crowd {
 
 impl Shared {
     /// Hints the processor to load what attention reads of character `character` that
-    /// lives in the shared state: its parameters and its entity's ground state.
+    /// lives in the shared state: its parameters, its entity's ground state and grid slot.
     #[inline]
     fn prefetch_attention(&self, character: usize) {
         crate::math::prefetch(self.params.as_ptr().wrapping_add(character));
@@ -415,7 +415,9 @@ impl Shared {
             let entity = entity as usize;
             crate::math::prefetch(self.scene.ground_positions().as_ptr().wrapping_add(entity));
             crate::math::prefetch(self.scene.forwards().as_ptr().wrapping_add(entity));
+            crate::math::prefetch(self.scene.headings().as_ptr().wrapping_add(entity));
             crate::math::prefetch(self.scene.velocities().as_ptr().wrapping_add(entity));
+            self.neighbours.prefetch_entity(entity);
         }
     }
 
