@@ -9,8 +9,9 @@
 //! fixed-size [`CandidateBatch`] without branching. The batch is then scored a group at a
 //! time, each lane keeping its two highest scores, and only the candidates at least the
 //! batch's second-highest score — usually two — are ranked, with the ids the batch carries
-//! (no lookup that waits on a load). The all-pairs search feeds the same batch from every entity of the scene, one at
-//! a time, and scores it four lanes at a time: the test oracle and the benchmark baseline.
+//! (no lookup that waits on a load). The all-pairs search feeds the same batch from every
+//! entity of the scene, one at a time, and scores it four lanes at a time: the test oracle
+//! and the benchmark baseline.
 
 use glam::{Vec2, Vec4};
 
@@ -80,17 +81,17 @@ impl NeighbourIndex {
             self.slot_of_entity[entity] = slot as u32;
         }
         let (xs, ys) = self.grid.coordinates();
-        self.group_slot_limit = [xs, ys, &self.impact, &self.heading]
-            .iter()
-            .map(|values| values.len())
-            .chain([
-                self.velocity_x.len(),
-                self.velocity_y.len(),
-                self.id_bits.len(),
-            ])
-            .min()
-            .unwrap_or(0)
-            .saturating_sub(SLOT_PADDING);
+        let lengths = [
+            xs.len(),
+            ys.len(),
+            self.heading.len(),
+            self.velocity_x.len(),
+            self.velocity_y.len(),
+            self.impact.len(),
+            self.id_bits.len(),
+        ];
+        let shortest = lengths.into_iter().min().unwrap_or(0);
+        self.group_slot_limit = shortest.saturating_sub(SLOT_PADDING);
     }
 
     /// Bytes of state per entity (grid-ordered copies and the grid's own arrays).
