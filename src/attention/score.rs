@@ -108,7 +108,7 @@ pub struct GroundState {
     pub position: Vec2,
     /// Unit forward direction on the ground plane.
     pub forward: Vec2,
-    /// Heading (radians) in [−π, π): the angle of `forward` (see
+    /// Heading (radians) in [−π, π] (π only by rounding): the angle of `forward` (see
     /// [`crate::math::wrap_angle`]).
     pub heading: f32,
     /// Velocity on the ground plane (m/s).

@@ -19,7 +19,7 @@ pub fn wrap_angle(angle: f32) -> f32 {
         angle
     } else {
         // In f64: with f32's 2π, a large angle's remainder would drift from the direction
-        // (by 0.3 rad at 10⁷ rad).
+        // (by 0.42 rad at 10⁷ rad).
         use std::f64::consts::{PI, TAU};
         ((f64::from(angle) + PI).rem_euclid(TAU) - PI) as f32
     }
