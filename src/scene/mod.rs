@@ -368,7 +368,7 @@ impl Scene {
     pub fn ground_positions(&self) -> &[Vec2] {
         &self.ground
     }
-    /// Headings (radians, wrapped into [−π, π)), by entity index.
+    /// Headings (radians, wrapped into [−π, π] by [`wrap_angle`]), by entity index.
     pub fn headings(&self) -> &[f32] {
         &self.heading
     }
