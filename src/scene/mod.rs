@@ -316,8 +316,11 @@ impl Scene {
             } else {
                 update.heading
             };
+            // Stored headings are wrapped: the turn is taken between wrapped ones (an
+            // in-range heading is its own wrap, bit for bit).
+            let wrapped = wrap_angle(heading);
             if elapsed > 0.0 && elapsed.is_finite() {
-                let turn = (heading - self.heading[index] + std::f32::consts::PI)
+                let turn = (wrapped - self.heading[index] + std::f32::consts::PI)
                     .rem_euclid(std::f32::consts::TAU)
                     - std::f32::consts::PI;
                 self.turn_rate[index] = turn / elapsed as f32;
@@ -325,7 +328,7 @@ impl Scene {
             self.position[index] = update.position;
             self.ground[index] = ground;
             self.velocity[index] = velocity;
-            self.heading[index] = wrap_angle(heading);
+            self.heading[index] = wrapped;
             self.forward[index] = Vec2::from_angle(heading);
             self.last_time[index] = time;
         }
@@ -452,6 +455,26 @@ mod tests {
         scene.apply(1.0, &[update(a, 1.0, 0.0)]);
         assert!((scene.headings()[index] - std::f32::consts::FRAC_PI_2).abs() < 1e-6);
         assert_eq!(scene.velocities()[index], Vec2::ZERO);
+    }
+
+    #[test]
+    fn turn_rates_of_large_headings_are_their_change() {
+        // Headings are kept wrapped; the turn must come from the wrapped new heading too,
+        // not from the raw one (whose f32 remainder drifts by far more than the turn).
+        let mut scene = Scene::new(World::y_up(), 4, 4);
+        let a = scene
+            .add(EntityKind::Character, Vec3::ZERO, 1.0e6, 1.6, 1.0)
+            .unwrap();
+        let index = scene.index_of(a).unwrap();
+        let turned = |heading| EntityUpdate {
+            heading,
+            heading_from_motion: false,
+            ..update(a, 0.0, 0.0)
+        };
+        scene.apply(0.0, &[turned(1.0e6)]);
+        scene.apply(0.5, &[turned(1.0e6 + 0.5)]);
+        let rate = scene.turn_rates()[index];
+        assert!((rate - 1.0).abs() < 1e-4, "{rate}");
     }
 
     #[test]
