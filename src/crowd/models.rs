@@ -255,6 +255,42 @@ impl Shared {
         let max_distance_squared = self.config.scoring.max_distance.powi(2);
         let centre = self.scene.ground_positions()[entity];
 
+        // The nearest entities within d_m — by distance, then id, so that neither the grid's
+        // visiting order nor the storage order matters — at most one per point.
+        let mut near = [(0.0f32, 0u32, 0u32); MAX_SALIENT_POINTS];
+        let mut near_count = 0;
+        let mut farthest = 0;
+        let by_distance_then_id =
+            |a: &(f32, u32, u32), b: &(f32, u32, u32)| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1));
+        self.neighbours
+            .grid()
+            .for_each_near(centre, |other, ground| {
+                let distance_squared = (ground - centre).length_squared();
+                let index = other as usize;
+                if index == entity
+                    || distance_squared > max_distance_squared
+                    || self.scene.impacts()[index] <= 0.0
+                {
+                    return;
+                }
+                let candidate = (distance_squared, self.scene.ids()[index], other);
+                if near_count < MAX_SALIENT_POINTS {
+                    near[near_count] = candidate;
+                    near_count += 1;
+                } else if by_distance_then_id(&candidate, &near[farthest]).is_lt() {
+                    near[farthest] = candidate;
+                } else {
+                    return;
+                }
+                if near_count == MAX_SALIENT_POINTS {
+                    farthest = (0..MAX_SALIENT_POINTS)
+                        .max_by(|&a, &b| by_distance_then_id(&near[a], &near[b]))
+                        .unwrap_or(0);
+                }
+            });
+        let near = &mut near[..near_count];
+        near.sort_unstable_by(by_distance_then_id);
+
         let mut points = [SalientPoint {
             entity: NO_ENTITY,
             part: 0,
@@ -264,43 +300,34 @@ impl Shared {
             social: false,
         }; MAX_SALIENT_POINTS];
         let mut count = 0;
-        self.neighbours
-            .grid()
-            .for_each_near(centre, |other, ground| {
-                let other = other as usize;
-                if other == entity
-                    || (ground - centre).length_squared() > max_distance_squared
-                    || self.scene.impacts()[other] <= 0.0
-                {
-                    return;
+        'entities: for &(_, id, other) in near.iter() {
+            let other = other as usize;
+            let speed = self.scene.velocities()[other].length();
+            let turn_rate = self.scene.turn_rates()[other];
+            let is_character = self.scene.kinds()[other] == EntityKind::Character;
+            let parts: &[TargetPart] = if is_character {
+                &TargetPart::SOCIAL
+            } else {
+                &[TargetPart::Whole]
+            };
+            for &part in parts {
+                if count == MAX_SALIENT_POINTS {
+                    break 'entities;
                 }
-                let id = self.scene.ids()[other];
-                let speed = self.scene.velocities()[other].length();
-                let turn_rate = self.scene.turn_rates()[other];
-                let is_character = self.scene.kinds()[other] == EntityKind::Character;
-                let parts: &[TargetPart] = if is_character {
-                    &TargetPart::SOCIAL
-                } else {
-                    &[TargetPart::Whole]
-                };
-                for &part in parts {
-                    if count == MAX_SALIENT_POINTS {
-                        return;
-                    }
-                    let target = LookTarget { entity: id, part };
-                    if let Some(position) = self.target_point(target) {
-                        points[count] = SalientPoint {
-                            entity: id,
-                            part: part as u8,
-                            position,
-                            speed,
-                            turn_rate,
-                            social: is_character,
-                        };
-                        count += 1;
-                    }
+                let target = LookTarget { entity: id, part };
+                if let Some(position) = self.target_point(target) {
+                    points[count] = SalientPoint {
+                        entity: id,
+                        part: part as u8,
+                        position,
+                        speed,
+                        turn_rate,
+                        social: is_character,
+                    };
+                    count += 1;
                 }
-            });
+            }
+        }
         let points = &points[..count];
         let mut in_eye = [0u8; MAX_SALIENT_POINTS];
         let mut in_head = [0u8; MAX_SALIENT_POINTS];
@@ -378,13 +405,15 @@ impl Shared {
             .for_each_near(centre, |other, ground| {
                 let other = other as usize;
                 let distance_squared = (ground - centre).length_squared();
+                // Nearest by distance, then id (whatever order the grid visits them in).
+                let id = self.scene.ids()[other];
                 if other != entity
                     && forward.dot(ground - centre) >= 0.0
                     && self.scene.kinds()[other] == EntityKind::Character
                     && distance_squared <= radius_squared
-                    && distance_squared < nearest.1
+                    && (distance_squared, id) < (nearest.1, nearest.0)
                 {
-                    nearest = (self.scene.ids()[other], distance_squared);
+                    nearest = (id, distance_squared);
                 }
             });
         let config = self.config.baseline;
