@@ -616,6 +616,11 @@ typedef struct cg_crowd_config {
     // core. At most 64. Results are identical for every value. Engines with their own job
     // system leave it at 1 and use `cg_crowd_step_range` instead.
     uint32_t threads;
+    // Every `reorder_period` steps (default 32; 0: never) the crowd stores its entities and
+    // characters again in spatial order, so that a step reads memory in order (large
+    // crowds step faster). Results, ids and the order of `cg_crowd_read_gaze` do not
+    // depend on it; the ranges of `cg_crowd_step_range` index the storage order.
+    uint32_t reorder_period;
 } cg_crowd_config;
 
 // A target set by game logic for one character (top-down attention). Fill it with
@@ -739,10 +744,13 @@ cg_status cg_crowd_step(struct cg_crowd *crowd, float dt);
 // other call on this crowd may run at the same time.
 cg_status cg_crowd_begin_step(struct cg_crowd *crowd, float dt);
 
-// Steps characters `first .. first + count` (the crowd's character order, as in
-// `cg_crowd_read_gaze`) of the step opened by `cg_crowd_begin_step`: attention, then gaze
-// IK. Thread-safe for disjoint ranges: several threads may call it at once on the same
-// crowd. `count` 0 does nothing. Allocates nothing.
+// Steps characters `first .. first + count` of the step opened by `cg_crowd_begin_step`:
+// attention, then gaze IK. The range indexes the crowd's storage order, which keeps
+// neighbours in space together (see `reorder_period` in `cg_crowd_config`) and is not the
+// order of `cg_crowd_read_gaze`: split `0 .. character count` into disjoint ranges any way
+// you like; every character is stepped once, and the outputs do not depend on the split.
+// Thread-safe for disjoint ranges: several threads may call it at once on the same crowd.
+// `count` 0 does nothing. Allocates nothing.
 //
 // Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_INVALID_ARGUMENT` (the range goes past the
 // last character), `CG_STATUS_WRONG_STATE` (no ranged step is open, or the range overlaps

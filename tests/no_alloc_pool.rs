@@ -46,6 +46,8 @@ static GLOBAL: CountingAllocator = CountingAllocator;
 fn stepping_on_worker_threads_does_not_allocate() {
     let config = CrowdConfig {
         threads: 3,
+        // Storage reordered in 12 of the measured steps.
+        reorder_period: 8,
         ..CrowdConfig::default()
     };
     let mut crowd = Crowd::new(config).unwrap();

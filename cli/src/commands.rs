@@ -182,10 +182,9 @@ impl Observer for AnnotateWriter {
         for person in frame.people {
             let gaze = crowd.gaze(person.id)?;
             self.stats.add(person.id, &gaze, frame.dt);
-            let dense = crowd.scene().character_index(person.id)?;
-            let count = crowd.joint_total(dense, 1)?;
+            let count = crowd.chain(person.id)?.joint_count();
             self.joints.resize(count, Quat::IDENTITY);
-            crowd.read_joints(dense, 1, false, &mut self.joints)?;
+            crowd.read_joints_of(person.id, false, &mut self.joints)?;
             let direction = crowd.gaze_motion(person.id)?.gaze_ray().1;
             let line = &mut self.line;
             line.clear();

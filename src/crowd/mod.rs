@@ -33,6 +33,7 @@ use crate::ik::{GazeChain, GazeConfig, GazeMotion, MAX_CHAIN_JOINTS};
 use crate::math::packed::PackedQuat;
 use crate::math::random::{stream, Purpose};
 use crate::scene::ids::{EntityKind, NO_ENTITY};
+use crate::scene::order::Reorder;
 use crate::scene::{EntityUpdate, Scene};
 use crate::world::World;
 use models::social_parts;
@@ -92,6 +93,11 @@ pub struct CrowdConfig {
     /// starts `n - 1` worker threads with the crowd, which share each step with the
     /// caller; 0 picks one per available core. At most 64. Results do not depend on it.
     pub threads: u32,
+    /// Every `reorder_period` steps (default 32; 0: never) the crowd stores its entities and
+    /// characters again in the spatial grid's order, so that neighbours in space are
+    /// neighbours in memory and a step reads its state in order (see [`Crowd`]). Results
+    /// and the character order readers see do not depend on it.
+    pub reorder_period: u32,
 }
 
 impl Default for CrowdConfig {
@@ -112,6 +118,7 @@ impl Default for CrowdConfig {
             lod_distance: 0.0,
             far_attention_period: 4,
             threads: 1,
+            reorder_period: 32,
         }
     }
 }
@@ -302,6 +309,8 @@ pub enum TargetPriority {
 /// Where a character's eyes are and where they look, after a step (world, metres).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct EyeState {
+    /// The character's id.
+    pub character: u32,
     /// Left and right eye positions (the head's position twice for a chain without eyes).
     pub origins: [Vec3; 2],
     /// Left and right unit gaze directions.
@@ -337,6 +346,14 @@ impl Default for ObjectDesc {
 /// Not safe for concurrent mutation; shared (`&Crowd`) reads may run concurrently. A step
 /// may be split into ranges of characters run on several threads: see
 /// [`begin_step`](Self::begin_step).
+///
+/// Storage order: every [`CrowdConfig::reorder_period`] steps the crowd stores its entities
+/// and characters again in the spatial grid's order, so that neighbours in space are
+/// neighbours in memory and a step reads its arrays in order (in a large crowd, a character
+/// created anywhere would otherwise cost a cache line and a page of its own). Ids stay; the
+/// order readers see ([`gaze_dense`](Self::gaze_dense), [`read_joints`](Self::read_joints))
+/// stays creation order; only the ranges of [`step_range`](Self::step_range) index the
+/// storage order.
 #[derive(Debug)]
 pub struct Crowd {
     /// What every character's step reads.
@@ -348,6 +365,11 @@ pub struct Crowd {
     /// The order in which attention visits characters, refreshed by each step: spatial-grid
     /// order in large crowds (neighbours' data stays in cache), dense order otherwise.
     grid_order: Vec<u32>,
+    /// The characters in the order readers see (creation order, a removed character's place
+    /// taken by the last one): the dense index of each.
+    read_order: Vec<u32>,
+    /// Scratch space of the reordering into grid order.
+    reorder: Reorder,
     /// The step begun by [`begin_step`](Self::begin_step) and not yet ended.
     open_step: Option<Frame>,
     /// Worker threads of [`step`](Self::step), when `threads > 1`.
@@ -439,6 +461,8 @@ impl Crowd {
             states: CharacterStates::with_capacity(characters),
             claims: ClaimSet::new(characters),
             grid_order: Vec::with_capacity(characters),
+            read_order: Vec::with_capacity(characters),
+            reorder: Reorder::new(capacity),
             open_step: None,
             pool: (workers > 0)
                 .then(|| WorkerPool::new(workers))
@@ -549,6 +573,8 @@ impl Crowd {
             stream(seed, Purpose::Saliency, created),
             stream(seed, Purpose::GazeTiming, created),
         );
+        // The new character is the last both in dense order and in readers' order.
+        self.read_order.push(self.read_order.len() as u32);
         Ok(id)
     }
 
@@ -589,6 +615,15 @@ impl Crowd {
             self.shared.posed.swap_remove(slot);
             self.shared.explicit.swap_remove(slot);
             self.states.swap_remove(slot);
+            // Readers' order: the last character read takes the removed one's place, and the
+            // last dense character (moved to `slot` above) is found at its new index.
+            let last = self.read_order.len() - 1;
+            if let Some(position) = self.read_order.iter().position(|&c| c as usize == slot) {
+                self.read_order.swap_remove(position);
+            }
+            if let Some(moved) = self.read_order.iter_mut().find(|c| **c as usize == last) {
+                *moved = slot as u32;
+            }
         }
         if self.shared.viewer == Some(id) {
             self.shared.viewer = None;
@@ -723,11 +758,22 @@ impl Crowd {
     /// oracle and the baseline of the benchmarks.
     pub fn best_all_pairs(&self, character_id: u32) -> Result<(Candidate, Candidate)> {
         let character = self.shared.scene.character_index(character_id)?;
-        Ok(self.best_all_pairs_dense(character))
+        Ok(self.all_pairs_of(character))
     }
 
-    /// [`best_all_pairs`](Self::best_all_pairs) by dense character index.
-    pub fn best_all_pairs_dense(&self, character: usize) -> (Candidate, Candidate) {
+    /// [`best_all_pairs`](Self::best_all_pairs) by position in the character order (see
+    /// [`gaze_dense`](Self::gaze_dense)). Panics if `position` is out of range.
+    pub fn best_all_pairs_dense(&self, position: usize) -> (Candidate, Candidate) {
+        self.all_pairs_of(self.dense_index(position))
+    }
+
+    /// The dense index (where its state is stored) of the character at `position` in the
+    /// character order readers see. Panics if `position` is out of range.
+    fn dense_index(&self, position: usize) -> usize {
+        self.read_order[position] as usize
+    }
+
+    fn all_pairs_of(&self, character: usize) -> (Candidate, Candidate) {
         let tracker = self.states.models[character].tracker();
         all_pairs_candidates(
             &self.shared.scene,
@@ -765,8 +811,16 @@ impl Crowd {
         ))
     }
 
+    /// Where the character at `position` in the crowd's character order looks now. That
+    /// order is creation order, except that removing a character moves the last one into
+    /// its place; the crowd's own storage order (spatial, see [`Crowd`]) never shows
+    /// through. Panics if `position` is out of range.
+    pub fn gaze_dense(&self, position: usize) -> GazeInfo {
+        self.gaze_of(self.dense_index(position))
+    }
+
     /// Where a character (by dense index) looks now.
-    pub fn gaze_dense(&self, character: usize) -> GazeInfo {
+    fn gaze_of(&self, character: usize) -> GazeInfo {
         let entity = self.shared.scene.character_entities()[character] as usize;
         let tracker = self.states.models[character].tracker();
         let (target, s_max, threshold, attentive_fraction, interest_count) = match &self.shared.plan
@@ -845,23 +899,27 @@ impl Crowd {
 
     /// Where a character looks now, by id.
     pub fn gaze(&self, character_id: u32) -> Result<GazeInfo> {
-        Ok(self.gaze_dense(self.shared.scene.character_index(character_id)?))
+        Ok(self.gaze_of(self.shared.scene.character_index(character_id)?))
     }
 
     /// A character's gaze chain.
     pub fn chain(&self, character_id: u32) -> Result<&GazeChain> {
-        let character = self.shared.scene.character_index(character_id)?;
-        Ok(&self.shared.chains[self.shared.chain_of[character] as usize])
+        Ok(self.chain_of(self.shared.scene.character_index(character_id)?))
     }
 
-    /// Number of chain joints of the characters `first .. first + count` (dense order)
-    /// together: the length of their packed joint outputs.
+    /// Number of chain joints of the characters `first .. first + count` (in the character
+    /// order, see [`gaze_dense`](Self::gaze_dense)) together: the length of their packed
+    /// joint outputs.
     pub fn joint_total(&self, first: usize, count: usize) -> Result<usize> {
         let range = self.character_range(first, count)?;
-        Ok(self.shared.chain_of[range]
+        Ok(self.read_order[range]
             .iter()
-            .map(|&chain| self.shared.chains[chain as usize].joint_count())
+            .map(|&character| self.chain_of(character as usize).joint_count())
             .sum())
+    }
+
+    fn chain_of(&self, character: usize) -> &GazeChain {
+        &self.shared.chains[self.shared.chain_of[character] as usize]
     }
 
     fn character_range(&self, first: usize, count: usize) -> Result<std::ops::Range<usize>> {
@@ -933,8 +991,8 @@ impl Crowd {
         Ok(())
     }
 
-    /// Writes the chain joints of characters `first .. first + count` (dense order) into
-    /// `out`, packed one chain after another, bottom to top: the final local rotations
+    /// Writes the chain joints of characters `first .. first + count` (in the character
+    /// order, see [`gaze_dense`](Self::gaze_dense)) into `out`, packed one chain after another, bottom to top: the final local rotations
     /// `base * delta`, or the deltas alone with `deltas_only`. `out` must hold
     /// [`joint_total`](Self::joint_total) rotations; returns how many were written.
     pub fn read_joints(
@@ -952,21 +1010,51 @@ impl Crowd {
             )));
         }
         let mut written = 0;
-        for character in first..first + count {
-            let deltas = self.states.motions[character].deltas();
-            let base = self.shared.base_pose(character);
-            for ((slot, delta), base) in out[written..].iter_mut().zip(deltas).zip(&base) {
-                *slot = if deltas_only { *delta } else { *base * *delta };
-            }
-            written += deltas.len();
+        for &character in &self.read_order[first..first + count] {
+            written += self.write_joints(character as usize, deltas_only, &mut out[written..]);
         }
         Ok(written)
     }
 
-    /// Where a character's (dense index) eyes are and look after the last step.
-    pub fn eyes_dense(&self, character: usize) -> EyeState {
+    /// [`read_joints`](Self::read_joints) for one character, by id: `out` must hold its
+    /// chain's joint count of rotations; returns how many were written.
+    pub fn read_joints_of(
+        &self,
+        character_id: u32,
+        deltas_only: bool,
+        out: &mut [Quat],
+    ) -> Result<usize> {
+        let character = self.shared.scene.character_index(character_id)?;
+        let joints = self.chain_of(character).joint_count();
+        if out.len() < joints {
+            return Err(Error::InvalidArgument(format!(
+                "the output holds {} rotations, {joints} are needed",
+                out.len()
+            )));
+        }
+        Ok(self.write_joints(character, deltas_only, out))
+    }
+
+    /// Writes the chain joints of the character at dense index `character` to the start of
+    /// `out` (which holds them all); returns how many.
+    fn write_joints(&self, character: usize, deltas_only: bool, out: &mut [Quat]) -> usize {
+        let deltas = self.states.motions[character].deltas();
+        let base = self.shared.base_pose(character);
+        for ((slot, delta), base) in out.iter_mut().zip(deltas).zip(&base) {
+            *slot = if deltas_only { *delta } else { *base * *delta };
+        }
+        deltas.len()
+    }
+
+    /// Where the eyes of the character at `position` in the character order (see
+    /// [`gaze_dense`](Self::gaze_dense)) are and look after the last step. Panics if
+    /// `position` is out of range.
+    pub fn eyes_dense(&self, position: usize) -> EyeState {
+        let character = self.dense_index(position);
         let motion = &self.states.motions[character];
+        let entity = self.shared.scene.character_entities()[character] as usize;
         EyeState {
+            character: self.shared.scene.ids()[entity],
             origins: motion.eye_origins(),
             directions: motion.eye_directions(),
         }
@@ -987,8 +1075,10 @@ impl Crowd {
         Ok(())
     }
 
-    /// Bytes of state the crowd keeps per character: its per-character arrays plus its
-    /// entity's share of the scene and the neighbour index (buffers sized at creation).
+    /// Bytes of state the crowd keeps per character: its per-character arrays, its entity's
+    /// share of the scene and the neighbour index, and the step's per-character scratch
+    /// (visiting order, and two bit sets counted as one byte). All are buffers sized at
+    /// creation.
     pub fn state_bytes_per_character() -> usize {
         use std::mem::size_of;
         let per_character = size_of::<CharacterParams>()
@@ -996,6 +1086,9 @@ impl Crowd {
             + size_of::<[PackedQuat; MAX_CHAIN_JOINTS]>()
             + size_of::<bool>() // posed
             + size_of::<Option<(ExplicitTarget, TargetPriority)>>()
+            + size_of::<u32>() // place in the readers' order
+            + size_of::<u32>() // attention's visiting order (scratch)
+            + 1 // a bit each of the ranged step's claims and the reordering (scratch)
             + states::bytes_per_character();
         per_character + Scene::bytes_per_entity() + NeighbourIndex::bytes_per_entity()
     }

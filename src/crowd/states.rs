@@ -80,6 +80,12 @@ macro_rules! define_states {
                 $(self.$name.swap_remove(index);)*
             }
 
+            /// Stores the characters in a new order: character `i` is the one at index
+            /// `order[i]` before (see [`crate::scene::Scene::reorder`]).
+            pub fn reorder(&mut self, order: &[u32], reorder: &mut crate::scene::order::Reorder) {
+                $(reorder.apply(&mut self.$name, order);)*
+            }
+
             /// Every character's state, borrowed mutably.
             pub fn slices(&mut self) -> CharacterSlices<'_> {
                 CharacterSlices { $($name: &mut self.$name,)* }

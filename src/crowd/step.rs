@@ -171,7 +171,8 @@ impl StepRanges<'_> {
         self.states.len()
     }
 
-    /// Steps characters `first .. first + count` (dense order): attention, then gaze IK.
+    /// Steps characters `first .. first + count` in dense (storage) order, not the order
+    /// readers see (see [`Crowd::gaze_dense`]): attention, then gaze IK.
     /// Safe to call from several threads at once on disjoint ranges. Fails without
     /// stepping anything if the range is out of bounds ([`Error::InvalidArgument`]) or
     /// overlaps one already taken in this step ([`Error::WrongState`]).
@@ -315,11 +316,15 @@ impl Crowd {
                 "a step is already open: end it first".into(),
             ));
         }
-        let shared = &mut self.shared;
-        if let Some(plan) = &mut shared.plan {
-            plan.advance(dt, &mut shared.scene);
+        if let Some(plan) = &mut self.shared.plan {
+            plan.advance(dt, &mut self.shared.scene);
         }
-        shared.neighbours.rebuild(&shared.scene);
+        self.shared.neighbours.rebuild(&self.shared.scene);
+        let period = self.shared.config.reorder_period;
+        if period > 0 && self.shared.steps.is_multiple_of(u64::from(period)) {
+            self.store_in_grid_order();
+        }
+        let shared = &mut self.shared;
         let viewer = shared
             .viewer
             .and_then(|id| shared.scene.index_of(id))
@@ -357,6 +362,37 @@ impl Crowd {
             self.grid_order.extend(0..scene.character_count() as u32);
         }
         Ok(())
+    }
+
+    /// Stores the entities in the spatial grid's order (just rebuilt) and the characters in
+    /// the order of their entities, then rebuilds the grid on the new indices: neighbours in
+    /// space become neighbours in memory, so the step reads every array in order rather
+    /// than one cache line (and one page) per character. Not while a plan is active (it
+    /// holds dense indices). Allocates nothing; results do not change (every choice breaks
+    /// ties by id, never by index), nor does the order readers see.
+    fn store_in_grid_order(&mut self) {
+        let shared = &mut self.shared;
+        if shared.plan.is_some() {
+            return;
+        }
+        // The old dense index of each character, in the new order.
+        let order = &mut self.grid_order;
+        let reorder = &mut self.reorder;
+        shared
+            .scene
+            .reorder(shared.neighbours.grid().entries(), reorder, order);
+        reorder.apply(&mut shared.params, order);
+        reorder.apply(&mut shared.chain_of, order);
+        reorder.apply(&mut shared.bases, order);
+        reorder.apply(&mut shared.posed, order);
+        reorder.apply(&mut shared.explicit, order);
+        self.states.reorder(order, reorder);
+        // The new dense index of each old one, for the readers' order.
+        reorder.invert(order);
+        for character in &mut self.read_order {
+            *character = order[*character as usize];
+        }
+        shared.neighbours.rebuild(&shared.scene);
     }
 
     /// True between [`begin_step`](Self::begin_step) and [`end_step`](Self::end_step).

@@ -546,10 +546,13 @@ pub extern "C" fn cg_crowd_begin_step(crowd: *mut cg_crowd, dt: f32) -> cg_statu
     })
 }
 
-/// Steps characters `first .. first + count` (the crowd's character order, as in
-/// `cg_crowd_read_gaze`) of the step opened by `cg_crowd_begin_step`: attention, then gaze
-/// IK. Thread-safe for disjoint ranges: several threads may call it at once on the same
-/// crowd. `count` 0 does nothing. Allocates nothing.
+/// Steps characters `first .. first + count` of the step opened by `cg_crowd_begin_step`:
+/// attention, then gaze IK. The range indexes the crowd's storage order, which keeps
+/// neighbours in space together (see `reorder_period` in `cg_crowd_config`) and is not the
+/// order of `cg_crowd_read_gaze`: split `0 .. character count` into disjoint ranges any way
+/// you like; every character is stepped once, and the outputs do not depend on the split.
+/// Thread-safe for disjoint ranges: several threads may call it at once on the same crowd.
+/// `count` 0 does nothing. Allocates nothing.
 ///
 /// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_INVALID_ARGUMENT` (the range goes past the
 /// last character), `CG_STATUS_WRONG_STATE` (no ranged step is open, or the range overlaps

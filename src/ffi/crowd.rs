@@ -261,10 +261,16 @@ pub struct cg_crowd_config {
     /// core. At most 64. Results are identical for every value. Engines with their own job
     /// system leave it at 1 and use `cg_crowd_step_range` instead.
     pub threads: u32,
+    /// Every `reorder_period` steps (default 32; 0: never) the crowd stores its entities and
+    /// characters again in spatial order, so that a step reads memory in order (large
+    /// crowds step faster). Results, ids and the order of `cg_crowd_read_gaze` do not
+    /// depend on it; the ranges of `cg_crowd_step_range` index the storage order.
+    pub reorder_period: u32,
 }
 
 impl Versioned for cg_crowd_config {
-    // Callers built against the header before `threads` existed get its default.
+    // Callers built against a header from before `threads` existed are refused; those
+    // from before a later field (`reorder_period`) get its default.
     const MIN_SIZE: usize = std::mem::offset_of!(cg_crowd_config, threads);
     const NAME: &'static str = "cg_crowd_config";
 
@@ -313,6 +319,7 @@ impl cg_crowd_config {
             lod_distance: core.lod_distance * units,
             far_attention_period: core.far_attention_period,
             threads: core.threads,
+            reorder_period: core.reorder_period,
         }
     }
 
@@ -373,6 +380,7 @@ impl cg_crowd_config {
             lod_distance: self.lod_distance * metres,
             far_attention_period: self.far_attention_period,
             threads: self.threads,
+            reorder_period: self.reorder_period,
         };
         config.validate()?;
         Ok(config)

@@ -338,9 +338,8 @@ pub extern "C" fn cg_crowd_read_eyes(
         let world = crowd.config().world;
         for (slot, character) in out.iter_mut().zip(first as usize..(first + count) as usize) {
             let eyes = crowd.eyes_dense(character);
-            let entity = crowd.scene().character_entities()[character] as usize;
             *slot = cg_eye_info {
-                character: crowd.scene().ids()[entity],
+                character: eyes.character,
                 left_origin: world.from_metres(eyes.origins[0]).into(),
                 right_origin: world.from_metres(eyes.origins[1]).into(),
                 left_direction: eyes.directions[0].into(),

@@ -8,6 +8,7 @@
 
 pub mod grid;
 pub mod ids;
+pub mod order;
 
 use glam::{Vec2, Vec3};
 
@@ -15,6 +16,7 @@ use crate::error::{Error, Result};
 use crate::math::wrap_angle;
 use crate::world::World;
 use ids::{EntityKind, IdTable, NO_ENTITY};
+use order::Reorder;
 
 /// Below this ground speed (m/s) a heading derived from motion keeps its last value, so
 /// standing people do not spin.
@@ -239,6 +241,42 @@ impl Scene {
         }
         self.max_impact = self.impact.iter().copied().fold(0.0, f32::max);
         Ok((kind == EntityKind::Character).then_some(removed_character))
+    }
+
+    /// Stores the entities in a new order — entity `i` is the one at index `order[i]`
+    /// before — and the characters in the order their entities now come in. Ids stay
+    /// valid; entity and character indices change. Writes to `characters` each character's
+    /// old index, in the new character order (the order the caller's per-character arrays
+    /// take, with [`Reorder::apply`]). Allocates nothing (`characters` has room for every
+    /// character). `order` must be a permutation of `0..len()`, as the spatial grid's
+    /// entries are: otherwise this panics, before changing anything.
+    pub fn reorder(&mut self, order: &[u32], reorder: &mut Reorder, characters: &mut Vec<u32>) {
+        assert!(
+            order.len() == self.id.len() && reorder.is_permutation(order),
+            "a scene order must list every entity once"
+        );
+        reorder.apply(&mut self.id, order);
+        reorder.apply(&mut self.kind, order);
+        reorder.apply(&mut self.character, order);
+        reorder.apply(&mut self.position, order);
+        reorder.apply(&mut self.look_at_height, order);
+        reorder.apply(&mut self.ground, order);
+        reorder.apply(&mut self.heading, order);
+        reorder.apply(&mut self.forward, order);
+        reorder.apply(&mut self.velocity, order);
+        reorder.apply(&mut self.turn_rate, order);
+        reorder.apply(&mut self.impact, order);
+        reorder.apply(&mut self.last_time, order);
+        characters.clear();
+        for (index, (&id, character)) in self.id.iter().zip(&mut self.character).enumerate() {
+            self.ids.relocate(id, index as u32);
+            if *character != NO_ENTITY {
+                let new_character = characters.len();
+                characters.push(*character);
+                self.character_entity[new_character] = index as u32;
+                *character = new_character as u32;
+            }
+        }
     }
 
     /// Kind and entity index of a live id.
