@@ -367,20 +367,24 @@ impl Crowd {
     /// Stores the entities in the spatial grid's order (just rebuilt) and the characters in
     /// the order of their entities, then rebuilds the grid on the new indices: neighbours in
     /// space become neighbours in memory, so the step reads every array in order rather
-    /// than one cache line (and one page) per character. Not while a plan is active (it
-    /// holds dense indices). Allocates nothing; results do not change (every choice breaks
+    /// than one cache line (and one page) per character. Nothing to do when storage is in
+    /// grid order already (a crowd standing still), nor while a plan is active (it holds
+    /// dense indices). Allocates nothing; results do not change (every choice breaks
     /// ties by id, never by index), nor does the order readers see.
     fn store_in_grid_order(&mut self) {
         let shared = &mut self.shared;
-        if shared.plan.is_some() {
+        let entities = shared.neighbours.grid().entries();
+        let stored_so = entities
+            .iter()
+            .enumerate()
+            .all(|(new, &old)| old as usize == new);
+        if shared.plan.is_some() || stored_so {
             return;
         }
         // The old dense index of each character, in the new order.
         let order = &mut self.grid_order;
         let reorder = &mut self.reorder;
-        shared
-            .scene
-            .reorder(shared.neighbours.grid().entries(), reorder, order);
+        shared.scene.reorder(entities, reorder, order);
         reorder.apply(&mut shared.params, order);
         reorder.apply(&mut shared.chain_of, order);
         reorder.apply(&mut shared.bases, order);

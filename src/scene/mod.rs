@@ -268,8 +268,11 @@ impl Scene {
         reorder.apply(&mut self.impact, order);
         reorder.apply(&mut self.last_time, order);
         characters.clear();
-        for (index, (&id, character)) in self.id.iter().zip(&mut self.character).enumerate() {
-            self.ids.relocate(id, index as u32);
+        let entities = self.id.iter().zip(&mut self.character).zip(order);
+        for (index, ((&id, character), &old)) in entities.enumerate() {
+            if old as usize != index {
+                self.ids.relocate(id, index as u32);
+            }
             if *character != NO_ENTITY {
                 let new_character = characters.len();
                 characters.push(*character);
