@@ -400,7 +400,8 @@ class Crowd {
     void step(float dt) { check(try_step(dt)); }
 
     // A step split into ranges for your job system: begin_step once, step_range from any
-    // number of threads on disjoint ranges, end_step after they all returned. See
+    // number of threads on disjoint ranges (of the storage order, not read_gaze's order:
+    // split 0 .. character_count() any way), end_step after they all returned. See
     // cg_crowd_begin_step, cg_crowd_step_range and cg_crowd_end_step.
     [[nodiscard]] cg_status try_begin_step(float dt) noexcept {
         return cg_crowd_begin_step(crowd_, dt);

@@ -342,6 +342,7 @@ class CrowdConfig(Structure):
         ("lod_distance", c_float),
         ("far_attention_period", c_uint32),
         ("threads", c_uint32),
+        ("reorder_period", c_uint32),
     ]
 
 

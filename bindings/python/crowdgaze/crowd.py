@@ -228,8 +228,10 @@ class Crowd:
         check(lib.cg_crowd_begin_step(self.handle, dt), "cg_crowd_begin_step")
 
     def step_range(self, first: int, count: int) -> None:
-        """Steps characters ``first .. first + count`` of the open step. ctypes releases the
-        GIL during the call, so Python threads may step disjoint ranges in parallel."""
+        """Steps characters ``first .. first + count`` of the open step, in the crowd's
+        storage order (not ``read_gaze``'s: split ``0 .. character_count()`` any way). ctypes
+        releases the GIL during the call, so Python threads may step disjoint ranges in
+        parallel."""
         check(lib.cg_crowd_step_range(self.handle, first, count), "cg_crowd_step_range")
 
     def end_step(self) -> None:
