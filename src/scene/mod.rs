@@ -18,6 +18,21 @@ use crate::world::World;
 use ids::{EntityKind, IdTable, NO_ENTITY};
 use order::Reorder;
 
+/// Runs `$body` with `$array` bound to each per-entity array of `$scene` in turn, so that
+/// removing and reordering entities move every array alike.
+macro_rules! each_entity_array {
+    ($scene:ident, $array:ident => $body:expr) => {
+        each_entity_array!(@arrays $scene, $array => $body; id, kind, character, position,
+            look_at_height, ground, heading, forward, velocity, turn_rate, impact, last_time)
+    };
+    (@arrays $scene:ident, $array:ident => $body:expr; $($name:ident),*) => {{
+        $({
+            let $array = &mut $scene.$name;
+            $body;
+        })*
+    }};
+}
+
 /// Below this ground speed (m/s) a heading derived from motion keeps its last value, so
 /// standing people do not spin.
 pub const MIN_SPEED_FOR_HEADING: f32 = 0.1;
@@ -214,18 +229,9 @@ impl Scene {
                 self.character_entity[moved_character as usize] = index as u32;
             }
         }
-        self.id.swap_remove(index);
-        self.kind.swap_remove(index);
-        self.character.swap_remove(index);
-        self.position.swap_remove(index);
-        self.look_at_height.swap_remove(index);
-        self.ground.swap_remove(index);
-        self.heading.swap_remove(index);
-        self.forward.swap_remove(index);
-        self.velocity.swap_remove(index);
-        self.turn_rate.swap_remove(index);
-        self.impact.swap_remove(index);
-        self.last_time.swap_remove(index);
+        each_entity_array!(self, array => {
+            array.swap_remove(index);
+        });
         match kind {
             EntityKind::Character => {
                 let slot = removed_character as usize;
@@ -255,18 +261,7 @@ impl Scene {
             order.len() == self.id.len() && reorder.is_permutation(order),
             "a scene order must list every entity once"
         );
-        reorder.apply(&mut self.id, order);
-        reorder.apply(&mut self.kind, order);
-        reorder.apply(&mut self.character, order);
-        reorder.apply(&mut self.position, order);
-        reorder.apply(&mut self.look_at_height, order);
-        reorder.apply(&mut self.ground, order);
-        reorder.apply(&mut self.heading, order);
-        reorder.apply(&mut self.forward, order);
-        reorder.apply(&mut self.velocity, order);
-        reorder.apply(&mut self.turn_rate, order);
-        reorder.apply(&mut self.impact, order);
-        reorder.apply(&mut self.last_time, order);
+        each_entity_array!(self, array => reorder.apply(array, order));
         characters.clear();
         let entities = self.id.iter().zip(&mut self.character).zip(order);
         for (index, ((&id, character), &old)) in entities.enumerate() {
