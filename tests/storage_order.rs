@@ -5,7 +5,7 @@
 
 mod support;
 
-use crowdgaze::crowd::{CharacterDesc, ExplicitTarget, TargetPriority};
+use crowdgaze::crowd::CharacterDesc;
 use crowdgaze::scenario::Scenario;
 use crowdgaze::{Crowd, CrowdConfig};
 use glam::{Quat, Vec3};
@@ -14,75 +14,36 @@ const PEOPLE: usize = 160;
 const FRAMES: usize = 80;
 const DT: f32 = 1.0 / 30.0;
 
-/// A street crowd mixing the three attention models, with explicit targets, a level of
-/// detail by distance and props.
+/// The mixed street of the support module, reordered every `reorder_period` steps.
 fn street(reorder_period: u32) -> (Crowd, Scenario) {
     let config = CrowdConfig {
         reorder_period,
-        lod_distance: 12.0,
-        attention_period: 2,
-        ..CrowdConfig::default()
+        ..support::mixed_street_config()
     };
-    let mut crowd = Crowd::new(config).unwrap();
-    let mut scenario = Scenario::street(PEOPLE, 30, 5);
-    scenario.populate(&mut crowd).unwrap();
-    let ids = scenario.character_ids().to_vec();
-    support::mix_attention_models(&mut crowd, &ids);
-    crowd
-        .set_gaze_target(
-            ids[3],
-            ExplicitTarget::Entity(ids[150]),
-            TargetPriority::Override,
-        )
-        .unwrap();
-    crowd
-        .set_gaze_target(
-            ids[10],
-            ExplicitTarget::Point(Vec3::new(5.0, 1.5, 2.0)),
-            TargetPriority::WhenIdle,
-        )
-        .unwrap();
-    (crowd, scenario)
+    support::mixed_street(config, PEOPLE, 30, 5)
 }
 
-/// Every output of every character in reading order, as bits: gaze info, eyes, and the
-/// joints read by range. Also checks that reading one character's joints by id gives the
-/// same rotations as reading them by position.
+/// The outputs of [`support::output_bits`], after checking that the readers by id agree
+/// with those by position: each character's joints, eyes and all-pairs search.
 fn outputs(crowd: &Crowd) -> Vec<u32> {
     let count = crowd.character_count();
     let mut joints = vec![Quat::IDENTITY; crowd.joint_total(0, count).unwrap()];
     crowd.read_joints(0, count, false, &mut joints).unwrap();
-    let mut bits = Vec::new();
     let mut offset = 0;
     let mut own = [Quat::IDENTITY; 16];
     for position in 0..count {
-        let gaze = crowd.gaze_dense(position);
-        bits.extend([
-            gaze.character,
-            gaze.target,
-            gaze.head_target,
-            gaze.interest_count,
-        ]);
-        bits.extend(gaze.target_position.to_array().map(f32::to_bits));
-        bits.extend([gaze.s_max, gaze.threshold, gaze.attentive_fraction].map(f32::to_bits));
-        let eyes = crowd.eyes_dense(position);
-        assert_eq!(eyes.character, gaze.character);
-        for vector in eyes.origins.iter().chain(&eyes.directions) {
-            bits.extend(vector.to_array().map(f32::to_bits));
-        }
-        let written = crowd
-            .read_joints_of(gaze.character, false, &mut own)
-            .unwrap();
+        let id = crowd.gaze_dense(position).character;
+        assert_eq!(crowd.eyes_dense(position).character, id);
+        let written = crowd.read_joints_of(id, false, &mut own).unwrap();
         assert_eq!(own[..written], joints[offset..offset + written]);
         assert_eq!(
             crowd.best_all_pairs_dense(position),
-            crowd.best_all_pairs(gaze.character).unwrap()
+            crowd.best_all_pairs(id).unwrap()
         );
         offset += written;
     }
     assert_eq!(offset, joints.len());
-    bits.extend(joints.iter().flat_map(|q| q.to_array().map(f32::to_bits)));
-    bits
+    support::output_bits(crowd)
 }
 
 /// Runs the street for `FRAMES` frames, stepping each with `step`; a sixth of the people
@@ -127,13 +88,6 @@ fn run(reorder_period: u32, mut step: impl FnMut(&mut Crowd, usize)) -> Vec<Vec<
         .collect()
 }
 
-fn assert_same(expected: &[Vec<u32>], actual: &[Vec<u32>], what: &str) {
-    assert_eq!(expected.len(), actual.len());
-    for (frame, (expected, actual)) in expected.iter().zip(actual).enumerate() {
-        assert!(expected == actual, "{what}: frame {frame} differs");
-    }
-}
-
 #[test]
 fn every_reorder_period_gives_identical_outputs_in_the_same_order() {
     let never = run(0, |crowd, _| crowd.step(DT).unwrap());
@@ -141,7 +95,7 @@ fn every_reorder_period_gives_identical_outputs_in_the_same_order() {
     assert!(never.first().unwrap() != never.last().unwrap());
     for period in [1, 3, 32] {
         let reordered = run(period, |crowd, _| crowd.step(DT).unwrap());
-        assert_same(&never, &reordered, &format!("reorder period {period}"));
+        support::assert_same(&never, &reordered, &format!("reorder period {period}"));
     }
     // Ranged steps index the storage order: any split still steps everyone once.
     let ranged = run(1, |crowd, frame| {
@@ -153,7 +107,7 @@ fn every_reorder_period_gives_identical_outputs_in_the_same_order() {
         }
         crowd.end_step().unwrap();
     });
-    assert_same(&never, &ranged, "ranged steps, reordered every step");
+    support::assert_same(&never, &ranged, "ranged steps, reordered every step");
 }
 
 /// Mean distance between entities stored one after the other.

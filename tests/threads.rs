@@ -4,70 +4,21 @@
 
 mod support;
 
-use crowdgaze::crowd::{ExplicitTarget, TargetPriority};
 use crowdgaze::scenario::Scenario;
 use crowdgaze::{Crowd, CrowdConfig};
-use glam::{Quat, Vec3};
+use glam::Vec3;
 
 const PEOPLE: usize = 150;
 const FRAMES: usize = 90;
 const DT: f32 = 1.0 / 30.0;
 
-/// A street crowd mixing the three attention models, an explicit target, a viewer and a
-/// level of detail by distance: every path of a character's step.
+/// The mixed street of the support module on `threads` threads.
 fn street(threads: u32) -> (Crowd, Scenario) {
     let config = CrowdConfig {
         threads,
-        lod_distance: 12.0,
-        attention_period: 2,
-        ..CrowdConfig::default()
+        ..support::mixed_street_config()
     };
-    let mut crowd = Crowd::new(config).unwrap();
-    let mut scenario = Scenario::street(PEOPLE, 40, 11);
-    scenario.populate(&mut crowd).unwrap();
-    let ids = scenario.character_ids().to_vec();
-    support::mix_attention_models(&mut crowd, &ids);
-    crowd
-        .set_gaze_target(
-            ids[7],
-            ExplicitTarget::Point(Vec3::new(3.0, 2.0, 3.0)),
-            TargetPriority::Override,
-        )
-        .unwrap();
-    crowd
-        .set_gaze_target(
-            ids[8],
-            ExplicitTarget::Entity(ids[9]),
-            TargetPriority::WhenIdle,
-        )
-        .unwrap();
-    (crowd, scenario)
-}
-
-/// Every output of every character, as bits: gaze info, final joints, eyes.
-fn outputs(crowd: &Crowd) -> Vec<u32> {
-    let mut bits = Vec::new();
-    for character in 0..crowd.character_count() {
-        let gaze = crowd.gaze_dense(character);
-        bits.extend([
-            gaze.character,
-            gaze.target,
-            gaze.head_target,
-            gaze.interest_count,
-        ]);
-        bits.extend(gaze.target_position.to_array().map(f32::to_bits));
-        bits.extend([gaze.s_max, gaze.threshold, gaze.attentive_fraction].map(f32::to_bits));
-        let eyes = crowd.eyes_dense(character);
-        for vector in eyes.origins.iter().chain(&eyes.directions) {
-            bits.extend(vector.to_array().map(f32::to_bits));
-        }
-    }
-    let mut joints = vec![Quat::IDENTITY; crowd.joint_total(0, crowd.character_count()).unwrap()];
-    crowd
-        .read_joints(0, crowd.character_count(), false, &mut joints)
-        .unwrap();
-    bits.extend(joints.iter().flat_map(|q| q.to_array().map(f32::to_bits)));
-    bits
+    support::mixed_street(config, PEOPLE, 40, 11)
 }
 
 /// Runs the street for `FRAMES` frames, stepping each with `step`, and returns the outputs
@@ -83,16 +34,9 @@ fn run(threads: u32, mut step: impl FnMut(&mut Crowd, usize)) -> Vec<Vec<u32>> {
             let viewer = Vec3::new(2.0 + frame as f32 * 0.05, 1.7, 1.0);
             crowd.set_viewer(viewer, 2.0).unwrap();
             step(&mut crowd, frame);
-            outputs(&crowd)
+            support::output_bits(&crowd)
         })
         .collect()
-}
-
-fn assert_same(expected: &[Vec<u32>], actual: &[Vec<u32>], what: &str) {
-    assert_eq!(expected.len(), actual.len());
-    for (frame, (expected, actual)) in expected.iter().zip(actual).enumerate() {
-        assert!(expected == actual, "{what}: frame {frame} differs");
-    }
 }
 
 #[test]
@@ -103,7 +47,7 @@ fn one_two_and_four_threads_give_identical_outputs() {
     assert!(single.first().unwrap() != last);
     for threads in [2, 4, 0] {
         let threaded = run(threads, |crowd, _| crowd.step(DT).unwrap());
-        assert_same(&single, &threaded, &format!("{threads} threads"));
+        support::assert_same(&single, &threaded, &format!("{threads} threads"));
     }
     // The two halves of a step, apart (the benchmarks' forms), on 1 and 3 threads.
     let halves = |crowd: &mut Crowd, _: usize| {
@@ -115,7 +59,7 @@ fn one_two_and_four_threads_give_identical_outputs() {
         single_halves != single,
         "the halves advance twice per frame"
     );
-    assert_same(
+    support::assert_same(
         &single_halves,
         &run(3, halves),
         "attention and gaze apart, 3 threads",
@@ -139,7 +83,7 @@ fn any_split_into_ranges_gives_identical_outputs() {
         }
         crowd.end_step().unwrap();
     });
-    assert_same(&single, &scrambled, "scrambled ranges");
+    support::assert_same(&single, &scrambled, "scrambled ranges");
     // Only some ranges: end_step steps the rest.
     let partial = run(1, |crowd, frame| {
         crowd.begin_step(DT).unwrap();
@@ -150,7 +94,7 @@ fn any_split_into_ranges_gives_identical_outputs() {
         crowd.step_range(0, 3.min(frame % count)).unwrap();
         crowd.end_step().unwrap();
     });
-    assert_same(&single, &partial, "partial ranges");
+    support::assert_same(&single, &partial, "partial ranges");
 }
 
 #[test]
@@ -175,7 +119,7 @@ fn ranges_stepped_from_four_threads_give_identical_outputs() {
         });
         crowd.end_step().unwrap();
     });
-    assert_same(&single, &concurrent, "four threads on ranges");
+    support::assert_same(&single, &concurrent, "four threads on ranges");
 }
 
 #[test]
@@ -199,10 +143,14 @@ fn ranged_step_misuse_is_an_error_that_changes_nothing() {
         Err(Error::InvalidArgument(_))
     ));
     crowd.step_range(10, 20).unwrap();
-    let before = outputs(&crowd);
+    let before = support::output_bits(&crowd);
     assert!(matches!(crowd.step_range(0, 11), Err(Error::WrongState(_))));
     assert!(matches!(crowd.step_range(29, 5), Err(Error::WrongState(_))));
-    assert_eq!(outputs(&crowd), before, "a refused range stepped nothing");
+    assert_eq!(
+        support::output_bits(&crowd),
+        before,
+        "a refused range stepped nothing"
+    );
     // Structural changes wait for the end of the step.
     assert!(matches!(
         scenario.push(&mut crowd, 2.0 * f64::from(DT)),
@@ -512,7 +460,7 @@ fn a_large_crowd_in_grid_order_matches_dense_ranges() {
                 crowd.step(DT).unwrap();
             }
         }
-        outputs(&crowd)
+        support::output_bits(&crowd)
     };
     let ranged = run(1, true);
     assert!(ranged == run(1, false), "grid order, 1 thread");

@@ -200,3 +200,80 @@ pub fn mix_attention_models(crowd: &mut crowdgaze::Crowd, ids: &[u32]) {
             .unwrap();
     }
 }
+
+/// The settings of [`mixed_street`]'s crowd but for what a test varies: a level of detail by
+/// distance and attention every second step.
+pub fn mixed_street_config() -> crowdgaze::CrowdConfig {
+    crowdgaze::CrowdConfig {
+        lod_distance: 12.0,
+        attention_period: 2,
+        ..crowdgaze::CrowdConfig::default()
+    }
+}
+
+/// A street crowd of `people` and `props` (seed `seed`) mixing the three attention models,
+/// with an explicit target of each priority: with a viewer set by the test, every path of a
+/// character's step.
+pub fn mixed_street(
+    config: crowdgaze::CrowdConfig,
+    people: usize,
+    props: usize,
+    seed: u64,
+) -> (crowdgaze::Crowd, Scenario) {
+    use crowdgaze::crowd::{ExplicitTarget, TargetPriority};
+    let mut crowd = crowdgaze::Crowd::new(config).unwrap();
+    let mut scenario = Scenario::street(people, props, seed);
+    scenario.populate(&mut crowd).unwrap();
+    let ids = scenario.character_ids().to_vec();
+    mix_attention_models(&mut crowd, &ids);
+    crowd
+        .set_gaze_target(
+            ids[7],
+            ExplicitTarget::Point(Vec3::new(3.0, 2.0, 3.0)),
+            TargetPriority::Override,
+        )
+        .unwrap();
+    crowd
+        .set_gaze_target(
+            ids[8],
+            ExplicitTarget::Entity(ids[9]),
+            TargetPriority::WhenIdle,
+        )
+        .unwrap();
+    (crowd, scenario)
+}
+
+/// Every output of every character in the crowd's character order, as bits: gaze info,
+/// eyes, and the final joints read by range.
+pub fn output_bits(crowd: &crowdgaze::Crowd) -> Vec<u32> {
+    let mut bits = Vec::new();
+    for character in 0..crowd.character_count() {
+        let gaze = crowd.gaze_dense(character);
+        bits.extend([
+            gaze.character,
+            gaze.target,
+            gaze.head_target,
+            gaze.interest_count,
+        ]);
+        bits.extend(gaze.target_position.to_array().map(f32::to_bits));
+        bits.extend([gaze.s_max, gaze.threshold, gaze.attentive_fraction].map(f32::to_bits));
+        let eyes = crowd.eyes_dense(character);
+        for vector in eyes.origins.iter().chain(&eyes.directions) {
+            bits.extend(vector.to_array().map(f32::to_bits));
+        }
+    }
+    let count = crowd.character_count();
+    let mut joints = vec![glam::Quat::IDENTITY; crowd.joint_total(0, count).unwrap()];
+    crowd.read_joints(0, count, false, &mut joints).unwrap();
+    bits.extend(joints.iter().flat_map(|q| q.to_array().map(f32::to_bits)));
+    bits
+}
+
+/// Asserts two runs' outputs (one `Vec` per frame) are equal, naming the first frame that
+/// differs.
+pub fn assert_same(expected: &[Vec<u32>], actual: &[Vec<u32>], what: &str) {
+    assert_eq!(expected.len(), actual.len());
+    for (frame, (expected, actual)) in expected.iter().zip(actual).enumerate() {
+        assert!(expected == actual, "{what}: frame {frame} differs");
+    }
+}
