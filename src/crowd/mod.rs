@@ -992,9 +992,10 @@ impl Crowd {
     }
 
     /// Writes the chain joints of characters `first .. first + count` (in the character
-    /// order, see [`gaze_dense`](Self::gaze_dense)) into `out`, packed one chain after another, bottom to top: the final local rotations
-    /// `base * delta`, or the deltas alone with `deltas_only`. `out` must hold
-    /// [`joint_total`](Self::joint_total) rotations; returns how many were written.
+    /// order, see [`gaze_dense`](Self::gaze_dense)) into `out`, packed one chain after
+    /// another, bottom to top: the final local rotations `base * delta`, or the deltas
+    /// alone with `deltas_only`. `out` must hold [`joint_total`](Self::joint_total)
+    /// rotations; returns how many were written.
     pub fn read_joints(
         &self,
         first: usize,

@@ -256,7 +256,8 @@ impl Shared {
         let centre = self.scene.ground_positions()[entity];
 
         // The nearest entities within d_m — by distance, then id, so that neither the grid's
-        // visiting order nor the storage order matters — at most one per point.
+        // visiting order nor the storage order matters — at most as many as there are points
+        // (each gives one or five).
         let mut near = [(0.0f32, 0u32, 0u32); MAX_SALIENT_POINTS];
         let mut near_count = 0;
         let mut farthest = 0;
