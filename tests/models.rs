@@ -280,3 +280,59 @@ fn characters_look_at_the_viewer() {
     assert_eq!(crowd.viewer(), None);
     crowd.step(DT).unwrap();
 }
+
+/// With more points within d_m than the saliency query takes (96: here 40 characters of five
+/// parts each), it takes the nearest entities, wherever the grid visits them from: facing
+/// either way along the forward axis, every eye and head target of the watcher is one of
+/// the 20 nearest characters.
+#[test]
+fn saliency_considers_the_nearest_entities_first() {
+    for facing in [1.0f32, -1.0] {
+        let mut crowd = Crowd::new(CrowdConfig::default()).unwrap();
+        let heading = if facing > 0.0 {
+            0.0
+        } else {
+            std::f32::consts::PI
+        };
+        let watcher = crowd
+            .add_character(&CharacterDesc {
+                heading,
+                model: AttentionModel::Saliency,
+                ..CharacterDesc::default()
+            })
+            .unwrap();
+        // Characters ahead at 1.0, 1.2, …, 8.8 m, within ±25° of straight ahead, facing
+        // the watcher; the nearest 20 are the ones the query may take.
+        let mut nearest = Vec::new();
+        for k in 0..40 {
+            let distance = 1.0 + 0.2 * k as f32;
+            let angle = (-25.0 + 50.0 * ((k * 7) % 40) as f32 / 39.0).to_radians();
+            let position = Vec3::new(distance * angle.sin(), 0.0, facing * distance * angle.cos());
+            let id = crowd
+                .add_character(&CharacterDesc {
+                    position,
+                    heading: heading + std::f32::consts::PI,
+                    ..CharacterDesc::default()
+                })
+                .unwrap();
+            if k < 20 {
+                nearest.push(id);
+            }
+        }
+        let mut targets = 0;
+        for _ in 0..300 {
+            crowd.step(DT).unwrap();
+            let gaze = crowd.gaze(watcher).unwrap();
+            for target in [gaze.target, gaze.head_target] {
+                if target != NO_ENTITY {
+                    assert!(
+                        nearest.contains(&target),
+                        "facing {facing}: looked at {target}, not one of the 20 nearest"
+                    );
+                    targets += 1;
+                }
+            }
+        }
+        assert!(targets > 300, "facing {facing}: the watcher looked around");
+    }
+}
