@@ -1263,8 +1263,9 @@ cg_status cg_crowd_read_joint_deltas(const struct cg_crowd *crowd,
                                      struct cg_quat *out,
                                      size_t out_len);
 
-// Reads where the eyes of characters `first .. first + count` are and look (world,
-// your units), one `cg_eye_info` each in `out` (`out_len >= count`), for debug drawing.
+// Reads where the eyes of characters `first .. first + count` (in the order of
+// `cg_crowd_read_gaze`) are and look (world, your units), one `cg_eye_info` each in `out`
+// (`out_len >= count`), for debug drawing.
 //
 // Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_INVALID_ARGUMENT` (range, `out_len`). Safe
 // to call concurrently with other `const` calls.

@@ -311,8 +311,9 @@ pub extern "C" fn cg_crowd_read_joint_deltas(
     ffi_boundary!({ read_joints(crowd, first, count, out, out_len, true) })
 }
 
-/// Reads where the eyes of characters `first .. first + count` are and look (world,
-/// your units), one `cg_eye_info` each in `out` (`out_len >= count`), for debug drawing.
+/// Reads where the eyes of characters `first .. first + count` (in the order of
+/// `cg_crowd_read_gaze`) are and look (world, your units), one `cg_eye_info` each in `out`
+/// (`out_len >= count`), for debug drawing.
 ///
 /// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_INVALID_ARGUMENT` (range, `out_len`). Safe
 /// to call concurrently with other `const` calls.
