@@ -139,7 +139,7 @@ pub(crate) unsafe fn slice<'a, T>(pointer: *const T, count: usize, what: &str) -
 }
 
 /// Views a C output array `(pointer, count)` as a mutable slice, with the same rules as
-/// [`slice`].
+/// [`slice()`].
 ///
 /// # Safety
 /// If `count > 0` and `pointer` is not NULL, it must point to `count` writable `T`s that no
