@@ -364,6 +364,7 @@ pub struct Crowd {
     claims: ClaimSet,
     /// The order in which attention visits characters, refreshed by each step: spatial-grid
     /// order in large crowds (neighbours' data stays in cache), dense order otherwise.
+    /// Before that, on a step that reorders storage, the reordering's character permutation.
     grid_order: Vec<u32>,
     /// The characters in the order readers see (creation order, a removed character's place
     /// taken by the last one): the dense index of each.

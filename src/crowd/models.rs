@@ -406,15 +406,16 @@ impl Shared {
             .for_each_near(centre, |other, ground| {
                 let other = other as usize;
                 let distance_squared = (ground - centre).length_squared();
-                // Nearest by distance, then id (whatever order the grid visits them in).
-                let id = self.scene.ids()[other];
                 if other != entity
                     && forward.dot(ground - centre) >= 0.0
                     && self.scene.kinds()[other] == EntityKind::Character
                     && distance_squared <= radius_squared
-                    && (distance_squared, id) < (nearest.1, nearest.0)
                 {
-                    nearest = (id, distance_squared);
+                    // Nearest by distance, then id (whatever order the grid visits them in).
+                    let id = self.scene.ids()[other];
+                    if (distance_squared, id) < (nearest.1, nearest.0) {
+                        nearest = (id, distance_squared);
+                    }
                 }
             });
         let config = self.config.baseline;
