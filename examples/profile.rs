@@ -36,8 +36,11 @@ fn main() -> crowdgaze::Result<()> {
     let part: String = argument(2, "step".to_string());
     let frames: usize = argument(3, 100);
     let threads: u32 = argument(4, 1);
-    if !["attention", "gaze", "step", "moving"].contains(&part.as_str()) || frames == 0 {
-        eprintln!("part must be attention, gaze, step or moving, and frames above 0");
+    if !["attention", "gaze", "step", "moving"].contains(&part.as_str())
+        || frames == 0
+        || characters == 0
+    {
+        eprintln!("part must be attention, gaze, step or moving; characters and frames above 0");
         std::process::exit(2);
     }
     let mut crowd = Crowd::new(CrowdConfig {
