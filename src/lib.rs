@@ -40,3 +40,11 @@ pub use crowd::{CharacterDesc, Crowd, CrowdConfig, GazeInfo, ObjectDesc};
 pub use error::{Error, Result};
 pub use math::dualquat::DualQuat;
 pub use world::{Axis, World};
+
+/// The Rust code blocks of the user documentation, run as doc tests (`tests/docs.rs` checks
+/// that every page is listed here).
+#[cfg(doctest)]
+mod documentation {
+    #[doc = include_str!("../README.md")]
+    struct Readme;
+}

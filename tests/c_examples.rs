@@ -6,6 +6,9 @@
 //! Each example prints what it checked and ends with the line `ok`. Extra expectations for
 //! particular examples are in [`expected_output`].
 //!
+//! The C and C++ code blocks of the user documentation (`README.md`, `docs/*.md`) are built
+//! and run the same way (C11 for C): each is a whole program that must exit with 0.
+//!
 //! Memory checks (`scripts/memcheck`) reuse this harness through two variables:
 //! `CG_EXAMPLE_RUNNER` is a command that runs each example (valgrind with its options), and
 //! `CG_EXAMPLE_CFLAGS` extra flags compiling and linking each one (the sanitizers). When
@@ -14,6 +17,9 @@
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
+
+#[path = "support/snippets.rs"]
+mod snippets;
 
 /// The directory holding `libcrowdgaze.a` and `libcrowdgaze.so` built for this test run.
 fn library_dir() -> PathBuf {
@@ -64,7 +70,17 @@ enum Linkage {
     Shared,
 }
 
-fn compile(source: &Path, linkage: Linkage, work: &Path) -> PathBuf {
+/// A program of `c_examples/`, or a code block of the documentation written to a file.
+#[derive(Clone, Debug)]
+struct Source {
+    path: PathBuf,
+    /// From the documentation (`README.md:42`): C11, and no final `ok` asked for.
+    snippet: Option<String>,
+}
+
+fn compile(source: &Source, linkage: Linkage, work: &Path) -> PathBuf {
+    let is_snippet = source.snippet.is_some();
+    let source = source.path.as_path();
     let is_cpp = source.extension().is_some_and(|e| e == "cpp");
     let stem = name(source);
     let output = work.join(format!("{stem}_{linkage:?}").to_lowercase());
@@ -75,7 +91,11 @@ fn compile(source: &Path, linkage: Linkage, work: &Path) -> PathBuf {
     };
     let mut command = Command::new(&compiler);
     command
-        .arg(if is_cpp { "-std=c++17" } else { "-std=c99" })
+        .arg(match (is_cpp, is_snippet) {
+            (true, _) => "-std=c++17",
+            (false, false) => "-std=c99",
+            (false, true) => "-std=c11",
+        })
         .args(["-Wall", "-Wextra", "-Wpedantic", "-Werror", "-O1", "-g"])
         .arg("-I")
         .arg(root().join("include"));
@@ -172,31 +192,76 @@ fn expected_output(stem: &str) -> Vec<String> {
     }
 }
 
-fn examples() -> Vec<PathBuf> {
-    let mut sources: Vec<PathBuf> = std::fs::read_dir(root().join("c_examples"))
+fn examples(work: &Path) -> Vec<Source> {
+    let mut paths: Vec<PathBuf> = std::fs::read_dir(root().join("c_examples"))
         .expect("c_examples/ exists")
         .map(|entry| entry.expect("dir entry").path())
         .filter(|path| path.extension().is_some_and(|e| e == "c" || e == "cpp"))
         .collect();
-    sources.sort();
+    paths.sort();
     if !words("CG_EXAMPLE_RUNNER").is_empty() || !words("CG_EXAMPLE_CFLAGS").is_empty() {
-        sources.push(root().join("c_examples/cmake_consumer/main.c"));
+        paths.push(root().join("c_examples/cmake_consumer/main.c"));
+    }
+    let mut sources: Vec<Source> = paths
+        .into_iter()
+        .map(|path| Source {
+            path,
+            snippet: None,
+        })
+        .collect();
+    sources.extend(documentation_programs(work));
+    sources
+}
+
+/// The documentation's C and C++ code blocks, each written to a file of `work/snippets`.
+fn documentation_programs(work: &Path) -> Vec<Source> {
+    let directory = work.join("snippets");
+    std::fs::create_dir_all(&directory).expect("create snippets dir");
+    let mut sources = Vec::new();
+    for (language, extension) in [("c", "c"), ("cpp", "cpp")] {
+        for snippet in snippets::in_language(language) {
+            let path = directory.join(format!("{}.{extension}", snippet.stem()));
+            std::fs::write(&path, &snippet.code).expect("write snippet");
+            sources.push(Source {
+                path,
+                snippet: Some(snippet.place()),
+            });
+        }
     }
     sources
 }
 
 #[test]
 #[cfg_attr(miri, ignore)]
+fn the_documentation_has_c_and_cpp_programs() {
+    let work = work_dir();
+    let programs = documentation_programs(&work);
+    for language in ["c", "cpp"] {
+        assert!(
+            snippets::in_language(language)
+                .iter()
+                .any(|s| s.page == "README.md"),
+            "the README shows no {language} program"
+        );
+    }
+    assert!(programs.len() >= 2, "{programs:?}");
+}
+
+#[test]
+#[cfg_attr(miri, ignore)]
 fn c_examples_build_and_pass_static_and_shared() {
     let work = work_dir();
-    let sources = examples();
+    let sources = examples(&work);
     assert!(
         sources.len() >= 3,
         "expected the C and C++ examples, found {sources:?}"
     );
     let runner = words("CG_EXAMPLE_RUNNER");
     for source in &sources {
-        let stem = name(source);
+        let stem = match &source.snippet {
+            Some(place) => place.clone(),
+            None => name(&source.path),
+        };
         for linkage in [Linkage::Static, Linkage::Shared] {
             let program = compile(source, linkage, &work);
             let mut command = match runner.split_first() {
@@ -215,11 +280,13 @@ fn c_examples_build_and_pass_static_and_shared() {
                 run.status,
                 String::from_utf8_lossy(&run.stderr)
             );
-            assert_eq!(
-                stdout.lines().last(),
-                Some("ok"),
-                "{stem} ({linkage:?}) must end with `ok`:\n{stdout}"
-            );
+            if source.snippet.is_none() {
+                assert_eq!(
+                    stdout.lines().last(),
+                    Some("ok"),
+                    "{stem} ({linkage:?}) must end with `ok`:\n{stdout}"
+                );
+            }
             for needle in expected_output(&stem) {
                 assert!(
                     stdout.contains(&needle),

@@ -5,9 +5,8 @@
 //! Xvfb, whose PNG frames are checked: there, not blank, changing, and the red-nosed
 //! bystander's head turning on the images as its logged head rotation says.
 //!
-//! Needs cmake, pkg-config, OpenSceneGraph 3.6, xvfb-run and Mesa (`.ci/run` installs them).
-//! Where one is missing the test that needs it is skipped with a message, except under CI
-//! (`CI` set), where it fails.
+//! Needs cmake, pkg-config, OpenSceneGraph 3.6, xvfb-run and Mesa (`scripts/setup` installs
+//! them): where one is missing, the test that needs it fails and names it.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -40,20 +39,16 @@ fn stdout(output: &Output) -> String {
     String::from_utf8_lossy(&output.stdout).into_owned()
 }
 
-/// Whether `tool` runs; if not, skips (false) outside CI and fails under CI.
-fn have(tool: &str, args: &[&str]) -> bool {
+/// Fails, naming `tool`, unless `tool args` runs.
+fn need(tool: &str, args: &[&str]) {
     let found = Command::new(tool)
         .args(args)
         .output()
         .is_ok_and(|o| o.status.success());
-    if !found {
-        assert!(
-            std::env::var_os("CI").is_none(),
-            "{tool} is missing: .ci/run must install it"
-        );
-        eprintln!("skipped: {tool} is not installed (.ci/run installs it)");
-    }
-    found
+    assert!(
+        found,
+        "{tool} is missing: scripts/setup installs it (scripts/test runs scripts/setup)"
+    );
 }
 
 /// The prefix `scripts/install` filled, once for all the tests of this file.
@@ -166,9 +161,7 @@ fn needed_libraries(program: &Path) -> String {
 #[test]
 #[cfg_attr(miri, ignore)]
 fn cmake_consumer_builds_against_the_installed_package() {
-    if !have("cmake", &["--version"]) {
-        return;
-    }
+    need("cmake", &["--version"]);
     let build = work().join("cmake_consumer");
     let _ = std::fs::remove_dir_all(&build);
     let configure = run(Command::new("cmake")
@@ -217,9 +210,7 @@ fn cmake_consumer_builds_against_the_installed_package() {
 #[test]
 #[cfg_attr(miri, ignore)]
 fn pkg_config_build_lines_of_the_readme_work() {
-    if !have("pkg-config", &["--version"]) {
-        return;
-    }
+    need("pkg-config", &["--version"]);
     let build = work().join("pkg_config");
     std::fs::create_dir_all(&build).unwrap();
     let source = root().join("c_examples/cmake_consumer/main.c");
@@ -318,9 +309,8 @@ fn read_png(path: &Path) -> Image {
 #[test]
 #[cfg_attr(miri, ignore)]
 fn osg_street_renders_heads_turning() {
-    if !have("cmake", &["--version"]) || !have("xvfb-run", &["--help"]) {
-        return;
-    }
+    need("cmake", &["--version"]);
+    need("xvfb-run", &["--help"]);
     let build = work().join("osg");
     let _ = std::fs::remove_dir_all(&build);
     let configure = Command::new("cmake")
@@ -335,15 +325,10 @@ fn osg_street_renders_heads_turning() {
     if !configure.status.success() {
         let error = String::from_utf8_lossy(&configure.stderr);
         assert!(
-            std::env::var_os("CI").is_none() || !error.contains("OpenSceneGraph"),
-            "OpenSceneGraph is missing: .ci/run must install libopenscenegraph-dev\n{error}"
+            !error.contains("OpenSceneGraph"),
+            "OpenSceneGraph 3.6 is missing: scripts/setup installs libopenscenegraph-dev\n{error}"
         );
-        assert!(
-            error.contains("OpenSceneGraph"),
-            "configuring c_examples/osg failed:\n{error}"
-        );
-        eprintln!("skipped: OpenSceneGraph 3.6 is not installed (.ci/run installs it)");
-        return;
+        panic!("configuring c_examples/osg failed:\n{error}");
     }
     run(Command::new("cmake").arg("--build").arg(&build));
 

@@ -383,10 +383,6 @@ fn eth_run(tracks: &[Track], loops: u64) -> (Outcome, Vec<f64>) {
 
 #[test]
 fn eth_loop_soak() {
-    if !std::path::Path::new(support::ETH_SEQ_ETH).exists() {
-        println!("skipping: {} not found", support::ETH_SEQ_ETH);
-        return;
-    }
     let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
     let tracks = tracks(&support::read_trajectories(support::ETH_SEQ_ETH));
     let loops = if full() { 10 } else { 3 };

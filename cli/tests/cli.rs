@@ -33,17 +33,18 @@ fn succeed(args: &[&str]) -> String {
     text(&output.stdout)
 }
 
-/// The shared data directory (`../shared/data` from the repository), if present.
-fn data(relative: &str) -> Option<PathBuf> {
+/// A file of the shared data directory (`../shared/data` from the repository); fails if it
+/// is missing.
+fn data(relative: &str) -> PathBuf {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../../shared/data")
         .join(relative);
-    if path.exists() {
-        Some(path)
-    } else {
-        println!("skipping: {} not found", path.display());
-        None
-    }
+    assert!(
+        path.exists(),
+        "{} is missing: the tests need ../shared/data beside the repository",
+        path.display()
+    );
+    path
 }
 
 fn entries(directory: &Path) -> BTreeSet<String> {
@@ -174,8 +175,8 @@ fn annotate_window(
     end: f64,
     fps: f64,
     offline: bool,
-) -> Option<f64> {
-    let input = data(&format!("pedestrians/{file}"))?;
+) -> f64 {
+    let input = data(&format!("pedestrians/{file}"));
     let directory = tempfile::tempdir().unwrap();
     let out = directory.path().join("gaze.csv");
     let mut args = vec![
@@ -288,39 +289,32 @@ fn annotate_window(
         if offline { " offline" } else { "" },
         100.0 * fraction
     );
-    Some(fraction)
+    fraction
 }
 
 #[test]
 fn annotate_eth_seq_eth_covers_every_person_frame() {
     // seq_eth: 6 frame numbers per 0.4 s sample, 1/15 s each.
-    if let Some(fraction) =
-        annotate_window("eth_seq_eth.csv", 1.0 / 15.0, 100.0, 400.0, 10.0, false)
-    {
-        // Attention percentages are drawn in [20%, 60%); online, people attend about that.
-        assert!((0.15..0.6).contains(&fraction), "attentive {fraction}");
-    }
+    let fraction = annotate_window("eth_seq_eth.csv", 1.0 / 15.0, 100.0, 400.0, 10.0, false);
+    // Attention percentages are drawn in [20%, 60%); online, people attend about that.
+    assert!((0.15..0.6).contains(&fraction), "attentive {fraction}");
 }
 
 #[test]
 fn annotate_ucy_zara01_covers_every_person_frame_online_and_offline() {
     // zara01: 10 frame numbers per 0.4 s sample, 1/25 s each.
-    if let Some(fraction) = annotate_window("ucy_zara01.csv", 1.0 / 25.0, 0.0, 200.0, 10.0, false) {
-        assert!((0.15..0.6).contains(&fraction), "attentive {fraction}");
-    }
-    if let Some(fraction) = annotate_window("ucy_zara01.csv", 1.0 / 25.0, 50.0, 150.0, 2.5, true) {
-        assert!(
-            (0.15..0.6).contains(&fraction),
-            "attentive offline {fraction}"
-        );
-    }
+    let fraction = annotate_window("ucy_zara01.csv", 1.0 / 25.0, 0.0, 200.0, 10.0, false);
+    assert!((0.15..0.6).contains(&fraction), "attentive {fraction}");
+    let fraction = annotate_window("ucy_zara01.csv", 1.0 / 25.0, 50.0, 150.0, 2.5, true);
+    assert!(
+        (0.15..0.6).contains(&fraction),
+        "attentive offline {fraction}"
+    );
 }
 
 #[test]
 fn annotate_runs_every_attention_model() {
-    let Some(input) = data("pedestrians/ucy_zara01.csv") else {
-        return;
-    };
+    let input = data("pedestrians/ucy_zara01.csv");
     let directory = tempfile::tempdir().unwrap();
     let out = directory.path().join("gaze.csv");
     for model in ["crowd", "saliency", "baseline"] {
@@ -372,9 +366,7 @@ fn annotate_runs_every_attention_model() {
 #[test]
 fn bvh_reads_writes_and_reads_the_same_skeleton_and_motion() {
     for name in ["zombie.bvh", "wave_hello.bvh"] {
-        let Some(path) = data(&format!("bvh/{name}")) else {
-            continue;
-        };
+        let path = data(&format!("bvh/{name}"));
         let bvh = Bvh::read(&path).unwrap();
         assert_eq!(bvh.joints.len(), 27);
         assert_eq!(bvh.channel_count, 84);
@@ -421,9 +413,7 @@ fn small_scene(path: &Path) {
 
 #[test]
 fn bvh_adds_gaze_to_a_real_clip_walking_a_trajectory() {
-    let Some(clip_path) = data("bvh/zombie.bvh") else {
-        return;
-    };
+    let clip_path = data("bvh/zombie.bvh");
     let directory = tempfile::tempdir().unwrap();
     let trajectory = directory.path().join("walk.csv");
     small_scene(&trajectory);
@@ -511,9 +501,7 @@ fn bvh_adds_gaze_to_a_real_clip_walking_a_trajectory() {
 
 #[test]
 fn plot_draws_a_trajectory_file_and_figure_3() {
-    let Some(input) = data("pedestrians/ucy_zara01.csv") else {
-        return;
-    };
+    let input = data("pedestrians/ucy_zara01.csv");
     let directory = tempfile::tempdir().unwrap();
     let out = directory.path().join("plots");
     let stdout = succeed(&[
@@ -634,9 +622,7 @@ fn bad_trajectory_files_fail_with_file_and_line_and_leave_nothing() {
 
 #[test]
 fn bvh_command_rejects_bad_input() {
-    let Some(clip) = data("bvh/zombie.bvh") else {
-        return;
-    };
+    let clip = data("bvh/zombie.bvh");
     let clip = clip.to_str().unwrap().to_string();
     let good = "frame,id,x,y\n0,1,0,0\n10,1,0.5,0\n20,1,1,0\n0,2,3,3\n10,2,3,2.5\n";
     let bvh = |id: &str| -> Vec<String> {

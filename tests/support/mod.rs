@@ -13,7 +13,7 @@ use glam::{Vec2, Vec3};
 use std::mem::MaybeUninit;
 use std::ptr::null_mut;
 
-/// `shared/data/pedestrians/eth_seq_eth.csv` beside the repository (it may be absent).
+/// `shared/data/pedestrians/eth_seq_eth.csv` beside the repository.
 pub const ETH_SEQ_ETH: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),
     "/../shared/data/pedestrians/eth_seq_eth.csv"
@@ -21,7 +21,9 @@ pub const ETH_SEQ_ETH: &str = concat!(
 
 /// Reads `frame,id,x,y` rows.
 pub fn read_trajectories(path: &str) -> Vec<(u32, u32, f32, f32)> {
-    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{path}: {e}"));
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| {
+        panic!("{path}: {e} (the tests need ../shared/data beside the repository)")
+    });
     text.lines()
         .skip(1)
         .map(|line| {

@@ -1,8 +1,8 @@
 """crowdgaze for Python: believable gaze for every character of a crowd.
 
-A ctypes binding of the crowdgaze C library (``include/crowdgaze.h``). The shared library
-is found through ``$CROWDGAZE_LIBRARY``, next to this package, or in the Cargo target
-directory of the repository holding it (``target/release`` or ``target/debug``, the newest).
+A ctypes binding of the crowdgaze C library (``include/crowdgaze.h``). The installed wheel
+carries the library (``crowdgaze/_crowdgaze*.so``); ``$CROWDGAZE_LIBRARY`` overrides it, and
+in a source tree the newest Cargo build (``target/release`` or ``target/debug``) is used.
 
 >>> import crowdgaze as cg
 >>> crowd = cg.Crowd(max_characters=10, seed=1)

@@ -513,12 +513,12 @@ FUNCTIONS = {
 # --- the shared library --------------------------------------------------------------------
 
 
-def _library_file_names() -> list[str]:
+def _library_file_name() -> str:
     if sys.platform == "darwin":
-        return ["libcrowdgaze.dylib"]
+        return "libcrowdgaze.dylib"
     if sys.platform == "win32":
-        return ["crowdgaze.dll"]
-    return ["libcrowdgaze.so", "libcrowdgaze.so.0"]
+        return "crowdgaze.dll"
+    return "libcrowdgaze.so"
 
 
 def _cargo_target_dir() -> Path:
@@ -530,27 +530,34 @@ def _cargo_target_dir() -> Path:
     return repository / "target"
 
 
-def library_candidates() -> list[Path]:
-    """Where ``find_library`` looks, in order (the env var aside)."""
+def _bundled_library() -> Path | None:
+    """The library inside the installed wheel: the extension module ``crowdgaze._crowdgaze``
+    that maturin builds from ``bindings/python/Cargo.toml``, which exports every ``cg_``
+    function of the header. None in a source tree, where no wheel was built."""
     here = Path(__file__).resolve().parent
-    candidates = [here / name for name in _library_file_names()]
+    for path in sorted(here.glob("_crowdgaze*.so")) + sorted(here.glob("_crowdgaze*.pyd")):
+        if path.is_file():
+            return path
+    return None
+
+
+def library_candidates() -> list[Path]:
+    """Where ``find_library`` looks after the bundled library, in order (the env var
+    aside): the newest of the Cargo builds of the repository holding this package."""
     target = _cargo_target_dir()
-    cargo_builds = [
-        target / profile / name
-        for profile in ("release", "debug")
-        for name in _library_file_names()[:1]
-    ]
+    cargo_builds = [target / profile / _library_file_name() for profile in ("release", "debug")]
     # Of the Cargo builds, the most recently built first.
     existing = sorted(
         (p for p in cargo_builds if p.is_file()), key=lambda p: p.stat().st_mtime, reverse=True
     )
-    return candidates + existing + [p for p in cargo_builds if p not in existing]
+    return existing + [p for p in cargo_builds if p not in existing]
 
 
 def find_library() -> Path:
-    """The shared library to load: ``$CROWDGAZE_LIBRARY`` if set; else a library next to
-    this package; else the newest of the Cargo builds ``target/release`` and
-    ``target/debug`` (``$CARGO_TARGET_DIR`` if set) of the repository holding the package.
+    """The shared library to load: ``$CROWDGAZE_LIBRARY`` if set; else the library the
+    installed wheel bundles (``crowdgaze/_crowdgaze*.so``); else, in a source tree, the
+    newest of the Cargo builds ``target/release`` and ``target/debug`` (``$CARGO_TARGET_DIR``
+    if set) of the repository holding the package.
     """
     configured = os.environ.get("CROWDGAZE_LIBRARY")
     if configured:
@@ -558,13 +565,17 @@ def find_library() -> Path:
         if not path.is_file():
             raise OSError(f"CROWDGAZE_LIBRARY={configured} is not a file")
         return path
+    bundled = _bundled_library()
+    if bundled is not None:
+        return bundled
     for path in library_candidates():
         if path.is_file():
             return path
     looked = ", ".join(str(p) for p in library_candidates())
     raise OSError(
-        "crowdgaze: shared library not found; build it with `cargo build --release` or set "
-        f"CROWDGAZE_LIBRARY (looked at: {looked})"
+        "crowdgaze: shared library not found; install the package with "
+        "`pip install ./bindings/python`, or in the source tree build it with "
+        f"`cargo build --release` or set CROWDGAZE_LIBRARY (looked at: {looked})"
     )
 
 
