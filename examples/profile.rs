@@ -1,7 +1,6 @@
-//! The profiling harness behind the A/B numbers of `docs/performance-log.md`: one crowd
-//! step part, timed over many frames, as µs per character-frame — a program to run under
-//! `perf` or twice side by side (two builds, alternating), not a benchmark (the README's
-//! numbers come from `scripts/bench`).
+//! A profiling harness: one crowd step part, timed over many frames, as µs per
+//! character-frame — a program to run under `perf` or twice side by side (two builds,
+//! alternating), not a benchmark (the README's numbers come from `scripts/bench`).
 //!
 //! ```text
 //! cargo run --release --example profile -- [characters] [part] [frames] [threads]

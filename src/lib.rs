@@ -47,4 +47,24 @@ pub use world::{Axis, World};
 mod documentation {
     #[doc = include_str!("../README.md")]
     struct Readme;
+    #[doc = include_str!("../docs/attention.md")]
+    struct Attention;
+    #[doc = include_str!("../docs/blending.md")]
+    struct Blending;
+    #[doc = include_str!("../docs/c-api.md")]
+    struct CApi;
+    #[doc = include_str!("../docs/cli.md")]
+    struct Cli;
+    #[doc = include_str!("../docs/development.md")]
+    struct Development;
+    #[doc = include_str!("../docs/engines.md")]
+    struct Engines;
+    #[doc = include_str!("../docs/gaze-ik.md")]
+    struct GazeIk;
+    #[doc = include_str!("../docs/install.md")]
+    struct Install;
+    #[doc = include_str!("../docs/performance.md")]
+    struct Performance;
+    #[doc = include_str!("../docs/threads.md")]
+    struct Threads;
 }

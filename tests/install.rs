@@ -1,6 +1,6 @@
 //! `scripts/install PREFIX` into a temporary prefix (a release build), then programs built
 //! against the installed tree only: the CMake consumer (`c_examples/cmake_consumer`, with
-//! `crowdgaze::shared` and `crowdgaze::static`), the same program by the README's
+//! `crowdgaze::shared` and `crowdgaze::static`), the same program by the install page's
 //! pkg-config build lines, and the OpenSceneGraph example (`c_examples/osg`) rendered under
 //! Xvfb, whose PNG frames are checked: there, not blank, changing, and the red-nosed
 //! bystander's head turning on the images as its logged head rotation says.
@@ -209,25 +209,38 @@ fn cmake_consumer_builds_against_the_installed_package() {
 
 #[test]
 #[cfg_attr(miri, ignore)]
-fn pkg_config_build_lines_of_the_readme_work() {
+fn pkg_config_build_lines_of_the_install_page_work() {
     need("pkg-config", &["--version"]);
     let build = work().join("pkg_config");
     std::fs::create_dir_all(&build).unwrap();
     let source = root().join("c_examples/cmake_consumer/main.c");
-    // The two lines of the README's "Install" section, as they are written there.
-    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
-    let lines = [
-        "cc app.c $(pkg-config --cflags --libs crowdgaze) -Wl,-rpath,\"$(pkg-config --variable=libdir crowdgaze)\" -o app",
-        "cc app.c $(pkg-config --cflags crowdgaze) \"$(pkg-config --variable=libdir crowdgaze)/libcrowdgaze.a\" $(pkg-config --variable=native_static_libs crowdgaze) -o app",
-    ];
-    for (line, name) in lines.iter().zip(["app_shared", "app_static"]) {
-        assert!(readme.contains(line), "README lacks the line {line}");
+    // The two build lines of the install page (docs/install.md), as written there: shared,
+    // then static. The shared one gets the rpath the page says to add outside the loader's
+    // search path.
+    let page = std::fs::read_to_string(root().join("docs/install.md")).unwrap();
+    let lines: Vec<String> = page
+        .replace("\\\n", " ")
+        .lines()
+        .filter(|line| line.starts_with("cc app.c") && line.contains("pkg-config"))
+        .map(|line| line.split_whitespace().collect::<Vec<_>>().join(" "))
+        .collect();
+    assert_eq!(
+        lines.len(),
+        2,
+        "docs/install.md's two pkg-config lines: {lines:?}"
+    );
+    let rpath = " -Wl,-rpath,\"$(pkg-config --variable=libdir crowdgaze)\"";
+    for ((line, name), extra) in lines
+        .iter()
+        .zip(["app_shared", "app_static"])
+        .zip([rpath, ""])
+    {
         let command = line
             .replace("app.c", &source.display().to_string())
             .replace("-o app", &format!("-o {}", build.join(name).display()));
         run(Command::new("sh")
             .arg("-c")
-            .arg(format!("{command} -lm"))
+            .arg(format!("{command}{extra} -lm"))
             .env("PKG_CONFIG_PATH", prefix().join("lib/pkgconfig")));
         check_consumer(&build.join(name));
     }

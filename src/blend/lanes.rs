@@ -1,6 +1,6 @@
 //! Many blends at once: DLB and DIB computed on several joints side by side, one joint per
 //! SIMD lane (structure of arrays), 4, 8 or 16 at a time (`math::wide::run_widest` picks the
-//! width; the README's blend section gives the measured cost at each).
+//! width).
 //!
 //! [`DualQuatLanes`] holds one component of `W::LANES` dual quaternions in each lane vector
 //! (see [`crate::math::wide`]). Its `log` and `exp` avoid per-lane branches: the arctangent is
