@@ -16,6 +16,12 @@ Every function of the header is declared on ``crowdgaze.lib`` with its ``argtype
 ``restype``; the structs are ctypes ``Structure`` s with the header's fields and order
 (``STRUCTS`` maps C names to them); every ``CG_`` constant and enum value is here under its
 C name. Failures raise ``crowdgaze.Error`` (``status``, ``message``, ``function``).
+
+Arguments are checked before any C call: a wrong type raises ``TypeError``, an integer out
+of its C type's range ``OverflowError``, a wrong shape or layout ``ValueError``, each naming
+the argument; ``out=`` arrays must be writeable, C-contiguous and of the exact dtype and
+shape. A ``Crowd`` or ``ViewBlender`` cannot be copied or pickled, and ``close()`` from
+another thread waits for the calls in flight (``crowdgaze._checks``, ``crowdgaze._owner``).
 """
 
 from __future__ import annotations

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import ctypes
 
+from . import _checks as c
 from . import _native as n
 from ._library import lib
 
@@ -18,7 +19,8 @@ def last_error_message() -> str:
 
 def status_string(status: int) -> str:
     """The static description of a status (``cg_status_str``)."""
-    return lib.cg_status_str(int(status)).decode("utf-8")
+    status = c.integer(status, "status_string", "status")
+    return lib.cg_status_str(status).decode("utf-8")
 
 
 class Error(Exception):

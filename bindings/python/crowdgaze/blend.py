@@ -2,7 +2,9 @@
 handle).
 
 Dual quaternions are float32 arrays of 8 (``real`` x y z w, then ``dual`` x y z w), poses
-``(joints, 8)``; a float32 C-contiguous array goes to C without a copy.
+``(joints, 8)``; a float32 C-contiguous array goes to C without a copy. Arguments are
+converted and checked as in ``crowdgaze.crowd`` (errors name the argument), and a
+``ViewBlender`` guards its handle as a ``Crowd`` does (``crowdgaze._owner``).
 """
 
 from __future__ import annotations
@@ -13,9 +15,11 @@ from ctypes import POINTER, byref, c_float
 import numpy as np
 
 from . import _arrays as a
+from . import _checks as c
 from . import _native as n
 from ._errors import check, check_converged
 from ._library import lib
+from ._owner import HandleOwner
 
 
 class NotConvergedWarning(UserWarning):
@@ -29,23 +33,24 @@ def _converged(status: int, function: str, return_converged: bool) -> bool:
     return converged
 
 
-def _one_dualquat(value, name: str) -> np.ndarray:
-    rows = a.float_rows(value, n.DualQuat, name)
+def _one_dualquat(value, where: str, name: str) -> np.ndarray:
+    rows = a.float_rows(value, n.DualQuat, where, name)
     if len(rows) != 1:
-        raise ValueError(f"{name}: expected one dual quaternion (8 floats), got {len(rows)}")
+        raise ValueError(
+            f"{where}: {name} must be one dual quaternion (8 numbers), got {len(rows)}"
+        )
     return rows
 
 
 def dualquat_from_rt(rotation, translation) -> np.ndarray:
     """The rigid transform "rotate by ``rotation`` (x y z w), then translate by
     ``translation``" as a dual quaternion (8 float32)."""
+    where = "dualquat_from_rt"
+    rotation = a.quat(rotation, where, "rotation")
+    translation = a.vec3(translation, where, "translation")
     out = np.empty(8, dtype=np.float32)
     check(
-        lib.cg_dualquat_from_rt(
-            byref(a.quat(rotation, "rotation")),
-            byref(a.vec3(translation, "translation")),
-            a.pointer(out, n.DualQuat),
-        ),
+        lib.cg_dualquat_from_rt(byref(rotation), byref(translation), a.pointer(out, n.DualQuat)),
         "cg_dualquat_from_rt",
     )
     return out
@@ -53,7 +58,7 @@ def dualquat_from_rt(rotation, translation) -> np.ndarray:
 
 def dualquat_to_rt(dual_quat) -> tuple[np.ndarray, np.ndarray]:
     """``(rotation (4,), translation (3,))`` of a rigid transform."""
-    q = _one_dualquat(dual_quat, "dual_quat")
+    q = _one_dualquat(dual_quat, "dualquat_to_rt", "dual_quat")
     rotation, translation = n.Quat(), n.Vec3()
     check(
         lib.cg_dualquat_to_rt(a.pointer(q, n.DualQuat), byref(rotation), byref(translation)),
@@ -66,7 +71,8 @@ def dualquat_from_matrix(matrix) -> np.ndarray:
     """A dual quaternion from a rigid 4x4 matrix: a ``(4, 4)`` array indexed
     ``[row, column]`` for column vectors (translation in ``matrix[:3, 3]``), or 16 floats
     already column-major as C takes them (OpenGL, ``osg::Matrixf::ptr()``)."""
-    m = np.asarray(matrix, dtype=np.float32)
+    where = "dualquat_from_matrix"
+    m = a.fixed_floats(matrix, 16, where, "matrix", shapes=[(4, 4), (16,)])
     if m.shape == (4, 4):
         m = m.T
     m = np.ascontiguousarray(m.reshape(16))
@@ -81,7 +87,7 @@ def dualquat_from_matrix(matrix) -> np.ndarray:
 def dualquat_to_matrix(dual_quat) -> np.ndarray:
     """The ``(4, 4)`` matrix ``[row, column]`` for column vectors (translation in
     ``[:3, 3]``); ``.T.ravel()`` gives C's column-major 16 floats."""
-    q = _one_dualquat(dual_quat, "dual_quat")
+    q = _one_dualquat(dual_quat, "dualquat_to_matrix", "dual_quat")
     out = np.empty(16, dtype=np.float32)
     check(
         lib.cg_dualquat_to_matrix(a.pointer(q, n.DualQuat), a.pointer(out, c_float)),
@@ -90,17 +96,25 @@ def dualquat_to_matrix(dual_quat) -> np.ndarray:
     return out.reshape(4, 4).T.copy()
 
 
-def _inputs_and_weights(inputs, weights):
-    q = a.float_rows(inputs, n.DualQuat, "inputs")
-    w = a.float_values(weights, "weights")
+def _inputs_and_weights(inputs, weights, where: str):
+    q = a.float_rows(inputs, n.DualQuat, where, "inputs")
+    w = a.float_values(weights, where, "weights")
     if len(q) != w.size:
-        raise ValueError(f"{len(q)} inputs but {w.size} weights")
+        raise ValueError(
+            f"{where}: inputs holds {len(q)} dual quaternions but weights {w.size} weights"
+        )
     return q, w
+
+
+def _dib_settings(precision, max_iterations, where: str):
+    return c.real(precision, where, "precision"), c.integer(
+        max_iterations, where, "max_iterations"
+    )
 
 
 def blend_dlb(inputs, weights) -> np.ndarray:
     """DLB of ``inputs`` (``(n, 8)``) with ``weights`` (``n``): one dual quaternion."""
-    q, w = _inputs_and_weights(inputs, weights)
+    q, w = _inputs_and_weights(inputs, weights, "blend_dlb")
     out = np.empty(8, dtype=np.float32)
     check(
         lib.cg_blend_dlb(
@@ -115,7 +129,9 @@ def blend_dib(inputs, weights, precision=1e-6, max_iterations=16, *, return_conv
     """DIB of ``inputs`` with ``weights``. Returns the dual quaternion, or with
     ``return_converged=True`` a tuple ``(dual_quat, converged)``; if the precision is not
     reached, the best iterate (with a ``NotConvergedWarning`` unless ``return_converged``)."""
-    q, w = _inputs_and_weights(inputs, weights)
+    where = "blend_dib"
+    q, w = _inputs_and_weights(inputs, weights, where)
+    precision, max_iterations = _dib_settings(precision, max_iterations, where)
     out = np.empty(8, dtype=np.float32)
     status = lib.cg_blend_dib(
         a.pointer(q, n.DualQuat),
@@ -129,42 +145,45 @@ def blend_dib(inputs, weights, precision=1e-6, max_iterations=16, *, return_conv
     return (out, converged) if return_converged else out
 
 
-def _keys(keys, weights, joint_count):
-    w = a.float_values(weights, "weights")
-    k = a.float_rows(keys, n.DualQuat, "keys")
-    if joint_count is None:
-        if len(k) % max(w.size, 1) != 0:
-            raise ValueError(f"{len(k)} key transforms do not split into {w.size} keys")
-        joint_count = len(k) // max(w.size, 1)
-    if len(k) != w.size * joint_count:
-        raise ValueError(f"expected {w.size} x {joint_count} key transforms, got {len(k)}")
-    return k, w, joint_count
+def _keys(keys, weights, where: str):
+    w = a.float_values(weights, where, "weights")
+    k = a.float_rows(keys, n.DualQuat, where, "keys")
+    if len(k) % max(w.size, 1) != 0:
+        raise ValueError(
+            f"{where}: keys holds {len(k)} transforms, not whole poses of the {w.size} keys "
+            f"weights has"
+        )
+    return k, w, len(k) // max(w.size, 1)
 
 
 def blend_pose_dlb(keys, weights, out=None) -> np.ndarray:
     """DLB of whole poses: ``keys`` ``(key_count, joints, 8)`` (or key-major
-    ``(key_count * joints, 8)``), ``weights`` ``(key_count,)``; returns ``(joints, 8)``."""
-    k, w, joints = _keys(keys, weights, None)
-    target = a.FloatOut(out, joints, 8, "out")
+    ``(key_count * joints, 8)``), ``weights`` ``(key_count,)``; returns ``(joints, 8)``, or
+    ``out`` (exactly that: float32, C-contiguous, writeable) written in place."""
+    where = "blend_pose_dlb"
+    k, w, joints = _keys(keys, weights, where)
+    out = a.output(out, a.FLOAT32, (joints, 8), where)
     check(
         lib.cg_blend_pose_dlb(
             a.pointer(k, n.DualQuat),
             a.pointer(w, c_float),
             w.size,
             joints,
-            a.pointer(target.buffer, n.DualQuat),
+            a.pointer(out, n.DualQuat),
         ),
         "cg_blend_pose_dlb",
     )
-    return target.result()
+    return out
 
 
 def blend_pose_dib(
     keys, weights, precision=1e-6, max_iterations=16, out=None, *, return_converged=False
 ):
     """DIB of whole poses, laid out as ``blend_pose_dlb``."""
-    k, w, joints = _keys(keys, weights, None)
-    target = a.FloatOut(out, joints, 8, "out")
+    where = "blend_pose_dib"
+    k, w, joints = _keys(keys, weights, where)
+    precision, max_iterations = _dib_settings(precision, max_iterations, where)
+    out = a.output(out, a.FLOAT32, (joints, 8), where)
     status = lib.cg_blend_pose_dib(
         a.pointer(k, n.DualQuat),
         a.pointer(w, c_float),
@@ -172,15 +191,18 @@ def blend_pose_dib(
         joints,
         precision,
         max_iterations,
-        a.pointer(target.buffer, n.DualQuat),
+        a.pointer(out, n.DualQuat),
     )
     converged = _converged(status, "cg_blend_pose_dib", return_converged)
-    return (target.result(), converged) if return_converged else target.result()
+    return (out, converged) if return_converged else out
 
 
 def camera_center_from_projection(projection) -> np.ndarray:
-    """The centre ``C = -R^T t`` of a camera ``P = K[R|t]`` given as a ``(3, 4)`` array."""
-    p = np.ascontiguousarray(np.asarray(projection, dtype=np.float32).reshape(12))
+    """The centre ``C = -R^T t`` of a camera ``P = K[R|t]`` given as a ``(3, 4)`` array (or
+    12 numbers, row-major)."""
+    where = "camera_center_from_projection"
+    p = a.fixed_floats(projection, 12, where, "projection", shapes=[(3, 4), (12,)])
+    p = np.ascontiguousarray(p.reshape(12))
     out = n.Vec3()
     check(
         lib.cg_camera_center_from_projection(a.pointer(p, c_float), byref(out)),
@@ -189,121 +211,146 @@ def camera_center_from_projection(projection) -> np.ndarray:
     return np.array(tuple(out), np.float32)
 
 
-def view_blender_config(**fields) -> n.ViewBlenderConfig:
-    """A ``ViewBlenderConfig`` with the library's defaults, then ``fields``."""
+def _blender_config(fields: dict, where: str) -> n.ViewBlenderConfig:
+    converted = a.struct_fields(n.ViewBlenderConfig, fields, where)
     config = n.ViewBlenderConfig()
     check(lib.cg_view_blender_config_init(byref(config)), "cg_view_blender_config_init")
-    known = {name for name, _ in n.ViewBlenderConfig._fields_}
-    for name, value in fields.items():
-        if name not in known:
-            raise TypeError(f"cg_view_blender_config has no field {name!r}")
-        setattr(config, name, int(value) if name in ("distance", "method") else value)
-    return config
+    return a.fill(config, converted)
 
 
-class ViewBlender:
+def view_blender_config(**fields) -> n.ViewBlenderConfig:
+    """A ``ViewBlenderConfig`` with the library's defaults, then ``fields``."""
+    return _blender_config(fields, "view_blender_config")
+
+
+class ViewBlender(HandleOwner):
     """View-adaptive blending of key animations for a character.
 
     ``ViewBlender(joint_count=5, key_count=3, method=BlendMethod.DIB)`` or
-    ``ViewBlender(config)``. Close with ``close()`` or a ``with`` block.
+    ``ViewBlender(config)`` (with fields too, they change a copy of it). Close with
+    ``close()`` or a ``with`` block. ``weights`` and ``evaluate`` may run on several threads
+    at once; the ``set``/``add`` calls take turns with every other call, and ``close()``
+    from another thread waits for the calls in flight. A blender cannot be copied or
+    pickled, and ``__init__`` runs once (see ``crowdgaze._owner``).
     """
 
+    _kind = "view blender"
+    _destroy = lib.cg_view_blender_destroy
+    _joint_count = 0
+    _key_count = 0
+
     def __init__(self, config: n.ViewBlenderConfig | None = None, **fields):
+        where = "ViewBlender"
+        self._refuse_reinit(where)
         if config is None:
-            config = view_blender_config(**fields)
+            config = _blender_config(fields, where)
+        else:
+            c.instance(config, n.ViewBlenderConfig, where, "config")
+            converted = a.struct_fields(n.ViewBlenderConfig, fields, where)
+            config = a.fill(n.ViewBlenderConfig.from_buffer_copy(config), converted)
         handle = POINTER(n.ViewBlenderHandle)()
         check(lib.cg_view_blender_create(byref(config), byref(handle)), "cg_view_blender_create")
-        self._handle = handle
-        self.joint_count = config.joint_count
-        self.key_count = config.key_count
+        self._joint_count = config.joint_count
+        self._key_count = config.key_count
+        self._adopt(handle, where)
 
     @property
-    def handle(self):
-        """The ``cg_view_blender*`` (a ctypes pointer)."""
-        if not self._handle:
-            raise ValueError("view blender is closed")
-        return self._handle
+    def joint_count(self) -> int:
+        """Joints per pose (from the config)."""
+        return self._joint_count
 
-    def close(self) -> None:
-        handle, self._handle = getattr(self, "_handle", None), POINTER(n.ViewBlenderHandle)()
-        if handle:
-            lib.cg_view_blender_destroy(handle)
-
-    def __enter__(self) -> ViewBlender:
-        return self
-
-    def __exit__(self, *exc) -> None:
-        self.close()
-
-    def __del__(self):
-        self.close()
+    @property
+    def key_count(self) -> int:
+        """Key animations (from the config)."""
+        return self._key_count
 
     def set_key_clip(
         self, key: int, frames, frames_per_second: float, looping: bool = True
     ) -> None:
         """Key ``key`` plays ``frames``: ``(frame_count, joints, 8)`` (or frame-major
         ``(frame_count * joints, 8)``) local joint transforms."""
-        f = a.float_rows(frames, n.DualQuat, "frames")
-        if self.joint_count == 0 or len(f) % self.joint_count != 0:
+        where = "ViewBlender.set_key_clip"
+        key = c.integer(key, where, "key")
+        f = a.float_rows(frames, n.DualQuat, where, "frames")
+        frames_per_second = c.real(frames_per_second, where, "frames_per_second")
+        looping = c.flag(looping, where, "looping")
+        if self._joint_count == 0 or len(f) % self._joint_count != 0:
             raise ValueError(
-                f"{len(f)} transforms are not whole frames of {self.joint_count} joints"
+                f"{where}: frames holds {len(f)} transforms, not whole frames of "
+                f"{self._joint_count} joints"
             )
-        check(
-            lib.cg_view_blender_set_key_clip(
-                self.handle,
-                key,
-                a.pointer(f, n.DualQuat),
-                len(f) // self.joint_count,
-                frames_per_second,
-                looping,
-            ),
-            "cg_view_blender_set_key_clip",
-        )
+        with self._call(where, exclusive=True) as handle:
+            check(
+                lib.cg_view_blender_set_key_clip(
+                    handle,
+                    key,
+                    a.pointer(f, n.DualQuat),
+                    len(f) // self._joint_count,
+                    frames_per_second,
+                    looping,
+                ),
+                "cg_view_blender_set_key_clip",
+            )
 
     def set_key_pose(self, key: int, pose) -> None:
         """Key ``key`` is the static pose ``pose`` (``(joints, 8)``)."""
-        p = a.float_rows(pose, n.DualQuat, "pose")
-        check(
-            lib.cg_view_blender_set_key_pose(self.handle, key, a.pointer(p, n.DualQuat), len(p)),
-            "cg_view_blender_set_key_pose",
-        )
+        where = "ViewBlender.set_key_pose"
+        key = c.integer(key, where, "key")
+        p = a.float_rows(pose, n.DualQuat, where, "pose")
+        with self._call(where, exclusive=True) as handle:
+            check(
+                lib.cg_view_blender_set_key_pose(handle, key, a.pointer(p, n.DualQuat), len(p)),
+                "cg_view_blender_set_key_pose",
+            )
 
     def add_camera(self, direction, key: int) -> None:
         """A key camera: ``direction`` from the character's centre in its own frame."""
-        check(
-            lib.cg_view_blender_add_camera(self.handle, a.vec3(direction, "direction"), key),
-            "cg_view_blender_add_camera",
-        )
+        where = "ViewBlender.add_camera"
+        direction = a.vec3(direction, where, "direction")
+        key = c.integer(key, where, "key")
+        with self._call(where, exclusive=True) as handle:
+            check(
+                lib.cg_view_blender_add_camera(handle, direction, key),
+                "cg_view_blender_add_camera",
+            )
 
     def weights(self, character, viewer, out=None) -> np.ndarray:
         """The key weights (``(key_count,)`` float32) for a viewer at ``viewer`` looking at
-        the character placed by the dual quaternion ``character``."""
-        c = _one_dualquat(character, "character")
-        target = a.FloatOut(out, self.key_count, 1, "out", shape=(self.key_count,))
-        check(
-            lib.cg_view_blender_weights(
-                self.handle,
-                a.pointer(c, n.DualQuat),
-                byref(a.vec3(viewer, "viewer")),
-                a.pointer(target.buffer, c_float),
-                self.key_count,
-            ),
-            "cg_view_blender_weights",
-        )
-        return target.result()
+        the character placed by the dual quaternion ``character``; or ``out`` (exactly
+        that) written in place."""
+        where = "ViewBlender.weights"
+        q = _one_dualquat(character, where, "character")
+        viewer = a.vec3(viewer, where, "viewer")
+        out = a.output(out, a.FLOAT32, (self._key_count,), where)
+        with self._call(where) as handle:
+            check(
+                lib.cg_view_blender_weights(
+                    handle,
+                    a.pointer(q, n.DualQuat),
+                    byref(viewer),
+                    a.pointer(out, c_float),
+                    self._key_count,
+                ),
+                "cg_view_blender_weights",
+            )
+        return out
 
     def evaluate(self, character, viewer, t: float, out=None, *, return_converged=False):
-        """The blended pose (``(joints, 8)``) at clip time ``t``; with
-        ``return_converged=True`` a tuple ``(pose, converged)``."""
-        c = _one_dualquat(character, "character")
-        target = a.FloatOut(out, self.joint_count, 8, "out")
-        status = lib.cg_view_blender_evaluate(
-            self.handle,
-            a.pointer(c, n.DualQuat),
-            byref(a.vec3(viewer, "viewer")),
-            t,
-            a.pointer(target.buffer, n.DualQuat),
-            self.joint_count,
-        )
+        """The blended pose (``(joints, 8)``) at clip time ``t``, or ``out`` (exactly that)
+        written in place; with ``return_converged=True`` a tuple ``(pose, converged)``."""
+        where = "ViewBlender.evaluate"
+        q = _one_dualquat(character, where, "character")
+        viewer = a.vec3(viewer, where, "viewer")
+        t = c.real(t, where, "t", single=False)
+        out = a.output(out, a.FLOAT32, (self._joint_count, 8), where)
+        with self._call(where) as handle:
+            status = lib.cg_view_blender_evaluate(
+                handle,
+                a.pointer(q, n.DualQuat),
+                byref(viewer),
+                t,
+                a.pointer(out, n.DualQuat),
+                self._joint_count,
+            )
         converged = _converged(status, "cg_view_blender_evaluate", return_converged)
-        return (target.result(), converged) if return_converged else target.result()
+        return (out, converged) if return_converged else out

@@ -153,9 +153,11 @@ def test_view_blender_follows_the_viewer(method):
         out = np.zeros((JOINTS, 8), np.float32)
         assert blender.evaluate(character, viewer(30, 4), 0.0, out=out) is out
         assert yaw_of(out[1]) == pytest.approx(30, abs=0.01)
-        w = np.zeros(2, np.float64)
+        w = np.zeros(2, np.float32)
         assert blender.weights(character, viewer(30, 4), out=w) is w
         np.testing.assert_allclose(w, [0.5, 0.5], atol=1e-5)
+        with pytest.raises(TypeError, match="out must have the dtype float32"):
+            blender.weights(character, viewer(30, 4), out=np.zeros(2, np.float64))
         # A static pose for key 1.
         blender.set_key_pose(1, key_frames(-30)[0])
         pose = blender.evaluate(character, viewer(60, 2), 0.0)

@@ -201,30 +201,32 @@ def test_ranged_steps_from_python_threads_match_one_call_steps():
 def test_numpy_arrays_pass_without_copies():
     crowd, ids, _ = street()
     states = cg.entity_states(ids, START)
-    keep, pointer, count = cg._arrays.records_in(states, cg.EntityState, "states")
+    keep, pointer, count = cg._arrays.records_in(states, cg.EntityState, "test", "states")
     assert keep.ctypes.data == states.ctypes.data and count == 4
     assert ctypes.cast(pointer, ctypes.c_void_p).value == states.ctypes.data
     crowd.push_frame(0.0, states)
     crowd.step(0.0)
 
     quats = np.tile(np.array([0, 0, 0, 1], np.float32), (10, 1))
-    rows = cg._arrays.float_rows(quats, cg.Quat, "local")
+    rows = cg._arrays.float_rows(quats, cg.Quat, "test", "local")
     assert rows.ctypes.data == quats.ctypes.data  # (n, 4) float32 C-contiguous: no copy
-    copied = cg._arrays.float_rows(quats.astype(np.float64), cg.Quat, "local")
+    copied = cg._arrays.float_rows(quats.astype(np.float64), cg.Quat, "test", "local")
     assert not np.shares_memory(copied, quats) and copied.dtype == np.float32
     strided = np.tile(np.array([0, 0, 0, 1, 9], np.float32), (10, 1))[:, :4]
-    assert not np.shares_memory(cg._arrays.float_rows(strided, cg.Quat, "x"), strided)
+    assert not np.shares_memory(cg._arrays.float_rows(strided, cg.Quat, "test", "x"), strided)
     crowd.set_base_pose(ids[0], quats)
     crowd.set_base_pose(ids[1], quats.astype(np.float64).tolist())  # a list works too
     crowd.set_base_poses(ids[2:], np.concatenate([quats, strided]))
 
-    # Outputs: written in place when they fit, copied into otherwise.
+    # Outputs: written in place.
     out = np.zeros((40, 4), np.float32)
     assert crowd.read_joints(out=out) is out
     np.testing.assert_array_equal(out, crowd.read_joints())
-    out64 = np.zeros((40, 4), np.float64)
-    assert crowd.read_joints(out=out64) is out64
-    np.testing.assert_array_equal(out64, out)
+    # An out= of another dtype, layout or shape is refused: results are never converted.
+    with pytest.raises(TypeError, match="out must have the dtype float32"):
+        crowd.read_joints(out=np.zeros((40, 4), np.float64))
+    with pytest.raises(ValueError, match="out must be C-contiguous"):
+        crowd.read_joints(out=np.zeros((4, 40), np.float32).T)
     gaze = np.zeros(4, cg.GAZE_INFO_DTYPE)
     assert crowd.read_gaze(out=gaze).base is gaze or np.shares_memory(
         crowd.read_gaze(out=gaze), gaze
