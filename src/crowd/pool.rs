@@ -16,6 +16,11 @@ use crate::error::{Error, Result};
 /// How long a worker spins on the next run before parking (busy-wait iterations).
 const SPINS_BEFORE_PARKING: u32 = 2_000;
 
+/// Each worker thread's stack: 8 MiB, the main thread's usual size on Linux. Rust's default
+/// for spawned threads (2 MiB) is too small for the gaze IK's widest lanes in an unoptimised
+/// build, whose every temporary takes its own stack slot.
+const WORKER_STACK_BYTES: usize = 8 << 20;
+
 /// A task: called once for each index `0..tasks`, from any of the pool's threads.
 type Task<'a> = &'a (dyn Fn(usize) + Sync);
 
@@ -102,6 +107,7 @@ impl WorkerPool {
             let state = Arc::clone(&pool.state);
             let worker = thread::Builder::new()
                 .name(format!("crowdgaze-{index}"))
+                .stack_size(WORKER_STACK_BYTES)
                 .spawn(move || worker_loop(&state))
                 .map_err(|error| {
                     Error::Internal(format!("cannot start a worker thread: {error}"))
