@@ -378,9 +378,11 @@ impl<Skip: FnMut(u32) -> bool> GridSearch<'_, Skip> {
         // Checked here for the unchecked loads below: the arrays hold SLOT_PADDING ≥
         // LANES − 1 values past every slot (so this never fails).
         assert!(first < end && end - first <= W::LANES && end <= self.slot_limit);
-        // SAFETY (every load_at here): first + LANES ≤ end + SLOT_PADDING ≤ the length of
-        // each array, checked above (slot_limit is the least of them minus SLOT_PADDING).
-        let load = |values: &[f32]| unsafe { W::load_at(values, first) };
+        let load = |values: &[f32]| {
+            // SAFETY: first + LANES ≤ end + SLOT_PADDING ≤ the length of each array, checked
+            // above (slot_limit is the least of them minus SLOT_PADDING).
+            unsafe { W::load_at(values, first) }
+        };
         let observer = &self.ranking.observer;
         let offset_x = load(xs) - W::splat(observer.position.x);
         let offset_y = load(ys) - W::splat(observer.position.y);
@@ -401,10 +403,9 @@ impl<Skip: FnMut(u32) -> bool> GridSearch<'_, Skip> {
         }
         let batch = &mut *self.batch;
         let at = batch.len;
-        // SAFETY (every compress_store_at here): at < BATCH after the flush above, so
-        // at + LANES ≤ BATCH_ROOM.
-        let store = |values: W, out: &mut [f32; BATCH_ROOM]| unsafe {
-            values.compress_store_at(keep, out, at)
+        let store = |values: W, out: &mut [f32; BATCH_ROOM]| {
+            // SAFETY: at < BATCH after the flush above, so at + LANES ≤ BATCH_ROOM.
+            unsafe { values.compress_store_at(keep, out, at) }
         };
         store(load(&index.id_bits), &mut batch.id_bits);
         store(offset_x, &mut batch.offset_x);

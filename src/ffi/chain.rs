@@ -378,9 +378,7 @@ mod tests {
         let mut desc = good;
         desc.struct_size = 12;
         // SAFETY: desc is a valid, aligned cg_chain_desc.
-        assert!(matches!(
-            unsafe { read_versioned(&desc) },
-            Err(Error::BadStructSize(_))
-        ));
+        let read = unsafe { read_versioned(&desc) };
+        assert!(matches!(read, Err(Error::BadStructSize(_))));
     }
 }

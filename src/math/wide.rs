@@ -440,7 +440,12 @@ pub(crate) fn clamp<W: Wide>(value: W, low: f32, high: f32) -> W {
     W::select(value.cmpgt(high), high, value)
 }
 
-#[cfg(target_arch = "x86_64")]
+// Private to this module: an F8 or F16 is only sound where the processor has AVX or
+// AVX-512F, which `run_widest` checks before it hands them to a job. Tests elsewhere reach
+// them through `for_every_width`, which checks the same.
+#[cfg(all(target_arch = "x86_64", not(test)))]
+use x86::{F16, F8};
+#[cfg(all(target_arch = "x86_64", test))]
 pub(crate) use x86::{F16, F8};
 
 /// The widest lane count of any [`Wide`] type.
@@ -658,28 +663,31 @@ mod x86 {
     #[inline(always)]
     unsafe fn transpose8(rows: [__m256; 8]) -> [__m256; 8] {
         let [r0, r1, r2, r3, r4, r5, r6, r7] = rows;
-        let (t0, t1) = (_mm256_unpacklo_ps(r0, r1), _mm256_unpackhi_ps(r0, r1));
-        let (t2, t3) = (_mm256_unpacklo_ps(r2, r3), _mm256_unpackhi_ps(r2, r3));
-        let (t4, t5) = (_mm256_unpacklo_ps(r4, r5), _mm256_unpackhi_ps(r4, r5));
-        let (t6, t7) = (_mm256_unpacklo_ps(r6, r7), _mm256_unpackhi_ps(r6, r7));
-        let u0 = _mm256_shuffle_ps::<0x44>(t0, t2);
-        let u1 = _mm256_shuffle_ps::<0xEE>(t0, t2);
-        let u2 = _mm256_shuffle_ps::<0x44>(t1, t3);
-        let u3 = _mm256_shuffle_ps::<0xEE>(t1, t3);
-        let u4 = _mm256_shuffle_ps::<0x44>(t4, t6);
-        let u5 = _mm256_shuffle_ps::<0xEE>(t4, t6);
-        let u6 = _mm256_shuffle_ps::<0x44>(t5, t7);
-        let u7 = _mm256_shuffle_ps::<0xEE>(t5, t7);
-        [
-            _mm256_permute2f128_ps::<0x20>(u0, u4),
-            _mm256_permute2f128_ps::<0x20>(u1, u5),
-            _mm256_permute2f128_ps::<0x20>(u2, u6),
-            _mm256_permute2f128_ps::<0x20>(u3, u7),
-            _mm256_permute2f128_ps::<0x31>(u0, u4),
-            _mm256_permute2f128_ps::<0x31>(u1, u5),
-            _mm256_permute2f128_ps::<0x31>(u2, u6),
-            _mm256_permute2f128_ps::<0x31>(u3, u7),
-        ]
+        // SAFETY: these intrinsics need AVX, which the caller guarantees.
+        unsafe {
+            let (t0, t1) = (_mm256_unpacklo_ps(r0, r1), _mm256_unpackhi_ps(r0, r1));
+            let (t2, t3) = (_mm256_unpacklo_ps(r2, r3), _mm256_unpackhi_ps(r2, r3));
+            let (t4, t5) = (_mm256_unpacklo_ps(r4, r5), _mm256_unpackhi_ps(r4, r5));
+            let (t6, t7) = (_mm256_unpacklo_ps(r6, r7), _mm256_unpackhi_ps(r6, r7));
+            let u0 = _mm256_shuffle_ps::<0x44>(t0, t2);
+            let u1 = _mm256_shuffle_ps::<0xEE>(t0, t2);
+            let u2 = _mm256_shuffle_ps::<0x44>(t1, t3);
+            let u3 = _mm256_shuffle_ps::<0xEE>(t1, t3);
+            let u4 = _mm256_shuffle_ps::<0x44>(t4, t6);
+            let u5 = _mm256_shuffle_ps::<0xEE>(t4, t6);
+            let u6 = _mm256_shuffle_ps::<0x44>(t5, t7);
+            let u7 = _mm256_shuffle_ps::<0xEE>(t5, t7);
+            [
+                _mm256_permute2f128_ps::<0x20>(u0, u4),
+                _mm256_permute2f128_ps::<0x20>(u1, u5),
+                _mm256_permute2f128_ps::<0x20>(u2, u6),
+                _mm256_permute2f128_ps::<0x20>(u3, u7),
+                _mm256_permute2f128_ps::<0x31>(u0, u4),
+                _mm256_permute2f128_ps::<0x31>(u1, u5),
+                _mm256_permute2f128_ps::<0x31>(u2, u6),
+                _mm256_permute2f128_ps::<0x31>(u3, u7),
+            ]
+        }
     }
 
     /// Loads eight columns of eight floats and transposes them into eight rows.
@@ -688,11 +696,14 @@ mod x86 {
     /// The processor has AVX.
     #[inline(always)]
     unsafe fn rows_of(columns: [[f32; 8]; 8]) -> [__m256; 8] {
-        let mut loaded = [_mm256_setzero_ps(); 8];
-        for (row, column) in loaded.iter_mut().zip(&columns) {
-            *row = _mm256_loadu_ps(column.as_ptr());
+        // SAFETY: the caller guarantees AVX; each load reads one whole column of 8 floats.
+        unsafe {
+            let mut loaded = [_mm256_setzero_ps(); 8];
+            for (row, column) in loaded.iter_mut().zip(&columns) {
+                *row = _mm256_loadu_ps(column.as_ptr());
+            }
+            transpose8(loaded)
         }
-        transpose8(loaded)
     }
 
     /// Eight columns of eight floats from eight rows.
@@ -702,8 +713,11 @@ mod x86 {
     #[inline(always)]
     unsafe fn columns_of(rows: [__m256; 8]) -> [[f32; 8]; 8] {
         let mut columns = [[0.0; 8]; 8];
-        for (column, row) in columns.iter_mut().zip(transpose8(rows)) {
-            _mm256_storeu_ps(column.as_mut_ptr(), row);
+        // SAFETY: the caller guarantees AVX; each store writes one whole column of 8 floats.
+        unsafe {
+            for (column, row) in columns.iter_mut().zip(transpose8(rows)) {
+                _mm256_storeu_ps(column.as_mut_ptr(), row);
+            }
         }
         columns
     }
