@@ -90,6 +90,11 @@ enum cg_status
     CG_STATUS_NOT_CONVERGED = 8,
     // A bug inside crowdgaze (for example a caught panic). Please report it.
     CG_STATUS_INTERNAL = 9,
+    // Memory ran out: a buffer sized from the arguments (a capacity of a create, a clip,
+    // a recording to plan) could not be allocated. The message names the field or count
+    // and the bytes asked. Nothing was created and nothing changed (a create writes no
+    // handle); smaller capacities may succeed.
+    CG_STATUS_OUT_OF_MEMORY = 10,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L

@@ -3342,7 +3342,8 @@ fn rows_infallible(t: &mut Table) {
         "cg_status_str",
         "an unknown status gives \"unknown status\", never NULL",
         || {
-            for value in [10, 11, 255, 0x8000_0000, u32::MAX] {
+            let first_unknown = cg_status::ALL.len() as u32;
+            for value in [first_unknown, first_unknown + 1, 255, 0x8000_0000, u32::MAX] {
                 let text = cg_status_str(value);
                 assert!(!text.is_null(), "cg_status_str({value}) is NULL");
                 // SAFETY: non-NULL, static and NUL-terminated by contract.
