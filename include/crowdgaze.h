@@ -1030,7 +1030,8 @@ cg_status cg_view_blender_config_init(struct cg_view_blender_config *config);
 //
 // Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_BAD_STRUCT_SIZE` (config not filled by
 // `cg_view_blender_config_init`), `CG_STATUS_INVALID_ARGUMENT` (a field out of its range,
-// an unknown enum value), `CG_STATUS_NON_FINITE` (alpha or precision NaN or infinite).
+// an unknown enum value), `CG_STATUS_NON_FINITE` (alpha or precision NaN or infinite),
+// `CG_STATUS_OUT_OF_MEMORY`.
 cg_status cg_view_blender_create(const struct cg_view_blender_config *config,
                                  struct cg_view_blender **out_blender);
 
@@ -1060,7 +1061,7 @@ void cg_view_blender_destroy(struct cg_view_blender *blender);
 // Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE` (a NaN or infinite component or
 // frame rate), `CG_STATUS_INVALID_ARGUMENT` (key out of range, `frame_count` 0, frame rate
 // <= 0, a transform with a zero real part or a translation longer than 1e18, a count
-// overflowing).
+// overflowing), `CG_STATUS_OUT_OF_MEMORY` (no memory for the copy of `frames`).
 cg_status cg_view_blender_set_key_clip(struct cg_view_blender *blender,
                                        uint32_t key,
                                        const struct cg_dualquat *frames,
@@ -1077,7 +1078,7 @@ cg_status cg_view_blender_set_key_clip(struct cg_view_blender *blender,
 //
 // Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE`, `CG_STATUS_INVALID_ARGUMENT` (key
 // out of range, wrong `joint_count`, a transform with a zero real part or a translation longer
-// than 1e18).
+// than 1e18), `CG_STATUS_OUT_OF_MEMORY`.
 cg_status cg_view_blender_set_key_pose(struct cg_view_blender *blender,
                                        uint32_t key,
                                        const struct cg_dualquat *pose,
@@ -1092,7 +1093,8 @@ cg_status cg_view_blender_set_key_pose(struct cg_view_blender *blender,
 // blender. Nothing changes on error.
 //
 // Errors: `CG_STATUS_NULL_ARGUMENT` (blender NULL), `CG_STATUS_NON_FINITE`,
-// `CG_STATUS_INVALID_ARGUMENT` (key out of range, a zero direction).
+// `CG_STATUS_INVALID_ARGUMENT` (key out of range, a zero direction),
+// `CG_STATUS_OUT_OF_MEMORY`.
 cg_status cg_view_blender_add_camera(struct cg_view_blender *blender,
                                      struct cg_vec3 direction,
                                      uint32_t key);
