@@ -33,6 +33,7 @@ int main(void) {
         {CG_STATUS_WRONG_STATE, "CG_STATUS_WRONG_STATE"},
         {CG_STATUS_NOT_CONVERGED, "CG_STATUS_NOT_CONVERGED"},
         {CG_STATUS_INTERNAL, "CG_STATUS_INTERNAL"},
+        {CG_STATUS_OUT_OF_MEMORY, "CG_STATUS_OUT_OF_MEMORY"},
     };
     size_t i;
     cg_crowd_config config;

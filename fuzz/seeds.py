@@ -107,6 +107,13 @@ def blends():
     ) + op("messages", 20)
 
 
+def maxima():
+    # A crowd whose recording is at its maximum (the create's last argument byte, rare):
+    # CG_STATUS_OUT_OF_MEMORY, or a crowd that works where memory is overcommitted.
+    create = op("crowd_create", *([0] * 20), 0xFF)
+    return create + crowd(3) + walk(4) + reads()
+
+
 def random_seed(rng):
     data = bytearray()
     for _ in range(rng.randrange(5, 60)):
@@ -135,6 +142,7 @@ def main():
         "blender-dlb": blender(0),
         "blender-dib": blender(1),
         "blends": blends(),
+        "maxima": maxima(),
     }
     rng = random.Random(10)
     for index in range(30):

@@ -35,6 +35,10 @@ pub enum Error {
     /// A bug inside crowdgaze (for example a caught panic).
     #[error("internal error: {0}")]
     Internal(String),
+    /// Memory for a buffer sized from the caller's numbers could not be allocated (the
+    /// message names the number and the bytes asked); nothing was created or changed.
+    #[error("out of memory: {0}")]
+    OutOfMemory(String),
 }
 
 /// Shorthand for results of the Rust core.

@@ -16,6 +16,8 @@
 
 // The header is generated from `ffi` alone: cbindgen skips the core modules.
 /// cbindgen:ignore
+pub mod alloc;
+/// cbindgen:ignore
 pub mod attention;
 /// cbindgen:ignore
 pub mod blend;

@@ -3342,7 +3342,8 @@ fn rows_infallible(t: &mut Table) {
         "cg_status_str",
         "an unknown status gives \"unknown status\", never NULL",
         || {
-            for value in [10, 11, 255, 0x8000_0000, u32::MAX] {
+            let first_unknown = cg_status::ALL.len() as u32;
+            for value in [first_unknown, first_unknown + 1, 255, 0x8000_0000, u32::MAX] {
                 let text = cg_status_str(value);
                 assert!(!text.is_null(), "cg_status_str({value}) is NULL");
                 // SAFETY: non-NULL, static and NUL-terminated by contract.
@@ -3572,4 +3573,55 @@ fn poses_at_the_ends_of_time_are_finite() {
             "t = {t}: {pose:?}"
         );
     }
+}
+
+/// Capacities at their documented maxima return `CG_STATUS_OK` or `CG_STATUS_OUT_OF_MEMORY`
+/// (documented for the create), never abort the process; a failed create writes no handle
+/// and names the field and the bytes asked.
+///
+/// Only the maxima that are safe to try in a process without an address-space cap are here:
+/// a 275 GB recording is refused by the allocator (or, where memory is overcommitted,
+/// reserved and never touched), and the largest view blender is small. The maxima that need
+/// gigabytes (16 777 216 characters or objects, a clip or a plan larger than memory) run in
+/// children capped at 2 GiB in `c_examples/out_of_memory.c`.
+#[test]
+fn capacities_at_their_maxima_return_ok_or_out_of_memory() {
+    let header = Header::read();
+    let allowed = [cg_status::Ok, cg_status::OutOfMemory];
+    for function in ["cg_crowd_create", "cg_view_blender_create"] {
+        assert!(
+            header
+                .documented(function)
+                .contains(&(cg_status::OutOfMemory as u32)),
+            "{function} does not document CG_STATUS_OUT_OF_MEMORY"
+        );
+    }
+
+    let mut config: cg_crowd_config = init(cg_crowd_config_init);
+    config.max_recorded_states = u32::MAX;
+    let mut crowd: *mut cg_crowd = null_mut();
+    let status = cg_crowd_create(&config, &mut crowd);
+    assert!(allowed.contains(&status), "{status:?}: {}", last_error());
+    if status == cg_status::Ok {
+        let mut back: cg_crowd_config = init(cg_crowd_config_init);
+        ok(cg_crowd_get_config(crowd, &mut back));
+        assert_eq!(back.max_recorded_states, u32::MAX);
+        cg_crowd_destroy(crowd);
+    } else {
+        assert!(crowd.is_null(), "a failed create wrote a handle");
+        let message = last_error();
+        assert!(
+            message.starts_with("out of memory: max_recorded_states = 4294967295 needs ")
+                && message.ends_with(" bytes")
+                && !message.contains('\n'),
+            "{message}"
+        );
+    }
+
+    let mut config: cg_view_blender_config = init(cg_view_blender_config_init);
+    config.joint_count = 65536;
+    config.key_count = 32;
+    let mut blender: *mut cg_view_blender = null_mut();
+    ok(cg_view_blender_create(&config, &mut blender));
+    cg_view_blender_destroy(blender);
 }

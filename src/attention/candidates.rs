@@ -13,10 +13,14 @@
 //! entity of the scene, one at a time, and scores it four lanes at a time: the test oracle
 //! and the benchmark baseline.
 
+use std::fmt::Display;
+
 use glam::{Vec2, Vec4};
 
 use super::interest::Candidate;
 use super::score::{GroundState, LaneScorer, Scorer, SubscoreWeights};
+use crate::alloc::{checked, try_clone, try_vec};
+use crate::error::Result;
 use crate::math::wide::{run_widest, LaneJob, Wide, MAX_LANES};
 use crate::scene::grid::{SpatialGrid, RUN_ROOM, SLOT_PADDING};
 use crate::scene::Scene;
@@ -51,19 +55,36 @@ pub struct NeighbourIndex {
 }
 
 impl NeighbourIndex {
-    /// An index for at most `capacity` entities and queries of radius `radius` (metres).
-    pub fn new(capacity: usize, radius: f32) -> NeighbourIndex {
-        let padded = || vec![0.0; capacity + SLOT_PADDING];
-        NeighbourIndex {
-            grid: SpatialGrid::new(capacity, radius),
-            heading: padded(),
-            velocity_x: padded(),
-            velocity_y: padded(),
-            impact: padded(),
-            id_bits: padded(),
-            slot_of_entity: vec![0; capacity],
+    /// An index for at most `capacity` entities and queries of radius `radius` (metres);
+    /// `what` names the caller's numbers `capacity` comes from, for
+    /// [`Error::OutOfMemory`](crate::error::Error::OutOfMemory).
+    pub fn new(capacity: usize, radius: f32, what: &dyn Display) -> Result<NeighbourIndex> {
+        let padded = checked(capacity.checked_add(SLOT_PADDING), what)?;
+        Ok(NeighbourIndex {
+            grid: SpatialGrid::new(capacity, radius, what)?,
+            heading: try_vec(padded, 0.0, what)?,
+            velocity_x: try_vec(padded, 0.0, what)?,
+            velocity_y: try_vec(padded, 0.0, what)?,
+            impact: try_vec(padded, 0.0, what)?,
+            id_bits: try_vec(padded, 0.0, what)?,
+            slot_of_entity: try_vec(capacity, 0, what)?,
             group_slot_limit: 0,
-        }
+        })
+    }
+
+    /// A copy of the index, or [`Error::OutOfMemory`](crate::error::Error::OutOfMemory)
+    /// for `what`.
+    pub fn try_clone(&self, what: &dyn Display) -> Result<NeighbourIndex> {
+        Ok(NeighbourIndex {
+            grid: self.grid.try_clone(what)?,
+            heading: try_clone(&self.heading, what)?,
+            velocity_x: try_clone(&self.velocity_x, what)?,
+            velocity_y: try_clone(&self.velocity_y, what)?,
+            impact: try_clone(&self.impact, what)?,
+            id_bits: try_clone(&self.id_bits, what)?,
+            slot_of_entity: try_clone(&self.slot_of_entity, what)?,
+            group_slot_limit: self.group_slot_limit,
+        })
     }
 
     /// Rebuilds the grid and the grid-ordered copies from the scene's current state.
@@ -573,7 +594,7 @@ mod tests {
         seed: u64,
         impact: impl Fn(usize, &mut Random) -> f32,
     ) -> Scene {
-        let mut scene = Scene::new(World::y_up(), count as u32, 0);
+        let mut scene = Scene::new(World::y_up(), count as u32, 0, &"test").unwrap();
         let mut random = Random::new(seed);
         let mut previous = (0.0, 0.0, 0.0, 0.0);
         for i in 0..count {
@@ -627,7 +648,7 @@ mod tests {
             }
         });
         let weights = SubscoreWeights::normalised([0.3, 0.2, 0.4, 0.1]).unwrap();
-        let mut index = NeighbourIndex::new(700, 10.0);
+        let mut index = NeighbourIndex::new(700, 10.0, &"test").unwrap();
         index.rebuild(&scene);
         for field_of_view in [1.0, PI / 2.0, PI, 1.5 * PI, 2.0 * PI] {
             let scorer = Scorer::new(super::super::score::ScoringConfig {
@@ -663,7 +684,7 @@ mod tests {
         let scorer = Scorer::new(Default::default());
         let scene = random_scene(200, 6.0, 8, |_, random| random.range(0.5, 2.0));
         let weights = SubscoreWeights::normalised([0.3, 0.2, 0.4, 0.1]).unwrap();
-        let mut index = NeighbourIndex::new(200, 10.0);
+        let mut index = NeighbourIndex::new(200, 10.0, &"test").unwrap();
         index.rebuild(&scene);
         for character in 0..200 {
             let mut batch = CandidateBatch::default();

@@ -11,6 +11,7 @@
 //! sample; never-recorded entities (static objects) always count.
 
 use std::collections::HashMap;
+use std::fmt::Display;
 
 use glam::Vec3;
 
@@ -19,6 +20,7 @@ use super::interest::{Candidate, InterestConfig};
 use super::quantile::exact_quantile;
 use super::score::Scorer;
 use super::CharacterParams;
+use crate::alloc::{checked, try_insert, try_reserve, try_vec, try_with_capacity};
 use crate::error::{Error, Result};
 use crate::scene::ids::NO_ENTITY;
 use crate::scene::{EntityUpdate, Scene};
@@ -52,13 +54,19 @@ pub struct Recording {
 }
 
 impl Recording {
-    /// A recording of at most `capacity` entity states (and frames).
-    pub fn new(capacity: usize) -> Recording {
-        Recording {
+    /// A recording of at most `capacity` entity states (and frames), or
+    /// [`Error::OutOfMemory`] for `what` (the caller's number `capacity` comes from).
+    pub fn new(capacity: usize, what: &dyn Display) -> Result<Recording> {
+        Ok(Recording {
             capacity,
-            frames: Vec::with_capacity(capacity),
-            states: Vec::with_capacity(capacity),
-        }
+            frames: try_with_capacity(capacity, what)?,
+            states: try_with_capacity(capacity, what)?,
+        })
+    }
+
+    /// Bytes of buffers per recorded state (a state and a frame's room).
+    pub fn bytes_per_state() -> usize {
+        std::mem::size_of::<RecordedFrame>() + std::mem::size_of::<EntityUpdate>()
     }
 
     /// True if recording is on.
@@ -129,6 +137,9 @@ impl Plan {
     /// Scores the whole recording and builds every character's threshold and constraints.
     /// Replays the recording through `scene` and `index` (their state afterwards is the last
     /// frame's).
+    ///
+    /// Errors: [`Error::OutOfMemory`] if the plan's buffers (a few bytes per recorded frame
+    /// and character) cannot be allocated; `scene` and `index` are then unchanged.
     pub fn build(
         recording: &Recording,
         scene: &mut Scene,
@@ -136,48 +147,64 @@ impl Plan {
         scorer: &Scorer,
         params: &[CharacterParams],
         interest: &InterestConfig,
-    ) -> Plan {
-        let states = with_forward_velocities(recording);
-        let spans = sample_spans(recording);
+    ) -> Result<Plan> {
         let character_count = scene.character_count();
         let frame_count = recording.frames.len();
-        let mut best = vec![Candidate::NONE; frame_count * character_count * 2];
-        let mut present = vec![false; frame_count * character_count];
-        let mut active = Vec::with_capacity(scene.len());
+        let what =
+            &format!("a plan of {frame_count} recorded frames × {character_count} characters");
+        let what: &dyn Display = what;
+        // Every buffer first, and the replay on copies of the scene and the index, so that
+        // running out of memory at any point leaves both as they were.
+        let states = with_forward_velocities(recording, what)?;
+        let spans = sample_spans(recording, what)?;
+        let cells = checked(frame_count.checked_mul(character_count), what)?;
+        let mut best = try_vec(checked(cells.checked_mul(2), what)?, Candidate::NONE, what)?;
+        let mut present = try_vec(cells, false, what)?;
+        let mut kept = try_with_capacity(cells, what)?;
+        let mut active = try_with_capacity(scene.len(), what)?;
+        let mut thresholds = try_vec(character_count, f32::INFINITY, what)?;
+        let mut attentive_fraction = try_vec(character_count, 0.0, what)?;
+        let mut constraints = Vec::new();
+        let mut constraint_start = try_with_capacity(character_count + 1, what)?;
+        let mut series = try_with_capacity(frame_count, what)?;
+        let mut frames = try_with_capacity(frame_count, what)?;
+        frames.extend_from_slice(&recording.frames);
+        let cursor = try_vec(character_count, 0, what)?;
+        let mut replay_scene = scene.try_clone(what)?;
+        let mut replay_index = index.try_clone(what)?;
         let mut batch = Box::<CandidateBatch>::default();
-        for (f, frame) in recording.frames.iter().enumerate() {
-            scene.apply(frame.time, &states[frame.start..frame.end]);
-            index.rebuild(scene);
-            active.clear();
-            active.extend(scene.ids().iter().map(|id| match spans.get(id) {
-                Some(&(first, last)) => first <= frame.time && frame.time <= last,
-                None => true,
-            }));
-            for (c, character_params) in params.iter().enumerate().take(character_count) {
-                let entity = scene.character_entities()[c] as usize;
-                if !active[entity] {
-                    continue;
+        {
+            let scene = &mut replay_scene;
+            let index = &mut replay_index;
+            for (f, frame) in recording.frames.iter().enumerate() {
+                scene.apply(frame.time, &states[frame.start..frame.end]);
+                index.rebuild(scene);
+                active.clear();
+                active.extend(scene.ids().iter().map(|id| match spans.get(id) {
+                    Some(&(first, last)) => first <= frame.time && frame.time <= last,
+                    None => true,
+                }));
+                for (c, character_params) in params.iter().enumerate().take(character_count) {
+                    let entity = scene.character_entities()[c] as usize;
+                    if !active[entity] {
+                        continue;
+                    }
+                    present[f * character_count + c] = true;
+                    let (first, second) = nearby_candidates(
+                        scene,
+                        index,
+                        scorer,
+                        c,
+                        &character_params.weights,
+                        &mut batch,
+                        |id| scene.index_of(id).is_none_or(|other| !active[other]),
+                    );
+                    best[2 * (f * character_count + c)] = first;
+                    best[2 * (f * character_count + c) + 1] = second;
                 }
-                present[f * character_count + c] = true;
-                let (first, second) = nearby_candidates(
-                    scene,
-                    index,
-                    scorer,
-                    c,
-                    &character_params.weights,
-                    &mut batch,
-                    |id| scene.index_of(id).is_none_or(|other| !active[other]),
-                );
-                best[2 * (f * character_count + c)] = first;
-                best[2 * (f * character_count + c) + 1] = second;
             }
         }
 
-        let mut thresholds = vec![f32::INFINITY; character_count];
-        let mut attentive_fraction = vec![0.0; character_count];
-        let mut constraints = Vec::new();
-        let mut constraint_start = Vec::with_capacity(character_count + 1);
-        let mut series = Vec::with_capacity(frame_count);
         for c in 0..character_count {
             constraint_start.push(constraints.len());
             series.clear();
@@ -209,7 +236,8 @@ impl Plan {
                 threshold,
                 interest,
                 &mut constraints,
-            );
+                what,
+            )?;
             let observed: f64 =
                 observed_time(&recording.frames, |f| present[f * character_count + c]);
             let attended: f64 = constraints[first..].iter().map(|k| k.end - k.begin).sum();
@@ -221,12 +249,16 @@ impl Plan {
         }
         constraint_start.push(constraints.len());
         // Keep only the best of each frame for replay output.
-        let best = best.chunks(2).map(|pair| pair[0]).collect();
+        kept.extend(best.chunks(2).map(|pair| pair[0]));
+        drop(best);
+        // Nothing can fail from here on: the replayed state becomes the crowd's.
+        *scene = replay_scene;
+        *index = replay_index;
 
-        Plan {
-            frames: recording.frames.clone(),
+        Ok(Plan {
+            frames,
             states,
-            best,
+            best: kept,
             character_count,
             thresholds,
             attentive_fraction,
@@ -235,8 +267,8 @@ impl Plan {
             clock: recording.frames[0].time,
             started: false,
             next_frame: 0,
-            cursor: vec![0; character_count],
-        }
+            cursor,
+        })
     }
 
     /// Character `c`'s constraints (dense index).
@@ -312,12 +344,13 @@ impl Plan {
 }
 
 /// The recorded states with every missing velocity filled by a forward difference.
-fn with_forward_velocities(recording: &Recording) -> Vec<EntityUpdate> {
-    let mut states = recording.states.clone();
+fn with_forward_velocities(recording: &Recording, what: &dyn Display) -> Result<Vec<EntityUpdate>> {
+    let mut states = try_with_capacity(recording.states.len(), what)?;
+    states.extend_from_slice(&recording.states);
     let mut next_sample: HashMap<u32, (f64, Vec3)> = HashMap::new();
     let mut previous_sample: HashMap<u32, (f64, Vec3)> = HashMap::new();
     // Backward differences first (for each entity's last sample), then forward ones.
-    let mut backward = vec![None; states.len()];
+    let mut backward = try_vec(states.len(), None, what)?;
     for frame in &recording.frames {
         for k in frame.start..frame.end {
             let state = states[k];
@@ -326,7 +359,12 @@ fn with_forward_velocities(recording: &Recording) -> Vec<EntityUpdate> {
                     backward[k] = Some((state.position - position) / (frame.time - time) as f32);
                 }
             }
-            previous_sample.insert(state.id, (frame.time, state.position));
+            try_insert(
+                &mut previous_sample,
+                state.id,
+                (frame.time, state.position),
+                what,
+            )?;
         }
     }
     for frame in recording.frames.iter().rev() {
@@ -339,22 +377,29 @@ fn with_forward_velocities(recording: &Recording) -> Vec<EntityUpdate> {
             if state.velocity.is_none() {
                 state.velocity = Some(forward.or(backward[k]).unwrap_or(Vec3::ZERO));
             }
-            next_sample.insert(state.id, (frame.time, state.position));
+            try_insert(
+                &mut next_sample,
+                state.id,
+                (frame.time, state.position),
+                what,
+            )?;
         }
     }
-    states
+    Ok(states)
 }
 
 /// First and last recorded time of every recorded entity.
-fn sample_spans(recording: &Recording) -> HashMap<u32, (f64, f64)> {
+fn sample_spans(recording: &Recording, what: &dyn Display) -> Result<HashMap<u32, (f64, f64)>> {
     let mut spans: HashMap<u32, (f64, f64)> = HashMap::new();
     for frame in &recording.frames {
         for state in &recording.states[frame.start..frame.end] {
-            let span = spans.entry(state.id).or_insert((frame.time, frame.time));
-            span.1 = frame.time;
+            match spans.get_mut(&state.id) {
+                Some(span) => span.1 = frame.time,
+                None => try_insert(&mut spans, state.id, (frame.time, frame.time), what)?,
+            }
         }
     }
-    spans
+    Ok(spans)
 }
 
 /// Duration of frame `f`: until the next frame (the last frame lasts as long as the one
@@ -385,19 +430,22 @@ fn cut_constraints(
     threshold: f32,
     interest: &InterestConfig,
     out: &mut Vec<Constraint>,
-) {
+    what: &dyn Display,
+) -> Result<()> {
     let min_hold = f64::from(interest.min_hold);
     let max_hold = f64::from(interest.max_hold);
     let cooldown = f64::from(interest.cooldown);
     let mut run: Option<Constraint> = None;
     let mut cooling: Option<(u32, f64)> = None;
-    let close = |run: Option<Constraint>, end: f64, out: &mut Vec<Constraint>| {
+    let close = |run: Option<Constraint>, end: f64, out: &mut Vec<Constraint>| -> Result<()> {
         if let Some(mut k) = run {
             k.end = end;
             if k.end - k.begin >= min_hold - 1e-6 {
+                try_reserve(out, 1, what)?;
                 out.push(k);
             }
         }
+        Ok(())
     };
     for (f, recorded) in frames.iter().enumerate() {
         let time = recorded.time;
@@ -415,7 +463,7 @@ fn cut_constraints(
             (Some(k), Some(c)) if k.entity == c.id => {
                 if time - k.begin >= max_hold {
                     // d_l reached: cut, cool down, and let the next-best continue now.
-                    close(run, time, out);
+                    close(run, time, out)?;
                     cooling = Some((k.entity, time + cooldown));
                     run = frame(f)
                         .map(|(first, second)| if first.id == k.entity { second } else { first })
@@ -429,7 +477,7 @@ fn cut_constraints(
                 }
             }
             (_, Some(c)) => {
-                close(run, time, out);
+                close(run, time, out)?;
                 run = Some(Constraint {
                     entity: c.id,
                     begin: time,
@@ -438,15 +486,16 @@ fn cut_constraints(
                 });
             }
             (_, None) => {
-                close(run, time, out);
+                close(run, time, out)?;
                 run = None;
             }
         }
     }
     if let Some(last) = frames.last() {
         let end = last.time + frame_duration(frames, frames.len() - 1);
-        close(run, end, out);
+        close(run, end, out)?;
     }
+    Ok(())
 }
 
 #[cfg(test)]
@@ -480,7 +529,15 @@ mod tests {
             })
         };
         let mut out = Vec::new();
-        cut_constraints(&frames, pick, 0.5, &InterestConfig::default(), &mut out);
+        cut_constraints(
+            &frames,
+            pick,
+            0.5,
+            &InterestConfig::default(),
+            &mut out,
+            &"test",
+        )
+        .unwrap();
         assert_eq!(out.len(), 1);
         assert_eq!(out[0].entity, 2);
         assert!((out[0].begin - 1.0).abs() < 1e-9 && (out[0].end - 2.0).abs() < 1e-9);
@@ -491,7 +548,15 @@ mod tests {
         let frames = frames(100, 0.1);
         let pick = |_| Some((c(1, 0.9), c(2, 0.7)));
         let mut out = Vec::new();
-        cut_constraints(&frames, pick, 0.5, &InterestConfig::default(), &mut out);
+        cut_constraints(
+            &frames,
+            pick,
+            0.5,
+            &InterestConfig::default(),
+            &mut out,
+            &"test",
+        )
+        .unwrap();
         assert_eq!(out[0].entity, 1);
         assert!((out[0].end - out[0].begin - 4.0).abs() < 1e-6);
         assert_eq!(out[1].entity, 2);

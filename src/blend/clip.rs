@@ -8,6 +8,7 @@
 //! fraction of the cost (no log or exp per joint and key).
 
 use super::AsDualQuat;
+use crate::alloc::try_with_capacity;
 use crate::error::{Error, Result};
 use crate::math::dualquat::DualQuat;
 
@@ -46,7 +47,8 @@ impl KeyClip {
     ///
     /// Errors: [`Error::InvalidArgument`] (no joints, no frames, a length that is not a
     /// multiple of `joint_count`, a frame rate `≤ 0`, a transform with a zero real part),
-    /// [`Error::NonFinite`] (a NaN or infinite frame rate or component).
+    /// [`Error::NonFinite`] (a NaN or infinite frame rate or component),
+    /// [`Error::OutOfMemory`] (no memory for the copy of `frames`).
     pub fn new<Q: AsDualQuat>(
         frames: &[Q],
         joint_count: usize,
@@ -75,7 +77,10 @@ impl KeyClip {
                 "frames_per_second is {frames_per_second}, must be > 0"
             )));
         }
-        let mut stored = Vec::with_capacity(frames.len());
+        let mut stored = try_with_capacity(
+            frames.len(),
+            &format_args!("a clip of {frame_count} frames × {joint_count} joints"),
+        )?;
         for (index, frame) in frames.iter().enumerate() {
             let q = frame.as_dual_quat();
             if !q.is_finite() {

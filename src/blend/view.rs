@@ -25,6 +25,7 @@ use super::clip::{FramePair, KeyClip};
 use super::iterative::{dib_joints, DibSettings, PoseOutcome};
 use super::linear::dlb_by;
 use super::AsDualQuat;
+use crate::alloc::{try_reserve, try_vec, Field};
 use crate::error::{Error, Result};
 use crate::math::dualquat::DualQuat;
 
@@ -188,7 +189,11 @@ impl ViewBlender {
         config.validate()?;
         Ok(ViewBlender {
             config,
-            key_clips: vec![None; config.key_count],
+            key_clips: try_vec(
+                config.key_count,
+                None,
+                &Field("key_count", config.key_count as u64),
+            )?,
             key_cameras: Vec::new(),
         })
     }
@@ -244,7 +249,7 @@ impl ViewBlender {
     /// mapped to key `key`, and returns its index. Several cameras may map to one key.
     ///
     /// Errors: [`Error::InvalidArgument`] (`key ≥ key_count`, a zero direction),
-    /// [`Error::NonFinite`] (a NaN or infinite component).
+    /// [`Error::NonFinite`] (a NaN or infinite component), [`Error::OutOfMemory`].
     pub fn add_camera(&mut self, direction: Vec3, key: usize) -> Result<usize> {
         self.check_key(key)?;
         if !direction.is_finite() {
@@ -257,6 +262,8 @@ impl ViewBlender {
                 "camera direction has zero length".into(),
             ));
         }
+        let cameras = Field("key cameras", self.key_cameras.len() as u64 + 1);
+        try_reserve(&mut self.key_cameras, 1, &cameras)?;
         self.key_cameras.push(KeyCamera {
             direction: direction / length,
             key,
@@ -565,5 +572,43 @@ mod tests {
         assert!(blender.set_key_pose(0, &[DualQuat::IDENTITY; 2]).is_err());
         assert!(blender.add_camera(Vec3::ZERO, 0).is_err());
         assert!(blender.add_camera(Vec3::Z, 5).is_err());
+    }
+
+    #[test]
+    fn allocations_that_fail_change_nothing() {
+        use crate::alloc::fault::fail_after;
+        fail_after(Some(0));
+        let created = ViewBlender::new(ViewBlenderConfig::new(4, 2));
+        fail_after(None);
+        let message = created.unwrap_err().to_string();
+        assert!(
+            message.starts_with("out of memory: key_count = 2 needs "),
+            "{message}"
+        );
+        let mut blender = ViewBlender::new(ViewBlenderConfig::new(4, 2)).unwrap();
+        let before = format!("{blender:?}");
+        type Call = dyn Fn(&mut ViewBlender) -> Result<()>;
+        let calls: [&Call; 2] = [&|b| b.add_camera(Vec3::Z, 0).map(|_| ()), &|b| {
+            b.set_key_pose(1, &[DualQuat::IDENTITY; 4])
+        }];
+        for (n, call) in calls.into_iter().enumerate() {
+            fail_after(Some(0));
+            let result = call(&mut blender);
+            fail_after(None);
+            assert!(
+                matches!(result, Err(Error::OutOfMemory(_))),
+                "{n}: {result:?}"
+            );
+            assert_eq!(format!("{blender:?}"), before);
+        }
+        let frames = [DualQuat::IDENTITY; 12];
+        fail_after(Some(0));
+        let clip = KeyClip::new(&frames, 4, 30.0, true);
+        fail_after(None);
+        let message = clip.unwrap_err().to_string();
+        assert_eq!(
+            message,
+            "out of memory: a clip of 3 frames × 4 joints needs 384 bytes"
+        );
     }
 }

@@ -19,6 +19,7 @@ pub use step::StepRanges;
 
 use glam::{Quat, Vec3};
 
+use crate::alloc::{try_reserve, try_with_capacity, Field};
 use crate::attention::baseline::BaselineConfig;
 use crate::attention::candidates::{
     all_pairs_candidates, nearby_candidates, CandidateBatch, NeighbourIndex,
@@ -57,9 +58,12 @@ pub struct CrowdConfig {
     /// Seed of every random choice (per-character weights, attention percentage,
     /// deactivation times). Same inputs and seed give bit-identical outputs.
     pub seed: u64,
-    /// Most characters (entities that look) the crowd can hold at once.
+    /// Most characters (entities that look) the crowd can hold at once, 1 to
+    /// [`MAX_CAPACITY`] (2²⁴). Each takes about
+    /// [`Crowd::state_bytes_per_character`] bytes (under 1 KiB), allocated at creation.
     pub max_characters: u32,
-    /// Most scene objects (entities that are only looked at) the crowd can hold at once.
+    /// Most scene objects (entities that are only looked at) the crowd can hold at once,
+    /// 0 to [`MAX_CAPACITY`] (2²⁴). Each takes about 130 bytes, allocated at creation.
     pub max_objects: u32,
     /// Axes and length unit of the caller's world.
     pub world: World,
@@ -71,7 +75,9 @@ pub struct CrowdConfig {
     /// Default [0.2, 0.6).
     pub attention_fraction_range: (f32, f32),
     /// How many entity states `push_frame` may record for offline planning (0: no
-    /// recording, online only). Default 0.
+    /// recording, online only), 0 to 2³² − 1. Each takes
+    /// [`Recording::bytes_per_state`] bytes (64), allocated at creation: a recording that
+    /// does not fit in memory fails the creation with [`Error::OutOfMemory`]. Default 0.
     pub max_recorded_states: u32,
     /// Gaze IK settings: recruitment bands and timing.
     pub gaze: GazeConfig,
@@ -431,39 +437,57 @@ impl Shared {
 impl Crowd {
     /// Creates an empty crowd, sizing every buffer from `config` (and starting its worker
     /// threads when `config.threads` asks for them).
+    ///
+    /// Errors: [`Error::InvalidArgument`] and [`Error::NonFinite`] (see
+    /// [`CrowdConfig::validate`]), [`Error::OutOfMemory`] when the buffers of the capacities
+    /// do not fit in memory (about [`state_bytes_per_character`](Self::state_bytes_per_character)
+    /// per character and object, and [`Recording::bytes_per_state`] per recorded state),
+    /// [`Error::Internal`] if a worker thread cannot be started. Nothing is left behind on
+    /// error.
     pub fn new(config: CrowdConfig) -> Result<Crowd> {
         config.validate()?;
         // Every entity the scene may hold: characters, objects and the viewer.
         let capacity = (config.max_characters + config.max_objects + 1) as usize;
         let characters = config.max_characters as usize;
         let workers = config.worker_threads();
+        let per_character = &Field("max_characters", config.max_characters.into());
+        let per_entity = &Field(
+            "max_characters + max_objects",
+            u64::from(config.max_characters) + u64::from(config.max_objects),
+        );
+        let per_state = &Field("max_recorded_states", config.max_recorded_states.into());
         Ok(Crowd {
             shared: Shared {
                 scorer: Scorer::new(config.scoring),
                 // One object slot more than asked for: the viewer's (`capacity` counts it).
-                scene: Scene::new(config.world, config.max_characters, config.max_objects + 1),
-                neighbours: NeighbourIndex::new(capacity, config.scoring.max_distance),
-                params: Vec::with_capacity(characters),
+                scene: Scene::new(
+                    config.world,
+                    config.max_characters,
+                    config.max_objects + 1,
+                    per_entity,
+                )?,
+                neighbours: NeighbourIndex::new(capacity, config.scoring.max_distance, per_entity)?,
+                params: try_with_capacity(characters, per_character)?,
                 chains: Vec::new(),
                 chain_parts: Vec::new(),
                 chain_rests: Vec::new(),
-                posed: Vec::with_capacity(characters),
+                posed: try_with_capacity(characters, per_character)?,
                 viewer: None,
                 steps: 0,
-                chain_of: Vec::with_capacity(characters),
-                bases: Vec::with_capacity(characters),
-                explicit: Vec::with_capacity(characters),
+                chain_of: try_with_capacity(characters, per_character)?,
+                bases: try_with_capacity(characters, per_character)?,
+                explicit: try_with_capacity(characters, per_character)?,
                 characters_created: 0,
                 time: f64::NEG_INFINITY,
-                recording: Recording::new(config.max_recorded_states as usize),
+                recording: Recording::new(config.max_recorded_states as usize, per_state)?,
                 plan: None,
                 config,
             },
-            states: CharacterStates::with_capacity(characters),
-            claims: ClaimSet::new(characters),
-            grid_order: Vec::with_capacity(characters),
-            read_order: Vec::with_capacity(characters),
-            reorder: Reorder::new(capacity),
+            states: CharacterStates::with_capacity(characters, per_character)?,
+            claims: ClaimSet::new(characters, per_character)?,
+            grid_order: try_with_capacity(characters, per_character)?,
+            read_order: try_with_capacity(characters, per_character)?,
+            reorder: Reorder::new(capacity, per_entity)?,
             open_step: None,
             pool: (workers > 0)
                 .then(|| WorkerPool::new(workers))
@@ -529,6 +553,16 @@ impl Crowd {
             }
             None => GazeChain::human(world.up, world.forward),
         };
+        let known_chain = self.shared.chains.iter().position(|known| *known == chain);
+        if known_chain.is_none()
+            && self.character_count() < self.shared.config.max_characters as usize
+        {
+            // Room for a new distinct chain, before anything changes.
+            let what = &Field("distinct gaze chains", self.shared.chains.len() as u64 + 1);
+            try_reserve(&mut self.shared.chains, 1, what)?;
+            try_reserve(&mut self.shared.chain_parts, 1, what)?;
+            try_reserve(&mut self.shared.chain_rests, 1, what)?;
+        }
         let id = self.shared.scene.add(
             EntityKind::Character,
             desc.position,
@@ -536,7 +570,7 @@ impl Crowd {
             chain.look_at_height(world.up),
             desc.impact,
         )?;
-        let chain_index = match self.shared.chains.iter().position(|known| *known == chain) {
+        let chain_index = match known_chain {
             Some(index) => index,
             None => {
                 self.shared.chains.push(chain);
@@ -1096,7 +1130,9 @@ impl Crowd {
     }
 
     /// Plans attention offline over the recorded frames (see the module docs). Requires
-    /// `max_recorded_states > 0` and at least one recorded frame.
+    /// `max_recorded_states > 0` and at least one recorded frame. The plan holds about
+    /// 8 bytes per recorded frame and character (25 while planning): when that does not
+    /// fit in memory this fails with [`Error::OutOfMemory`] and changes nothing.
     pub fn plan(&mut self) -> Result<()> {
         self.ensure_online("plan again")?;
         if self.shared.recording.frame_count() == 0 {
@@ -1111,7 +1147,7 @@ impl Crowd {
             &self.shared.scorer,
             &self.shared.params,
             &self.shared.config.interest,
-        );
+        )?;
         self.shared.plan = Some(plan);
         Ok(())
     }
@@ -1167,5 +1203,134 @@ mod tests {
             ..CrowdConfig::default()
         };
         assert!(matches!(Crowd::new(huge), Err(Error::InvalidArgument(_))));
+    }
+
+    use crate::alloc::fault::fail_after;
+    use crate::scenario::Scenario;
+
+    /// Runs `operation` with its `n`-th fallible allocation failing, for n = 0, 1, ...
+    /// until it succeeds; checks every failure is an out-of-memory error naming what it
+    /// sized and the bytes, and that `unchanged` holds after it. Returns the failures seen.
+    fn fail_each_allocation<T>(
+        mut operation: impl FnMut() -> Result<T>,
+        mut unchanged: impl FnMut(),
+    ) -> usize {
+        for n in 0.. {
+            fail_after(Some(n));
+            let result = operation();
+            fail_after(None);
+            match result {
+                Ok(_) => return n,
+                Err(Error::OutOfMemory(message)) => {
+                    assert!(
+                        message.contains(" = ") || message.contains(" × "),
+                        "{message}"
+                    );
+                    assert!(message.ends_with(" bytes"), "{message}");
+                }
+                Err(other) => panic!("allocation {n}: {other}"),
+            }
+            unchanged();
+        }
+        unreachable!()
+    }
+
+    #[test]
+    fn every_allocation_of_a_create_fails_cleanly() {
+        let config = CrowdConfig {
+            max_recorded_states: 100,
+            threads: 3,
+            ..CrowdConfig::default()
+        };
+        let failures = fail_each_allocation(|| Crowd::new(config.clone()), || {});
+        // The scene, the neighbour index, the per-character arrays, the recording...
+        assert!(failures >= 30, "{failures}");
+    }
+
+    #[test]
+    fn recordings_too_large_for_memory_fail_naming_the_field() {
+        let config = CrowdConfig {
+            max_recorded_states: u32::MAX,
+            ..CrowdConfig::default()
+        };
+        // 275 GB of address space: refused by the allocator on most machines, reserved
+        // untouched where memory is overcommitted.
+        match Crowd::new(config) {
+            Ok(crowd) => assert_eq!(crowd.config().max_recorded_states, u32::MAX),
+            Err(error) => assert!(
+                error
+                    .to_string()
+                    .starts_with("out of memory: max_recorded_states = 4294967295 needs "),
+                "{error}"
+            ),
+        }
+    }
+
+    #[test]
+    fn a_new_chain_that_does_not_fit_adds_nothing() {
+        let mut crowd = Crowd::new(CrowdConfig::default()).unwrap();
+        crowd.add_character(&CharacterDesc::default()).unwrap();
+        let human = GazeChain::human(Vec3::Y, Vec3::Z);
+        let other = GazeChain::new(human.joints(), Vec3::Z, Vec3::Y, Vec3::Y * 0.9).unwrap();
+        assert_ne!(other, human);
+        let desc = CharacterDesc {
+            chain: Some(other),
+            ..CharacterDesc::default()
+        };
+        let before = format!("{:?}", crowd.scene());
+        fail_after(Some(0));
+        let result = crowd.add_character(&desc);
+        fail_after(None);
+        assert!(matches!(result, Err(Error::OutOfMemory(_))), "{result:?}");
+        assert_eq!(crowd.character_count(), 1);
+        assert_eq!(format!("{:?}", crowd.scene()), before);
+        assert_eq!(crowd.shared.chains.len(), 1);
+        crowd.add_character(&desc).unwrap();
+        assert_eq!(crowd.shared.chains.len(), 2);
+    }
+
+    #[test]
+    fn a_plan_that_does_not_fit_changes_nothing() {
+        let recorded = || {
+            let config = CrowdConfig {
+                max_characters: 40,
+                max_objects: 8,
+                max_recorded_states: 48 * 60,
+                ..CrowdConfig::default()
+            };
+            let mut crowd = Crowd::new(config).unwrap();
+            let mut scenario = Scenario::street(30, 6, 7);
+            scenario.populate(&mut crowd).unwrap();
+            for frame in 0..60 {
+                scenario.advance(1.0 / 30.0);
+                scenario.push(&mut crowd, frame as f64 / 30.0).unwrap();
+            }
+            crowd.rebuild_grid();
+            crowd
+        };
+        let state = |crowd: &Crowd| {
+            format!(
+                "{:?} {:?} {}",
+                crowd.shared.scene,
+                crowd.shared.neighbours,
+                crowd.is_planned()
+            )
+        };
+        let mut crowd = recorded();
+        let before = state(&crowd);
+        let crowd_cell = std::cell::RefCell::new(&mut crowd);
+        let failures = fail_each_allocation(
+            || crowd_cell.borrow_mut().plan(),
+            || assert_eq!(state(&crowd_cell.borrow()), before),
+        );
+        assert!(failures >= 15, "{failures}");
+        let mut reference = recorded();
+        reference.plan().unwrap();
+        assert_eq!(state(&crowd), state(&reference));
+        for id in 0..30 {
+            if let Ok(constraints) = reference.constraints(id) {
+                assert_eq!(crowd.constraints(id).unwrap(), constraints);
+            }
+        }
     }
 }

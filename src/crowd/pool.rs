@@ -101,7 +101,10 @@ impl WorkerPool {
         });
         let mut pool = WorkerPool {
             state,
-            workers: Vec::with_capacity(workers),
+            workers: crate::alloc::try_with_capacity(
+                workers,
+                &crate::alloc::Field("worker threads", workers as u64),
+            )?,
         };
         for index in 0..workers {
             let state = Arc::clone(&pool.state);

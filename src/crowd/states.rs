@@ -69,9 +69,15 @@ macro_rules! define_states {
         }
 
         impl CharacterStates {
-            /// Empty arrays holding up to `capacity` characters without reallocating.
-            pub fn with_capacity(capacity: usize) -> CharacterStates {
-                CharacterStates { $($name: Vec::with_capacity(capacity),)* }
+            /// Empty arrays holding up to `capacity` characters without reallocating, or
+            /// [`Error::OutOfMemory`](crate::error::Error::OutOfMemory) for `what`.
+            pub fn with_capacity(
+                capacity: usize,
+                what: &dyn std::fmt::Display,
+            ) -> crate::error::Result<CharacterStates> {
+                Ok(CharacterStates {
+                    $($name: crate::alloc::try_with_capacity(capacity, what)?,)*
+                })
             }
 
             /// Removes character `index`, moving the last one into its place (the scene's

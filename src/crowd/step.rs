@@ -84,13 +84,16 @@ pub(super) struct ClaimSet {
 }
 
 impl ClaimSet {
-    /// Flags for up to `capacity` characters, all clear.
-    pub fn new(capacity: usize) -> ClaimSet {
-        ClaimSet {
-            words: (0..capacity.div_ceil(64))
-                .map(|_| AtomicU64::new(0))
-                .collect(),
-        }
+    /// Flags for up to `capacity` characters, all clear; `what` names the caller's number
+    /// `capacity` comes from, for [`Error::OutOfMemory`].
+    pub fn new(capacity: usize, what: &dyn std::fmt::Display) -> Result<ClaimSet> {
+        let words = capacity.div_ceil(64);
+        let mut flags = crate::alloc::try_with_capacity(words, what)?;
+        flags.extend((0..words).map(|_| AtomicU64::new(0)));
+        Ok(ClaimSet {
+            // Exactly as long as its capacity: boxing it does not reallocate.
+            words: flags.into_boxed_slice(),
+        })
     }
 
     /// Clears every flag.
@@ -787,7 +790,7 @@ mod tests {
 
     #[test]
     fn claims_detect_overlap_and_undo_a_failed_claim() {
-        let mut claims = ClaimSet::new(200);
+        let mut claims = ClaimSet::new(200, &"test").unwrap();
         assert!(claims.claim(10, 70));
         assert!(claims.claim(70, 130));
         assert!(!claims.claim(0, 11), "overlaps 10");

@@ -583,7 +583,8 @@ pub extern "C" fn cg_view_blender_config_init(config: *mut cg_view_blender_confi
 ///
 /// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_BAD_STRUCT_SIZE` (config not filled by
 /// `cg_view_blender_config_init`), `CG_STATUS_INVALID_ARGUMENT` (a field out of its range,
-/// an unknown enum value), `CG_STATUS_NON_FINITE` (alpha or precision NaN or infinite).
+/// an unknown enum value), `CG_STATUS_NON_FINITE` (alpha or precision NaN or infinite),
+/// `CG_STATUS_OUT_OF_MEMORY`.
 #[no_mangle]
 pub extern "C" fn cg_view_blender_create(
     config: *const cg_view_blender_config,
@@ -658,7 +659,7 @@ unsafe fn blender_mut<'a>(blender: *mut cg_view_blender) -> Result<&'a mut ViewB
 /// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE` (a NaN or infinite component or
 /// frame rate), `CG_STATUS_INVALID_ARGUMENT` (key out of range, `frame_count` 0, frame rate
 /// <= 0, a transform with a zero real part or a translation longer than 1e18, a count
-/// overflowing).
+/// overflowing), `CG_STATUS_OUT_OF_MEMORY` (no memory for the copy of `frames`).
 #[no_mangle]
 pub extern "C" fn cg_view_blender_set_key_clip(
     blender: *mut cg_view_blender,
@@ -691,7 +692,7 @@ pub extern "C" fn cg_view_blender_set_key_clip(
 ///
 /// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE`, `CG_STATUS_INVALID_ARGUMENT` (key
 /// out of range, wrong `joint_count`, a transform with a zero real part or a translation longer
-/// than 1e18).
+/// than 1e18), `CG_STATUS_OUT_OF_MEMORY`.
 #[no_mangle]
 pub extern "C" fn cg_view_blender_set_key_pose(
     blender: *mut cg_view_blender,
@@ -718,7 +719,8 @@ pub extern "C" fn cg_view_blender_set_key_pose(
 /// blender. Nothing changes on error.
 ///
 /// Errors: `CG_STATUS_NULL_ARGUMENT` (blender NULL), `CG_STATUS_NON_FINITE`,
-/// `CG_STATUS_INVALID_ARGUMENT` (key out of range, a zero direction).
+/// `CG_STATUS_INVALID_ARGUMENT` (key out of range, a zero direction),
+/// `CG_STATUS_OUT_OF_MEMORY`.
 #[no_mangle]
 pub extern "C" fn cg_view_blender_add_camera(
     blender: *mut cg_view_blender,

@@ -166,12 +166,13 @@ pub struct cg_crowd_config {
     /// the library add fields without breaking callers compiled against this header.
     pub struct_size: u32,
     /// Most characters (entities that look) the crowd holds at once, 1 to 16 777 216.
-    /// Default 1024.
+    /// Each takes about 1 KiB, allocated by `cg_crowd_create`. Default 1024.
     pub max_characters: u32,
     /// Seed of every random choice; same inputs and seed give bit-identical outputs.
     /// Default 0x6372_6f77_6467_617a.
     pub seed: u64,
-    /// Most scene objects (entities that are only looked at), 0 to 16 777 216. Default 256.
+    /// Most scene objects (entities that are only looked at), 0 to 16 777 216. Each takes
+    /// about 130 bytes, allocated by `cg_crowd_create`. Default 256.
     pub max_objects: u32,
     /// Which world axis points up, a `cg_axis`. Default `CG_AXIS_POSITIVE_Y`.
     pub up_axis: u32,
@@ -182,7 +183,8 @@ pub struct cg_crowd_config {
     /// Unreal's centimetres. Must be > 0 and finite.
     pub units_per_metre: f32,
     /// How many entity states `cg_crowd_push_frame` may record for offline planning with
-    /// `cg_crowd_plan` (0: no recording, online only). Default 0.
+    /// `cg_crowd_plan` (0: no recording, online only), 0 to 4 294 967 295. Each takes 64
+    /// bytes, allocated by `cg_crowd_create`. Default 0.
     pub max_recorded_states: u32,
     /// `d_m`: entities farther than this are never looked at, in your units. Default 10 m.
     pub max_distance: f32,
@@ -409,7 +411,9 @@ pub extern "C" fn cg_crowd_config_init(config: *mut cg_crowd_config) -> super::c
 /// Errors: `CG_STATUS_NULL_ARGUMENT` (config or out_crowd NULL), `CG_STATUS_BAD_STRUCT_SIZE`
 /// (config not filled by `cg_crowd_config_init`), `CG_STATUS_INVALID_ARGUMENT` (a field out of
 /// range: capacities, axes not perpendicular or unknown, units_per_metre <= 0),
-/// `CG_STATUS_NON_FINITE` (a float field NaN or infinite). Thread-safe.
+/// `CG_STATUS_NON_FINITE` (a float field NaN or infinite), `CG_STATUS_OUT_OF_MEMORY` (the
+/// capacities' buffers do not fit in memory; the message names the field and the bytes
+/// asked). Thread-safe.
 #[no_mangle]
 pub extern "C" fn cg_crowd_create(
     config: *const cg_crowd_config,

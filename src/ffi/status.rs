@@ -33,12 +33,17 @@ pub enum cg_status {
     NotConverged = 8,
     /// A bug inside crowdgaze (for example a caught panic). Please report it.
     Internal = 9,
+    /// Memory ran out: a buffer sized from the arguments (a capacity of a create, a clip,
+    /// a recording to plan) could not be allocated. The message names the field or count
+    /// and the bytes asked. Nothing was created and nothing changed (a create writes no
+    /// handle); smaller capacities may succeed.
+    OutOfMemory = 10,
 }
 
 impl cg_status {
     /// Every status, in value order (for tests and tools).
     /// cbindgen:ignore
-    pub const ALL: [cg_status; 10] = [
+    pub const ALL: [cg_status; 11] = [
         cg_status::Ok,
         cg_status::NullArgument,
         cg_status::InvalidArgument,
@@ -49,6 +54,7 @@ impl cg_status {
         cg_status::WrongState,
         cg_status::NotConverged,
         cg_status::Internal,
+        cg_status::OutOfMemory,
     ];
 
     /// The static, NUL-terminated description of this status.
@@ -64,6 +70,7 @@ impl cg_status {
             cg_status::WrongState => c"wrong state",
             cg_status::NotConverged => c"not converged",
             cg_status::Internal => c"internal error",
+            cg_status::OutOfMemory => c"out of memory",
         }
     }
 }
@@ -88,6 +95,7 @@ impl From<&Error> for cg_status {
             Error::WrongState(_) => cg_status::WrongState,
             Error::NotConverged(_) => cg_status::NotConverged,
             Error::Internal(_) => cg_status::Internal,
+            Error::OutOfMemory(_) => cg_status::OutOfMemory,
         }
     }
 }
@@ -113,7 +121,7 @@ mod tests {
             assert_eq!(*status as u32, index as u32);
             assert_eq!(cg_status::try_from(index as u32), Ok(*status));
         }
-        assert_eq!(cg_status::try_from(10), Err(10));
+        assert_eq!(cg_status::try_from(11), Err(11));
     }
 
     #[test]

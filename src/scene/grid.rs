@@ -11,8 +11,12 @@
 //! reach in front). The rows are clipped in SIMD lanes, as many at once as the lanes hold,
 //! without a branch per row.
 
+use std::fmt::Display;
+
 use glam::Vec2;
 
+use crate::alloc::{checked, try_clone, try_vec};
+use crate::error::Result;
 use crate::math::wide::{clamp, Wide, MAX_LANES};
 
 /// Extra coordinates after the last slot, so that a query may read a whole group of SIMD
@@ -98,10 +102,14 @@ pub struct SpatialGrid {
 }
 
 impl SpatialGrid {
-    /// A grid for at most `capacity` points, answering queries of radius `radius` (metres).
-    pub fn new(capacity: usize, radius: f32) -> SpatialGrid {
-        let max_cells = (capacity.max(1) * 4).clamp(64, MOST_CELLS);
-        SpatialGrid {
+    /// A grid for at most `capacity` points, answering queries of radius `radius` (metres);
+    /// `what` names the caller's numbers `capacity` comes from, for [`Error::OutOfMemory`].
+    ///
+    /// [`Error::OutOfMemory`]: crate::error::Error::OutOfMemory
+    pub fn new(capacity: usize, radius: f32, what: &dyn Display) -> Result<SpatialGrid> {
+        let max_cells = capacity.max(1).saturating_mul(4).clamp(64, MOST_CELLS);
+        let padded = checked(capacity.checked_add(SLOT_PADDING), what)?;
+        Ok(SpatialGrid {
             radius,
             cell_size: Vec2::new(radius / COLUMNS_PER_RADIUS, radius / 2.0),
             inverse_cell_size: Vec2::new(COLUMNS_PER_RADIUS / radius, 2.0 / radius),
@@ -111,12 +119,25 @@ impl SpatialGrid {
             column_span: MAX_COLUMN_SPAN,
             row_span: MAX_SPAN,
             max_cells,
-            cell_start: vec![0; max_cells + 1],
-            entries: vec![0; capacity],
-            xs: vec![0.0; capacity + SLOT_PADDING],
-            ys: vec![0.0; capacity + SLOT_PADDING],
+            cell_start: try_vec(max_cells + 1, 0, what)?,
+            entries: try_vec(capacity, 0, what)?,
+            xs: try_vec(padded, 0.0, what)?,
+            ys: try_vec(padded, 0.0, what)?,
             len: 0,
-        }
+        })
+    }
+
+    /// A copy of the grid, or [`Error::OutOfMemory`] for `what`.
+    ///
+    /// [`Error::OutOfMemory`]: crate::error::Error::OutOfMemory
+    pub fn try_clone(&self, what: &dyn Display) -> Result<SpatialGrid> {
+        Ok(SpatialGrid {
+            cell_start: try_clone(&self.cell_start, what)?,
+            entries: try_clone(&self.entries, what)?,
+            xs: try_clone(&self.xs, what)?,
+            ys: try_clone(&self.ys, what)?,
+            ..*self
+        })
     }
 
     /// Width and height of a cell in metres (an eighth and half of the query radius, or
@@ -372,7 +393,7 @@ mod tests {
                 Vec2::new(x, random.range(-half_size.y, half_size.y)) + centre
             })
             .collect();
-        let mut grid = SpatialGrid::new(capacity, 10.0);
+        let mut grid = SpatialGrid::new(capacity, 10.0, &"test").unwrap();
         grid.rebuild(&points);
         (points, grid)
     }
@@ -426,7 +447,7 @@ mod tests {
             Vec2::ZERO,
             Vec2::new(3.0, 4.0),
         ];
-        let mut grid = SpatialGrid::new(4, 10.0);
+        let mut grid = SpatialGrid::new(4, 10.0, &"test").unwrap();
         grid.rebuild(&points);
         assert!(grid.cell_size().x > 10.0 / COLUMNS_PER_RADIUS && grid.cell_size().y > 5.0);
         let mut near = Vec::new();

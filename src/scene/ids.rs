@@ -4,6 +4,7 @@
 //! generation, so the old id is `NotFound` from then on; a slot whose next generation would
 //! overflow is retired rather than reused, so an id never names two entities.
 
+use crate::alloc::{try_clone, try_with_capacity};
 use crate::error::{Error, Result};
 
 /// The id that means "no entity" (`CG_NO_TARGET` in C).
@@ -43,22 +44,31 @@ pub struct IdTable {
 }
 
 impl IdTable {
-    /// A table for at most `capacity` live entities (below 2³⁰ − 1).
-    pub fn new(capacity: u32) -> IdTable {
+    /// A table for at most `capacity` live entities (below 2³⁰ − 1); `what` names the
+    /// caller's numbers it is sized from, for [`Error::OutOfMemory`].
+    pub fn new(capacity: u32, what: &dyn std::fmt::Display) -> Result<IdTable> {
         assert!(capacity < NO_SLOT, "id table capacity {capacity} too large");
-        IdTable {
-            slots: (0..capacity)
-                .map(|slot| Slot {
-                    generation: 0,
-                    state: if slot + 1 < capacity {
-                        slot + 1
-                    } else {
-                        NO_SLOT
-                    },
-                })
-                .collect(),
+        let mut slots = try_with_capacity(capacity as usize, what)?;
+        slots.extend((0..capacity).map(|slot| Slot {
+            generation: 0,
+            state: if slot + 1 < capacity {
+                slot + 1
+            } else {
+                NO_SLOT
+            },
+        }));
+        Ok(IdTable {
+            slots,
             free: if capacity > 0 { 0 } else { NO_SLOT },
-        }
+        })
+    }
+
+    /// A copy of the table, or [`Error::OutOfMemory`] for `what`.
+    pub fn try_clone(&self, what: &dyn std::fmt::Display) -> Result<IdTable> {
+        Ok(IdTable {
+            slots: try_clone(&self.slots, what)?,
+            free: self.free,
+        })
     }
 
     /// Bytes per slot (one slot per entity of the capacity).
@@ -154,7 +164,7 @@ mod tests {
 
     #[test]
     fn removed_ids_stay_dead_after_reuse() {
-        let mut table = IdTable::new(2);
+        let mut table = IdTable::new(2, &"test").unwrap();
         let a = table.insert(EntityKind::Character, 0).unwrap();
         let b = table.insert(EntityKind::Object, 0).unwrap();
         assert_ne!(a, b);
@@ -175,7 +185,7 @@ mod tests {
     #[test]
     fn free_slots_are_reused_last_freed_first() {
         assert_eq!(IdTable::bytes_per_entity(), 8);
-        let mut table = IdTable::new(3);
+        let mut table = IdTable::new(3, &"test").unwrap();
         let ids: Vec<u32> = (0..3)
             .map(|dense| table.insert(EntityKind::Object, dense).unwrap())
             .collect();
@@ -190,12 +200,15 @@ mod tests {
         assert_eq!(table.find(3).unwrap(), (EntityKind::Character, 7));
         assert_eq!(table.find(4).unwrap(), (EntityKind::Object, 8));
         assert_eq!(table.find(2).unwrap(), (EntityKind::Object, 2));
-        assert!(IdTable::new(0).insert(EntityKind::Object, 0).is_err());
+        assert!(IdTable::new(0, &"test")
+            .unwrap()
+            .insert(EntityKind::Object, 0)
+            .is_err());
     }
 
     #[test]
     fn exhausted_slots_are_retired() {
-        let mut table = IdTable::new(1);
+        let mut table = IdTable::new(1, &"test").unwrap();
         table.slots[0].generation = u32::MAX - 1;
         let id = table.insert(EntityKind::Object, 0).unwrap();
         table.remove(id).unwrap();

@@ -12,6 +12,7 @@ pub mod order;
 
 use glam::{Vec2, Vec3};
 
+use crate::alloc::{try_clone, try_with_capacity, Field};
 use crate::error::{Error, Result};
 use crate::math::wrap_angle;
 use crate::world::World;
@@ -101,31 +102,66 @@ pub struct Scene {
 }
 
 impl Scene {
-    /// An empty scene with room for the given numbers of characters and objects.
-    pub fn new(world: World, max_characters: u32, max_objects: u32) -> Scene {
+    /// An empty scene with room for the given numbers of characters and objects; `what`
+    /// names the caller's numbers the entity arrays are sized from, for
+    /// [`Error::OutOfMemory`].
+    pub fn new(
+        world: World,
+        max_characters: u32,
+        max_objects: u32,
+        what: &dyn std::fmt::Display,
+    ) -> Result<Scene> {
         let capacity = (max_characters + max_objects) as usize;
-        Scene {
+        let characters = Field("max_characters", max_characters.into());
+        Ok(Scene {
             world,
-            ids: IdTable::new(max_characters + max_objects),
+            ids: IdTable::new(max_characters + max_objects, what)?,
             max_characters,
             max_objects,
             character_count: 0,
             object_count: 0,
-            id: Vec::with_capacity(capacity),
-            kind: Vec::with_capacity(capacity),
-            character: Vec::with_capacity(capacity),
-            position: Vec::with_capacity(capacity),
-            look_at_height: Vec::with_capacity(capacity),
-            ground: Vec::with_capacity(capacity),
-            heading: Vec::with_capacity(capacity),
-            forward: Vec::with_capacity(capacity),
-            velocity: Vec::with_capacity(capacity),
-            turn_rate: Vec::with_capacity(capacity),
-            impact: Vec::with_capacity(capacity),
-            last_time: Vec::with_capacity(capacity),
-            character_entity: Vec::with_capacity(max_characters as usize),
+            id: try_with_capacity(capacity, what)?,
+            kind: try_with_capacity(capacity, what)?,
+            character: try_with_capacity(capacity, what)?,
+            position: try_with_capacity(capacity, what)?,
+            look_at_height: try_with_capacity(capacity, what)?,
+            ground: try_with_capacity(capacity, what)?,
+            heading: try_with_capacity(capacity, what)?,
+            forward: try_with_capacity(capacity, what)?,
+            velocity: try_with_capacity(capacity, what)?,
+            turn_rate: try_with_capacity(capacity, what)?,
+            impact: try_with_capacity(capacity, what)?,
+            last_time: try_with_capacity(capacity, what)?,
+            character_entity: try_with_capacity(max_characters as usize, &characters)?,
             max_impact: 0.0,
-        }
+        })
+    }
+
+    /// A copy of the scene that keeps every array's room to grow (as `clone` does not), or
+    /// [`Error::OutOfMemory`] for `what`.
+    pub fn try_clone(&self, what: &dyn std::fmt::Display) -> Result<Scene> {
+        Ok(Scene {
+            world: self.world,
+            ids: self.ids.try_clone(what)?,
+            max_characters: self.max_characters,
+            max_objects: self.max_objects,
+            character_count: self.character_count,
+            object_count: self.object_count,
+            id: try_clone(&self.id, what)?,
+            kind: try_clone(&self.kind, what)?,
+            character: try_clone(&self.character, what)?,
+            position: try_clone(&self.position, what)?,
+            look_at_height: try_clone(&self.look_at_height, what)?,
+            ground: try_clone(&self.ground, what)?,
+            heading: try_clone(&self.heading, what)?,
+            forward: try_clone(&self.forward, what)?,
+            velocity: try_clone(&self.velocity, what)?,
+            turn_rate: try_clone(&self.turn_rate, what)?,
+            impact: try_clone(&self.impact, what)?,
+            last_time: try_clone(&self.last_time, what)?,
+            character_entity: try_clone(&self.character_entity, what)?,
+            max_impact: self.max_impact,
+        })
     }
 
     /// Bytes of state per entity (all the per-entity arrays and the id table).
@@ -477,7 +513,7 @@ mod tests {
 
     #[test]
     fn velocities_and_headings_come_from_motion() {
-        let mut scene = Scene::new(World::y_up(), 4, 4);
+        let mut scene = Scene::new(World::y_up(), 4, 4, &"test").unwrap();
         let a = scene
             .add(EntityKind::Character, Vec3::ZERO, 0.3, 1.6, 1.0)
             .unwrap();
@@ -497,7 +533,7 @@ mod tests {
     fn turn_rates_of_large_headings_are_their_change() {
         // Headings are kept wrapped; the turn must come from the wrapped new heading too,
         // not from the raw one (whose f32 remainder drifts by far more than the turn).
-        let mut scene = Scene::new(World::y_up(), 4, 4);
+        let mut scene = Scene::new(World::y_up(), 4, 4, &"test").unwrap();
         let a = scene
             .add(EntityKind::Character, Vec3::ZERO, 1.0e6, 1.6, 1.0)
             .unwrap();
@@ -516,7 +552,7 @@ mod tests {
     #[test]
     fn speeds_are_limited_and_finite() {
         // Found by the fuzz target: a jump across the f32 range overflowed the velocity.
-        let mut scene = Scene::new(World::y_up(), 4, 4);
+        let mut scene = Scene::new(World::y_up(), 4, 4, &"test").unwrap();
         let a = scene
             .add(EntityKind::Character, Vec3::ZERO, 0.0, 1.6, 1.0)
             .unwrap();
@@ -540,7 +576,7 @@ mod tests {
 
     #[test]
     fn removal_keeps_other_ids_and_character_indices_valid() {
-        let mut scene = Scene::new(World::y_up(), 3, 2);
+        let mut scene = Scene::new(World::y_up(), 3, 2, &"test").unwrap();
         let a = scene
             .add(EntityKind::Character, Vec3::X, 0.0, 1.6, 1.0)
             .unwrap();
@@ -560,8 +596,13 @@ mod tests {
         assert_eq!(scene.remove(o).unwrap(), None);
         assert_eq!(scene.max_impact(), 1.0);
         assert!(scene.character_index(b).is_ok());
-        let full =
-            Scene::new(World::y_up(), 0, 0).add(EntityKind::Object, Vec3::ZERO, 0.0, 0.0, 1.0);
+        let full = Scene::new(World::y_up(), 0, 0, &"test").unwrap().add(
+            EntityKind::Object,
+            Vec3::ZERO,
+            0.0,
+            0.0,
+            1.0,
+        );
         assert!(matches!(full, Err(Error::Capacity(_))));
     }
 }

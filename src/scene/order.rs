@@ -15,11 +15,13 @@ pub struct Reorder {
 }
 
 impl Reorder {
-    /// Scratch space for arrays of up to `capacity` elements.
-    pub fn new(capacity: usize) -> Reorder {
-        Reorder {
-            settled: vec![0; capacity.div_ceil(64)],
-        }
+    /// Scratch space for arrays of up to `capacity` elements; `what` names the caller's
+    /// numbers `capacity` comes from, for
+    /// [`Error::OutOfMemory`](crate::error::Error::OutOfMemory).
+    pub fn new(capacity: usize, what: &dyn std::fmt::Display) -> crate::error::Result<Reorder> {
+        Ok(Reorder {
+            settled: crate::alloc::try_vec(capacity.div_ceil(64), 0, what)?,
+        })
     }
 
     /// Permutes `values` so that `values[i]` becomes the old `values[order[i]]`.
@@ -118,7 +120,7 @@ mod tests {
 
     #[test]
     fn applies_every_permutation_of_four() {
-        let mut reorder = Reorder::new(4);
+        let mut reorder = Reorder::new(4, &"test").unwrap();
         let mut order = [0u32, 1, 2, 3];
         // Heap's algorithm over all 24 orders.
         fn visit(k: usize, order: &mut [u32; 4], reorder: &mut Reorder, seen: &mut usize) {
@@ -147,7 +149,7 @@ mod tests {
     #[test]
     fn applies_large_random_permutations_and_is_reusable() {
         let mut random = Random::new(11);
-        let mut reorder = Reorder::new(1000);
+        let mut reorder = Reorder::new(1000, &"test").unwrap();
         for len in [0usize, 1, 63, 64, 65, 1000] {
             let mut order: Vec<u32> = (0..len as u32).collect();
             for i in (1..len).rev() {
@@ -164,7 +166,7 @@ mod tests {
 
     #[test]
     fn an_order_that_is_no_permutation_ends_without_going_out_of_bounds() {
-        let mut reorder = Reorder::new(3);
+        let mut reorder = Reorder::new(3, &"test").unwrap();
         let mut values = [10, 20, 30];
         reorder.apply(&mut values, &[1, 2, 1]);
         let mut sorted = values;
@@ -175,7 +177,7 @@ mod tests {
     #[test]
     fn inverts_permutations_in_place() {
         let mut random = Random::new(5);
-        let mut reorder = Reorder::new(300);
+        let mut reorder = Reorder::new(300, &"test").unwrap();
         for len in [0usize, 1, 2, 64, 300] {
             let mut order: Vec<u32> = (0..len as u32).collect();
             for i in (1..len).rev() {
@@ -191,7 +193,7 @@ mod tests {
 
     #[test]
     fn tells_permutations_apart() {
-        let mut reorder = Reorder::new(4);
+        let mut reorder = Reorder::new(4, &"test").unwrap();
         assert!(reorder.is_permutation(&[2, 0, 3, 1]));
         assert!(reorder.is_permutation(&[]));
         assert!(!reorder.is_permutation(&[2, 0, 2, 1]));
@@ -206,6 +208,8 @@ mod tests {
     #[test]
     #[should_panic(expected = "an order of 2 for 3 values")]
     fn a_short_order_panics() {
-        Reorder::new(3).apply(&mut [1, 2, 3], &[0, 1]);
+        Reorder::new(3, &"test")
+            .unwrap()
+            .apply(&mut [1, 2, 3], &[0, 1]);
     }
 }

@@ -57,6 +57,7 @@ class Status(enum.IntEnum):
     WRONG_STATE = 7
     NOT_CONVERGED = 8
     INTERNAL = 9
+    OUT_OF_MEMORY = 10
 
 
 class Axis(enum.IntEnum):
