@@ -8,7 +8,8 @@ use glam::{Mat4, Quat};
 use super::status::cg_status;
 use super::types::{cg_dualquat, cg_quat, cg_vec3};
 use super::{
-    borrow, borrow_mut, ffi_boundary, non_null, read_versioned, slice, slice_mut, Versioned,
+    borrow, borrow_mut, ffi_boundary, non_null, read_versioned, slice, slice_mut, write_versioned,
+    Versioned,
 };
 use crate::blend::{
     self, AsDualQuat, BlendMethod, DibSettings, KeyClip, ViewBlender, ViewBlenderConfig,
@@ -478,14 +479,16 @@ pub struct cg_view_blender {
     _private: [u8; 0],
 }
 
-/// Settings of a view blender, fixed for its lifetime. Fill it with
+/// Settings of a view blender, fixed for its lifetime. Set `struct_size`, fill it with
 /// `cg_view_blender_config_init`, then set `joint_count` and `key_count` (they have no usable
 /// default) and change what you need.
 #[repr(C)]
 #[derive(Debug, Clone, Copy)]
 pub struct cg_view_blender_config {
-    /// Size of this struct in bytes, set by `cg_view_blender_config_init`; lets later versions
-    /// add fields without breaking callers compiled against this header.
+    /// Size of this struct in bytes: set it to `sizeof(cg_view_blender_config)` before every
+    /// call taking the struct, `cg_view_blender_config_init` included. The library reads and
+    /// writes no more than this, so later versions can add fields without breaking older
+    /// callers.
     pub struct_size: u32,
     /// Joints per pose, 1 to 65536. Default 0: must be set.
     pub joint_count: u32,
@@ -507,7 +510,7 @@ pub struct cg_view_blender_config {
 }
 
 impl Versioned for cg_view_blender_config {
-    const MIN_SIZE: usize = std::mem::size_of::<cg_view_blender_config>();
+    const SIZES: &'static [usize] = &[std::mem::size_of::<cg_view_blender_config>()];
     const NAME: &'static str = "cg_view_blender_config";
 
     fn defaults() -> Self {
@@ -562,16 +565,19 @@ impl cg_view_blender_config {
     }
 }
 
-/// Fills `config` with the defaults documented on each field, including `struct_size`.
+/// Fills `config` with the defaults documented on each field. Set `config->struct_size =
+/// sizeof(cg_view_blender_config)` first: only that many bytes are written, and
+/// `struct_size` keeps its value. The caller owns `config`.
 ///
-/// Errors: `CG_STATUS_NULL_ARGUMENT` if `config` is NULL. Thread-safe.
+/// Errors (nothing written): `CG_STATUS_NULL_ARGUMENT` if `config` is NULL,
+/// `CG_STATUS_BAD_STRUCT_SIZE` if `struct_size` is not a size of this struct the library
+/// knows (0 or an unset field included). Thread-safe.
 #[no_mangle]
 pub extern "C" fn cg_view_blender_config_init(config: *mut cg_view_blender_config) -> cg_status {
     ffi_boundary!({
-        // SAFETY: the caller passes a pointer to a cg_view_blender_config it owns (or NULL).
-        let config = unsafe { borrow_mut(config, "config") }?;
-        *config = cg_view_blender_config::defaults();
-        Ok(())
+        // SAFETY: the caller passes a cg_view_blender_config it owns, of at least its
+        // struct_size bytes (or NULL).
+        unsafe { write_versioned(config, cg_view_blender_config::defaults(), "config") }
     })
 }
 
@@ -581,8 +587,8 @@ pub extern "C" fn cg_view_blender_config_init(config: *mut cg_view_blender_confi
 /// The caller owns the new blender and releases it with `cg_view_blender_destroy`.
 /// `*out_blender` is written only on success. Thread-safe.
 ///
-/// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_BAD_STRUCT_SIZE` (config not filled by
-/// `cg_view_blender_config_init`), `CG_STATUS_INVALID_ARGUMENT` (a field out of its range,
+/// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_BAD_STRUCT_SIZE` (`config->struct_size`
+/// not a size the library knows), `CG_STATUS_INVALID_ARGUMENT` (a field out of its range,
 /// an unknown enum value), `CG_STATUS_NON_FINITE` (alpha or precision NaN or infinite),
 /// `CG_STATUS_OUT_OF_MEMORY`.
 #[no_mangle]

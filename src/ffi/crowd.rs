@@ -4,7 +4,7 @@ use std::cell::UnsafeCell;
 use std::sync::atomic::{AtomicU32, AtomicU8, Ordering};
 
 use super::types::cg_axis;
-use super::{ffi_boundary, read_versioned, Versioned};
+use super::{ffi_boundary, layout_size, read_versioned, write_versioned, Versioned};
 use crate::attention::baseline::BaselineConfig;
 use crate::attention::interest::InterestConfig;
 use crate::attention::saliency::SaliencyConfig;
@@ -157,13 +157,14 @@ impl CrowdHandle {
     }
 }
 
-/// Settings of a crowd, fixed for its lifetime. Fill it with `cg_crowd_config_init`, then
-/// change the fields you need.
+/// Settings of a crowd, fixed for its lifetime. Set `struct_size`, fill it with
+/// `cg_crowd_config_init`, then change the fields you need.
 #[repr(C)]
 #[derive(Debug, Clone, Copy)]
 pub struct cg_crowd_config {
-    /// Size of this struct in bytes, set by `cg_crowd_config_init`; lets later versions of
-    /// the library add fields without breaking callers compiled against this header.
+    /// Size of this struct in bytes: set it to `sizeof(cg_crowd_config)` before every call
+    /// taking the struct, `cg_crowd_config_init` included. The library reads and writes no
+    /// more than this, so later versions can add fields without breaking older callers.
     pub struct_size: u32,
     /// Most characters (entities that look) the crowd holds at once, 1 to 16 777 216.
     /// Each takes about 1 KiB, allocated by `cg_crowd_create`. Default 1024.
@@ -271,9 +272,12 @@ pub struct cg_crowd_config {
 }
 
 impl Versioned for cg_crowd_config {
-    // Callers built against a header from before `threads` existed are refused; those
-    // from before a later field (`reorder_period`) get its default.
-    const MIN_SIZE: usize = std::mem::offset_of!(cg_crowd_config, threads);
+    // Callers built against a header from before `reorder_period` (144 bytes) get its
+    // default.
+    const SIZES: &'static [usize] = &[
+        layout_size::<cg_crowd_config>(std::mem::offset_of!(cg_crowd_config, reorder_period)),
+        std::mem::size_of::<cg_crowd_config>(),
+    ];
     const NAME: &'static str = "cg_crowd_config";
 
     fn defaults() -> Self {
@@ -389,16 +393,20 @@ impl cg_crowd_config {
     }
 }
 
-/// Fills `config` with the defaults documented on each field, including `struct_size`.
+/// Fills `config` with the defaults documented on each field. Set `config->struct_size =
+/// sizeof(cg_crowd_config)` first: only that many bytes are written (an older, shorter
+/// layout gets its own fields), and `struct_size` keeps its value. The caller owns
+/// `config`.
 ///
-/// Errors: `CG_STATUS_NULL_ARGUMENT` if `config` is NULL. Thread-safe.
+/// Errors (nothing written): `CG_STATUS_NULL_ARGUMENT` if `config` is NULL,
+/// `CG_STATUS_BAD_STRUCT_SIZE` if `struct_size` is not a size of this struct the library
+/// knows (0 or an unset field included). Thread-safe.
 #[no_mangle]
 pub extern "C" fn cg_crowd_config_init(config: *mut cg_crowd_config) -> super::cg_status {
     ffi_boundary!({
-        // SAFETY: the caller passes a pointer to a cg_crowd_config it owns (or NULL).
-        let config = unsafe { super::borrow_mut(config, "config") }?;
-        *config = cg_crowd_config::defaults();
-        Ok(())
+        // SAFETY: the caller passes a cg_crowd_config it owns, of at least its struct_size
+        // bytes (or NULL).
+        unsafe { write_versioned(config, cg_crowd_config::defaults(), "config") }
     })
 }
 
@@ -409,8 +417,8 @@ pub extern "C" fn cg_crowd_config_init(config: *mut cg_crowd_config) -> super::c
 /// `*out_crowd` is written only on success.
 ///
 /// Errors: `CG_STATUS_NULL_ARGUMENT` (config or out_crowd NULL), `CG_STATUS_BAD_STRUCT_SIZE`
-/// (config not filled by `cg_crowd_config_init`), `CG_STATUS_INVALID_ARGUMENT` (a field out of
-/// range: capacities, axes not perpendicular or unknown, units_per_metre <= 0),
+/// (`config->struct_size` not a size the library knows), `CG_STATUS_INVALID_ARGUMENT` (a
+/// field out of range: capacities, axes not perpendicular or unknown, units_per_metre <= 0),
 /// `CG_STATUS_NON_FINITE` (a float field NaN or infinite), `CG_STATUS_OUT_OF_MEMORY` (the
 /// capacities' buffers do not fit in memory; the message names the field and the bytes
 /// asked). Thread-safe.
@@ -485,11 +493,13 @@ pub(crate) unsafe fn crowd_mut<'a>(crowd: *mut cg_crowd) -> Result<&'a mut Crowd
     Ok(unsafe { &mut *handle.crowd.get() })
 }
 
-/// Copies the settings `crowd` was created with into `*out_config` (with the current
-/// `struct_size`).
+/// Copies the settings `crowd` was created with into `*out_config`. Set
+/// `out_config->struct_size = sizeof(cg_crowd_config)` first: only that many bytes are
+/// written, and `struct_size` keeps its value. The caller owns `out_config`.
 ///
-/// Errors: `CG_STATUS_NULL_ARGUMENT` if either pointer is NULL. Safe to call concurrently
-/// with other `const` calls on the same crowd.
+/// Errors (nothing written): `CG_STATUS_NULL_ARGUMENT` if either pointer is NULL,
+/// `CG_STATUS_BAD_STRUCT_SIZE` (`out_config->struct_size` not a size the library knows).
+/// Safe to call concurrently with other `const` calls on the same crowd.
 #[no_mangle]
 pub extern "C" fn cg_crowd_get_config(
     crowd: *const cg_crowd,
@@ -498,9 +508,9 @@ pub extern "C" fn cg_crowd_get_config(
     ffi_boundary!({
         // SAFETY: handle contract of cg_crowd.
         let crowd = unsafe { crowd_ref(crowd) }?;
-        // SAFETY: the caller provides a writable cg_crowd_config (or NULL).
-        let out = unsafe { super::borrow_mut(out_config, "out_config") }?;
-        *out = cg_crowd_config::from_core(crowd.config());
-        Ok(())
+        let config = cg_crowd_config::from_core(crowd.config());
+        // SAFETY: the caller provides a cg_crowd_config of at least its struct_size bytes
+        // (or NULL).
+        unsafe { write_versioned(out_config, config, "out_config") }
     })
 }
