@@ -26,6 +26,15 @@
  * - A `struct_size` that is not the size of a layout some header declared (0, an unset
  *   field, a newer header's size) is CG_STATUS_BAD_STRUCT_SIZE, and nothing is written.
  *   docs/c-api-versioning.md lists the sizes.
+ *
+ * Compatibility: before 1.0 each minor version (0.MINOR) may break the ABI. The shared
+ * library's SONAME carries the part of the version that breaks it, libcrowdgaze.so.0.MINOR
+ * below 1.0 and libcrowdgaze.so.MAJOR from 1.0, so a program built against another 0.MINOR
+ * is refused when it loads (the loader finds no library of the SONAME it recorded) instead
+ * of running against an incompatible library that could overrun its structs. Within one
+ * SONAME, structs only gain fields at their end and their older sizes stay accepted. A
+ * library opened by other means (dlopen) can be checked with cg_version() against
+ * CG_VERSION_MAJOR and CG_VERSION_MINOR.
  */
 
 #ifndef CROWDGAZE_H
@@ -67,7 +76,7 @@
 #define CG_VERSION_MAJOR 0
 
 // Minor version of the header.
-#define CG_VERSION_MINOR 1
+#define CG_VERSION_MINOR 2
 
 // Patch version of the header.
 #define CG_VERSION_PATCH 0
