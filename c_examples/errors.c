@@ -35,6 +35,7 @@ int main(void) {
         {CG_STATUS_NOT_CONVERGED, "CG_STATUS_NOT_CONVERGED"},
         {CG_STATUS_INTERNAL, "CG_STATUS_INTERNAL"},
         {CG_STATUS_OUT_OF_MEMORY, "CG_STATUS_OUT_OF_MEMORY"},
+        {CG_STATUS_POISONED, "CG_STATUS_POISONED"},
     };
     size_t i;
     cg_crowd_config config;

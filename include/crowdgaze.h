@@ -13,6 +13,11 @@
  *   seconds. Quaternions are x, y, z, w.
  * - Objects are not safe for concurrent mutation; functions whose handle argument is const
  *   may run concurrently with each other.
+ * - A call that changes a handle (cg_crowd, cg_view_blender) and fails with
+ *   CG_STATUS_INTERNAL (a bug inside the library, such as a caught panic) may have left it
+ *   half-updated, so it poisons the handle: every later call on it returns
+ *   CG_STATUS_POISONED, whose message repeats the first failure's. Its _destroy function
+ *   still frees it.
  *
  * Versioned structs (those whose first field is `uint32_t struct_size`):
  * - Set `struct_size = sizeof(the struct)` before every call that takes one, including the
@@ -117,6 +122,11 @@ enum cg_status
     // and the bytes asked. Nothing was created and nothing changed (a create writes no
     // handle); smaller capacities may succeed.
     CG_STATUS_OUT_OF_MEMORY = 10,
+    // An earlier call that changed this handle failed with `CG_STATUS_INTERNAL` and may
+    // have left it half-updated, so the handle is poisoned: every later call on it fails
+    // with this status (the message repeats the first failure's), and only its `_destroy`
+    // works, freeing it.
+    CG_STATUS_POISONED = 11,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -277,6 +287,11 @@ typedef uint32_t cg_target_part;
 // between `cg_crowd_begin_step` and `cg_crowd_end_step`. Calls taking a `const cg_crowd*`
 // may run concurrently with each other. While a ranged step is open, every other call on
 // the crowd fails with `CG_STATUS_WRONG_STATE`.
+//
+// If a call that changes the crowd fails with `CG_STATUS_INTERNAL` (a bug, such as a caught
+// panic), the crowd may be half-updated and is poisoned: every later call on it, whatever
+// it is, fails with `CG_STATUS_POISONED`, whose message repeats the first failure's.
+// `cg_crowd_destroy` still frees it.
 typedef struct cg_crowd cg_crowd;
 
 // View-adaptive animation of one character (opaque): key animations, key cameras around the
@@ -289,6 +304,11 @@ typedef struct cg_crowd cg_crowd;
 // mutation: the set/add calls must not overlap any other call on the same blender. Calls
 // taking a `const cg_view_blender*` may run concurrently with each other, so one blender can
 // serve many characters that share its key animations.
+//
+// If a set/add call fails with `CG_STATUS_INTERNAL` (a bug, such as a caught panic), the
+// blender may be half-updated and is poisoned: every later call on it fails with
+// `CG_STATUS_POISONED`, whose message repeats the first failure's.
+// `cg_view_blender_destroy` still frees it.
 typedef struct cg_view_blender cg_view_blender;
 
 // A 3-component vector of floats: a position (in the caller's units, see
@@ -1091,7 +1111,7 @@ cg_status cg_view_blender_create(const struct cg_view_blender_config *config,
                                  struct cg_view_blender **out_blender);
 
 // Destroys a view blender created by `cg_view_blender_create` and frees everything it owns
-// (its clips and cameras).
+// (its clips and cameras), also when the blender is poisoned.
 //
 // NULL is accepted and ignored. The handle must not be used afterwards, and no other call
 // on this blender may be running.
@@ -1242,7 +1262,8 @@ cg_status cg_crowd_config_init(struct cg_crowd_config *config);
 // asked). Thread-safe.
 cg_status cg_crowd_create(const struct cg_crowd_config *config, struct cg_crowd **out_crowd);
 
-// Destroys a crowd created by `cg_crowd_create` and frees everything it owns.
+// Destroys a crowd created by `cg_crowd_create` and frees everything it owns, also when
+// the crowd is poisoned or a ranged step is open.
 //
 // NULL is accepted and ignored. The handle must not be used afterwards, and no other call
 // on this crowd may be running.

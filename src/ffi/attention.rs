@@ -4,7 +4,7 @@
 use glam::Vec3;
 
 use super::chain::cg_chain_desc;
-use super::crowd::{cg_crowd, crowd_handle, crowd_mut, crowd_ref};
+use super::crowd::{cg_crowd, crowd_handle, crowd_mut, crowd_ref, test_hook, Hook};
 use super::types::cg_vec3;
 use super::{cg_status, ffi_boundary, read_versioned, write_versioned, Versioned};
 use crate::attention::score::SubscoreWeights;
@@ -540,8 +540,10 @@ pub extern "C" fn cg_crowd_push_frame(
 pub extern "C" fn cg_crowd_step(crowd: *mut cg_crowd, dt: f32) -> cg_status {
     ffi_boundary!({
         // SAFETY: handle contract of cg_crowd.
-        let crowd = unsafe { crowd_mut(crowd) }?;
-        crowd.step(dt)
+        unsafe { crowd_mut(crowd) }?.step(dt)?;
+        // SAFETY: as above; the crowd's mutable borrow has ended.
+        unsafe { test_hook(crowd, Hook::Step) };
+        Ok(())
     })
 }
 

@@ -5,6 +5,7 @@
 
 use glam::{Mat4, Quat};
 
+use super::poison::{self, Poison};
 use super::status::cg_status;
 use super::types::{cg_dualquat, cg_quat, cg_vec3};
 use super::{
@@ -475,8 +476,41 @@ pub enum cg_view_distance {
 /// mutation: the set/add calls must not overlap any other call on the same blender. Calls
 /// taking a `const cg_view_blender*` may run concurrently with each other, so one blender can
 /// serve many characters that share its key animations.
+///
+/// If a set/add call fails with `CG_STATUS_INTERNAL` (a bug, such as a caught panic), the
+/// blender may be half-updated and is poisoned: every later call on it fails with
+/// `CG_STATUS_POISONED`, whose message repeats the first failure's.
+/// `cg_view_blender_destroy` still frees it.
 pub struct cg_view_blender {
     _private: [u8; 0],
+}
+
+/// What a `cg_view_blender*` points to: the blender and its poison.
+pub(crate) struct BlenderHandle {
+    blender: ViewBlender,
+    /// Set by the first set/add call that failed inside the library.
+    poison: Poison,
+    /// Test builds: whether the next set/add call panics once it has changed the blender.
+    #[cfg(feature = "test-hooks")]
+    panic_next: std::sync::atomic::AtomicBool,
+}
+
+impl BlenderHandle {
+    fn new(blender: ViewBlender) -> BlenderHandle {
+        BlenderHandle {
+            blender,
+            poison: Poison::default(),
+            #[cfg(feature = "test-hooks")]
+            panic_next: std::sync::atomic::AtomicBool::new(false),
+        }
+    }
+
+    /// Test builds: makes the next set/add call panic once it has changed the blender.
+    #[cfg(feature = "test-hooks")]
+    pub(crate) fn panic_next(&self) {
+        self.panic_next
+            .store(true, std::sync::atomic::Ordering::SeqCst);
+    }
 }
 
 /// Settings of a view blender, fixed for its lifetime. Set `struct_size`, fill it with
@@ -600,7 +634,7 @@ pub extern "C" fn cg_view_blender_create(
         non_null(out_blender, "out_blender")?;
         // SAFETY: the caller passes a readable config of at least its struct_size bytes.
         let config = unsafe { read_versioned(config) }?.to_core()?;
-        let blender = Box::new(ViewBlender::new(config)?);
+        let blender = Box::new(BlenderHandle::new(ViewBlender::new(config)?));
         // SAFETY: out_blender was checked non-null; the caller provides a writable slot.
         let out = unsafe { borrow_mut(out_blender, "out_blender") }?;
         *out = Box::into_raw(blender).cast::<cg_view_blender>();
@@ -609,7 +643,7 @@ pub extern "C" fn cg_view_blender_create(
 }
 
 /// Destroys a view blender created by `cg_view_blender_create` and frees everything it owns
-/// (its clips and cameras).
+/// (its clips and cameras), also when the blender is poisoned.
 ///
 /// NULL is accepted and ignored. The handle must not be used afterwards, and no other call
 /// on this blender may be running.
@@ -621,29 +655,71 @@ pub extern "C" fn cg_view_blender_destroy(blender: *mut cg_view_blender) {
     let _ = ffi_boundary!({
         // SAFETY: a non-null handle was produced by Box::into_raw in cg_view_blender_create
         // and is destroyed once, by the caller's contract.
-        drop(unsafe { Box::from_raw(blender.cast::<ViewBlender>()) });
+        drop(unsafe { Box::from_raw(blender.cast::<BlenderHandle>()) });
         Ok(())
     });
 }
 
-/// Reborrows a blender handle as the core blender.
+/// Reborrows a blender handle as its handle state; fails if the blender is poisoned.
+///
+/// # Safety
+/// `blender`, if not NULL, must be a live handle from `cg_view_blender_create`, with no
+/// mutable access for `'a`.
+pub(crate) unsafe fn blender_handle<'a>(
+    blender: *const cg_view_blender,
+) -> Result<&'a BlenderHandle> {
+    // SAFETY: forwarded contract: a live handle is a Box<BlenderHandle>.
+    let handle = unsafe { borrow(blender.cast::<BlenderHandle>(), "blender") }?;
+    handle.poison.check()?;
+    Ok(handle)
+}
+
+/// Reborrows a blender handle as the core blender; fails if the blender is poisoned.
 ///
 /// # Safety
 /// `blender`, if not NULL, must be a live handle from `cg_view_blender_create`, with no
 /// mutable access for `'a`.
 unsafe fn blender_ref<'a>(blender: *const cg_view_blender) -> Result<&'a ViewBlender> {
-    // SAFETY: forwarded contract: a live handle is a Box<ViewBlender>.
-    unsafe { borrow(blender.cast::<ViewBlender>(), "blender") }
+    // SAFETY: forwarded contract.
+    Ok(&unsafe { blender_handle(blender) }?.blender)
 }
 
-/// Reborrows a blender handle mutably as the core blender.
+/// Reborrows a blender handle mutably as the core blender, for a call that changes it (its
+/// poison is armed for the call); fails if the blender is poisoned.
 ///
 /// # Safety
 /// `blender`, if not NULL, must be a live handle from `cg_view_blender_create`, not accessed
 /// by anything else for `'a`.
 unsafe fn blender_mut<'a>(blender: *mut cg_view_blender) -> Result<&'a mut ViewBlender> {
-    // SAFETY: forwarded contract: a live handle is a Box<ViewBlender>.
-    unsafe { borrow_mut(blender.cast::<ViewBlender>(), "blender") }
+    // SAFETY: forwarded contract: a live handle is a Box<BlenderHandle>.
+    let handle = unsafe { borrow_mut(blender.cast::<BlenderHandle>(), "blender") }?;
+    handle.poison.check()?;
+    poison::arm(&handle.poison);
+    Ok(&mut handle.blender)
+}
+
+/// Test builds (feature `test-hooks`): panics if the next set/add call on `blender` was
+/// asked to panic (`testing::panic_next_change`). Does nothing otherwise.
+///
+/// # Safety
+/// `blender`, if not NULL, must be a live handle from `cg_view_blender_create`, with no
+/// mutable access meanwhile.
+unsafe fn test_hook(blender: *const cg_view_blender) {
+    #[cfg(feature = "test-hooks")]
+    {
+        // SAFETY: forwarded contract.
+        let handle = unsafe { blender_handle(blender) };
+        let armed = handle.is_ok_and(|handle| {
+            handle
+                .panic_next
+                .swap(false, std::sync::atomic::Ordering::SeqCst)
+        });
+        if armed {
+            panic!("test hook: a change of the view blender panics");
+        }
+    }
+    #[cfg(not(feature = "test-hooks"))]
+    let _ = blender;
 }
 
 /// Sets (or replaces) key animation `key` (0 to `key_count - 1`) to a clip of `frame_count`
@@ -676,8 +752,9 @@ pub extern "C" fn cg_view_blender_set_key_clip(
     looping: bool,
 ) -> cg_status {
     ffi_boundary!({
+        let handle = blender;
         // SAFETY: handle contract of cg_view_blender.
-        let blender = unsafe { blender_mut(blender) }?;
+        let blender = unsafe { blender_mut(handle) }?;
         let joint_count = blender.config().joint_count;
         let elements = pose_elements(frame_count, joint_count)?;
         // SAFETY: the caller passes `frame_count * joint_count` readable transforms (or NULL, 0).
@@ -685,7 +762,10 @@ pub extern "C" fn cg_view_blender_set_key_clip(
         ensure_finite(frames_per_second, "frames_per_second")?;
         check_all(frames, "frames")?;
         let clip = KeyClip::new(frames, joint_count, frames_per_second, looping)?;
-        blender.set_key_clip(key as usize, clip)
+        blender.set_key_clip(key as usize, clip)?;
+        // SAFETY: as above; the blender's mutable borrow has ended.
+        unsafe { test_hook(handle) };
+        Ok(())
     })
 }
 
@@ -707,12 +787,16 @@ pub extern "C" fn cg_view_blender_set_key_pose(
     joint_count: usize,
 ) -> cg_status {
     ffi_boundary!({
+        let handle = blender;
         // SAFETY: handle contract of cg_view_blender.
-        let blender = unsafe { blender_mut(blender) }?;
+        let blender = unsafe { blender_mut(handle) }?;
         // SAFETY: the caller passes `joint_count` readable transforms (or NULL, 0).
         let pose = unsafe { slice(pose, joint_count, "pose") }?;
         check_all(pose, "pose")?;
-        blender.set_key_pose(key as usize, pose)
+        blender.set_key_pose(key as usize, pose)?;
+        // SAFETY: as above; the blender's mutable borrow has ended.
+        unsafe { test_hook(handle) };
+        Ok(())
     })
 }
 
@@ -734,10 +818,14 @@ pub extern "C" fn cg_view_blender_add_camera(
     key: u32,
 ) -> cg_status {
     ffi_boundary!({
+        let handle = blender;
         // SAFETY: handle contract of cg_view_blender.
-        let blender = unsafe { blender_mut(blender) }?;
+        let blender = unsafe { blender_mut(handle) }?;
         let direction = direction.to_finite("direction")?;
-        blender.add_camera(direction, key as usize).map(|_| ())
+        blender.add_camera(direction, key as usize)?;
+        // SAFETY: as above; the blender's mutable borrow has ended.
+        unsafe { test_hook(handle) };
+        Ok(())
     })
 }
 

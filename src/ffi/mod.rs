@@ -2,9 +2,10 @@
 //! core's types, forward the call, convert the result back. No algorithm lives here.
 //!
 //! Every `extern "C"` body runs inside `ffi_boundary!`, which catches panics (they never
-//! cross into C), records the error message for `cg_last_error_message`, and maps the
-//! error to a [`cg_status`]. Unsafe code of the crate lives only in this module; each block
-//! says why it is sound in a `// SAFETY:` line.
+//! cross into C), poisons the handle a failed call was changing ([`poison`]), records the
+//! error message for `cg_last_error_message`, and maps the error to a [`cg_status`]. Unsafe
+//! code of the crate lives only in this module; each block says why it is sound in a
+//! `// SAFETY:` line.
 #![allow(non_camel_case_types)]
 // C callers cannot see Rust's `unsafe`: every pointer is checked (NULL, alignment, size)
 // before use, and the remaining validity contract is written in each function's doc.
@@ -16,7 +17,10 @@ pub mod chain;
 pub mod crowd;
 pub mod gaze;
 pub mod last_error;
+mod poison;
 pub mod status;
+#[cfg(feature = "test-hooks")]
+pub mod testing;
 pub mod types;
 pub mod version;
 
@@ -25,38 +29,42 @@ pub use status::cg_status;
 use crate::error::{Error, Result};
 
 /// Runs a C entry point's body, which evaluates to `Result<()>`, inside the panic boundary
-/// and turns its outcome into a `cg_status`.
+/// ([`run_boundary`]) and turns its outcome into a `cg_status`.
 ///
 /// `ffi_boundary!(value_on_error; body)` is the form for functions that return a value
 /// instead of a status: the body evaluates to `Result<T>` and `value_on_error` is returned
 /// (after recording the message) on an error or a panic.
 macro_rules! ffi_boundary {
     ($body:block) => {{
-        let outcome = ::std::panic::catch_unwind(::std::panic::AssertUnwindSafe(
-            || -> $crate::error::Result<()> { $body },
-        ));
-        match outcome {
-            Ok(Ok(())) => $crate::ffi::status::cg_status::Ok,
-            Ok(Err(error)) => $crate::ffi::last_error::record(&error),
-            Err(payload) => $crate::ffi::last_error::record(&$crate::ffi::panic_error(payload)),
+        match $crate::ffi::run_boundary(|| -> $crate::error::Result<()> { $body }) {
+            Ok(()) => $crate::ffi::status::cg_status::Ok,
+            Err(error) => $crate::ffi::last_error::record(&error),
         }
     }};
     ($on_error:expr; $body:block) => {{
-        let outcome = ::std::panic::catch_unwind(::std::panic::AssertUnwindSafe(|| $body));
-        match outcome {
-            Ok(Ok(value)) => value,
-            Ok(Err(error)) => {
+        match $crate::ffi::run_boundary(|| $body) {
+            Ok(value) => value,
+            Err(error) => {
                 $crate::ffi::last_error::record(&error);
-                $on_error
-            }
-            Err(payload) => {
-                $crate::ffi::last_error::record(&$crate::ffi::panic_error(payload));
                 $on_error
             }
         }
     }};
 }
 pub(crate) use ffi_boundary;
+
+/// Runs a C entry point's body: a panic is caught and becomes [`Error::Internal`], and if
+/// the body armed a handle's poison ([`poison::arm`]) and failed inside the library, that
+/// handle is poisoned.
+pub(crate) fn run_boundary<T>(body: impl FnOnce() -> Result<T>) -> Result<T> {
+    let outer = poison::enter();
+    let result = match std::panic::catch_unwind(std::panic::AssertUnwindSafe(body)) {
+        Ok(result) => result,
+        Err(payload) => Err(panic_error(payload)),
+    };
+    poison::leave(outer, &result);
+    result
+}
 
 /// Turns a caught panic's payload into an [`Error::Internal`] carrying its message.
 pub(crate) fn panic_error(payload: Box<dyn std::any::Any + Send>) -> Error {
@@ -299,6 +307,47 @@ mod tests {
             last_error::last_error_message(),
             "internal error: caught panic: boom 2"
         );
+    }
+
+    /// A call that arms `poison` and then fails with `kind` (0 ok, 1 not found, 2 panic,
+    /// 3 internal error).
+    fn changing(poison: &poison::Poison, kind: u8) -> cg_status {
+        ffi_boundary!({
+            poison.check()?;
+            poison::arm(poison);
+            match kind {
+                0 => Ok(()),
+                1 => Err(Error::NotFound("entity 7".into())),
+                2 => panic!("boom {kind}"),
+                _ => Err(Error::Internal("half done".into())),
+            }
+        })
+    }
+
+    #[test]
+    fn an_internal_failure_poisons_the_armed_handle() {
+        let hook = std::panic::take_hook();
+        std::panic::set_hook(Box::new(|_| {}));
+        for (kind, first) in [
+            (2, "internal error: caught panic: boom 2"),
+            (3, "internal error: half done"),
+        ] {
+            let poison = poison::Poison::default();
+            assert_eq!(changing(&poison, 0), cg_status::Ok);
+            assert_eq!(changing(&poison, 1), cg_status::NotFound, "not internal");
+            assert_eq!(changing(&poison, kind), cg_status::Internal);
+            assert_eq!(last_error::last_error_message(), first);
+            for _ in 0..2 {
+                assert_eq!(changing(&poison, 0), cg_status::Poisoned);
+                assert_eq!(
+                    last_error::last_error_message(),
+                    format!("poisoned: an earlier call failed inside the library: {first}")
+                );
+            }
+            // A call that armed nothing poisons nothing.
+            assert_eq!(failing(2), cg_status::Internal);
+        }
+        std::panic::set_hook(hook);
     }
 
     #[test]

@@ -58,6 +58,7 @@ class Status(enum.IntEnum):
     NOT_CONVERGED = 8
     INTERNAL = 9
     OUT_OF_MEMORY = 10
+    POISONED = 11
 
 
 class Axis(enum.IntEnum):
