@@ -19,6 +19,7 @@ int main(void) {
     cg_chain_desc desc;
     uint32_t i;
     float eye_height;
+    desc.struct_size = sizeof desc;
     CHECK(cg_chain_desc_init_human(&desc, CG_AXIS_POSITIVE_Z, CG_AXIS_NEGATIVE_Y) == CG_STATUS_OK);
     CHECK(desc.struct_size == sizeof desc);
     CHECK(desc.joint_count == 10);

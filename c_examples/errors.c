@@ -1,5 +1,6 @@
 /* errors.c: the error conventions seen from C — every status string, NULL arguments,
- * a bad struct_size, a bad field, and cg_last_error_message with small and NULL buffers. */
+ * a bad or unset struct_size, a bad field, and cg_last_error_message with small and NULL
+ * buffers. */
 #include <stdio.h>
 #include <string.h>
 
@@ -34,6 +35,7 @@ int main(void) {
         {CG_STATUS_NOT_CONVERGED, "CG_STATUS_NOT_CONVERGED"},
         {CG_STATUS_INTERNAL, "CG_STATUS_INTERNAL"},
         {CG_STATUS_OUT_OF_MEMORY, "CG_STATUS_OUT_OF_MEMORY"},
+        {CG_STATUS_POISONED, "CG_STATUS_POISONED"},
     };
     size_t i;
     cg_crowd_config config;
@@ -53,6 +55,7 @@ int main(void) {
     /* NULL arguments. */
     CHECK(cg_crowd_config_init(NULL) == CG_STATUS_NULL_ARGUMENT);
     print_last_error("cg_crowd_config_init(NULL)");
+    config.struct_size = sizeof config;
     CHECK(cg_crowd_config_init(&config) == CG_STATUS_OK);
     CHECK(cg_crowd_create(NULL, &crowd) == CG_STATUS_NULL_ARGUMENT);
     CHECK(cg_crowd_create(&config, NULL) == CG_STATUS_NULL_ARGUMENT);
@@ -66,16 +69,26 @@ int main(void) {
     CHECK(crowd == NULL); /* outputs are written only on success */
     print_last_error("struct_size 3");
 
+    /* An _init call on a struct whose struct_size is not set (0 here) writes nothing. */
+    config.struct_size = 0;
+    config.seed = 7;
+    CHECK(cg_crowd_config_init(&config) == CG_STATUS_BAD_STRUCT_SIZE);
+    CHECK(config.struct_size == 0 && config.seed == 7);
+    print_last_error("cg_crowd_config_init, struct_size 0");
+
     /* Bad fields. */
+    config.struct_size = sizeof config;
     CHECK(cg_crowd_config_init(&config) == CG_STATUS_OK);
     config.up_axis = CG_AXIS_POSITIVE_Y;
     config.forward_axis = CG_AXIS_NEGATIVE_Y;
     CHECK(cg_crowd_create(&config, &crowd) == CG_STATUS_INVALID_ARGUMENT);
     print_last_error("up = +Y, forward = -Y");
+    config.struct_size = sizeof config;
     CHECK(cg_crowd_config_init(&config) == CG_STATUS_OK);
     config.units_per_metre = 0.0f / 0.0f;
     CHECK(cg_crowd_create(&config, &crowd) == CG_STATUS_NON_FINITE);
     print_last_error("units_per_metre NaN");
+    config.struct_size = sizeof config;
     CHECK(cg_crowd_config_init(&config) == CG_STATUS_OK);
     config.max_characters = 0;
     CHECK(cg_crowd_create(&config, &crowd) == CG_STATUS_INVALID_ARGUMENT);
@@ -89,6 +102,7 @@ int main(void) {
     printf("truncated message: \"%s\" of %zu bytes\n", tiny, length);
 
     /* A good crowd, and its config read back. */
+    config.struct_size = sizeof config;
     CHECK(cg_crowd_config_init(&config) == CG_STATUS_OK);
     config.seed = 42;
     config.units_per_metre = 100.0f;
@@ -98,6 +112,7 @@ int main(void) {
     CHECK(crowd != NULL);
     {
         cg_crowd_config back;
+        back.struct_size = sizeof back;
         CHECK(cg_crowd_get_config(crowd, &back) == CG_STATUS_OK);
         CHECK(back.seed == 42 && back.units_per_metre == 100.0f);
         CHECK(back.up_axis == CG_AXIS_POSITIVE_Z && back.forward_axis == CG_AXIS_POSITIVE_X);

@@ -8,6 +8,7 @@
 
 int main() {
     cg_crowd_config config;
+    config.struct_size = sizeof config;
     if (cg_crowd_config_init(&config) != CG_STATUS_OK) return 1;
     cg_crowd* raw = nullptr;
     if (cg_crowd_create(&config, &raw) != CG_STATUS_OK) return 1;

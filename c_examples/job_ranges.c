@@ -74,10 +74,12 @@ static cg_crowd *make_crowd(uint32_t threads, cg_entity_state *states) {
     cg_character_desc desc;
     cg_crowd *crowd = NULL;
     uint32_t i;
+    config.struct_size = sizeof config;
     ok(cg_crowd_config_init(&config), "config");
     config.max_characters = CHARACTERS;
     config.threads = threads;
     ok(cg_crowd_create(&config, &crowd), "create");
+    desc.struct_size = sizeof desc;
     ok(cg_character_desc_init(&desc), "desc");
     for (i = 0; i < CHARACTERS; i++) {
         /* 1000 people on a 50 m x 80 m street, 0.25 per square metre. */
@@ -119,6 +121,7 @@ int main(void) {
     for (c = 0; c < 3; c++) {
         uint32_t i;
         for (i = 0; i < CHARACTERS; i++) {
+            states[c][i].struct_size = sizeof states[c][i];
             ok(cg_entity_state_init(&states[c][i]), "state");
             states[c][i].flags = CG_STATE_HEADING_FROM_MOTION;
         }

@@ -78,16 +78,19 @@ int main(void) {
     float final_eye_in_head = 0.0f, peak_eye_in_head = 0.0f;
     const float goal = 60.0f;
 
+    config.struct_size = sizeof config;
     ok(cg_crowd_config_init(&config), "config");
     config.max_characters = 1;
     config.max_objects = 0;
     ok(cg_crowd_create(&config, &crowd), "create");
+    desc.struct_size = sizeof desc;
     ok(cg_character_desc_init(&desc), "desc");
     ok(cg_crowd_add_character(crowd, &desc, &id), "add");
     ok(cg_crowd_joint_total(crowd, 0, 1, &joints), "joint total");
     CHECK(joints == 10);
 
     /* 1. A jump of 60 degrees to the left (Y up, +Z forward: left is +X), at eye height. */
+    target.struct_size = sizeof target;
     ok(cg_gaze_target_init(&target), "target");
     target.point.x = 3.0f * sinf(goal * PI_F / 180.0f);
     target.point.y = 1.6f;

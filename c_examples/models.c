@@ -56,6 +56,7 @@ static model_stats run(uint32_t model) {
     size_t written, total = 0;
 
     memset(&stats, 0, sizeof stats);
+    config.struct_size = sizeof config;
     street_check(cg_crowd_config_init(&config), "config");
     config.seed = 2011;
     config.max_characters = CHARACTERS;

@@ -62,6 +62,7 @@ static int names_field_and_bytes(const char *field) {
 /* A crowd config with the given capacities, other fields at their defaults. */
 static cg_crowd_config crowd_config(uint32_t characters, uint32_t objects, uint32_t states) {
     cg_crowd_config config;
+    config.struct_size = sizeof config;
     cg_crowd_config_init(&config);
     config.max_characters = characters;
     config.max_objects = objects;
@@ -98,6 +99,7 @@ static int largest_blender(void) {
     cg_dualquat *frames;
     size_t joints = 65536, frame_count = 560, i, count = joints * frame_count;
     cg_status status;
+    config.struct_size = sizeof config;
     cg_view_blender_config_init(&config);
     config.joint_count = (uint32_t)joints;
     config.key_count = 32;
@@ -130,6 +132,7 @@ static int largest_plan(void) {
     uint32_t id, c, frame;
     cg_status status;
     if (cg_crowd_create(&config, &crowd) != CG_STATUS_OK) return SETUP_FAILED;
+    desc.struct_size = sizeof desc;
     cg_character_desc_init(&desc);
     for (c = 0; c < 4096; c++) {
         desc.position.x = (float)(c % 64);

@@ -28,6 +28,7 @@ int main(void) {
     float min_fraction = 1.0f, max_fraction = 0.0f;
     uint32_t total_interests = 0;
 
+    config.struct_size = sizeof config;
     street_check(cg_crowd_config_init(&config), "cg_crowd_config_init");
     config.seed = 130;
     config.max_characters = CHARACTERS;
@@ -40,6 +41,7 @@ int main(void) {
     street_populate(&scene, crowd, CHARACTERS, OBJECTS, CG_ATTENTION_MODEL_CROWD);
     for (i = 0; i < CHARACTERS; i++) {
         cg_character_params params;
+        params.struct_size = sizeof params;
         street_check(cg_crowd_get_character_params(crowd, ids[i], &params), "get params");
         attention_fraction[i] = params.attention_fraction;
         standing += !people[i].walking && !people[i].sitting;

@@ -54,6 +54,7 @@ static void street_populate(street_scene *scene, cg_crowd *crowd, int characters
         cg_object_desc object;
         uint32_t id;
         int left = i % 2 == 0;
+        object.struct_size = sizeof object;
         street_check(cg_object_desc_init(&object), "cg_object_desc_init");
         object.position.z =
             (float)(i / 2) * STREET_LENGTH / (float)(objects / 2 + 1) + street_uniform(scene, 0.0f, 2.0f);
@@ -73,7 +74,9 @@ static void street_populate(street_scene *scene, cg_crowd *crowd, int characters
         p->vz = 0.0f;
         p->walking = roll < 0.75f;
         p->sitting = roll >= 0.9f;
+        desc.struct_size = sizeof desc;
         street_check(cg_character_desc_init(&desc), "cg_character_desc_init");
+        scene->states[i].struct_size = sizeof scene->states[i];
         street_check(cg_entity_state_init(&scene->states[i]), "cg_entity_state_init");
         desc.attention_model = attention_model;
         if (p->walking) {

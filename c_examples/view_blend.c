@@ -96,6 +96,7 @@ static cg_view_blender *make_blender(cg_blend_method method, const cg_vec3 *came
     static cg_dualquat frames[FRAMES * JOINTS];
     uint32_t key;
     int f;
+    config.struct_size = sizeof config;
     cg_view_blender_config_init(&config);
     config.joint_count = JOINTS;
     config.key_count = KEYS;

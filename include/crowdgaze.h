@@ -13,6 +13,33 @@
  *   seconds. Quaternions are x, y, z, w.
  * - Objects are not safe for concurrent mutation; functions whose handle argument is const
  *   may run concurrently with each other.
+ * - A call that changes a handle (cg_crowd, cg_view_blender) and fails with
+ *   CG_STATUS_INTERNAL (a bug inside the library, such as a caught panic) may have left it
+ *   half-updated, so it poisons the handle: every later call on it returns
+ *   CG_STATUS_POISONED, whose message repeats the first failure's. Its _destroy function
+ *   still frees it.
+ *
+ * Versioned structs (those whose first field is `uint32_t struct_size`):
+ * - Set `struct_size = sizeof(the struct)` before every call that takes one, including the
+ *   calls that fill it (its `_init` function, `cg_crowd_get_config`, ...):
+ *       cg_crowd_config config;
+ *       config.struct_size = sizeof config;
+ *       cg_crowd_config_init(&config);
+ * - The library reads and writes at most `struct_size` bytes of the struct and leaves
+ *   `struct_size` as you set it, so a program built against an older header (a shorter
+ *   struct) is never read or written past its end; the fields it lacks take their defaults.
+ * - A `struct_size` that is not the size of a layout some header declared (0, an unset
+ *   field, a newer header's size) is CG_STATUS_BAD_STRUCT_SIZE, and nothing is written.
+ *   docs/c-api-versioning.md lists the sizes.
+ *
+ * Compatibility: before 1.0 each minor version (0.MINOR) may break the ABI. The shared
+ * library's SONAME carries the part of the version that breaks it, libcrowdgaze.so.0.MINOR
+ * below 1.0 and libcrowdgaze.so.MAJOR from 1.0, so a program built against another 0.MINOR
+ * is refused when it loads (the loader finds no library of the SONAME it recorded) instead
+ * of running against an incompatible library that could overrun its structs. Within one
+ * SONAME, structs only gain fields at their end and their older sizes stay accepted. A
+ * library opened by other means (dlopen) can be checked with cg_version() against
+ * CG_VERSION_MAJOR and CG_VERSION_MINOR.
  */
 
 #ifndef CROWDGAZE_H
@@ -54,7 +81,7 @@
 #define CG_VERSION_MAJOR 0
 
 // Minor version of the header.
-#define CG_VERSION_MINOR 1
+#define CG_VERSION_MINOR 2
 
 // Patch version of the header.
 #define CG_VERSION_PATCH 0
@@ -95,6 +122,11 @@ enum cg_status
     // and the bytes asked. Nothing was created and nothing changed (a create writes no
     // handle); smaller capacities may succeed.
     CG_STATUS_OUT_OF_MEMORY = 10,
+    // An earlier call that changed this handle failed with `CG_STATUS_INTERNAL` and may
+    // have left it half-updated, so the handle is poisoned: every later call on it fails
+    // with this status (the message repeats the first failure's), and only its `_destroy`
+    // works, freeing it.
+    CG_STATUS_POISONED = 11,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -255,6 +287,11 @@ typedef uint32_t cg_target_part;
 // between `cg_crowd_begin_step` and `cg_crowd_end_step`. Calls taking a `const cg_crowd*`
 // may run concurrently with each other. While a ranged step is open, every other call on
 // the crowd fails with `CG_STATUS_WRONG_STATE`.
+//
+// If a call that changes the crowd fails with `CG_STATUS_INTERNAL` (a bug, such as a caught
+// panic), the crowd may be half-updated and is poisoned: every later call on it, whatever
+// it is, fails with `CG_STATUS_POISONED`, whose message repeats the first failure's.
+// `cg_crowd_destroy` still frees it.
 typedef struct cg_crowd cg_crowd;
 
 // View-adaptive animation of one character (opaque): key animations, key cameras around the
@@ -267,6 +304,11 @@ typedef struct cg_crowd cg_crowd;
 // mutation: the set/add calls must not overlap any other call on the same blender. Calls
 // taking a `const cg_view_blender*` may run concurrently with each other, so one blender can
 // serve many characters that share its key animations.
+//
+// If a set/add call fails with `CG_STATUS_INTERNAL` (a bug, such as a caught panic), the
+// blender may be half-updated and is poisoned: every later call on it fails with
+// `CG_STATUS_POISONED`, whose message repeats the first failure's.
+// `cg_view_blender_destroy` still frees it.
 typedef struct cg_view_blender cg_view_blender;
 
 // A 3-component vector of floats: a position (in the caller's units, see
@@ -327,10 +369,11 @@ typedef struct cg_chain_joint {
 //
 // Expressed in the world's axes for a character at heading 0; the character's world
 // transform is translation(position) · rotation(heading about the up axis).
-// Fill it with `cg_chain_desc_init_human` (then adjust), or field by field after setting
-// `struct_size = sizeof(cg_chain_desc)`.
+// Set `struct_size = sizeof(cg_chain_desc)`, then fill it with `cg_chain_desc_init_human`
+// (and adjust) or field by field.
 typedef struct cg_chain_desc {
-    // Size of this struct in bytes, set by `cg_chain_desc_init_human`.
+    // Size of this struct in bytes: set it to `sizeof(cg_chain_desc)` before every call
+    // taking the struct, `cg_chain_desc_init_human` included.
     uint32_t struct_size;
     // Number of joints used in `joints`, 1 to `CG_MAX_CHAIN_JOINTS`.
     uint32_t joint_count;
@@ -346,9 +389,11 @@ typedef struct cg_chain_desc {
     struct cg_vec3 root_offset;
 } cg_chain_desc;
 
-// A new character. Fill it with `cg_character_desc_init`, then set what you need.
+// A new character. Set `struct_size`, fill it with `cg_character_desc_init`, then set
+// what you need.
 typedef struct cg_character_desc {
-    // Size of this struct in bytes, set by `cg_character_desc_init`.
+    // Size of this struct in bytes: set it to `sizeof(cg_character_desc)` before every
+    // call taking the struct, `cg_character_desc_init` included.
     uint32_t struct_size;
     // Heading, radians counter-clockwise about up (0 along forward). Default 0.
     float heading;
@@ -363,10 +408,11 @@ typedef struct cg_character_desc {
     uint32_t attention_model;
 } cg_character_desc;
 
-// A new scene object: something characters may look at. Fill it with
+// A new scene object: something characters may look at. Set `struct_size`, fill it with
 // `cg_object_desc_init`, then set what you need.
 typedef struct cg_object_desc {
-    // Size of this struct in bytes, set by `cg_object_desc_init`.
+    // Size of this struct in bytes: set it to `sizeof(cg_object_desc)` before every call
+    // taking the struct, `cg_object_desc_init` included.
     uint32_t struct_size;
     // Its forward direction as a heading (radians), used by the orientation subscores.
     // Default 0.
@@ -380,11 +426,12 @@ typedef struct cg_object_desc {
     struct cg_vec3 position;
 } cg_object_desc;
 
-// One entity's state in a frame. Fill each with `cg_entity_state_init` (or copy one that
-// was), then set `id`, `position` and the rest.
+// One entity's state in a frame. Set `struct_size` and fill each with
+// `cg_entity_state_init` (or copy one that was), then set `id`, `position` and the rest.
 typedef struct cg_entity_state {
-    // Size of this struct in bytes, set by `cg_entity_state_init`; the same in every
-    // element of an array.
+    // Size of this struct in bytes: set it to `sizeof(cg_entity_state)` before every call
+    // taking the struct, `cg_entity_state_init` included; the same in every element of an
+    // array (it is the array's stride).
     uint32_t struct_size;
     // The entity's id.
     uint32_t id;
@@ -454,7 +501,8 @@ typedef struct cg_score_breakdown {
 
 // A character's attention parameters (Grillon & Thalmann 2009, eq. 7).
 typedef struct cg_character_params {
-    // Size of this struct in bytes (`cg_crowd_get_character_params` sets it).
+    // Size of this struct in bytes: set it to `sizeof(cg_character_params)` before every
+    // call taking the struct, `cg_crowd_get_character_params` included.
     uint32_t struct_size;
     // `ω_p`, weight of the proximity subscore.
     float weight_proximity;
@@ -493,12 +541,14 @@ typedef struct cg_dualquat {
     struct cg_quat dual;
 } cg_dualquat;
 
-// Settings of a view blender, fixed for its lifetime. Fill it with
+// Settings of a view blender, fixed for its lifetime. Set `struct_size`, fill it with
 // `cg_view_blender_config_init`, then set `joint_count` and `key_count` (they have no usable
 // default) and change what you need.
 typedef struct cg_view_blender_config {
-    // Size of this struct in bytes, set by `cg_view_blender_config_init`; lets later versions
-    // add fields without breaking callers compiled against this header.
+    // Size of this struct in bytes: set it to `sizeof(cg_view_blender_config)` before every
+    // call taking the struct, `cg_view_blender_config_init` included. The library reads and
+    // writes no more than this, so later versions can add fields without breaking older
+    // callers.
     uint32_t struct_size;
     // Joints per pose, 1 to 65536. Default 0: must be set.
     uint32_t joint_count;
@@ -519,11 +569,12 @@ typedef struct cg_view_blender_config {
     uint32_t max_iterations;
 } cg_view_blender_config;
 
-// Settings of a crowd, fixed for its lifetime. Fill it with `cg_crowd_config_init`, then
-// change the fields you need.
+// Settings of a crowd, fixed for its lifetime. Set `struct_size`, fill it with
+// `cg_crowd_config_init`, then change the fields you need.
 typedef struct cg_crowd_config {
-    // Size of this struct in bytes, set by `cg_crowd_config_init`; lets later versions of
-    // the library add fields without breaking callers compiled against this header.
+    // Size of this struct in bytes: set it to `sizeof(cg_crowd_config)` before every call
+    // taking the struct, `cg_crowd_config_init` included. The library reads and writes no
+    // more than this, so later versions can add fields without breaking older callers.
     uint32_t struct_size;
     // Most characters (entities that look) the crowd holds at once, 1 to 16 777 216.
     // Each takes about 1 KiB, allocated by `cg_crowd_create`. Default 1024.
@@ -630,10 +681,11 @@ typedef struct cg_crowd_config {
     uint32_t reorder_period;
 } cg_crowd_config;
 
-// A target set by game logic for one character (top-down attention). Fill it with
-// `cg_gaze_target_init`.
+// A target set by game logic for one character (top-down attention). Set `struct_size`,
+// then fill it with `cg_gaze_target_init`.
 typedef struct cg_gaze_target {
-    // Size of this struct in bytes, set by `cg_gaze_target_init`.
+    // Size of this struct in bytes: set it to `sizeof(cg_gaze_target)` before every call
+    // taking the struct, `cg_gaze_target_init` included.
     uint32_t struct_size;
     // `CG_GAZE_TARGET_POINT` (default) or `CG_GAZE_TARGET_ENTITY`.
     uint32_t kind;
@@ -664,16 +716,31 @@ typedef struct cg_eye_info {
 extern "C" {
 #endif // __cplusplus
 
-// Fills `desc` with defaults (origin, heading 0, impact 1) and its `struct_size`.
-// Errors: `CG_STATUS_NULL_ARGUMENT`. Thread-safe.
+// Fills `desc` with defaults (origin, heading 0, impact 1). Set `desc->struct_size =
+// sizeof(cg_character_desc)` first: only that many bytes are written, and `struct_size`
+// keeps its value. The caller owns `desc`.
+//
+// Errors (nothing written): `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_BAD_STRUCT_SIZE`
+// (`struct_size` not a size the library knows, 0 or an unset field included).
+// Thread-safe.
 cg_status cg_character_desc_init(struct cg_character_desc *desc);
 
-// Fills `desc` with defaults (origin, heading 0, look-at height 0, impact 1) and its
-// `struct_size`. Errors: `CG_STATUS_NULL_ARGUMENT`. Thread-safe.
+// Fills `desc` with defaults (origin, heading 0, look-at height 0, impact 1). Set
+// `desc->struct_size = sizeof(cg_object_desc)` first: only that many bytes are written,
+// and `struct_size` keeps its value. The caller owns `desc`.
+//
+// Errors (nothing written): `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_BAD_STRUCT_SIZE`
+// (`struct_size` not a size the library knows, 0 or an unset field included).
+// Thread-safe.
 cg_status cg_object_desc_init(struct cg_object_desc *desc);
 
-// Fills `state` with defaults (id `CG_NO_TARGET`, no flags, zeros) and its `struct_size`.
-// Errors: `CG_STATUS_NULL_ARGUMENT`. Thread-safe.
+// Fills `state` with defaults (id `CG_NO_TARGET`, no flags, zeros). Set
+// `state->struct_size = sizeof(cg_entity_state)` first: only that many bytes are
+// written, and `struct_size` keeps its value. The caller owns `state`.
+//
+// Errors (nothing written): `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_BAD_STRUCT_SIZE`
+// (`struct_size` not a size the library knows, 0 or an unset field included).
+// Thread-safe.
 cg_status cg_entity_state_init(struct cg_entity_state *state);
 
 // Adds a character to the crowd and writes its id to `*out_id`. Its attention
@@ -798,10 +865,14 @@ cg_status cg_crowd_score(const struct cg_crowd *crowd,
                          uint32_t entity,
                          struct cg_score_breakdown *out);
 
-// Writes a character's attention parameters (with `struct_size`) to `*out_params`.
+// Writes a character's attention parameters to `*out_params`. Set
+// `out_params->struct_size = sizeof(cg_character_params)` first: only that many bytes are
+// written, and `struct_size` keeps its value. The caller owns `out_params`.
 //
-// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NOT_FOUND`, `CG_STATUS_INVALID_ARGUMENT`
-// (an object's id). Safe to call concurrently with other `const` calls.
+// Errors (nothing written): `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_BAD_STRUCT_SIZE`
+// (`struct_size` not a size the library knows), `CG_STATUS_NOT_FOUND`,
+// `CG_STATUS_INVALID_ARGUMENT` (an object's id). Safe to call concurrently with other
+// `const` calls.
 cg_status cg_crowd_get_character_params(const struct cg_crowd *crowd,
                                         uint32_t character,
                                         struct cg_character_params *out_params);
@@ -1017,9 +1088,13 @@ cg_status cg_blend_pose_dib(const struct cg_dualquat *keys,
 // camera, rank below 3, or a centre too far away for a float).
 cg_status cg_camera_center_from_projection(const float *projection, struct cg_vec3 *out);
 
-// Fills `config` with the defaults documented on each field, including `struct_size`.
+// Fills `config` with the defaults documented on each field. Set `config->struct_size =
+// sizeof(cg_view_blender_config)` first: only that many bytes are written, and
+// `struct_size` keeps its value. The caller owns `config`.
 //
-// Errors: `CG_STATUS_NULL_ARGUMENT` if `config` is NULL. Thread-safe.
+// Errors (nothing written): `CG_STATUS_NULL_ARGUMENT` if `config` is NULL,
+// `CG_STATUS_BAD_STRUCT_SIZE` if `struct_size` is not a size of this struct the library
+// knows (0 or an unset field included). Thread-safe.
 cg_status cg_view_blender_config_init(struct cg_view_blender_config *config);
 
 // Creates a view blender from `config`, with no key animation and no key camera yet, and
@@ -1028,15 +1103,15 @@ cg_status cg_view_blender_config_init(struct cg_view_blender_config *config);
 // The caller owns the new blender and releases it with `cg_view_blender_destroy`.
 // `*out_blender` is written only on success. Thread-safe.
 //
-// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_BAD_STRUCT_SIZE` (config not filled by
-// `cg_view_blender_config_init`), `CG_STATUS_INVALID_ARGUMENT` (a field out of its range,
+// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_BAD_STRUCT_SIZE` (`config->struct_size`
+// not a size the library knows), `CG_STATUS_INVALID_ARGUMENT` (a field out of its range,
 // an unknown enum value), `CG_STATUS_NON_FINITE` (alpha or precision NaN or infinite),
 // `CG_STATUS_OUT_OF_MEMORY`.
 cg_status cg_view_blender_create(const struct cg_view_blender_config *config,
                                  struct cg_view_blender **out_blender);
 
 // Destroys a view blender created by `cg_view_blender_create` and frees everything it owns
-// (its clips and cameras).
+// (its clips and cameras), also when the blender is poisoned.
 //
 // NULL is accepted and ignored. The handle must not be used afterwards, and no other call
 // on this blender may be running.
@@ -1146,7 +1221,8 @@ cg_status cg_view_blender_evaluate(const struct cg_view_blender *blender,
 // Fills `desc` with the gaze chain of an adult human (Grillon & Thalmann's 5 spine,
 // 2 cervical, 1 head and 2 eye joints) for a skeleton whose up axis is `up_axis` and which
 // faces `forward_axis` (both `cg_axis` values, perpendicular; the character's left is
-// up × forward), including `struct_size`.
+// up × forward). Set `desc->struct_size = sizeof(cg_chain_desc)` first: only that many
+// bytes are written, and `struct_size` keeps its value. The caller owns `desc`.
 //
 // Lengths are in **metres**: the pelvis (chain root) 0.95 above the character's position,
 // eyes at 1.62, 64 mm apart. If your crowd's `units_per_metre` is not 1, multiply every
@@ -1155,15 +1231,21 @@ cg_status cg_view_blender_evaluate(const struct cg_view_blender *blender,
 // the eyes a 35° cone and no torsion.
 //
 // `*desc` is written only on success. Errors: `CG_STATUS_NULL_ARGUMENT` (desc NULL),
-// `CG_STATUS_INVALID_ARGUMENT` (an axis not a `cg_axis`, or the two not perpendicular).
-// Thread-safe.
+// `CG_STATUS_INVALID_ARGUMENT` (an axis not a `cg_axis`, or the two not perpendicular),
+// `CG_STATUS_BAD_STRUCT_SIZE` (`struct_size` not a size the library knows, 0 or an unset
+// field included). Thread-safe.
 cg_status cg_chain_desc_init_human(struct cg_chain_desc *desc,
                                    uint32_t up_axis,
                                    uint32_t forward_axis);
 
-// Fills `config` with the defaults documented on each field, including `struct_size`.
+// Fills `config` with the defaults documented on each field. Set `config->struct_size =
+// sizeof(cg_crowd_config)` first: only that many bytes are written (an older, shorter
+// layout gets its own fields), and `struct_size` keeps its value. The caller owns
+// `config`.
 //
-// Errors: `CG_STATUS_NULL_ARGUMENT` if `config` is NULL. Thread-safe.
+// Errors (nothing written): `CG_STATUS_NULL_ARGUMENT` if `config` is NULL,
+// `CG_STATUS_BAD_STRUCT_SIZE` if `struct_size` is not a size of this struct the library
+// knows (0 or an unset field included). Thread-safe.
 cg_status cg_crowd_config_init(struct cg_crowd_config *config);
 
 // Creates an empty crowd from `config` and stores its handle in `*out_crowd`.
@@ -1173,28 +1255,36 @@ cg_status cg_crowd_config_init(struct cg_crowd_config *config);
 // `*out_crowd` is written only on success.
 //
 // Errors: `CG_STATUS_NULL_ARGUMENT` (config or out_crowd NULL), `CG_STATUS_BAD_STRUCT_SIZE`
-// (config not filled by `cg_crowd_config_init`), `CG_STATUS_INVALID_ARGUMENT` (a field out of
-// range: capacities, axes not perpendicular or unknown, units_per_metre <= 0),
+// (`config->struct_size` not a size the library knows), `CG_STATUS_INVALID_ARGUMENT` (a
+// field out of range: capacities, axes not perpendicular or unknown, units_per_metre <= 0),
 // `CG_STATUS_NON_FINITE` (a float field NaN or infinite), `CG_STATUS_OUT_OF_MEMORY` (the
 // capacities' buffers do not fit in memory; the message names the field and the bytes
 // asked). Thread-safe.
 cg_status cg_crowd_create(const struct cg_crowd_config *config, struct cg_crowd **out_crowd);
 
-// Destroys a crowd created by `cg_crowd_create` and frees everything it owns.
+// Destroys a crowd created by `cg_crowd_create` and frees everything it owns, also when
+// the crowd is poisoned or a ranged step is open.
 //
 // NULL is accepted and ignored. The handle must not be used afterwards, and no other call
 // on this crowd may be running.
 void cg_crowd_destroy(struct cg_crowd *crowd);
 
-// Copies the settings `crowd` was created with into `*out_config` (with the current
-// `struct_size`).
+// Copies the settings `crowd` was created with into `*out_config`. Set
+// `out_config->struct_size = sizeof(cg_crowd_config)` first: only that many bytes are
+// written, and `struct_size` keeps its value. The caller owns `out_config`.
 //
-// Errors: `CG_STATUS_NULL_ARGUMENT` if either pointer is NULL. Safe to call concurrently
-// with other `const` calls on the same crowd.
+// Errors (nothing written): `CG_STATUS_NULL_ARGUMENT` if either pointer is NULL,
+// `CG_STATUS_BAD_STRUCT_SIZE` (`out_config->struct_size` not a size the library knows).
+// Safe to call concurrently with other `const` calls on the same crowd.
 cg_status cg_crowd_get_config(const struct cg_crowd *crowd, struct cg_crowd_config *out_config);
 
-// Fills `target` with defaults (a point target at the origin, overriding) and its
-// `struct_size`. Errors: `CG_STATUS_NULL_ARGUMENT`. Thread-safe.
+// Fills `target` with defaults (a point target at the origin, overriding). Set
+// `target->struct_size = sizeof(cg_gaze_target)` first: only that many bytes are written,
+// and `struct_size` keeps its value. The caller owns `target`.
+//
+// Errors (nothing written): `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_BAD_STRUCT_SIZE`
+// (`struct_size` not a size the library knows, 0 or an unset field included).
+// Thread-safe.
 cg_status cg_gaze_target_init(struct cg_gaze_target *target);
 
 // Gives `character` an explicit gaze target until `cg_crowd_clear_gaze_target`: a point,

@@ -39,6 +39,10 @@ pub enum Error {
     /// message names the number and the bytes asked); nothing was created or changed.
     #[error("out of memory: {0}")]
     OutOfMemory(String),
+    /// An earlier call that changed this object failed inside crowdgaze and may have left it
+    /// half-updated; carries that call's message.
+    #[error("poisoned: an earlier call failed inside the library: {0}")]
+    Poisoned(String),
 }
 
 /// Shorthand for results of the Rust core.

@@ -55,6 +55,8 @@ mod documentation {
     struct Blending;
     #[doc = include_str!("../docs/c-api.md")]
     struct CApi;
+    #[doc = include_str!("../docs/c-api-versioning.md")]
+    struct CApiVersioning;
     #[doc = include_str!("../docs/cli.md")]
     struct Cli;
     #[doc = include_str!("../docs/development.md")]

@@ -13,6 +13,14 @@ use std::ptr::{null, null_mut};
 
 fn init<T>(f: extern "C" fn(*mut T) -> cg_status) -> T {
     let mut value = MaybeUninit::<T>::uninit();
+    // SAFETY: every versioned struct starts with `uint32_t struct_size`, which the caller
+    // sets to its size before the `_init` call.
+    unsafe {
+        value
+            .as_mut_ptr()
+            .cast::<u32>()
+            .write(std::mem::size_of::<T>() as u32)
+    };
     assert_eq!(f(value.as_mut_ptr()), cg_status::Ok);
     // SAFETY: initialised by the _init function just above.
     unsafe { value.assume_init() }

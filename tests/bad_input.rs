@@ -137,9 +137,17 @@ impl Header {
 // ---------------------------------------------------------------------------------------------
 // Small helpers
 
-/// Fills a struct with its `_init` function.
+/// Fills a struct with its `_init` function (after setting its `struct_size`).
 fn init<T>(f: extern "C" fn(*mut T) -> cg_status) -> T {
     let mut value = MaybeUninit::<T>::uninit();
+    // SAFETY: every versioned struct starts with `uint32_t struct_size`, which the caller
+    // sets to its size before the `_init` call.
+    unsafe {
+        value
+            .as_mut_ptr()
+            .cast::<u32>()
+            .write(std::mem::size_of::<T>() as u32)
+    };
     ok(f(value.as_mut_ptr()));
     // SAFETY: initialised by the _init function just above.
     unsafe { value.assume_init() }
@@ -171,6 +179,13 @@ impl Plain for cg_score_breakdown {}
 fn zeroed<T: Plain>() -> T {
     // SAFETY: `Plain` types are integers and floats, for which zero bytes are valid.
     unsafe { std::mem::zeroed() }
+}
+
+/// A zeroed versioned struct with its `struct_size` set, ready for the call that fills it.
+fn sized<T: Plain>() -> T {
+    let mut value = zeroed::<T>();
+    set_struct_size(&mut value, size_of::<T>() as u32);
+    value
 }
 
 fn bytes_of<T: Plain>(values: &[T]) -> &[u8] {
@@ -412,6 +427,60 @@ fn struct_sizes_from<T>(smallest: usize) -> Vec<Corruption<T>> {
         .collect()
 }
 
+/// The size of the older `cg_crowd_config` (before `reorder_period`), still accepted.
+const OLDER_CROWD_CONFIG: usize = offset_of!(cg_crowd_config, reorder_period);
+
+/// The cases of a function that fills a versioned struct `T` whose `struct_size` the caller
+/// set to a size this library does not know (never set at all, 0, short of the oldest
+/// layout's `smallest` bytes, longer than this library's): `CG_STATUS_BAD_STRUCT_SIZE`, and
+/// not one byte written, of the struct or of the spare bytes after it.
+fn bad_output_sizes<T: 'static>(
+    t: &mut Table,
+    function: &'static str,
+    smallest: usize,
+    fill: impl Fn(&mut Harness, *mut T) -> cg_status + 'static,
+) {
+    let fill = Rc::new(fill);
+    let mut sizes = bad_sizes_from(size_of::<T>(), smallest);
+    sizes.push(("0xA5A5A5A5 (never set)".into(), 0xA5A5_A5A5));
+    for (what, size) in sizes {
+        let fill = fill.clone();
+        t.case(
+            function,
+            format!("struct_size {what}"),
+            BAD_SIZE,
+            move |h| {
+                let mut out = Box::<Padded<T>>::new_uninit();
+                // SAFETY: versioned structs hold integers, floats and raw pointers, for which
+                // any bytes are a valid value, as for the tail's u64s; write_bytes sets them all.
+                let mut out = unsafe {
+                    out.as_mut_ptr().write_bytes(0xA5, 1);
+                    out.assume_init()
+                };
+                set_struct_size(&mut out.value, size);
+                let view = |out: &Padded<T>| {
+                    // SAFETY: every byte, padding included, was initialised by write_bytes.
+                    unsafe {
+                        std::slice::from_raw_parts(
+                            (out as *const Padded<T>).cast::<u8>(),
+                            size_of::<Padded<T>>(),
+                        )
+                    }
+                    .to_vec()
+                };
+                let before = view(&out);
+                let status = fill(h, &mut out.value);
+                if view(&out) != before {
+                    h.problems.push(format!(
+                        "refused struct_size {what} but wrote into the caller's memory"
+                    ));
+                }
+                status
+            },
+        );
+    }
+}
+
 /// The same corruptions applied through a projection (a field of a bigger input).
 fn inside<T: 'static, U: 'static>(
     corruptions: Vec<Corruption<U>>,
@@ -559,6 +628,13 @@ impl Drop for Harness {
 /// The chain of the second character: the human chain without its eyes (8 joints).
 fn chain_without_eyes() -> cg_chain_desc {
     let mut chain = MaybeUninit::<cg_chain_desc>::uninit();
+    // SAFETY: a versioned struct starts with its `uint32_t struct_size`, set before the call.
+    unsafe {
+        chain
+            .as_mut_ptr()
+            .cast::<u32>()
+            .write(std::mem::size_of::<cg_chain_desc>() as u32)
+    };
     ok(cg_chain_desc_init_human(
         chain.as_mut_ptr(),
         cg_axis::PositiveY as u32,
@@ -965,7 +1041,7 @@ fn crowd_snapshot(crowd: *const cg_crowd, ids: &[u32]) -> Snapshot {
     );
     b.extend(bytes_of(&eyes));
     for &id in ids {
-        let mut params = [zeroed::<cg_character_params>()];
+        let mut params = [sized::<cg_character_params>()];
         let b = s.section(format!("cg_crowd_get_character_params({id})"));
         status(
             b,
@@ -1619,6 +1695,40 @@ fn rows_init(t: &mut Table) {
             cg_chain_desc_init_human(&mut h.out.chain, up, forward)
         });
     }
+    bad_output_sizes(t, f, size_of::<cg_chain_desc>(), |_, out| {
+        cg_chain_desc_init_human(out, 2, 4)
+    });
+    bad_output_sizes(
+        t,
+        "cg_character_desc_init",
+        size_of::<cg_character_desc>(),
+        |_, out| cg_character_desc_init(out),
+    );
+    bad_output_sizes(
+        t,
+        "cg_object_desc_init",
+        size_of::<cg_object_desc>(),
+        |_, out| cg_object_desc_init(out),
+    );
+    bad_output_sizes(
+        t,
+        "cg_entity_state_init",
+        size_of::<cg_entity_state>(),
+        |_, out| cg_entity_state_init(out),
+    );
+    bad_output_sizes(
+        t,
+        "cg_gaze_target_init",
+        size_of::<cg_gaze_target>(),
+        |_, out| cg_gaze_target_init(out),
+    );
+    bad_output_sizes(t, "cg_crowd_config_init", OLDER_CROWD_CONFIG, |_, out| {
+        cg_crowd_config_init(out)
+    });
+    let f = "cg_view_blender_config_init";
+    bad_output_sizes(t, f, size_of::<cg_view_blender_config>(), |_, out| {
+        cg_view_blender_config_init(out)
+    });
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -1713,9 +1823,9 @@ fn rows_crowd(t: &mut Table) {
     t.case(f, "out_crowd NULL", NULL_ARG, |_| {
         cg_crowd_create(&init(cg_crowd_config_init), null_mut())
     });
-    // Callers built before `threads` existed pass the size without it, which is accepted.
-    let mut corruptions =
-        struct_sizes_from::<cg_crowd_config>(std::mem::offset_of!(cg_crowd_config, threads));
+    // Callers built before `reorder_period` existed pass the size without it, which is
+    // accepted.
+    let mut corruptions = struct_sizes_from::<cg_crowd_config>(OLDER_CROWD_CONFIG);
     corruptions.extend(non_finite(&crowd_config_floats()));
     corruptions.extend(crowd_config_out_of_range());
     t.corrupt_struct(
@@ -1732,6 +1842,9 @@ fn rows_crowd(t: &mut Table) {
     });
     t.case(f, "out_config NULL", NULL_ARG, |h| {
         cg_crowd_get_config(h.crowd, null_mut())
+    });
+    bad_output_sizes(t, f, OLDER_CROWD_CONFIG, |h, out| {
+        cg_crowd_get_config(h.crowd, out)
     });
 
     let f = "cg_crowd_character_count";
@@ -2195,7 +2308,7 @@ fn rows_steps(t: &mut Table) {
 // Rows: attention
 
 fn params_of(h: &Harness) -> Box<Padded<cg_character_params>> {
-    let mut params = [zeroed::<cg_character_params>()];
+    let mut params = [sized::<cg_character_params>()];
     ok(cg_crowd_get_character_params(
         h.crowd,
         h.character(0),
@@ -2249,6 +2362,9 @@ fn rows_attention(t: &mut Table) {
     });
     t.character_ids(Setup::Online, f, |h, id| {
         cg_crowd_get_character_params(h.crowd, id, &mut h.out.params)
+    });
+    bad_output_sizes(t, f, size_of::<cg_character_params>(), |h, out| {
+        cg_crowd_get_character_params(h.crowd, h.character(0), out)
     });
 
     let f = "cg_crowd_set_character_params";
@@ -3532,7 +3648,7 @@ fn the_largest_weights_are_rescaled() {
     (p.weight_proximity, p.weight_speed) = (f32::MAX, f32::MAX);
     (p.weight_orientation, p.weight_periphery) = (f32::MAX, f32::MAX);
     ok(cg_crowd_set_character_params(h.crowd, h.character(0), p));
-    let mut back = [zeroed::<cg_character_params>()];
+    let mut back = [sized::<cg_character_params>()];
     ok(cg_crowd_get_character_params(
         h.crowd,
         h.character(0),

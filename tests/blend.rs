@@ -603,6 +603,13 @@ fn evaluate_samples_clips_and_blends_them() {
 
 fn c_config(joints: u32, keys: u32) -> cg_view_blender_config {
     let mut config = std::mem::MaybeUninit::<cg_view_blender_config>::uninit();
+    // SAFETY: a versioned struct starts with its `uint32_t struct_size`, set before the call.
+    unsafe {
+        config
+            .as_mut_ptr()
+            .cast::<u32>()
+            .write(std::mem::size_of::<cg_view_blender_config>() as u32)
+    };
     assert_eq!(
         cg_view_blender_config_init(config.as_mut_ptr()),
         cg_status::Ok

@@ -40,15 +40,24 @@ fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
 }
 
+/// The shared library's SONAME: `libcrowdgaze.so.0.MINOR` below 1.0 (a minor release may
+/// break the ABI), `libcrowdgaze.so.MAJOR` from 1.0, as `build.rs` sets it.
+fn soname() -> String {
+    match env!("CARGO_PKG_VERSION_MAJOR") {
+        "0" => format!("libcrowdgaze.so.0.{}", env!("CARGO_PKG_VERSION_MINOR")),
+        major => format!("libcrowdgaze.so.{major}"),
+    }
+}
+
 /// Work directory for compiled examples, with the shared library installed under its SONAME.
 fn work_dir() -> PathBuf {
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("c_examples");
     std::fs::create_dir_all(&dir).expect("create work dir");
-    let so = dir.join("libcrowdgaze.so.0");
+    let so = dir.join(soname());
     std::fs::copy(library_dir().join("libcrowdgaze.so"), &so).expect("copy shared library");
     let link = dir.join("libcrowdgaze.so");
     let _ = std::fs::remove_file(&link);
-    std::os::unix::fs::symlink("libcrowdgaze.so.0", &link).expect("symlink libcrowdgaze.so");
+    std::os::unix::fs::symlink(soname(), &link).expect("symlink libcrowdgaze.so");
     dir
 }
 
@@ -342,6 +351,6 @@ fn shared_library_exports_only_cg_symbols() {
         .output()
         .expect("readelf");
     let dynamic = String::from_utf8_lossy(&readelf.stdout);
-    let soname = format!("[libcrowdgaze.so.{}]", env!("CARGO_PKG_VERSION_MAJOR"));
+    let soname = format!("Library soname: [{}]", soname());
     assert!(dynamic.contains(&soname), "SONAME missing:\n{dynamic}");
 }

@@ -11,6 +11,13 @@ use std::ptr::{null, null_mut};
 
 fn crowd(units_per_metre: f32, recorded: u32) -> *mut cg_crowd {
     let mut config = MaybeUninit::<cg_crowd_config>::uninit();
+    // SAFETY: a versioned struct starts with its `uint32_t struct_size`, set before the call.
+    unsafe {
+        config
+            .as_mut_ptr()
+            .cast::<u32>()
+            .write(std::mem::size_of::<cg_crowd_config>() as u32)
+    };
     assert_eq!(cg_crowd_config_init(config.as_mut_ptr()), cg_status::Ok);
     // SAFETY: initialised above.
     let mut config = unsafe { config.assume_init() };
@@ -27,6 +34,12 @@ fn crowd(units_per_metre: f32, recorded: u32) -> *mut cg_crowd {
 
 fn character(handle: *mut cg_crowd, x: f32, z: f32, heading: f32) -> u32 {
     let mut desc = MaybeUninit::<cg_character_desc>::uninit();
+    // SAFETY: a versioned struct starts with its `uint32_t struct_size`, set before the call.
+    unsafe {
+        desc.as_mut_ptr()
+            .cast::<u32>()
+            .write(std::mem::size_of::<cg_character_desc>() as u32)
+    };
     assert_eq!(cg_character_desc_init(desc.as_mut_ptr()), cg_status::Ok);
     // SAFETY: initialised above.
     let mut desc = unsafe { desc.assume_init() };
@@ -42,6 +55,13 @@ fn character(handle: *mut cg_crowd, x: f32, z: f32, heading: f32) -> u32 {
 
 fn state(id: u32, x: f32, z: f32) -> cg_entity_state {
     let mut state = MaybeUninit::<cg_entity_state>::uninit();
+    // SAFETY: a versioned struct starts with its `uint32_t struct_size`, set before the call.
+    unsafe {
+        state
+            .as_mut_ptr()
+            .cast::<u32>()
+            .write(std::mem::size_of::<cg_entity_state>() as u32)
+    };
     assert_eq!(cg_entity_state_init(state.as_mut_ptr()), cg_status::Ok);
     // SAFETY: initialised above.
     let mut state = unsafe { state.assume_init() };
@@ -67,6 +87,12 @@ fn null_arguments_are_rejected() {
     let a = character(handle, 0.0, 0.0, 0.0);
     let mut id = 0;
     let mut desc = MaybeUninit::<cg_character_desc>::uninit();
+    // SAFETY: a versioned struct starts with its `uint32_t struct_size`, set before the call.
+    unsafe {
+        desc.as_mut_ptr()
+            .cast::<u32>()
+            .write(std::mem::size_of::<cg_character_desc>() as u32)
+    };
     assert_eq!(cg_character_desc_init(null_mut()), cg_status::NullArgument);
     assert_eq!(cg_object_desc_init(null_mut()), cg_status::NullArgument);
     assert_eq!(cg_entity_state_init(null_mut()), cg_status::NullArgument);
@@ -185,6 +211,13 @@ fn bad_values_fail_and_change_nothing() {
     assert_eq!(cg_crowd_set_impact(handle, 999, 1.0), cg_status::NotFound);
 
     let mut params = MaybeUninit::<cg_character_params>::uninit();
+    // SAFETY: a versioned struct starts with its `uint32_t struct_size`, set before the call.
+    unsafe {
+        params
+            .as_mut_ptr()
+            .cast::<u32>()
+            .write(std::mem::size_of::<cg_character_params>() as u32)
+    };
     assert_eq!(
         cg_crowd_get_character_params(handle, a, params.as_mut_ptr()),
         cg_status::Ok
@@ -216,6 +249,13 @@ fn bad_values_fail_and_change_nothing() {
         cg_status::NonFinite
     );
     let mut again = MaybeUninit::<cg_character_params>::uninit();
+    // SAFETY: a versioned struct starts with its `uint32_t struct_size`, set before the call.
+    unsafe {
+        again
+            .as_mut_ptr()
+            .cast::<u32>()
+            .write(std::mem::size_of::<cg_character_params>() as u32)
+    };
     assert_eq!(
         cg_crowd_get_character_params(handle, a, again.as_mut_ptr()),
         cg_status::Ok
@@ -248,6 +288,12 @@ fn bad_values_fail_and_change_nothing() {
     let _c = character(handle, 5.0, 0.0, 0.0);
     let _d = character(handle, 6.0, 0.0, 0.0);
     let mut desc = MaybeUninit::<cg_character_desc>::uninit();
+    // SAFETY: a versioned struct starts with its `uint32_t struct_size`, set before the call.
+    unsafe {
+        desc.as_mut_ptr()
+            .cast::<u32>()
+            .write(std::mem::size_of::<cg_character_desc>() as u32)
+    };
     assert_eq!(cg_character_desc_init(desc.as_mut_ptr()), cg_status::Ok);
     let mut id = 0;
     assert_eq!(

@@ -17,6 +17,15 @@ fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
 }
 
+/// The SONAME's version, the part of the version that breaks the ABI: `0.MINOR` below 1.0,
+/// `MAJOR` from 1.0 (as `build.rs` sets it).
+fn abi() -> String {
+    match env!("CARGO_PKG_VERSION_MAJOR") {
+        "0" => format!("0.{}", env!("CARGO_PKG_VERSION_MINOR")),
+        major => major.to_owned(),
+    }
+}
+
 fn work() -> PathBuf {
     Path::new(env!("CARGO_TARGET_TMPDIR")).join("install")
 }
@@ -69,7 +78,7 @@ fn prefix() -> &'static Path {
 fn install_puts_headers_libraries_and_package_files_under_the_prefix() {
     let prefix = prefix();
     let version = env!("CARGO_PKG_VERSION");
-    let major = env!("CARGO_PKG_VERSION_MAJOR");
+    let abi = abi();
     let lib = prefix.join("lib");
 
     for (installed, source) in [
@@ -85,16 +94,16 @@ fn install_puts_headers_libraries_and_package_files_under_the_prefix() {
     let real = lib.join(format!("libcrowdgaze.so.{version}"));
     assert!(real.is_file() && !real.is_symlink());
     assert_eq!(
-        std::fs::read_link(lib.join(format!("libcrowdgaze.so.{major}"))).unwrap(),
+        std::fs::read_link(lib.join(format!("libcrowdgaze.so.{abi}"))).unwrap(),
         PathBuf::from(format!("libcrowdgaze.so.{version}"))
     );
     assert_eq!(
         std::fs::read_link(lib.join("libcrowdgaze.so")).unwrap(),
-        PathBuf::from(format!("libcrowdgaze.so.{major}"))
+        PathBuf::from(format!("libcrowdgaze.so.{abi}"))
     );
     let dynamic = stdout(&run(Command::new("readelf").arg("-d").arg(&real)));
     assert!(
-        dynamic.contains(&format!("[libcrowdgaze.so.{major}]")),
+        dynamic.contains(&format!("Library soname: [libcrowdgaze.so.{abi}]")),
         "SONAME:\n{dynamic}"
     );
     let archive = std::fs::read(lib.join("libcrowdgaze.a")).expect("libcrowdgaze.a");
@@ -134,6 +143,7 @@ fn install_puts_headers_libraries_and_package_files_under_the_prefix() {
         "add_library(crowdgaze::shared SHARED IMPORTED)",
         "add_library(crowdgaze::static STATIC IMPORTED)",
         &format!("libcrowdgaze.so.{version}"),
+        &format!("IMPORTED_SONAME \"libcrowdgaze.so.{abi}\""),
     ] {
         assert!(config.contains(needle), "{needle} missing from the config");
     }
@@ -180,8 +190,7 @@ fn cmake_consumer_builds_against_the_installed_package() {
     let statik = build.join("consumer_static");
     check_consumer(&shared);
     check_consumer(&statik);
-    let major = env!("CARGO_PKG_VERSION_MAJOR");
-    assert!(needed_libraries(&shared).contains(&format!("[libcrowdgaze.so.{major}]")));
+    assert!(needed_libraries(&shared).contains(&format!("[libcrowdgaze.so.{}]", abi())));
     assert!(!needed_libraries(&statik).contains("libcrowdgaze"));
 
     // A version this package cannot satisfy is refused (0.x: the minor must match).

@@ -69,6 +69,13 @@ fn the_counter_sees_allocations() {
 fn status_and_version_queries_do_not_allocate() {
     use crowdgaze::ffi::{crowd, status, version};
     let mut config = std::mem::MaybeUninit::<crowd::cg_crowd_config>::uninit();
+    // SAFETY: a versioned struct starts with its `uint32_t struct_size`, set before the call.
+    unsafe {
+        config
+            .as_mut_ptr()
+            .cast::<u32>()
+            .write(std::mem::size_of::<crowd::cg_crowd_config>() as u32)
+    };
     assert_eq!(
         crowd::cg_crowd_config_init(config.as_mut_ptr()),
         status::cg_status::Ok
@@ -100,6 +107,13 @@ fn push_frame_step_and_read_gaze_do_not_allocate() {
     use crowdgaze::ffi::types::cg_vec3;
 
     let mut config = std::mem::MaybeUninit::<cg_crowd_config>::uninit();
+    // SAFETY: a versioned struct starts with its `uint32_t struct_size`, set before the call.
+    unsafe {
+        config
+            .as_mut_ptr()
+            .cast::<u32>()
+            .write(std::mem::size_of::<cg_crowd_config>() as u32)
+    };
     assert_eq!(cg_crowd_config_init(config.as_mut_ptr()), cg_status::Ok);
     // SAFETY: initialised just above.
     let mut config = unsafe { config.assume_init() };
@@ -108,6 +122,12 @@ fn push_frame_step_and_read_gaze_do_not_allocate() {
     let mut handle = std::ptr::null_mut();
     assert_eq!(cg_crowd_create(&config, &mut handle), cg_status::Ok);
     let mut desc = std::mem::MaybeUninit::<cg_character_desc>::uninit();
+    // SAFETY: a versioned struct starts with its `uint32_t struct_size`, set before the call.
+    unsafe {
+        desc.as_mut_ptr()
+            .cast::<u32>()
+            .write(std::mem::size_of::<cg_character_desc>() as u32)
+    };
     assert_eq!(cg_character_desc_init(desc.as_mut_ptr()), cg_status::Ok);
     // SAFETY: initialised just above.
     let mut desc = unsafe { desc.assume_init() };
@@ -124,6 +144,13 @@ fn push_frame_step_and_read_gaze_do_not_allocate() {
             cg_status::Ok
         );
         let mut state = std::mem::MaybeUninit::<cg_entity_state>::uninit();
+        // SAFETY: a versioned struct starts with its `uint32_t struct_size`, set before the call.
+        unsafe {
+            state
+                .as_mut_ptr()
+                .cast::<u32>()
+                .write(std::mem::size_of::<cg_entity_state>() as u32)
+        };
         assert_eq!(cg_entity_state_init(state.as_mut_ptr()), cg_status::Ok);
         // SAFETY: initialised just above.
         let mut state = unsafe { state.assume_init() };
@@ -243,6 +270,13 @@ fn view_blending_does_not_allocate_per_frame() {
     for method in [cg_blend_method::Dlb, cg_blend_method::Dib] {
         // Setup (allocates): config, blender, three 10-frame looping clips, three cameras.
         let mut config = std::mem::MaybeUninit::<cg_view_blender_config>::uninit();
+        // SAFETY: a versioned struct starts with its `uint32_t struct_size`, set before the call.
+        unsafe {
+            config
+                .as_mut_ptr()
+                .cast::<u32>()
+                .write(std::mem::size_of::<cg_view_blender_config>() as u32)
+        };
         assert_eq!(
             cg_view_blender_config_init(config.as_mut_ptr()),
             cg_status::Ok

@@ -107,6 +107,7 @@ fn crowd_transcript(crowd: *const cg_crowd) -> String {
         status(&mut out, "one's joints", s);
         // SAFETY: cg_character_params is plain u32 and f32 fields: all zeros is a value.
         let mut params: cg_character_params = unsafe { std::mem::zeroed() };
+        params.struct_size = std::mem::size_of::<cg_character_params>() as u32;
         let s = cg_crowd_get_character_params(crowd, info.character, &mut params);
         status(&mut out, "params", s);
         writeln!(out, "{one:?} {params:?}").unwrap();

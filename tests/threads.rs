@@ -184,6 +184,13 @@ mod c_api {
 
     fn crowd(threads: u32, characters: u32) -> *mut cg_crowd {
         let mut config = std::mem::MaybeUninit::<cg_crowd_config>::uninit();
+        // SAFETY: a versioned struct starts with its `uint32_t struct_size`, set before the call.
+        unsafe {
+            config
+                .as_mut_ptr()
+                .cast::<u32>()
+                .write(std::mem::size_of::<cg_crowd_config>() as u32)
+        };
         assert_eq!(cg_crowd_config_init(config.as_mut_ptr()), cg_status::Ok);
         // SAFETY: initialised just above.
         let mut config = unsafe { config.assume_init() };
@@ -191,6 +198,12 @@ mod c_api {
         let mut handle = std::ptr::null_mut();
         assert_eq!(cg_crowd_create(&config, &mut handle), cg_status::Ok);
         let mut desc = std::mem::MaybeUninit::<cg_character_desc>::uninit();
+        // SAFETY: a versioned struct starts with its `uint32_t struct_size`, set before the call.
+        unsafe {
+            desc.as_mut_ptr()
+                .cast::<u32>()
+                .write(std::mem::size_of::<cg_character_desc>() as u32)
+        };
         assert_eq!(cg_character_desc_init(desc.as_mut_ptr()), cg_status::Ok);
         // SAFETY: initialised just above.
         let mut desc = unsafe { desc.assume_init() };
@@ -357,6 +370,13 @@ mod c_api {
     #[test]
     fn threads_out_of_range_is_refused() {
         let mut config = std::mem::MaybeUninit::<cg_crowd_config>::uninit();
+        // SAFETY: a versioned struct starts with its `uint32_t struct_size`, set before the call.
+        unsafe {
+            config
+                .as_mut_ptr()
+                .cast::<u32>()
+                .write(std::mem::size_of::<cg_crowd_config>() as u32)
+        };
         assert_eq!(cg_crowd_config_init(config.as_mut_ptr()), cg_status::Ok);
         // SAFETY: initialised just above.
         let mut config = unsafe { config.assume_init() };
@@ -368,17 +388,55 @@ mod c_api {
             cg_status::InvalidArgument
         );
         assert!(handle.is_null());
-        // A caller built before `threads` existed passes the older struct size.
+        // A caller built before `reorder_period` existed has a 144-byte struct and says so:
+        // its `threads` is read, `reorder_period` takes its default, and nothing past its
+        // struct is read or written (guard bytes follow it here).
+        #[repr(C, align(8))]
+        struct Older {
+            config: [u8; 144],
+            guard: [u8; 64],
+        }
+        let older_size = std::mem::offset_of!(cg_crowd_config, reorder_period);
+        assert_eq!(older_size, 144);
+        let mut older = Older {
+            config: [0; 144],
+            guard: [0xA5; 64],
+        };
         config.threads = 9;
-        config.struct_size = std::mem::offset_of!(cg_crowd_config, threads) as u32;
-        assert_eq!(cg_crowd_create(&config, &mut handle), cg_status::Ok);
+        config.struct_size = older_size as u32;
+        // SAFETY: copies the first 144 bytes of a cg_crowd_config into a 144-byte array.
+        unsafe {
+            std::ptr::copy_nonoverlapping(
+                (&config as *const cg_crowd_config).cast::<u8>(),
+                older.config.as_mut_ptr(),
+                older_size,
+            )
+        };
+        let older_config = (&mut older as *mut Older).cast::<cg_crowd_config>();
+        assert_eq!(cg_crowd_create(older_config, &mut handle), cg_status::Ok);
+        older.config = [0; 144];
+        older.config[..4].copy_from_slice(&(older_size as u32).to_ne_bytes());
+        assert_eq!(cg_crowd_get_config(handle, older_config), cg_status::Ok);
+        assert_eq!(older.guard, [0xA5; 64], "written past the caller's struct");
+        let field = |offset: usize| {
+            u32::from_ne_bytes(older.config[offset..offset + 4].try_into().unwrap())
+        };
+        assert_eq!(field(0), 144, "struct_size keeps the caller's value");
+        assert_eq!(field(std::mem::offset_of!(cg_crowd_config, threads)), 9);
         let mut read = std::mem::MaybeUninit::<cg_crowd_config>::uninit();
+        // SAFETY: a versioned struct starts with its `uint32_t struct_size`, set before the call.
+        unsafe {
+            read.as_mut_ptr()
+                .cast::<u32>()
+                .write(std::mem::size_of::<cg_crowd_config>() as u32)
+        };
         assert_eq!(
             cg_crowd_get_config(handle, read.as_mut_ptr()),
             cg_status::Ok
         );
         // SAFETY: written by the call above.
-        assert_eq!(unsafe { read.assume_init() }.threads, 1);
+        let read = unsafe { read.assume_init() };
+        assert_eq!((read.threads, read.reorder_period), (9, 32));
         cg_crowd_destroy(handle);
     }
 }

@@ -164,15 +164,24 @@ inline bool version_matches_header() noexcept {
 
 // ---------------------------------------------------------------------------------------
 // Plain structs filled with their defaults (the C `_init` functions; they cannot fail on a
-// valid pointer).
+// valid pointer to a struct whose `struct_size` is set).
+
+// A versioned struct (one that starts with `uint32_t struct_size`) zeroed, with its
+// `struct_size` set to `sizeof(T)`, as every call taking it requires before the call.
+template <typename T>
+inline T sized() noexcept {
+    T value{};
+    value.struct_size = static_cast<std::uint32_t>(sizeof(T));
+    return value;
+}
 
 inline cg_crowd_config crowd_config() noexcept {
-    cg_crowd_config config{};
+    cg_crowd_config config = sized<cg_crowd_config>();
     (void)cg_crowd_config_init(&config);
     return config;
 }
 inline cg_character_desc character_desc() noexcept {
-    cg_character_desc desc{};
+    cg_character_desc desc = sized<cg_character_desc>();
     (void)cg_character_desc_init(&desc);
     return desc;
 }
@@ -183,12 +192,12 @@ inline cg_character_desc character_desc(cg_vec3 position, float heading = 0.0f) 
     return desc;
 }
 inline cg_object_desc object_desc() noexcept {
-    cg_object_desc desc{};
+    cg_object_desc desc = sized<cg_object_desc>();
     (void)cg_object_desc_init(&desc);
     return desc;
 }
 inline cg_entity_state entity_state() noexcept {
-    cg_entity_state state{};
+    cg_entity_state state = sized<cg_entity_state>();
     (void)cg_entity_state_init(&state);
     return state;
 }
@@ -201,7 +210,7 @@ inline cg_entity_state entity_state(std::uint32_t id, cg_vec3 position) noexcept
     return state;
 }
 inline cg_gaze_target gaze_target() noexcept {
-    cg_gaze_target target{};
+    cg_gaze_target target = sized<cg_gaze_target>();
     (void)cg_gaze_target_init(&target);
     return target;
 }
@@ -224,7 +233,7 @@ inline cg_gaze_target gaze_target_entity(std::uint32_t entity,
     return target;
 }
 inline cg_view_blender_config view_blender_config() noexcept {
-    cg_view_blender_config config{};
+    cg_view_blender_config config = sized<cg_view_blender_config>();
     (void)cg_view_blender_config_init(&config);
     return config;
 }
@@ -239,10 +248,16 @@ inline cg_view_blender_config view_blender_config(std::uint32_t joint_count,
 }
 
 // The human gaze chain (5 spine, 2 cervical, head, 2 eyes; metres) for these axes.
+// `out` is written (`struct_size` set) only on success.
 [[nodiscard]] inline cg_status try_chain_desc_human(cg_axis up, cg_axis forward,
                                                     cg_chain_desc& out) noexcept {
-    return cg_chain_desc_init_human(&out, static_cast<std::uint32_t>(up),
-                                    static_cast<std::uint32_t>(forward));
+    cg_chain_desc desc = sized<cg_chain_desc>();
+    const cg_status status = cg_chain_desc_init_human(&desc, static_cast<std::uint32_t>(up),
+                                                      static_cast<std::uint32_t>(forward));
+    if (status == CG_STATUS_OK) {
+        out = desc;
+    }
+    return status;
 }
 inline cg_chain_desc chain_desc_human(cg_axis up, cg_axis forward) {
     cg_chain_desc desc{};
@@ -296,8 +311,14 @@ class Crowd {
 
     // --- setup -------------------------------------------------------------------------
 
+    // `out` is written (`struct_size` set) only on success.
     [[nodiscard]] cg_status try_config(cg_crowd_config& out) const noexcept {
-        return cg_crowd_get_config(crowd_, &out);
+        cg_crowd_config config = sized<cg_crowd_config>();
+        const cg_status status = cg_crowd_get_config(crowd_, &config);
+        if (status == CG_STATUS_OK) {
+            out = config;
+        }
+        return status;
     }
     cg_crowd_config config() const {
         cg_crowd_config out{};
@@ -342,9 +363,15 @@ class Crowd {
         return count;
     }
 
+    // `out` is written (`struct_size` set) only on success.
     [[nodiscard]] cg_status try_character_params(std::uint32_t character,
                                                  cg_character_params& out) const noexcept {
-        return cg_crowd_get_character_params(crowd_, character, &out);
+        cg_character_params params = sized<cg_character_params>();
+        const cg_status status = cg_crowd_get_character_params(crowd_, character, &params);
+        if (status == CG_STATUS_OK) {
+            out = params;
+        }
+        return status;
     }
     cg_character_params character_params(std::uint32_t character) const {
         cg_character_params params{};

@@ -31,11 +31,13 @@ int main(void) {
         return 1;
     }
     printf("crowdgaze %s\n", cg_version_string());
+    config.struct_size = sizeof config;
     good &= check(cg_crowd_config_init(&config), "config");
     config.max_characters = 2;
     good &= check(cg_crowd_create(&config, &crowd), "create");
     if (!good) return 1;
     for (i = 0; i < 2; i++) {
+        desc.struct_size = sizeof desc;
         cg_character_desc_init(&desc);
         desc.position.z = 3.0f * (float)i;
         desc.heading = i == 0 ? 0.0f : 3.14159265f;
@@ -43,6 +45,7 @@ int main(void) {
     }
     /* Each looks at the other (an entity target followed as it moves). */
     for (i = 0; i < 2; i++) {
+        target.struct_size = sizeof target;
         cg_gaze_target_init(&target);
         target.kind = CG_GAZE_TARGET_ENTITY;
         target.entity = ids[1 - i];

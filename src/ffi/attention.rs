@@ -4,9 +4,9 @@
 use glam::Vec3;
 
 use super::chain::cg_chain_desc;
-use super::crowd::{cg_crowd, crowd_handle, crowd_mut, crowd_ref};
+use super::crowd::{cg_crowd, crowd_handle, crowd_mut, crowd_ref, test_hook, Hook};
 use super::types::cg_vec3;
-use super::{cg_status, ffi_boundary, read_versioned, Versioned};
+use super::{cg_status, ffi_boundary, read_versioned, write_versioned, Versioned};
 use crate::attention::score::SubscoreWeights;
 use crate::attention::{AttentionModel, CharacterParams};
 use crate::crowd::{CharacterDesc, ObjectDesc};
@@ -76,11 +76,13 @@ pub enum cg_target_part {
     Torso = 5,
 }
 
-/// A new character. Fill it with `cg_character_desc_init`, then set what you need.
+/// A new character. Set `struct_size`, fill it with `cg_character_desc_init`, then set
+/// what you need.
 #[repr(C)]
 #[derive(Debug, Clone, Copy)]
 pub struct cg_character_desc {
-    /// Size of this struct in bytes, set by `cg_character_desc_init`.
+    /// Size of this struct in bytes: set it to `sizeof(cg_character_desc)` before every
+    /// call taking the struct, `cg_character_desc_init` included.
     pub struct_size: u32,
     /// Heading, radians counter-clockwise about up (0 along forward). Default 0.
     pub heading: f32,
@@ -95,12 +97,13 @@ pub struct cg_character_desc {
     pub attention_model: u32,
 }
 
-/// A new scene object: something characters may look at. Fill it with
+/// A new scene object: something characters may look at. Set `struct_size`, fill it with
 /// `cg_object_desc_init`, then set what you need.
 #[repr(C)]
 #[derive(Debug, Clone, Copy)]
 pub struct cg_object_desc {
-    /// Size of this struct in bytes, set by `cg_object_desc_init`.
+    /// Size of this struct in bytes: set it to `sizeof(cg_object_desc)` before every call
+    /// taking the struct, `cg_object_desc_init` included.
     pub struct_size: u32,
     /// Its forward direction as a heading (radians), used by the orientation subscores.
     /// Default 0.
@@ -114,13 +117,14 @@ pub struct cg_object_desc {
     pub position: cg_vec3,
 }
 
-/// One entity's state in a frame. Fill each with `cg_entity_state_init` (or copy one that
-/// was), then set `id`, `position` and the rest.
+/// One entity's state in a frame. Set `struct_size` and fill each with
+/// `cg_entity_state_init` (or copy one that was), then set `id`, `position` and the rest.
 #[repr(C)]
 #[derive(Debug, Clone, Copy)]
 pub struct cg_entity_state {
-    /// Size of this struct in bytes, set by `cg_entity_state_init`; the same in every
-    /// element of an array.
+    /// Size of this struct in bytes: set it to `sizeof(cg_entity_state)` before every call
+    /// taking the struct, `cg_entity_state_init` included; the same in every element of an
+    /// array (it is the array's stride).
     pub struct_size: u32,
     /// The entity's id.
     pub id: u32,
@@ -140,7 +144,8 @@ pub struct cg_entity_state {
 #[repr(C)]
 #[derive(Debug, Clone, Copy)]
 pub struct cg_character_params {
-    /// Size of this struct in bytes (`cg_crowd_get_character_params` sets it).
+    /// Size of this struct in bytes: set it to `sizeof(cg_character_params)` before every
+    /// call taking the struct, `cg_crowd_get_character_params` included.
     pub struct_size: u32,
     /// `ω_p`, weight of the proximity subscore.
     pub weight_proximity: f32,
@@ -227,7 +232,7 @@ pub struct cg_constraint {
 }
 
 impl Versioned for cg_character_desc {
-    const MIN_SIZE: usize = std::mem::size_of::<cg_character_desc>();
+    const SIZES: &'static [usize] = &[std::mem::size_of::<cg_character_desc>()];
     const NAME: &'static str = "cg_character_desc";
     fn defaults() -> Self {
         cg_character_desc {
@@ -242,7 +247,7 @@ impl Versioned for cg_character_desc {
 }
 
 impl Versioned for cg_object_desc {
-    const MIN_SIZE: usize = std::mem::size_of::<cg_object_desc>();
+    const SIZES: &'static [usize] = &[std::mem::size_of::<cg_object_desc>()];
     const NAME: &'static str = "cg_object_desc";
     fn defaults() -> Self {
         cg_object_desc {
@@ -256,7 +261,7 @@ impl Versioned for cg_object_desc {
 }
 
 impl Versioned for cg_entity_state {
-    const MIN_SIZE: usize = std::mem::size_of::<cg_entity_state>();
+    const SIZES: &'static [usize] = &[std::mem::size_of::<cg_entity_state>()];
     const NAME: &'static str = "cg_entity_state";
     fn defaults() -> Self {
         cg_entity_state {
@@ -271,7 +276,7 @@ impl Versioned for cg_entity_state {
 }
 
 impl Versioned for cg_character_params {
-    const MIN_SIZE: usize = std::mem::size_of::<cg_character_params>();
+    const SIZES: &'static [usize] = &[std::mem::size_of::<cg_character_params>()];
     const NAME: &'static str = "cg_character_params";
     fn defaults() -> Self {
         let weights = SubscoreWeights::EQUAL;
@@ -287,30 +292,44 @@ impl Versioned for cg_character_params {
     }
 }
 
-/// Writes `value`'s defaults into `*out` (the body of every `_init` function).
+/// Writes `T`'s defaults into `*out`, up to its `struct_size` (the body of every `_init`
+/// function).
 fn init<T: Versioned>(out: *mut T, what: &str) -> Result<()> {
-    // SAFETY: the caller passes a writable T (or NULL, rejected by borrow_mut).
-    let out = unsafe { super::borrow_mut(out, what) }?;
-    *out = T::defaults();
-    Ok(())
+    // SAFETY: the caller passes a T of at least its struct_size bytes (or NULL, rejected).
+    unsafe { write_versioned(out, T::defaults(), what) }
 }
 
-/// Fills `desc` with defaults (origin, heading 0, impact 1) and its `struct_size`.
-/// Errors: `CG_STATUS_NULL_ARGUMENT`. Thread-safe.
+/// Fills `desc` with defaults (origin, heading 0, impact 1). Set `desc->struct_size =
+/// sizeof(cg_character_desc)` first: only that many bytes are written, and `struct_size`
+/// keeps its value. The caller owns `desc`.
+///
+/// Errors (nothing written): `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_BAD_STRUCT_SIZE`
+/// (`struct_size` not a size the library knows, 0 or an unset field included).
+/// Thread-safe.
 #[no_mangle]
 pub extern "C" fn cg_character_desc_init(desc: *mut cg_character_desc) -> cg_status {
     ffi_boundary!({ init(desc, "desc") })
 }
 
-/// Fills `desc` with defaults (origin, heading 0, look-at height 0, impact 1) and its
-/// `struct_size`. Errors: `CG_STATUS_NULL_ARGUMENT`. Thread-safe.
+/// Fills `desc` with defaults (origin, heading 0, look-at height 0, impact 1). Set
+/// `desc->struct_size = sizeof(cg_object_desc)` first: only that many bytes are written,
+/// and `struct_size` keeps its value. The caller owns `desc`.
+///
+/// Errors (nothing written): `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_BAD_STRUCT_SIZE`
+/// (`struct_size` not a size the library knows, 0 or an unset field included).
+/// Thread-safe.
 #[no_mangle]
 pub extern "C" fn cg_object_desc_init(desc: *mut cg_object_desc) -> cg_status {
     ffi_boundary!({ init(desc, "desc") })
 }
 
-/// Fills `state` with defaults (id `CG_NO_TARGET`, no flags, zeros) and its `struct_size`.
-/// Errors: `CG_STATUS_NULL_ARGUMENT`. Thread-safe.
+/// Fills `state` with defaults (id `CG_NO_TARGET`, no flags, zeros). Set
+/// `state->struct_size = sizeof(cg_entity_state)` first: only that many bytes are
+/// written, and `struct_size` keeps its value. The caller owns `state`.
+///
+/// Errors (nothing written): `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_BAD_STRUCT_SIZE`
+/// (`struct_size` not a size the library knows, 0 or an unset field included).
+/// Thread-safe.
 #[no_mangle]
 pub extern "C" fn cg_entity_state_init(state: *mut cg_entity_state) -> cg_status {
     ffi_boundary!({ init(state, "state") })
@@ -521,8 +540,10 @@ pub extern "C" fn cg_crowd_push_frame(
 pub extern "C" fn cg_crowd_step(crowd: *mut cg_crowd, dt: f32) -> cg_status {
     ffi_boundary!({
         // SAFETY: handle contract of cg_crowd.
-        let crowd = unsafe { crowd_mut(crowd) }?;
-        crowd.step(dt)
+        unsafe { crowd_mut(crowd) }?.step(dt)?;
+        // SAFETY: as above; the crowd's mutable borrow has ended.
+        unsafe { test_hook(crowd, Hook::Step) };
+        Ok(())
     })
 }
 
@@ -666,10 +687,14 @@ pub extern "C" fn cg_crowd_score(
     })
 }
 
-/// Writes a character's attention parameters (with `struct_size`) to `*out_params`.
+/// Writes a character's attention parameters to `*out_params`. Set
+/// `out_params->struct_size = sizeof(cg_character_params)` first: only that many bytes are
+/// written, and `struct_size` keeps its value. The caller owns `out_params`.
 ///
-/// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NOT_FOUND`, `CG_STATUS_INVALID_ARGUMENT`
-/// (an object's id). Safe to call concurrently with other `const` calls.
+/// Errors (nothing written): `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_BAD_STRUCT_SIZE`
+/// (`struct_size` not a size the library knows), `CG_STATUS_NOT_FOUND`,
+/// `CG_STATUS_INVALID_ARGUMENT` (an object's id). Safe to call concurrently with other
+/// `const` calls.
 #[no_mangle]
 pub extern "C" fn cg_crowd_get_character_params(
     crowd: *const cg_crowd,
@@ -681,9 +706,7 @@ pub extern "C" fn cg_crowd_get_character_params(
         let crowd = unsafe { crowd_ref(crowd) }?;
         super::non_null(out_params, "out_params")?;
         let params = crowd.character_params(character)?;
-        // SAFETY: the caller provides a writable cg_character_params (checked non-null).
-        let out = unsafe { super::borrow_mut(out_params, "out_params") }?;
-        *out = cg_character_params {
+        let params = cg_character_params {
             struct_size: std::mem::size_of::<cg_character_params>() as u32,
             weight_proximity: params.weights.proximity,
             weight_speed: params.weights.speed,
@@ -692,7 +715,9 @@ pub extern "C" fn cg_crowd_get_character_params(
             attention_fraction: params.attention_fraction,
             attention_model: cg_attention_model::from_model(params.model),
         };
-        Ok(())
+        // SAFETY: the caller provides a cg_character_params of at least its struct_size
+        // bytes (checked non-null).
+        unsafe { write_versioned(out_params, params, "out_params") }
     })
 }
 

@@ -5,10 +5,12 @@
 
 use glam::{Mat4, Quat};
 
+use super::poison::{self, Poison};
 use super::status::cg_status;
 use super::types::{cg_dualquat, cg_quat, cg_vec3};
 use super::{
-    borrow, borrow_mut, ffi_boundary, non_null, read_versioned, slice, slice_mut, Versioned,
+    borrow, borrow_mut, ffi_boundary, non_null, read_versioned, slice, slice_mut, write_versioned,
+    Versioned,
 };
 use crate::blend::{
     self, AsDualQuat, BlendMethod, DibSettings, KeyClip, ViewBlender, ViewBlenderConfig,
@@ -474,18 +476,53 @@ pub enum cg_view_distance {
 /// mutation: the set/add calls must not overlap any other call on the same blender. Calls
 /// taking a `const cg_view_blender*` may run concurrently with each other, so one blender can
 /// serve many characters that share its key animations.
+///
+/// If a set/add call fails with `CG_STATUS_INTERNAL` (a bug, such as a caught panic), the
+/// blender may be half-updated and is poisoned: every later call on it fails with
+/// `CG_STATUS_POISONED`, whose message repeats the first failure's.
+/// `cg_view_blender_destroy` still frees it.
 pub struct cg_view_blender {
     _private: [u8; 0],
 }
 
-/// Settings of a view blender, fixed for its lifetime. Fill it with
+/// What a `cg_view_blender*` points to: the blender and its poison.
+pub(crate) struct BlenderHandle {
+    blender: ViewBlender,
+    /// Set by the first set/add call that failed inside the library.
+    poison: Poison,
+    /// Test builds: whether the next set/add call panics once it has changed the blender.
+    #[cfg(feature = "test-hooks")]
+    panic_next: std::sync::atomic::AtomicBool,
+}
+
+impl BlenderHandle {
+    fn new(blender: ViewBlender) -> BlenderHandle {
+        BlenderHandle {
+            blender,
+            poison: Poison::default(),
+            #[cfg(feature = "test-hooks")]
+            panic_next: std::sync::atomic::AtomicBool::new(false),
+        }
+    }
+
+    /// Test builds: makes the next set/add call panic once it has changed the blender.
+    #[cfg(feature = "test-hooks")]
+    pub(crate) fn panic_next(&self) {
+        self.panic_next
+            .store(true, std::sync::atomic::Ordering::SeqCst);
+    }
+}
+
+/// Settings of a view blender, fixed for its lifetime. Set `struct_size`, fill it with
 /// `cg_view_blender_config_init`, then set `joint_count` and `key_count` (they have no usable
 /// default) and change what you need.
 #[repr(C)]
 #[derive(Debug, Clone, Copy)]
 pub struct cg_view_blender_config {
-    /// Size of this struct in bytes, set by `cg_view_blender_config_init`; lets later versions
-    /// add fields without breaking callers compiled against this header.
+    /// Size of this struct in bytes: set it to `sizeof(cg_view_blender_config)` before every
+    /// call taking the struct, `cg_view_blender_config_init` included. The library reads and
+    /// writes no more than this, so later versions can add fields without breaking older
+    /// callers.
     pub struct_size: u32,
     /// Joints per pose, 1 to 65536. Default 0: must be set.
     pub joint_count: u32,
@@ -507,7 +544,7 @@ pub struct cg_view_blender_config {
 }
 
 impl Versioned for cg_view_blender_config {
-    const MIN_SIZE: usize = std::mem::size_of::<cg_view_blender_config>();
+    const SIZES: &'static [usize] = &[std::mem::size_of::<cg_view_blender_config>()];
     const NAME: &'static str = "cg_view_blender_config";
 
     fn defaults() -> Self {
@@ -562,16 +599,19 @@ impl cg_view_blender_config {
     }
 }
 
-/// Fills `config` with the defaults documented on each field, including `struct_size`.
+/// Fills `config` with the defaults documented on each field. Set `config->struct_size =
+/// sizeof(cg_view_blender_config)` first: only that many bytes are written, and
+/// `struct_size` keeps its value. The caller owns `config`.
 ///
-/// Errors: `CG_STATUS_NULL_ARGUMENT` if `config` is NULL. Thread-safe.
+/// Errors (nothing written): `CG_STATUS_NULL_ARGUMENT` if `config` is NULL,
+/// `CG_STATUS_BAD_STRUCT_SIZE` if `struct_size` is not a size of this struct the library
+/// knows (0 or an unset field included). Thread-safe.
 #[no_mangle]
 pub extern "C" fn cg_view_blender_config_init(config: *mut cg_view_blender_config) -> cg_status {
     ffi_boundary!({
-        // SAFETY: the caller passes a pointer to a cg_view_blender_config it owns (or NULL).
-        let config = unsafe { borrow_mut(config, "config") }?;
-        *config = cg_view_blender_config::defaults();
-        Ok(())
+        // SAFETY: the caller passes a cg_view_blender_config it owns, of at least its
+        // struct_size bytes (or NULL).
+        unsafe { write_versioned(config, cg_view_blender_config::defaults(), "config") }
     })
 }
 
@@ -581,8 +621,8 @@ pub extern "C" fn cg_view_blender_config_init(config: *mut cg_view_blender_confi
 /// The caller owns the new blender and releases it with `cg_view_blender_destroy`.
 /// `*out_blender` is written only on success. Thread-safe.
 ///
-/// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_BAD_STRUCT_SIZE` (config not filled by
-/// `cg_view_blender_config_init`), `CG_STATUS_INVALID_ARGUMENT` (a field out of its range,
+/// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_BAD_STRUCT_SIZE` (`config->struct_size`
+/// not a size the library knows), `CG_STATUS_INVALID_ARGUMENT` (a field out of its range,
 /// an unknown enum value), `CG_STATUS_NON_FINITE` (alpha or precision NaN or infinite),
 /// `CG_STATUS_OUT_OF_MEMORY`.
 #[no_mangle]
@@ -594,7 +634,7 @@ pub extern "C" fn cg_view_blender_create(
         non_null(out_blender, "out_blender")?;
         // SAFETY: the caller passes a readable config of at least its struct_size bytes.
         let config = unsafe { read_versioned(config) }?.to_core()?;
-        let blender = Box::new(ViewBlender::new(config)?);
+        let blender = Box::new(BlenderHandle::new(ViewBlender::new(config)?));
         // SAFETY: out_blender was checked non-null; the caller provides a writable slot.
         let out = unsafe { borrow_mut(out_blender, "out_blender") }?;
         *out = Box::into_raw(blender).cast::<cg_view_blender>();
@@ -603,7 +643,7 @@ pub extern "C" fn cg_view_blender_create(
 }
 
 /// Destroys a view blender created by `cg_view_blender_create` and frees everything it owns
-/// (its clips and cameras).
+/// (its clips and cameras), also when the blender is poisoned.
 ///
 /// NULL is accepted and ignored. The handle must not be used afterwards, and no other call
 /// on this blender may be running.
@@ -615,29 +655,71 @@ pub extern "C" fn cg_view_blender_destroy(blender: *mut cg_view_blender) {
     let _ = ffi_boundary!({
         // SAFETY: a non-null handle was produced by Box::into_raw in cg_view_blender_create
         // and is destroyed once, by the caller's contract.
-        drop(unsafe { Box::from_raw(blender.cast::<ViewBlender>()) });
+        drop(unsafe { Box::from_raw(blender.cast::<BlenderHandle>()) });
         Ok(())
     });
 }
 
-/// Reborrows a blender handle as the core blender.
+/// Reborrows a blender handle as its handle state; fails if the blender is poisoned.
+///
+/// # Safety
+/// `blender`, if not NULL, must be a live handle from `cg_view_blender_create`, with no
+/// mutable access for `'a`.
+pub(crate) unsafe fn blender_handle<'a>(
+    blender: *const cg_view_blender,
+) -> Result<&'a BlenderHandle> {
+    // SAFETY: forwarded contract: a live handle is a Box<BlenderHandle>.
+    let handle = unsafe { borrow(blender.cast::<BlenderHandle>(), "blender") }?;
+    handle.poison.check()?;
+    Ok(handle)
+}
+
+/// Reborrows a blender handle as the core blender; fails if the blender is poisoned.
 ///
 /// # Safety
 /// `blender`, if not NULL, must be a live handle from `cg_view_blender_create`, with no
 /// mutable access for `'a`.
 unsafe fn blender_ref<'a>(blender: *const cg_view_blender) -> Result<&'a ViewBlender> {
-    // SAFETY: forwarded contract: a live handle is a Box<ViewBlender>.
-    unsafe { borrow(blender.cast::<ViewBlender>(), "blender") }
+    // SAFETY: forwarded contract.
+    Ok(&unsafe { blender_handle(blender) }?.blender)
 }
 
-/// Reborrows a blender handle mutably as the core blender.
+/// Reborrows a blender handle mutably as the core blender, for a call that changes it (its
+/// poison is armed for the call); fails if the blender is poisoned.
 ///
 /// # Safety
 /// `blender`, if not NULL, must be a live handle from `cg_view_blender_create`, not accessed
 /// by anything else for `'a`.
 unsafe fn blender_mut<'a>(blender: *mut cg_view_blender) -> Result<&'a mut ViewBlender> {
-    // SAFETY: forwarded contract: a live handle is a Box<ViewBlender>.
-    unsafe { borrow_mut(blender.cast::<ViewBlender>(), "blender") }
+    // SAFETY: forwarded contract: a live handle is a Box<BlenderHandle>.
+    let handle = unsafe { borrow_mut(blender.cast::<BlenderHandle>(), "blender") }?;
+    handle.poison.check()?;
+    poison::arm(&handle.poison);
+    Ok(&mut handle.blender)
+}
+
+/// Test builds (feature `test-hooks`): panics if the next set/add call on `blender` was
+/// asked to panic (`testing::panic_next_change`). Does nothing otherwise.
+///
+/// # Safety
+/// `blender`, if not NULL, must be a live handle from `cg_view_blender_create`, with no
+/// mutable access meanwhile.
+unsafe fn test_hook(blender: *const cg_view_blender) {
+    #[cfg(feature = "test-hooks")]
+    {
+        // SAFETY: forwarded contract.
+        let handle = unsafe { blender_handle(blender) };
+        let armed = handle.is_ok_and(|handle| {
+            handle
+                .panic_next
+                .swap(false, std::sync::atomic::Ordering::SeqCst)
+        });
+        if armed {
+            panic!("test hook: a change of the view blender panics");
+        }
+    }
+    #[cfg(not(feature = "test-hooks"))]
+    let _ = blender;
 }
 
 /// Sets (or replaces) key animation `key` (0 to `key_count - 1`) to a clip of `frame_count`
@@ -670,8 +752,9 @@ pub extern "C" fn cg_view_blender_set_key_clip(
     looping: bool,
 ) -> cg_status {
     ffi_boundary!({
+        let handle = blender;
         // SAFETY: handle contract of cg_view_blender.
-        let blender = unsafe { blender_mut(blender) }?;
+        let blender = unsafe { blender_mut(handle) }?;
         let joint_count = blender.config().joint_count;
         let elements = pose_elements(frame_count, joint_count)?;
         // SAFETY: the caller passes `frame_count * joint_count` readable transforms (or NULL, 0).
@@ -679,7 +762,10 @@ pub extern "C" fn cg_view_blender_set_key_clip(
         ensure_finite(frames_per_second, "frames_per_second")?;
         check_all(frames, "frames")?;
         let clip = KeyClip::new(frames, joint_count, frames_per_second, looping)?;
-        blender.set_key_clip(key as usize, clip)
+        blender.set_key_clip(key as usize, clip)?;
+        // SAFETY: as above; the blender's mutable borrow has ended.
+        unsafe { test_hook(handle) };
+        Ok(())
     })
 }
 
@@ -701,12 +787,16 @@ pub extern "C" fn cg_view_blender_set_key_pose(
     joint_count: usize,
 ) -> cg_status {
     ffi_boundary!({
+        let handle = blender;
         // SAFETY: handle contract of cg_view_blender.
-        let blender = unsafe { blender_mut(blender) }?;
+        let blender = unsafe { blender_mut(handle) }?;
         // SAFETY: the caller passes `joint_count` readable transforms (or NULL, 0).
         let pose = unsafe { slice(pose, joint_count, "pose") }?;
         check_all(pose, "pose")?;
-        blender.set_key_pose(key as usize, pose)
+        blender.set_key_pose(key as usize, pose)?;
+        // SAFETY: as above; the blender's mutable borrow has ended.
+        unsafe { test_hook(handle) };
+        Ok(())
     })
 }
 
@@ -728,10 +818,14 @@ pub extern "C" fn cg_view_blender_add_camera(
     key: u32,
 ) -> cg_status {
     ffi_boundary!({
+        let handle = blender;
         // SAFETY: handle contract of cg_view_blender.
-        let blender = unsafe { blender_mut(blender) }?;
+        let blender = unsafe { blender_mut(handle) }?;
         let direction = direction.to_finite("direction")?;
-        blender.add_camera(direction, key as usize).map(|_| ())
+        blender.add_camera(direction, key as usize)?;
+        // SAFETY: as above; the blender's mutable borrow has ended.
+        unsafe { test_hook(handle) };
+        Ok(())
     })
 }
 

@@ -4,7 +4,7 @@
 use glam::Vec3;
 
 use super::types::{cg_axis, cg_quat, cg_vec3};
-use super::{ffi_boundary, Versioned};
+use super::{ffi_boundary, write_versioned, Versioned};
 use crate::error::{ensure_all_finite, ensure_finite, Error, Result};
 use crate::ik::{ChainJoint, GazeChain, JointLimits, JointRole, MAX_CHAIN_JOINTS};
 use crate::world::World;
@@ -93,12 +93,13 @@ pub struct cg_chain_joint {
 ///
 /// Expressed in the world's axes for a character at heading 0; the character's world
 /// transform is translation(position) · rotation(heading about the up axis).
-/// Fill it with `cg_chain_desc_init_human` (then adjust), or field by field after setting
-/// `struct_size = sizeof(cg_chain_desc)`.
+/// Set `struct_size = sizeof(cg_chain_desc)`, then fill it with `cg_chain_desc_init_human`
+/// (and adjust) or field by field.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct cg_chain_desc {
-    /// Size of this struct in bytes, set by `cg_chain_desc_init_human`.
+    /// Size of this struct in bytes: set it to `sizeof(cg_chain_desc)` before every call
+    /// taking the struct, `cg_chain_desc_init_human` included.
     pub struct_size: u32,
     /// Number of joints used in `joints`, 1 to `CG_MAX_CHAIN_JOINTS`.
     pub joint_count: u32,
@@ -207,7 +208,7 @@ impl cg_chain_desc {
 }
 
 impl Versioned for cg_chain_desc {
-    const MIN_SIZE: usize = std::mem::size_of::<cg_chain_desc>();
+    const SIZES: &'static [usize] = &[std::mem::size_of::<cg_chain_desc>()];
     const NAME: &'static str = "cg_chain_desc";
 
     fn defaults() -> Self {
@@ -218,7 +219,8 @@ impl Versioned for cg_chain_desc {
 /// Fills `desc` with the gaze chain of an adult human (Grillon & Thalmann's 5 spine,
 /// 2 cervical, 1 head and 2 eye joints) for a skeleton whose up axis is `up_axis` and which
 /// faces `forward_axis` (both `cg_axis` values, perpendicular; the character's left is
-/// up × forward), including `struct_size`.
+/// up × forward). Set `desc->struct_size = sizeof(cg_chain_desc)` first: only that many
+/// bytes are written, and `struct_size` keeps its value. The caller owns `desc`.
 ///
 /// Lengths are in **metres**: the pelvis (chain root) 0.95 above the character's position,
 /// eyes at 1.62, 64 mm apart. If your crowd's `units_per_metre` is not 1, multiply every
@@ -227,8 +229,9 @@ impl Versioned for cg_chain_desc {
 /// the eyes a 35° cone and no torsion.
 ///
 /// `*desc` is written only on success. Errors: `CG_STATUS_NULL_ARGUMENT` (desc NULL),
-/// `CG_STATUS_INVALID_ARGUMENT` (an axis not a `cg_axis`, or the two not perpendicular).
-/// Thread-safe.
+/// `CG_STATUS_INVALID_ARGUMENT` (an axis not a `cg_axis`, or the two not perpendicular),
+/// `CG_STATUS_BAD_STRUCT_SIZE` (`struct_size` not a size the library knows, 0 or an unset
+/// field included). Thread-safe.
 #[no_mangle]
 pub extern "C" fn cg_chain_desc_init_human(
     desc: *mut cg_chain_desc,
@@ -241,10 +244,10 @@ pub extern "C" fn cg_chain_desc_init_human(
             cg_axis::parse(forward_axis, "forward_axis")?,
             1.0,
         )?;
-        // SAFETY: the caller passes a pointer to a cg_chain_desc it owns (or NULL).
-        let desc = unsafe { super::borrow_mut(desc, "desc") }?;
-        *desc = cg_chain_desc::from_core(&GazeChain::human(world.up, world.forward));
-        Ok(())
+        let human = cg_chain_desc::from_core(&GazeChain::human(world.up, world.forward));
+        // SAFETY: the caller passes a cg_chain_desc it owns, of at least its struct_size
+        // bytes (or NULL).
+        unsafe { write_versioned(desc, human, "desc") }
     })
 }
 
@@ -254,13 +257,14 @@ mod tests {
     use super::*;
 
     fn human_desc(up: cg_axis, forward: cg_axis) -> cg_chain_desc {
-        let mut desc = std::mem::MaybeUninit::<cg_chain_desc>::uninit();
+        // SAFETY: zero bytes are a valid cg_chain_desc (plain old data).
+        let mut desc: cg_chain_desc = unsafe { std::mem::zeroed() };
+        desc.struct_size = std::mem::size_of::<cg_chain_desc>() as u32;
         assert_eq!(
-            cg_chain_desc_init_human(desc.as_mut_ptr(), up as u32, forward as u32),
+            cg_chain_desc_init_human(&mut desc, up as u32, forward as u32),
             cg_status::Ok
         );
-        // SAFETY: initialised by the successful call above.
-        unsafe { desc.assume_init() }
+        desc
     }
 
     #[test]
@@ -317,6 +321,17 @@ mod tests {
         assert_eq!(desc, snapshot);
         assert_eq!(cg_chain_desc_init_human(&mut desc, 2, 4), cg_status::Ok);
         assert_eq!(desc, before);
+        // A struct_size this library does not know: nothing is written.
+        for size in [0, 4, 880, 888, u32::MAX] {
+            desc.joint_count = 3;
+            desc.struct_size = size;
+            let snapshot = desc;
+            assert_eq!(
+                cg_chain_desc_init_human(&mut desc, 2, 4),
+                cg_status::BadStructSize
+            );
+            assert_eq!(desc, snapshot, "struct_size {size}: unchanged");
+        }
     }
 
     #[test]

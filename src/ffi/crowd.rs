@@ -3,8 +3,9 @@
 use std::cell::UnsafeCell;
 use std::sync::atomic::{AtomicU32, AtomicU8, Ordering};
 
+use super::poison::{self, Poison};
 use super::types::cg_axis;
-use super::{ffi_boundary, read_versioned, Versioned};
+use super::{ffi_boundary, layout_size, read_versioned, write_versioned, Versioned};
 use crate::attention::baseline::BaselineConfig;
 use crate::attention::interest::InterestConfig;
 use crate::attention::saliency::SaliencyConfig;
@@ -22,6 +23,11 @@ use crate::world::World;
 /// between `cg_crowd_begin_step` and `cg_crowd_end_step`. Calls taking a `const cg_crowd*`
 /// may run concurrently with each other. While a ranged step is open, every other call on
 /// the crowd fails with `CG_STATUS_WRONG_STATE`.
+///
+/// If a call that changes the crowd fails with `CG_STATUS_INTERNAL` (a bug, such as a caught
+/// panic), the crowd may be half-updated and is poisoned: every later call on it, whatever
+/// it is, fails with `CG_STATUS_POISONED`, whose message repeats the first failure's.
+/// `cg_crowd_destroy` still frees it.
 pub struct cg_crowd {
     _private: [u8; 0],
 }
@@ -35,6 +41,16 @@ const CHANGING: u8 = 2;
 
 /// What a range or end call says when no ranged step is open.
 const NO_STEP_OPEN: &str = "no ranged step is open: call cg_crowd_begin_step first";
+
+/// The calls of a crowd that a test build can make panic once they have changed the crowd
+/// (`testing::panic_next`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Hook {
+    BeginStep = 1,
+    StepRange = 2,
+    EndStep = 3,
+    Step = 4,
+}
 
 /// What a `cg_crowd*` points to: the core crowd, and the open ranged step, if any.
 ///
@@ -50,6 +66,11 @@ pub(crate) struct CrowdHandle {
     /// it borrows, so that it is dropped first.
     ranges: UnsafeCell<Option<StepRanges<'static>>>,
     crowd: UnsafeCell<Crowd>,
+    /// Set by the first call that changed the crowd and failed inside the library.
+    poison: Poison,
+    /// Test builds: the [`Hook`] (as `u8`, 0 for none) at which the next call panics.
+    #[cfg(feature = "test-hooks")]
+    panic_at: AtomicU8,
 }
 
 // SAFETY: the cells are accessed as the phase protocol allows: `crowd` mutably only by the
@@ -65,7 +86,38 @@ impl CrowdHandle {
             ranges_running: AtomicU32::new(0),
             ranges: UnsafeCell::new(None),
             crowd: UnsafeCell::new(crowd),
+            poison: Poison::default(),
+            #[cfg(feature = "test-hooks")]
+            panic_at: AtomicU8::new(0),
         }
+    }
+
+    /// Arms the handle's poison for the running call, which is about to change the crowd.
+    fn arm(&self) {
+        poison::arm(&self.poison);
+    }
+
+    /// Test builds: makes the next call reaching `hook` panic there.
+    #[cfg(feature = "test-hooks")]
+    pub(crate) fn panic_next(&self, hook: Hook) {
+        self.panic_at.store(hook as u8, Ordering::SeqCst);
+    }
+
+    /// Test builds (feature `test-hooks`): panics if [`panic_next`](Self::panic_next) asked
+    /// for a panic at `hook`. Does nothing otherwise.
+    #[inline]
+    fn test_hook(&self, hook: Hook) {
+        #[cfg(feature = "test-hooks")]
+        {
+            let asked =
+                self.panic_at
+                    .compare_exchange(hook as u8, 0, Ordering::SeqCst, Ordering::SeqCst);
+            if asked.is_ok() {
+                panic!("test hook: {hook:?} panics");
+            }
+        }
+        #[cfg(not(feature = "test-hooks"))]
+        let _ = hook;
     }
 
     fn ensure_idle(&self) -> Result<()> {
@@ -95,6 +147,7 @@ impl CrowdHandle {
             IDLE,
             "a ranged step is already open: call cg_crowd_end_step first",
         )?;
+        self.arm();
         // SAFETY: the phase is CHANGING, set by this thread: no range runs and, by the
         // caller's contract, no other call uses the crowd.
         let crowd = unsafe { &mut *self.crowd.get() };
@@ -108,6 +161,7 @@ impl CrowdHandle {
                     unsafe { std::mem::transmute::<StepRanges<'_>, StepRanges<'static>>(ranges) };
                 // SAFETY: not OPEN, so no range reads the cell.
                 unsafe { *self.ranges.get() = Some(ranges) };
+                self.test_hook(Hook::BeginStep);
                 self.phase.store(OPEN, Ordering::SeqCst);
                 Ok(())
             }
@@ -125,7 +179,12 @@ impl CrowdHandle {
             // SAFETY: OPEN, and `end_step` cannot leave OPEN while this call is counted
             // in `ranges_running` (it checks after its own SeqCst swap).
             OPEN => match unsafe { &*self.ranges.get() } {
-                Some(ranges) => ranges.run_range(first, count),
+                Some(ranges) => {
+                    self.arm();
+                    let result = ranges.run_range(first, count);
+                    self.test_hook(Hook::StepRange);
+                    result
+                }
                 None => Err(Error::Internal("an open step has no ranges".into())),
             },
             _ => Err(Error::WrongState(NO_STEP_OPEN.into())),
@@ -141,6 +200,7 @@ impl CrowdHandle {
     /// it got in first, makes this call fail).
     pub(crate) unsafe fn end_step(&self) -> Result<()> {
         self.enter_changing(OPEN, NO_STEP_OPEN)?;
+        self.arm();
         if self.ranges_running.load(Ordering::SeqCst) != 0 {
             self.phase.store(OPEN, Ordering::SeqCst);
             return Err(Error::WrongState(
@@ -152,18 +212,20 @@ impl CrowdHandle {
         unsafe { *self.ranges.get() = None };
         // SAFETY: as above; the ranges' borrow of the crowd is gone.
         let result = unsafe { &mut *self.crowd.get() }.end_step();
+        self.test_hook(Hook::EndStep);
         self.phase.store(IDLE, Ordering::SeqCst);
         result
     }
 }
 
-/// Settings of a crowd, fixed for its lifetime. Fill it with `cg_crowd_config_init`, then
-/// change the fields you need.
+/// Settings of a crowd, fixed for its lifetime. Set `struct_size`, fill it with
+/// `cg_crowd_config_init`, then change the fields you need.
 #[repr(C)]
 #[derive(Debug, Clone, Copy)]
 pub struct cg_crowd_config {
-    /// Size of this struct in bytes, set by `cg_crowd_config_init`; lets later versions of
-    /// the library add fields without breaking callers compiled against this header.
+    /// Size of this struct in bytes: set it to `sizeof(cg_crowd_config)` before every call
+    /// taking the struct, `cg_crowd_config_init` included. The library reads and writes no
+    /// more than this, so later versions can add fields without breaking older callers.
     pub struct_size: u32,
     /// Most characters (entities that look) the crowd holds at once, 1 to 16 777 216.
     /// Each takes about 1 KiB, allocated by `cg_crowd_create`. Default 1024.
@@ -271,9 +333,12 @@ pub struct cg_crowd_config {
 }
 
 impl Versioned for cg_crowd_config {
-    // Callers built against a header from before `threads` existed are refused; those
-    // from before a later field (`reorder_period`) get its default.
-    const MIN_SIZE: usize = std::mem::offset_of!(cg_crowd_config, threads);
+    // Callers built against a header from before `reorder_period` (144 bytes) get its
+    // default.
+    const SIZES: &'static [usize] = &[
+        layout_size::<cg_crowd_config>(std::mem::offset_of!(cg_crowd_config, reorder_period)),
+        std::mem::size_of::<cg_crowd_config>(),
+    ];
     const NAME: &'static str = "cg_crowd_config";
 
     fn defaults() -> Self {
@@ -389,16 +454,20 @@ impl cg_crowd_config {
     }
 }
 
-/// Fills `config` with the defaults documented on each field, including `struct_size`.
+/// Fills `config` with the defaults documented on each field. Set `config->struct_size =
+/// sizeof(cg_crowd_config)` first: only that many bytes are written (an older, shorter
+/// layout gets its own fields), and `struct_size` keeps its value. The caller owns
+/// `config`.
 ///
-/// Errors: `CG_STATUS_NULL_ARGUMENT` if `config` is NULL. Thread-safe.
+/// Errors (nothing written): `CG_STATUS_NULL_ARGUMENT` if `config` is NULL,
+/// `CG_STATUS_BAD_STRUCT_SIZE` if `struct_size` is not a size of this struct the library
+/// knows (0 or an unset field included). Thread-safe.
 #[no_mangle]
 pub extern "C" fn cg_crowd_config_init(config: *mut cg_crowd_config) -> super::cg_status {
     ffi_boundary!({
-        // SAFETY: the caller passes a pointer to a cg_crowd_config it owns (or NULL).
-        let config = unsafe { super::borrow_mut(config, "config") }?;
-        *config = cg_crowd_config::defaults();
-        Ok(())
+        // SAFETY: the caller passes a cg_crowd_config it owns, of at least its struct_size
+        // bytes (or NULL).
+        unsafe { write_versioned(config, cg_crowd_config::defaults(), "config") }
     })
 }
 
@@ -409,8 +478,8 @@ pub extern "C" fn cg_crowd_config_init(config: *mut cg_crowd_config) -> super::c
 /// `*out_crowd` is written only on success.
 ///
 /// Errors: `CG_STATUS_NULL_ARGUMENT` (config or out_crowd NULL), `CG_STATUS_BAD_STRUCT_SIZE`
-/// (config not filled by `cg_crowd_config_init`), `CG_STATUS_INVALID_ARGUMENT` (a field out of
-/// range: capacities, axes not perpendicular or unknown, units_per_metre <= 0),
+/// (`config->struct_size` not a size the library knows), `CG_STATUS_INVALID_ARGUMENT` (a
+/// field out of range: capacities, axes not perpendicular or unknown, units_per_metre <= 0),
 /// `CG_STATUS_NON_FINITE` (a float field NaN or infinite), `CG_STATUS_OUT_OF_MEMORY` (the
 /// capacities' buffers do not fit in memory; the message names the field and the bytes
 /// asked). Thread-safe.
@@ -431,7 +500,8 @@ pub extern "C" fn cg_crowd_create(
     })
 }
 
-/// Destroys a crowd created by `cg_crowd_create` and frees everything it owns.
+/// Destroys a crowd created by `cg_crowd_create` and frees everything it owns, also when
+/// the crowd is poisoned or a ranged step is open.
 ///
 /// NULL is accepted and ignored. The handle must not be used afterwards, and no other call
 /// on this crowd may be running.
@@ -448,16 +518,32 @@ pub extern "C" fn cg_crowd_destroy(crowd: *mut cg_crowd) {
     });
 }
 
-/// Reborrows a crowd handle as its handle state (for the ranged step).
+/// Reborrows a crowd handle as its handle state (for the ranged step); fails if the crowd
+/// is poisoned.
 ///
 /// # Safety
 /// `crowd`, if not NULL, must be a live handle from `cg_crowd_create`.
 pub(crate) unsafe fn crowd_handle<'a>(crowd: *const cg_crowd) -> Result<&'a CrowdHandle> {
     // SAFETY: forwarded contract: a live handle is a Box<CrowdHandle>.
-    unsafe { super::borrow(crowd.cast::<CrowdHandle>(), "crowd") }
+    let handle = unsafe { super::borrow(crowd.cast::<CrowdHandle>(), "crowd") }?;
+    handle.poison.check()?;
+    Ok(handle)
 }
 
-/// Reborrows a crowd handle as the core crowd; fails while a ranged step is open.
+/// Test builds (feature `test-hooks`): panics if the next call reaching `hook` was asked
+/// to panic (`testing::panic_next`). Does nothing otherwise.
+///
+/// # Safety
+/// `crowd`, if not NULL, must be a live handle from `cg_crowd_create`.
+pub(crate) unsafe fn test_hook(crowd: *const cg_crowd, hook: Hook) {
+    // SAFETY: forwarded contract.
+    if let Ok(handle) = unsafe { crowd_handle(crowd) } {
+        handle.test_hook(hook);
+    }
+}
+
+/// Reborrows a crowd handle as the core crowd; fails while a ranged step is open or the
+/// crowd is poisoned.
 ///
 /// # Safety
 /// `crowd`, if not NULL, must be a live handle from `cg_crowd_create`, with no other
@@ -471,7 +557,8 @@ pub(crate) unsafe fn crowd_ref<'a>(crowd: *const cg_crowd) -> Result<&'a Crowd> 
     Ok(unsafe { &*handle.crowd.get() })
 }
 
-/// Reborrows a crowd handle mutably as the core crowd; fails while a ranged step is open.
+/// Reborrows a crowd handle mutably as the core crowd, for a call that changes it (its
+/// poison is armed for the call); fails while a ranged step is open.
 ///
 /// # Safety
 /// `crowd`, if not NULL, must be a live handle from `cg_crowd_create`, not accessed by
@@ -480,16 +567,19 @@ pub(crate) unsafe fn crowd_mut<'a>(crowd: *mut cg_crowd) -> Result<&'a mut Crowd
     // SAFETY: forwarded contract.
     let handle = unsafe { crowd_handle(crowd) }?;
     handle.ensure_idle()?;
+    handle.arm();
     // SAFETY: no ranged step is open, and by the caller's contract nothing else accesses
     // the crowd for `'a`.
     Ok(unsafe { &mut *handle.crowd.get() })
 }
 
-/// Copies the settings `crowd` was created with into `*out_config` (with the current
-/// `struct_size`).
+/// Copies the settings `crowd` was created with into `*out_config`. Set
+/// `out_config->struct_size = sizeof(cg_crowd_config)` first: only that many bytes are
+/// written, and `struct_size` keeps its value. The caller owns `out_config`.
 ///
-/// Errors: `CG_STATUS_NULL_ARGUMENT` if either pointer is NULL. Safe to call concurrently
-/// with other `const` calls on the same crowd.
+/// Errors (nothing written): `CG_STATUS_NULL_ARGUMENT` if either pointer is NULL,
+/// `CG_STATUS_BAD_STRUCT_SIZE` (`out_config->struct_size` not a size the library knows).
+/// Safe to call concurrently with other `const` calls on the same crowd.
 #[no_mangle]
 pub extern "C" fn cg_crowd_get_config(
     crowd: *const cg_crowd,
@@ -498,9 +588,9 @@ pub extern "C" fn cg_crowd_get_config(
     ffi_boundary!({
         // SAFETY: handle contract of cg_crowd.
         let crowd = unsafe { crowd_ref(crowd) }?;
-        // SAFETY: the caller provides a writable cg_crowd_config (or NULL).
-        let out = unsafe { super::borrow_mut(out_config, "out_config") }?;
-        *out = cg_crowd_config::from_core(crowd.config());
-        Ok(())
+        let config = cg_crowd_config::from_core(crowd.config());
+        // SAFETY: the caller provides a cg_crowd_config of at least its struct_size bytes
+        // (or NULL).
+        unsafe { write_versioned(out_config, config, "out_config") }
     })
 }

@@ -5,7 +5,7 @@ use glam::Quat;
 
 use super::crowd::{cg_crowd, crowd_mut, crowd_ref};
 use super::types::{cg_quat, cg_vec3};
-use super::{cg_status, ffi_boundary, read_versioned, Versioned};
+use super::{cg_status, ffi_boundary, read_versioned, write_versioned, Versioned};
 use crate::crowd::{ExplicitTarget, TargetPriority};
 use crate::error::{Error, Result};
 
@@ -20,12 +20,13 @@ pub const CG_GAZE_PRIORITY_OVERRIDE: u32 = 0;
 /// automatic interest point.
 pub const CG_GAZE_PRIORITY_WHEN_IDLE: u32 = 1;
 
-/// A target set by game logic for one character (top-down attention). Fill it with
-/// `cg_gaze_target_init`.
+/// A target set by game logic for one character (top-down attention). Set `struct_size`,
+/// then fill it with `cg_gaze_target_init`.
 #[repr(C)]
 #[derive(Debug, Clone, Copy)]
 pub struct cg_gaze_target {
-    /// Size of this struct in bytes, set by `cg_gaze_target_init`.
+    /// Size of this struct in bytes: set it to `sizeof(cg_gaze_target)` before every call
+    /// taking the struct, `cg_gaze_target_init` included.
     pub struct_size: u32,
     /// `CG_GAZE_TARGET_POINT` (default) or `CG_GAZE_TARGET_ENTITY`.
     pub kind: u32,
@@ -38,7 +39,7 @@ pub struct cg_gaze_target {
 }
 
 impl Versioned for cg_gaze_target {
-    const MIN_SIZE: usize = std::mem::size_of::<cg_gaze_target>();
+    const SIZES: &'static [usize] = &[std::mem::size_of::<cg_gaze_target>()];
     const NAME: &'static str = "cg_gaze_target";
     fn defaults() -> Self {
         cg_gaze_target {
@@ -68,15 +69,19 @@ pub struct cg_eye_info {
     pub right_direction: cg_vec3,
 }
 
-/// Fills `target` with defaults (a point target at the origin, overriding) and its
-/// `struct_size`. Errors: `CG_STATUS_NULL_ARGUMENT`. Thread-safe.
+/// Fills `target` with defaults (a point target at the origin, overriding). Set
+/// `target->struct_size = sizeof(cg_gaze_target)` first: only that many bytes are written,
+/// and `struct_size` keeps its value. The caller owns `target`.
+///
+/// Errors (nothing written): `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_BAD_STRUCT_SIZE`
+/// (`struct_size` not a size the library knows, 0 or an unset field included).
+/// Thread-safe.
 #[no_mangle]
 pub extern "C" fn cg_gaze_target_init(target: *mut cg_gaze_target) -> cg_status {
     ffi_boundary!({
-        // SAFETY: the caller passes a writable cg_gaze_target (or NULL, rejected).
-        let target = unsafe { super::borrow_mut(target, "target") }?;
-        *target = cg_gaze_target::defaults();
-        Ok(())
+        // SAFETY: the caller passes a cg_gaze_target of at least its struct_size bytes (or
+        // NULL, rejected).
+        unsafe { write_versioned(target, cg_gaze_target::defaults(), "target") }
     })
 }
 

@@ -2,9 +2,10 @@
 //! core's types, forward the call, convert the result back. No algorithm lives here.
 //!
 //! Every `extern "C"` body runs inside `ffi_boundary!`, which catches panics (they never
-//! cross into C), records the error message for `cg_last_error_message`, and maps the
-//! error to a [`cg_status`]. Unsafe code of the crate lives only in this module; each block
-//! says why it is sound in a `// SAFETY:` line.
+//! cross into C), poisons the handle a failed call was changing ([`poison`]), records the
+//! error message for `cg_last_error_message`, and maps the error to a [`cg_status`]. Unsafe
+//! code of the crate lives only in this module; each block says why it is sound in a
+//! `// SAFETY:` line.
 #![allow(non_camel_case_types)]
 // C callers cannot see Rust's `unsafe`: every pointer is checked (NULL, alignment, size)
 // before use, and the remaining validity contract is written in each function's doc.
@@ -16,7 +17,10 @@ pub mod chain;
 pub mod crowd;
 pub mod gaze;
 pub mod last_error;
+mod poison;
 pub mod status;
+#[cfg(feature = "test-hooks")]
+pub mod testing;
 pub mod types;
 pub mod version;
 
@@ -25,38 +29,42 @@ pub use status::cg_status;
 use crate::error::{Error, Result};
 
 /// Runs a C entry point's body, which evaluates to `Result<()>`, inside the panic boundary
-/// and turns its outcome into a `cg_status`.
+/// ([`run_boundary`]) and turns its outcome into a `cg_status`.
 ///
 /// `ffi_boundary!(value_on_error; body)` is the form for functions that return a value
 /// instead of a status: the body evaluates to `Result<T>` and `value_on_error` is returned
 /// (after recording the message) on an error or a panic.
 macro_rules! ffi_boundary {
     ($body:block) => {{
-        let outcome = ::std::panic::catch_unwind(::std::panic::AssertUnwindSafe(
-            || -> $crate::error::Result<()> { $body },
-        ));
-        match outcome {
-            Ok(Ok(())) => $crate::ffi::status::cg_status::Ok,
-            Ok(Err(error)) => $crate::ffi::last_error::record(&error),
-            Err(payload) => $crate::ffi::last_error::record(&$crate::ffi::panic_error(payload)),
+        match $crate::ffi::run_boundary(|| -> $crate::error::Result<()> { $body }) {
+            Ok(()) => $crate::ffi::status::cg_status::Ok,
+            Err(error) => $crate::ffi::last_error::record(&error),
         }
     }};
     ($on_error:expr; $body:block) => {{
-        let outcome = ::std::panic::catch_unwind(::std::panic::AssertUnwindSafe(|| $body));
-        match outcome {
-            Ok(Ok(value)) => value,
-            Ok(Err(error)) => {
+        match $crate::ffi::run_boundary(|| $body) {
+            Ok(value) => value,
+            Err(error) => {
                 $crate::ffi::last_error::record(&error);
-                $on_error
-            }
-            Err(payload) => {
-                $crate::ffi::last_error::record(&$crate::ffi::panic_error(payload));
                 $on_error
             }
         }
     }};
 }
 pub(crate) use ffi_boundary;
+
+/// Runs a C entry point's body: a panic is caught and becomes [`Error::Internal`], and if
+/// the body armed a handle's poison ([`poison::arm`]) and failed inside the library, that
+/// handle is poisoned.
+pub(crate) fn run_boundary<T>(body: impl FnOnce() -> Result<T>) -> Result<T> {
+    let outer = poison::enter();
+    let result = match std::panic::catch_unwind(std::panic::AssertUnwindSafe(body)) {
+        Ok(result) => result,
+        Err(payload) => Err(panic_error(payload)),
+    };
+    poison::leave(outer, &result);
+    result
+}
 
 /// Turns a caught panic's payload into an [`Error::Internal`] carrying its message.
 pub(crate) fn panic_error(payload: Box<dyn std::any::Any + Send>) -> Error {
@@ -174,14 +182,47 @@ fn check_array<T>(pointer: *const T, count: usize, what: &str) -> Result<()> {
 
 /// A C struct that starts with `uint32_t struct_size`, so that fields can be appended in
 /// later versions without breaking callers compiled against older headers.
+///
+/// The caller states its struct's size in `struct_size` before every call that reads or
+/// writes the struct (its `_init` function included), and the library never reads or
+/// writes past it: an older caller's struct is shorter than this library's.
 pub(crate) trait Versioned: Copy {
-    /// The smallest `struct_size` this library accepts (the size of the first released
-    /// layout). Fields past a caller's `struct_size` take their defaults.
-    const MIN_SIZE: usize;
+    /// Every `struct_size` this library accepts: the sizes (C's `sizeof`) of the layouts
+    /// that headers declared, oldest first, ending with `size_of::<Self>()`. Fields past a
+    /// caller's `struct_size` take their defaults.
+    const SIZES: &'static [usize];
     /// The struct filled with its documented defaults and the current `struct_size`.
     fn defaults() -> Self;
     /// Name used in error messages.
     const NAME: &'static str;
+}
+
+/// C's `sizeof` of an older layout of `T` whose last field ends at byte `end`: the
+/// compiler pads a struct to a multiple of its alignment.
+pub(crate) const fn layout_size<T>(end: usize) -> usize {
+    end.next_multiple_of(std::mem::align_of::<T>())
+}
+
+/// Reads and checks the `struct_size` that a versioned struct from C starts with, and
+/// returns it in bytes.
+///
+/// # Safety
+/// `pointer` must be non-null and aligned for `T`, and its first 4 bytes readable and
+/// initialised by the caller.
+unsafe fn stated_size<T: Versioned>(pointer: *const T) -> Result<usize> {
+    // SAFETY: every versioned struct starts with a u32 `struct_size`; the pointer is non-null
+    // and aligned for T, hence for u32, and those 4 bytes are the caller's (contract).
+    let declared = unsafe { pointer.cast::<u32>().read() } as usize;
+    if T::SIZES.contains(&declared) {
+        return Ok(declared);
+    }
+    let known: Vec<String> = T::SIZES.iter().rev().map(usize::to_string).collect();
+    Err(Error::BadStructSize(format!(
+        "{0}.struct_size is {declared}, not a size this library knows ({1}): set it to \
+         sizeof({0}) before the call",
+        T::NAME,
+        known.join(" or "),
+    )))
 }
 
 /// Reads a versioned struct from C: checks the pointer and `struct_size`, then copies the
@@ -192,16 +233,8 @@ pub(crate) trait Versioned: Copy {
 /// where `struct_size` is the struct's first field.
 pub(crate) unsafe fn read_versioned<T: Versioned>(pointer: *const T) -> Result<T> {
     check_pointer(pointer, T::NAME)?;
-    // SAFETY: every versioned struct starts with a u32 `struct_size`; the pointer is non-null
-    // and aligned for T, hence for u32.
-    let declared = unsafe { pointer.cast::<u32>().read() } as usize;
-    let full = std::mem::size_of::<T>();
-    if declared < T::MIN_SIZE || declared > full {
-        return Err(Error::BadStructSize(format!(
-            "{0}.struct_size is {declared}, expected {full} (fill it with {0}_init)",
-            T::NAME,
-        )));
-    }
+    // SAFETY: checked non-null and aligned; the struct starts with its size (contract).
+    let declared = unsafe { stated_size(pointer) }?;
     let mut value = T::defaults();
     // SAFETY: `declared <= size_of::<T>()` bytes are readable at `pointer` (caller contract)
     // and writable in `value`; the regions do not overlap. Every field is plain old data.
@@ -213,6 +246,37 @@ pub(crate) unsafe fn read_versioned<T: Versioned>(pointer: *const T) -> Result<T
         );
     }
     Ok(value)
+}
+
+/// Writes a versioned struct to C: checks the pointer (`what` names it in errors) and the
+/// `struct_size` the caller set, then copies that many bytes of `value`, whose own
+/// `struct_size` becomes the caller's. Nothing is written on an error.
+///
+/// # Safety
+/// If not NULL and aligned, `pointer` must point to a `uint32_t struct_size` the caller
+/// set, followed by writable bytes up to `struct_size` in all.
+pub(crate) unsafe fn write_versioned<T: Versioned>(
+    pointer: *mut T,
+    value: T,
+    what: &str,
+) -> Result<()> {
+    check_pointer(pointer, what)?;
+    // SAFETY: checked non-null and aligned; the struct starts with its size (contract).
+    let declared = unsafe { stated_size(pointer.cast_const()) }?;
+    let mut value = value;
+    // SAFETY: `value` is a T, which starts with its u32 `struct_size`.
+    unsafe { (&mut value as *mut T).cast::<u32>().write(declared as u32) };
+    // SAFETY: `declared <= size_of::<T>()` bytes are readable in `value` and writable at
+    // `pointer` (caller contract); the regions do not overlap. No `&mut T` to the caller's
+    // memory is made: it may be shorter than a T.
+    unsafe {
+        std::ptr::copy_nonoverlapping(
+            (&value as *const T).cast::<u8>(),
+            pointer.cast::<u8>(),
+            declared,
+        );
+    }
+    Ok(())
 }
 
 #[cfg(test)]
@@ -243,6 +307,47 @@ mod tests {
             last_error::last_error_message(),
             "internal error: caught panic: boom 2"
         );
+    }
+
+    /// A call that arms `poison` and then fails with `kind` (0 ok, 1 not found, 2 panic,
+    /// 3 internal error).
+    fn changing(poison: &poison::Poison, kind: u8) -> cg_status {
+        ffi_boundary!({
+            poison.check()?;
+            poison::arm(poison);
+            match kind {
+                0 => Ok(()),
+                1 => Err(Error::NotFound("entity 7".into())),
+                2 => panic!("boom {kind}"),
+                _ => Err(Error::Internal("half done".into())),
+            }
+        })
+    }
+
+    #[test]
+    fn an_internal_failure_poisons_the_armed_handle() {
+        let hook = std::panic::take_hook();
+        std::panic::set_hook(Box::new(|_| {}));
+        for (kind, first) in [
+            (2, "internal error: caught panic: boom 2"),
+            (3, "internal error: half done"),
+        ] {
+            let poison = poison::Poison::default();
+            assert_eq!(changing(&poison, 0), cg_status::Ok);
+            assert_eq!(changing(&poison, 1), cg_status::NotFound, "not internal");
+            assert_eq!(changing(&poison, kind), cg_status::Internal);
+            assert_eq!(last_error::last_error_message(), first);
+            for _ in 0..2 {
+                assert_eq!(changing(&poison, 0), cg_status::Poisoned);
+                assert_eq!(
+                    last_error::last_error_message(),
+                    format!("poisoned: an earlier call failed inside the library: {first}")
+                );
+            }
+            // A call that armed nothing poisons nothing.
+            assert_eq!(failing(2), cg_status::Internal);
+        }
+        std::panic::set_hook(hook);
     }
 
     #[test]

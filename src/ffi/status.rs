@@ -38,12 +38,17 @@ pub enum cg_status {
     /// and the bytes asked. Nothing was created and nothing changed (a create writes no
     /// handle); smaller capacities may succeed.
     OutOfMemory = 10,
+    /// An earlier call that changed this handle failed with `CG_STATUS_INTERNAL` and may
+    /// have left it half-updated, so the handle is poisoned: every later call on it fails
+    /// with this status (the message repeats the first failure's), and only its `_destroy`
+    /// works, freeing it.
+    Poisoned = 11,
 }
 
 impl cg_status {
     /// Every status, in value order (for tests and tools).
     /// cbindgen:ignore
-    pub const ALL: [cg_status; 11] = [
+    pub const ALL: [cg_status; 12] = [
         cg_status::Ok,
         cg_status::NullArgument,
         cg_status::InvalidArgument,
@@ -55,6 +60,7 @@ impl cg_status {
         cg_status::NotConverged,
         cg_status::Internal,
         cg_status::OutOfMemory,
+        cg_status::Poisoned,
     ];
 
     /// The static, NUL-terminated description of this status.
@@ -71,6 +77,7 @@ impl cg_status {
             cg_status::NotConverged => c"not converged",
             cg_status::Internal => c"internal error",
             cg_status::OutOfMemory => c"out of memory",
+            cg_status::Poisoned => c"poisoned",
         }
     }
 }
@@ -96,6 +103,7 @@ impl From<&Error> for cg_status {
             Error::NotConverged(_) => cg_status::NotConverged,
             Error::Internal(_) => cg_status::Internal,
             Error::OutOfMemory(_) => cg_status::OutOfMemory,
+            Error::Poisoned(_) => cg_status::Poisoned,
         }
     }
 }
@@ -121,7 +129,7 @@ mod tests {
             assert_eq!(*status as u32, index as u32);
             assert_eq!(cg_status::try_from(index as u32), Ok(*status));
         }
-        assert_eq!(cg_status::try_from(11), Err(11));
+        assert_eq!(cg_status::try_from(12), Err(12));
     }
 
     #[test]

@@ -6,7 +6,7 @@ use libc::c_char;
 /// and library mismatch.
 pub const CG_VERSION_MAJOR: u32 = 0;
 /// Minor version of the header.
-pub const CG_VERSION_MINOR: u32 = 1;
+pub const CG_VERSION_MINOR: u32 = 2;
 /// Patch version of the header.
 pub const CG_VERSION_PATCH: u32 = 0;
 

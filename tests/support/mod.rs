@@ -43,9 +43,17 @@ pub fn check(status: cg_status, what: &str) {
     assert_eq!(status, cg_status::Ok, "{what}: {}", last_error_message());
 }
 
-/// A struct filled by its `_init` function.
+/// A struct filled by its `_init` function (after setting its `struct_size`).
 pub fn init<T>(f: extern "C" fn(*mut T) -> cg_status) -> T {
     let mut value = MaybeUninit::<T>::uninit();
+    // SAFETY: every versioned struct starts with `uint32_t struct_size`, which the caller
+    // sets to its size before the `_init` call.
+    unsafe {
+        value
+            .as_mut_ptr()
+            .cast::<u32>()
+            .write(std::mem::size_of::<T>() as u32)
+    };
     check(f(value.as_mut_ptr()), "init");
     // SAFETY: initialised by the _init function just above.
     unsafe { value.assume_init() }

@@ -35,7 +35,7 @@ CG_GAZE_TARGET_ENTITY = 1
 CG_GAZE_PRIORITY_OVERRIDE = 0
 CG_GAZE_PRIORITY_WHEN_IDLE = 1
 CG_VERSION_MAJOR = 0
-CG_VERSION_MINOR = 1
+CG_VERSION_MINOR = 2
 CG_VERSION_PATCH = 0
 #: The identity quaternion (x, y, z, w), as a tuple any quaternion argument takes.
 cg_quat_IDENTITY = (0.0, 0.0, 0.0, 1.0)
@@ -58,6 +58,7 @@ class Status(enum.IntEnum):
     NOT_CONVERGED = 8
     INTERNAL = 9
     OUT_OF_MEMORY = 10
+    POISONED = 11
 
 
 class Axis(enum.IntEnum):

@@ -10,7 +10,7 @@ converted and checked as in ``crowdgaze.crowd`` (errors name the argument), and 
 from __future__ import annotations
 
 import warnings
-from ctypes import POINTER, byref, c_float
+from ctypes import POINTER, byref, c_float, sizeof
 
 import numpy as np
 
@@ -213,7 +213,7 @@ def camera_center_from_projection(projection) -> np.ndarray:
 
 def _blender_config(fields: dict, where: str) -> n.ViewBlenderConfig:
     converted = a.struct_fields(n.ViewBlenderConfig, fields, where)
-    config = n.ViewBlenderConfig()
+    config = n.ViewBlenderConfig(struct_size=sizeof(n.ViewBlenderConfig))
     check(lib.cg_view_blender_config_init(byref(config)), "cg_view_blender_config_init")
     return a.fill(config, converted)
 

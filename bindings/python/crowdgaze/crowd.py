@@ -9,7 +9,7 @@ C calls holding the crowd's guard (see ``crowdgaze._owner``), and raises
 
 from __future__ import annotations
 
-from ctypes import POINTER, byref, c_size_t, c_uint32
+from ctypes import POINTER, byref, c_size_t, c_uint32, sizeof
 
 import numpy as np
 
@@ -24,7 +24,7 @@ from ._owner import HandleOwner
 def _new(ctype, init, init_name: str, fields: dict, where: str):
     """A ``ctype`` filled by the library's ``init``, then ``fields`` (checked first)."""
     converted = a.struct_fields(ctype, fields, where)
-    struct = ctype()
+    struct = ctype(struct_size=sizeof(ctype))
     check(init(byref(struct)), init_name)
     return a.fill(struct, converted)
 
@@ -60,7 +60,7 @@ def chain_desc_human(up_axis=n.Axis.POSITIVE_Y, forward_axis=n.Axis.POSITIVE_Z) 
     where = "chain_desc_human"
     up_axis = c.integer(up_axis, where, "up_axis")
     forward_axis = c.integer(forward_axis, where, "forward_axis")
-    desc = n.ChainDesc()
+    desc = n.ChainDesc(struct_size=sizeof(n.ChainDesc))
     check(
         lib.cg_chain_desc_init_human(byref(desc), up_axis, forward_axis),
         "cg_chain_desc_init_human",
@@ -82,7 +82,7 @@ def entity_states(ids, positions=None, flags=n.CG_STATE_HEADING_FROM_MOTION) -> 
             raise ValueError(
                 f"{where}: positions holds {len(positions)} positions for {ids.size} ids"
             )
-    template = n.EntityState()
+    template = n.EntityState(struct_size=sizeof(n.EntityState))
     check(lib.cg_entity_state_init(byref(template)), "cg_entity_state_init")
     states = np.zeros(ids.size, dtype=a.ENTITY_STATE_DTYPE)
     states["struct_size"] = template.struct_size
@@ -153,7 +153,7 @@ class Crowd(HandleOwner):
     @property
     def config(self) -> n.CrowdConfig:
         """The settings the crowd was created with."""
-        config = n.CrowdConfig()
+        config = n.CrowdConfig(struct_size=sizeof(n.CrowdConfig))
         with self._call("Crowd.config") as handle:
             check(lib.cg_crowd_get_config(handle, byref(config)), "cg_crowd_get_config")
         return config
@@ -176,7 +176,7 @@ class Crowd(HandleOwner):
                 if value is not None:
                     values[name] = value
             converted = a.struct_fields(n.CharacterDesc, values, where)
-            desc = n.CharacterDesc()
+            desc = n.CharacterDesc(struct_size=sizeof(n.CharacterDesc))
             check(lib.cg_character_desc_init(byref(desc)), "cg_character_desc_init")
             a.fill(desc, converted)
         out = c_uint32()
@@ -223,7 +223,7 @@ class Crowd(HandleOwner):
     def character_params(self, character: int) -> n.CharacterParams:
         where = "Crowd.character_params"
         character = c.integer(character, where, "character")
-        out = n.CharacterParams()
+        out = n.CharacterParams(struct_size=sizeof(n.CharacterParams))
         with self._call(where) as handle:
             check(
                 lib.cg_crowd_get_character_params(handle, character, byref(out)),
@@ -245,7 +245,7 @@ class Crowd(HandleOwner):
             converted = a.struct_fields(n.CharacterParams, fields, where)
         with self._call(where, exclusive=True) as handle:
             if converted is not None:
-                params = n.CharacterParams()
+                params = n.CharacterParams(struct_size=sizeof(n.CharacterParams))
                 check(
                     lib.cg_crowd_get_character_params(handle, character, byref(params)),
                     "cg_crowd_get_character_params",

@@ -238,6 +238,7 @@ def test_numpy_arrays_pass_without_copies():
     # A ctypes array of EntityState and a list of them work too.
     array = (cg.EntityState * 2)()
     for k in range(2):
+        array[k].struct_size = ctypes.sizeof(cg.EntityState)
         cg.lib.cg_entity_state_init(ctypes.byref(array[k]))
         array[k].id = ids[k]
         array[k].position = cg.Vec3(*START[k])

@@ -202,7 +202,7 @@ def test_struct_size_written_by_the_library_matches_ctypes():
         (crowdgaze.lib.cg_gaze_target_init, crowdgaze.GazeTarget),
         (crowdgaze.lib.cg_view_blender_config_init, crowdgaze.ViewBlenderConfig),
     ]:
-        value = ctype()
+        value = ctype(struct_size=ctypes.sizeof(ctype))
         assert init(ctypes.byref(value)) == 0
         assert value.struct_size == ctypes.sizeof(ctype), ctype.__name__
     chain = crowdgaze.chain_desc_human()

@@ -2,7 +2,7 @@
 //! structs), with arguments read from the input.
 
 use super::input::Input;
-use super::outputs::sentinel;
+use super::outputs::{sentinel, sized_sentinel};
 use super::values::{point, quat, vec3};
 use super::{array_pointer, or_null, pointer_to, State};
 use crowdgaze::ffi::attention::*;
@@ -20,9 +20,17 @@ use std::ptr::null_mut;
 /// The chain joint count of the default (human) chain.
 const HUMAN_JOINTS: usize = 10;
 
-/// A struct filled by its `_init` function (whose status is checked).
+/// A struct filled by its `_init` function (whose status is checked), after setting its
+/// `struct_size`.
 pub fn init<T>(state: &State, function: &str, init: extern "C" fn(*mut T) -> cg_status) -> T {
     let mut value = MaybeUninit::<T>::uninit();
+    // SAFETY: every versioned struct starts with its `uint32_t struct_size`.
+    unsafe {
+        value
+            .as_mut_ptr()
+            .cast::<u32>()
+            .write(size_of::<T>() as u32)
+    };
     assert_eq!(
         state.call(function, init(value.as_mut_ptr())),
         cg_status::Ok
@@ -142,7 +150,7 @@ pub fn create(state: &mut State, input: &mut Input) {
 /// A gaze chain for `cg_character_desc.chain`: the human one with some fields changed, in
 /// fuzzed axes (a failed init leaves garbage bytes, a bad `struct_size`).
 fn chain(state: &State, input: &mut Input) -> cg_chain_desc {
-    let mut chain = sentinel::<cg_chain_desc>(1)[0];
+    let mut chain = sized_sentinel::<cg_chain_desc>()[0];
     let (up, forward) = if input.rare() {
         (input.below(8), input.below(8))
     } else {
@@ -379,14 +387,14 @@ pub fn score(state: &mut State, input: &mut Input) {
 
 pub fn get_character_params(state: &mut State, input: &mut Input) {
     let id = state.id(input);
-    let mut out = sentinel::<cg_character_params>(1);
+    let mut out = sized_sentinel::<cg_character_params>();
     let crowd = state.crowd(input);
     let pointer = or_null(out.as_mut_ptr(), input);
     let status = state.call(
         "cg_crowd_get_character_params",
         cg_crowd_get_character_params(crowd, id, pointer),
     );
-    state.outputs("cg_crowd_get_character_params", status, &out, 1);
+    state.versioned_output("cg_crowd_get_character_params", status, &out);
 }
 
 pub fn set_character_params(state: &mut State, input: &mut Input) {
@@ -632,20 +640,20 @@ pub fn character_count(state: &mut State, input: &mut Input) {
 }
 
 pub fn get_config(state: &mut State, input: &mut Input) {
-    let mut config = sentinel::<cg_crowd_config>(1);
+    let mut config = sized_sentinel::<cg_crowd_config>();
     let crowd = state.crowd(input);
     let pointer = or_null(config.as_mut_ptr(), input);
     let status = state.call("cg_crowd_get_config", cg_crowd_get_config(crowd, pointer));
-    state.outputs("cg_crowd_get_config", status, &config, 1);
+    state.versioned_output("cg_crowd_get_config", status, &config);
 }
 
 pub fn chain_init(state: &mut State, input: &mut Input) {
     let (up, forward) = (input.below(8), input.below(8));
-    let mut chain = sentinel::<cg_chain_desc>(1);
+    let mut chain = sized_sentinel::<cg_chain_desc>();
     let pointer = or_null(chain.as_mut_ptr(), input);
     let status = state.call(
         "cg_chain_desc_init_human",
         cg_chain_desc_init_human(pointer, up, forward),
     );
-    state.outputs("cg_chain_desc_init_human", status, &chain, 1);
+    state.versioned_output("cg_chain_desc_init_human", status, &chain);
 }

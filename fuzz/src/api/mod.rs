@@ -35,7 +35,7 @@ use crowdgaze::ffi::gaze::{
 use crowdgaze::ffi::status::cg_status;
 use crowdgaze::ffi::types::{cg_dualquat, cg_quat, cg_vec3};
 use input::Input;
-use outputs::{bytes, non_finite, sentinel, untouched, Output};
+use outputs::{bytes, non_finite, sentinel, sized_untouched, untouched, Output};
 use std::ptr::null_mut;
 
 /// Runs the calls `data` encodes on a fresh crowd and blender.
@@ -173,6 +173,26 @@ impl State {
         } else {
             assert!(
                 untouched(out),
+                "{function} (in {}) failed with {status:?} but wrote its output",
+                self.operation
+            );
+        }
+    }
+
+    /// [`outputs`](Self::outputs) of one versioned struct made by
+    /// [`outputs::sized_sentinel`]: a failed call must leave it as it was, `struct_size`
+    /// included.
+    fn versioned_output<T: Output + std::fmt::Debug>(
+        &self,
+        function: &str,
+        status: cg_status,
+        out: &[T],
+    ) {
+        if succeeded(status) {
+            self.outputs(function, status, out, 1);
+        } else {
+            assert!(
+                sized_untouched(out),
                 "{function} (in {}) failed with {status:?} but wrote its output",
                 self.operation
             );

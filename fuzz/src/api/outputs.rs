@@ -47,6 +47,26 @@ pub fn untouched<T: Output>(values: &[T]) -> bool {
     bytes(values).iter().all(|&b| b == SENTINEL)
 }
 
+/// One versioned struct filled with the sentinel byte but for its `struct_size`, set to
+/// `size_of::<T>()` as a caller sets it before the call that fills the struct.
+pub fn sized_sentinel<T: Output>() -> Vec<T> {
+    let mut value = sentinel::<T>(1);
+    // SAFETY: a versioned struct starts with its `uint32_t struct_size`.
+    unsafe {
+        value
+            .as_mut_ptr()
+            .cast::<u32>()
+            .write(std::mem::size_of::<T>() as u32)
+    };
+    value
+}
+
+/// Whether no byte of a [`sized_sentinel`] was written since.
+pub fn sized_untouched<T: Output>(values: &[T]) -> bool {
+    let (size, rest) = bytes(values).split_at(4);
+    size == (std::mem::size_of::<T>() as u32).to_ne_bytes() && rest.iter().all(|&b| b == SENTINEL)
+}
+
 /// The first value of `values` with a NaN or infinite float, as a message.
 pub fn non_finite<T: Output + std::fmt::Debug>(values: &[T]) -> Option<String> {
     let mut floats = Vec::new();

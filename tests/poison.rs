@@ -1,0 +1,441 @@
+//! A panic inside a call that changes a handle poisons it: the crowd or blender may be
+//! half-updated (a ranged step left open, a range still counted as running, a step done but
+//! reported failed), so every later call on it returns `CG_STATUS_POISONED` with the first
+//! failure's message, and its `_destroy` still frees it.
+//!
+//! The panics come from the test hooks of `crowdgaze::ffi::testing` (cargo feature
+//! `test-hooks`, enabled for this crate's tests only). A counting allocator (bytes live per
+//! thread) checks that `_destroy` frees a poisoned handle's memory.
+
+use crowdgaze::ffi::attention::*;
+use crowdgaze::ffi::blend::*;
+use crowdgaze::ffi::crowd::*;
+use crowdgaze::ffi::gaze::*;
+use crowdgaze::ffi::last_error::last_error_message;
+use crowdgaze::ffi::status::cg_status;
+use crowdgaze::ffi::testing::{panic_next, panic_next_change, PanicAt};
+use crowdgaze::ffi::types::{cg_dualquat, cg_quat, cg_vec3};
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+use std::mem::{size_of, MaybeUninit};
+use std::ptr::null_mut;
+
+// ---------------------------------------------------------------------------------------------
+// Bytes live on this thread
+
+struct CountingAllocator;
+
+thread_local! {
+    static LIVE: Cell<i64> = const { Cell::new(0) };
+}
+
+fn count(bytes: i64) {
+    let _ = LIVE.try_with(|live| live.set(live.get() + bytes));
+}
+
+// SAFETY: forwards every call to the system allocator unchanged; only counts.
+unsafe impl GlobalAlloc for CountingAllocator {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        count(layout.size() as i64);
+        // SAFETY: same contract as the caller's.
+        unsafe { System.alloc(layout) }
+    }
+
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        count(-(layout.size() as i64));
+        // SAFETY: same contract as the caller's.
+        unsafe { System.dealloc(ptr, layout) }
+    }
+
+    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
+        count(layout.size() as i64);
+        // SAFETY: same contract as the caller's.
+        unsafe { System.alloc_zeroed(layout) }
+    }
+
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        count(new_size as i64 - layout.size() as i64);
+        // SAFETY: same contract as the caller's.
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: CountingAllocator = CountingAllocator;
+
+fn live() -> i64 {
+    LIVE.with(Cell::get)
+}
+
+/// Most bytes a destroyed handle may leave live on the thread: the thread's last error
+/// message grows with the longest one recorded.
+const SLACK: i64 = 4096;
+
+// ---------------------------------------------------------------------------------------------
+// Helpers
+
+/// The hooks' panics are expected: keep them off the test output (others still print).
+fn quiet_panics() {
+    static ONCE: std::sync::Once = std::sync::Once::new();
+    ONCE.call_once(|| {
+        let default = std::panic::take_hook();
+        std::panic::set_hook(Box::new(move |info| {
+            let payload = info.payload();
+            let text = payload
+                .downcast_ref::<String>()
+                .map(String::as_str)
+                .or_else(|| payload.downcast_ref::<&str>().copied())
+                .unwrap_or("");
+            if !text.starts_with("test hook:") {
+                default(info);
+            }
+        }));
+    });
+}
+
+fn ok(status: cg_status) {
+    assert_eq!(status, cg_status::Ok, "{}", last_error_message());
+}
+
+/// A struct filled by its `_init` function, after setting its `struct_size`.
+fn init<T>(f: extern "C" fn(*mut T) -> cg_status) -> T {
+    let mut value = MaybeUninit::<T>::uninit();
+    // SAFETY: every versioned struct starts with its `uint32_t struct_size`.
+    unsafe {
+        value
+            .as_mut_ptr()
+            .cast::<u32>()
+            .write(size_of::<T>() as u32)
+    };
+    ok(f(value.as_mut_ptr()));
+    // SAFETY: initialised by the _init function just above.
+    unsafe { value.assume_init() }
+}
+
+fn vec3(x: f32, y: f32, z: f32) -> cg_vec3 {
+    cg_vec3 { x, y, z }
+}
+
+/// A crowd of three characters and an object, stepped once; its ids.
+fn crowd() -> (*mut cg_crowd, Vec<u32>) {
+    let config: cg_crowd_config = init(cg_crowd_config_init);
+    let mut crowd = null_mut();
+    ok(cg_crowd_create(&config, &mut crowd));
+    let mut ids = Vec::new();
+    for x in [0.0, 1.5, -1.5] {
+        let mut desc: cg_character_desc = init(cg_character_desc_init);
+        desc.position = vec3(x, 0.0, 0.0);
+        let mut id = 0;
+        ok(cg_crowd_add_character(crowd, &desc, &mut id));
+        ids.push(id);
+    }
+    let mut object: cg_object_desc = init(cg_object_desc_init);
+    object.position = vec3(0.0, 1.0, 3.0);
+    let mut id = 0;
+    ok(cg_crowd_add_object(crowd, &object, &mut id));
+    ids.push(id);
+    ok(cg_crowd_step(crowd, 0.05));
+    (crowd, ids)
+}
+
+/// The names of the header's functions whose first parameter is a `handle` pointer (const
+/// or not), but its `_destroy`.
+fn header_functions_on(handle: &str) -> Vec<String> {
+    let header = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("include/crowdgaze.h"),
+    )
+    .expect("include/crowdgaze.h");
+    let mut names: Vec<String> = header
+        .lines()
+        .filter(|line| !line.starts_with("//") && !line.starts_with(' '))
+        .filter_map(|line| {
+            let (head, parameters) = line.split_once('(')?;
+            let name = head.rsplit([' ', '*']).next()?;
+            let first = parameters.trim_start_matches("const ");
+            (name.starts_with("cg_") && first.starts_with(&format!("struct {handle} *")))
+                .then(|| name.to_owned())
+        })
+        .filter(|name| !name.ends_with("_destroy"))
+        .collect();
+    names.sort();
+    names
+}
+
+/// Checks that every call in `calls` fails with `CG_STATUS_POISONED` and `expected`, and
+/// that they are every function of the header on `handle`.
+fn all_poisoned(handle: &str, calls: &[(&str, &dyn Fn() -> cg_status)], expected: &str) {
+    for (name, call) in calls {
+        assert_eq!(
+            call(),
+            cg_status::Poisoned,
+            "{name}: {}",
+            last_error_message()
+        );
+        assert_eq!(last_error_message(), expected, "{name}");
+    }
+    let mut named: Vec<String> = calls.iter().map(|(name, _)| name.to_string()).collect();
+    named.sort();
+    named.dedup();
+    assert_eq!(
+        named,
+        header_functions_on(handle),
+        "calls on a poisoned {handle} checked vs the header's"
+    );
+}
+
+/// Every function taking a crowd, called with valid arguments (`ids` of the crowd's
+/// characters and object).
+fn every_crowd_call(crowd: *mut cg_crowd, ids: &[u32], expected: &str) {
+    let (a, b, object) = (ids[0], ids[1], ids[3]);
+    let mut state: cg_entity_state = init(cg_entity_state_init);
+    state.id = a;
+    let desc: cg_character_desc = init(cg_character_desc_init);
+    let object_desc: cg_object_desc = init(cg_object_desc_init);
+    let mut target: cg_gaze_target = init(cg_gaze_target_init);
+    (target.kind, target.entity) = (CG_GAZE_TARGET_ENTITY, object);
+    let mut params = cg_character_params {
+        struct_size: size_of::<cg_character_params>() as u32,
+        weight_proximity: 0.25,
+        weight_speed: 0.25,
+        weight_orientation: 0.25,
+        weight_periphery: 0.25,
+        attention_fraction: 0.5,
+        attention_model: 0,
+    };
+    let mut config: cg_crowd_config = init(cg_crowd_config_init);
+    let pose = [cg_quat::IDENTITY; 10];
+    let mut quats = [cg_quat::IDENTITY; 30];
+    let mut gaze = [cg_gaze_info::default(); 3];
+    let mut eyes = [cg_eye_info::default(); 3];
+    let mut constraints = [cg_constraint::default(); 4];
+    let mut score = cg_score_breakdown::default();
+    let (mut id, mut count) = (u32::MAX, usize::MAX);
+    let viewer = vec3(0.0, 1.7, 5.0);
+    // The outputs, as the raw pointers a C caller passes (the calls below share them).
+    let (id_out, count_out): (*mut u32, *mut usize) = (&mut id, &mut count);
+    let (score_out, params_out): (*mut cg_score_breakdown, *mut cg_character_params) =
+        (&mut score, &mut params);
+    let config_out: *mut cg_crowd_config = &mut config;
+    let (gaze_out, eyes_out) = (gaze.as_mut_ptr(), eyes.as_mut_ptr());
+    let (constraints_out, quats_out) = (constraints.as_mut_ptr(), quats.as_mut_ptr());
+    let calls: [(&str, &dyn Fn() -> cg_status); 28] = [
+        ("cg_crowd_begin_step", &|| cg_crowd_begin_step(crowd, 0.05)),
+        ("cg_crowd_step_range", &|| cg_crowd_step_range(crowd, 0, 1)),
+        ("cg_crowd_end_step", &|| cg_crowd_end_step(crowd)),
+        ("cg_crowd_step", &|| cg_crowd_step(crowd, 0.05)),
+        ("cg_crowd_push_frame", &|| {
+            cg_crowd_push_frame(crowd, 1.0, &state, 1)
+        }),
+        ("cg_crowd_add_character", &|| {
+            cg_crowd_add_character(crowd, &desc, id_out)
+        }),
+        ("cg_crowd_add_object", &|| {
+            cg_crowd_add_object(crowd, &object_desc, id_out)
+        }),
+        ("cg_crowd_remove_entity", &|| {
+            cg_crowd_remove_entity(crowd, b)
+        }),
+        ("cg_crowd_character_count", &|| {
+            cg_crowd_character_count(crowd, count_out)
+        }),
+        ("cg_crowd_read_gaze", &|| {
+            cg_crowd_read_gaze(crowd, gaze_out, 3, null_mut())
+        }),
+        ("cg_crowd_score", &|| cg_crowd_score(crowd, a, b, score_out)),
+        ("cg_crowd_get_character_params", &|| {
+            cg_crowd_get_character_params(crowd, a, params_out)
+        }),
+        ("cg_crowd_set_character_params", &|| {
+            cg_crowd_set_character_params(crowd, a, params_out)
+        }),
+        ("cg_crowd_set_impact", &|| {
+            cg_crowd_set_impact(crowd, a, 2.0)
+        }),
+        ("cg_crowd_plan", &|| cg_crowd_plan(crowd)),
+        ("cg_crowd_clear_plan", &|| cg_crowd_clear_plan(crowd)),
+        ("cg_crowd_read_constraints", &|| {
+            cg_crowd_read_constraints(crowd, a, constraints_out, 4, null_mut())
+        }),
+        ("cg_crowd_set_viewer", &|| {
+            cg_crowd_set_viewer(crowd, &viewer, 1.0, null_mut())
+        }),
+        ("cg_crowd_set_attention_period", &|| {
+            cg_crowd_set_attention_period(crowd, a, 2)
+        }),
+        ("cg_crowd_get_config", &|| {
+            cg_crowd_get_config(crowd, config_out)
+        }),
+        ("cg_crowd_set_gaze_target", &|| {
+            cg_crowd_set_gaze_target(crowd, a, &target)
+        }),
+        ("cg_crowd_clear_gaze_target", &|| {
+            cg_crowd_clear_gaze_target(crowd, a)
+        }),
+        ("cg_crowd_set_base_pose", &|| {
+            cg_crowd_set_base_pose(crowd, a, pose.as_ptr(), 10)
+        }),
+        ("cg_crowd_set_base_poses", &|| {
+            cg_crowd_set_base_poses(crowd, &a, 1, pose.as_ptr(), 10)
+        }),
+        ("cg_crowd_joint_total", &|| {
+            cg_crowd_joint_total(crowd, 0, 3, count_out)
+        }),
+        ("cg_crowd_read_joints", &|| {
+            cg_crowd_read_joints(crowd, 0, 3, quats_out, 30)
+        }),
+        ("cg_crowd_read_joint_deltas", &|| {
+            cg_crowd_read_joint_deltas(crowd, 0, 3, quats_out, 30)
+        }),
+        ("cg_crowd_read_eyes", &|| {
+            cg_crowd_read_eyes(crowd, 0, 3, eyes_out, 3)
+        }),
+    ];
+    all_poisoned("cg_crowd", &calls, expected);
+    // Nothing was written.
+    assert_eq!((id, count), (u32::MAX, usize::MAX));
+    assert!(gaze.iter().all(|g| g.character == 0 && g.target == 0));
+    assert!(eyes.iter().all(|e| e.character == 0));
+    assert!(constraints.iter().all(|c| c.entity == 0));
+    assert!(quats.iter().all(|q| *q == cg_quat::IDENTITY));
+    assert_eq!((score.total, params.attention_fraction), (0.0, 0.5));
+    assert_eq!(config.seed, init(cg_crowd_config_init).seed);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Tests
+
+#[test]
+fn a_panic_in_any_step_call_poisons_the_crowd_and_destroy_still_frees_it() {
+    quiet_panics();
+    for at in [
+        PanicAt::BeginStep,
+        PanicAt::StepRange,
+        PanicAt::EndStep,
+        PanicAt::Step,
+    ] {
+        let before = live();
+        let (crowd, ids) = crowd();
+        let held = live() - before;
+        assert!(held > 100 * SLACK, "the crowd holds only {held} bytes");
+        // SAFETY: a live handle.
+        let panic_next = || unsafe { panic_next(crowd, at) }.expect("hook set");
+        let status = match at {
+            PanicAt::BeginStep => {
+                panic_next();
+                cg_crowd_begin_step(crowd, 0.05)
+            }
+            PanicAt::StepRange => {
+                ok(cg_crowd_begin_step(crowd, 0.05));
+                ok(cg_crowd_step_range(crowd, 2, 1));
+                panic_next();
+                cg_crowd_step_range(crowd, 0, 2)
+            }
+            PanicAt::EndStep => {
+                ok(cg_crowd_begin_step(crowd, 0.05));
+                ok(cg_crowd_step_range(crowd, 0, 1));
+                panic_next();
+                cg_crowd_end_step(crowd)
+            }
+            PanicAt::Step => {
+                panic_next();
+                cg_crowd_step(crowd, 0.05)
+            }
+        };
+        assert_eq!(status, cg_status::Internal, "{at:?}");
+        let first = last_error_message();
+        assert_eq!(
+            first,
+            format!("internal error: caught panic: test hook: {at:?} panics")
+        );
+        let expected = format!("poisoned: an earlier call failed inside the library: {first}");
+        // Every later call, twice over: the crowd stays poisoned.
+        every_crowd_call(crowd, &ids, &expected);
+        every_crowd_call(crowd, &ids, &expected);
+        cg_crowd_destroy(crowd);
+        let left = live() - before;
+        assert!(left < SLACK, "{at:?}: {left} bytes left live after destroy");
+    }
+}
+
+#[test]
+fn failures_that_are_not_internal_do_not_poison() {
+    let (crowd, ids) = crowd();
+    assert_eq!(cg_crowd_step(crowd, -1.0), cg_status::InvalidArgument);
+    assert_eq!(cg_crowd_step_range(crowd, 0, 1), cg_status::WrongState);
+    assert_eq!(cg_crowd_remove_entity(crowd, 4242), cg_status::NotFound);
+    ok(cg_crowd_begin_step(crowd, 0.05));
+    assert_eq!(cg_crowd_step(crowd, 0.05), cg_status::WrongState);
+    assert_eq!(cg_crowd_step_range(crowd, 0, 9), cg_status::InvalidArgument);
+    ok(cg_crowd_end_step(crowd));
+    ok(cg_crowd_step(crowd, 0.05));
+    ok(cg_crowd_remove_entity(crowd, ids[1]));
+    cg_crowd_destroy(crowd);
+}
+
+/// A two-joint, one-key blender with a pose and a camera.
+fn blender() -> *mut cg_view_blender {
+    let mut config: cg_view_blender_config = init(cg_view_blender_config_init);
+    (config.joint_count, config.key_count) = (2, 1);
+    let mut blender = null_mut();
+    ok(cg_view_blender_create(&config, &mut blender));
+    let pose = [identity(); 2];
+    ok(cg_view_blender_set_key_pose(blender, 0, pose.as_ptr(), 2));
+    ok(cg_view_blender_add_camera(blender, vec3(0.0, 0.0, 1.0), 0));
+    blender
+}
+
+fn identity() -> cg_dualquat {
+    cg_dualquat {
+        real: cg_quat::IDENTITY,
+        dual: cg_quat {
+            x: 0.0,
+            y: 0.0,
+            z: 0.0,
+            w: 0.0,
+        },
+    }
+}
+
+#[test]
+fn a_panic_in_a_blender_change_poisons_it_and_destroy_still_frees_it() {
+    quiet_panics();
+    let before = live();
+    let blender = blender();
+    // SAFETY: a live handle.
+    unsafe { panic_next_change(blender) }.expect("hook set");
+    assert_eq!(
+        cg_view_blender_add_camera(blender, vec3(1.0, 0.0, 0.0), 0),
+        cg_status::Internal
+    );
+    let first = last_error_message();
+    let expected = format!("poisoned: an earlier call failed inside the library: {first}");
+    let pose = [identity(); 2];
+    let character = identity();
+    let viewer = vec3(0.0, 1.0, 5.0);
+    let mut weights = [f32::NAN; 1];
+    let mut out = [identity(); 2];
+    let (weights_out, pose_out) = (weights.as_mut_ptr(), out.as_mut_ptr());
+    let calls: [(&str, &dyn Fn() -> cg_status); 5] = [
+        ("cg_view_blender_set_key_clip", &|| {
+            cg_view_blender_set_key_clip(blender, 0, pose.as_ptr(), 1, 30.0, false)
+        }),
+        ("cg_view_blender_set_key_pose", &|| {
+            cg_view_blender_set_key_pose(blender, 0, pose.as_ptr(), 2)
+        }),
+        ("cg_view_blender_add_camera", &|| {
+            cg_view_blender_add_camera(blender, vec3(0.0, 0.0, -1.0), 0)
+        }),
+        ("cg_view_blender_weights", &|| {
+            cg_view_blender_weights(blender, &character, &viewer, weights_out, 1)
+        }),
+        ("cg_view_blender_evaluate", &|| {
+            cg_view_blender_evaluate(blender, &character, &viewer, 0.0, pose_out, 2)
+        }),
+    ];
+    all_poisoned("cg_view_blender", &calls, &expected);
+    assert!(weights[0].is_nan(), "nothing written");
+    assert!(out.iter().all(|q| q.dual.w == 0.0 && q.real.w == 1.0));
+    cg_view_blender_destroy(blender);
+    let left = live() - before;
+    assert!(left < SLACK, "{left} bytes left live after destroy");
+}
