@@ -591,7 +591,7 @@ typedef struct cg_crowd_config {
     // Headings are counter-clockwise about `up_axis`. Default `CG_AXIS_POSITIVE_Z`.
     uint32_t forward_axis;
     // How many of your length units make one metre: 1 for metres (default), 100 for
-    // Unreal's centimetres. Must be > 0 and finite.
+    // Unreal's centimetres; 0.001 (kilometres) to 1 000 000 (micrometres).
     float units_per_metre;
     // How many entity states `cg_crowd_push_frame` may record for offline planning with
     // `cg_crowd_plan` (0: no recording, online only), 0 to 4 294 967 295. Each takes 64

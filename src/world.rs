@@ -10,6 +10,11 @@ use glam::{Vec2, Vec3};
 
 use crate::error::{Error, Result};
 
+/// The smallest `units_per_metre` accepted: 0.001, kilometres.
+pub const MIN_UNITS_PER_METRE: f32 = 1e-3;
+/// The largest `units_per_metre` accepted: 1 000 000, micrometres.
+pub const MAX_UNITS_PER_METRE: f32 = 1e6;
+
 /// A signed coordinate axis.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Axis {
@@ -61,7 +66,7 @@ pub struct World {
 
 impl World {
     /// Builds the conventions, checking that `up` and `forward` are perpendicular and the
-    /// unit is positive and finite.
+    /// unit is in [`MIN_UNITS_PER_METRE`, `MAX_UNITS_PER_METRE`].
     pub fn new(up: Axis, forward: Axis, units_per_metre: f32) -> Result<World> {
         let (up_axis, forward_axis) = (up, forward);
         let (up, forward) = (up.vector(), forward.vector());
@@ -71,9 +76,10 @@ impl World {
             ));
         }
         crate::error::ensure_finite(units_per_metre, "units_per_metre")?;
-        if units_per_metre <= 0.0 {
+        if !(MIN_UNITS_PER_METRE..=MAX_UNITS_PER_METRE).contains(&units_per_metre) {
             return Err(Error::InvalidArgument(format!(
-                "units_per_metre is {units_per_metre}, must be > 0"
+                "units_per_metre is {units_per_metre}, must be in \
+                 [{MIN_UNITS_PER_METRE}, {MAX_UNITS_PER_METRE}]"
             )));
         }
         Ok(World {

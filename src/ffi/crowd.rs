@@ -242,7 +242,7 @@ pub struct cg_crowd_config {
     /// Headings are counter-clockwise about `up_axis`. Default `CG_AXIS_POSITIVE_Z`.
     pub forward_axis: u32,
     /// How many of your length units make one metre: 1 for metres (default), 100 for
-    /// Unreal's centimetres. Must be > 0 and finite.
+    /// Unreal's centimetres; 0.001 (kilometres) to 1 000 000 (micrometres).
     pub units_per_metre: f32,
     /// How many entity states `cg_crowd_push_frame` may record for offline planning with
     /// `cg_crowd_plan` (0: no recording, online only), 0 to 4 294 967 295. Each takes 64
@@ -403,13 +403,26 @@ impl cg_crowd_config {
         gaze
     }
 
-    /// Checks and converts to the core's config (lengths to metres).
+    /// Checks and converts to the core's config (lengths to metres); an error names the
+    /// field of this struct at fault.
     fn to_core(self) -> Result<CrowdConfig> {
-        let world = World::new(
+        // The axes and unit first: their errors name them already.
+        self.world()?;
+        self.convert().map_err(|error| self.name_the_field(error))
+    }
+
+    /// The world conventions of this config.
+    fn world(&self) -> Result<World> {
+        World::new(
             cg_axis::parse(self.up_axis, "up_axis")?,
             cg_axis::parse(self.forward_axis, "forward_axis")?,
             self.units_per_metre,
-        )?;
+        )
+    }
+
+    /// [`Self::to_core`] with the core's words in errors.
+    fn convert(self) -> Result<CrowdConfig> {
+        let world = self.world()?;
         let metres = 1.0 / self.units_per_metre;
         let config = CrowdConfig {
             seed: self.seed,
@@ -452,7 +465,94 @@ impl cg_crowd_config {
         config.validate()?;
         Ok(config)
     }
+
+    /// Names the field of this struct that a core error comes from: the core's names
+    /// (`min_hold`) and units (metres) are not the caller's (`min_interest_time`, their
+    /// units). Finds the first real-valued field that alone, over the defaults in the
+    /// caller's units and axes, fails the same way; an error only a combination of fields
+    /// makes (or one of the integer fields, whose names are the same) keeps the core's
+    /// words, after the struct's name. Runs only on a failed create.
+    fn name_the_field(mut self, error: Error) -> Error {
+        let Error::InvalidArgument(detail) = &error else {
+            return error;
+        };
+        let world = World {
+            units_per_metre: self.units_per_metre,
+            ..World::default()
+        };
+        let mut defaults = cg_crowd_config::from_core(&CrowdConfig {
+            world,
+            ..CrowdConfig::default()
+        });
+        defaults.up_axis = self.up_axis;
+        defaults.forward_axis = self.forward_axis;
+        let count = self.real_fields().len();
+        for index in 0..count {
+            let (name, value) = {
+                let (name, value) = &self.real_fields()[index];
+                (*name, **value)
+            };
+            let mut alone = defaults;
+            *alone.real_fields()[index].1 = value;
+            let same =
+                matches!(alone.convert(), Err(Error::InvalidArgument(again)) if again == *detail);
+            if same {
+                let units = if LENGTH_FIELDS.contains(&name) {
+                    format!(" (your units; units_per_metre is {})", self.units_per_metre)
+                } else {
+                    String::new()
+                };
+                return Error::InvalidArgument(format!(
+                    "cg_crowd_config.{name} is {value}{units}: {detail}"
+                ));
+            }
+        }
+        Error::InvalidArgument(format!("cg_crowd_config: {detail}"))
+    }
+
+    /// The real-valued fields but `units_per_metre`, by name.
+    fn real_fields(&mut self) -> [(&'static str, &mut f32); 24] {
+        macro_rules! named {
+            ($($field:ident),* $(,)?) => {
+                [$((stringify!($field), &mut self.$field)),*]
+            };
+        }
+        named!(
+            max_distance,
+            field_of_view,
+            speed_weight,
+            periphery_max_angle,
+            min_interest_time,
+            max_interest_time,
+            interest_cooldown,
+            threshold_warmup,
+            initial_threshold,
+            attention_fraction_min,
+            attention_fraction_max,
+            eyes_only_angle,
+            eyes_head_neck_angle,
+            head_speed,
+            max_activation_time,
+            restart_distance,
+            min_deactivation_time,
+            max_deactivation_time,
+            eye_fixation_time,
+            head_fixation_time,
+            random_pick_probability,
+            social_weight,
+            proximity_radius,
+            lod_distance,
+        )
+    }
 }
+
+/// The fields of `cg_crowd_config` in the caller's length units.
+const LENGTH_FIELDS: &[&str] = &[
+    "max_distance",
+    "restart_distance",
+    "proximity_radius",
+    "lod_distance",
+];
 
 /// Fills `config` with the defaults documented on each field. Set `config->struct_size =
 /// sizeof(cg_crowd_config)` first: only that many bytes are written (an older, shorter
@@ -593,4 +693,46 @@ pub extern "C" fn cg_crowd_get_config(
         // (or NULL).
         unsafe { write_versioned(out_config, config, "out_config") }
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn create_error(change: impl FnOnce(&mut cg_crowd_config)) -> String {
+        let mut config = cg_crowd_config::defaults();
+        change(&mut config);
+        match config.to_core() {
+            Err(Error::InvalidArgument(message)) => message,
+            other => panic!("expected an invalid argument, got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn config_errors_name_the_callers_field_in_the_callers_units() {
+        let message = create_error(|c| c.min_interest_time = -1.0);
+        assert!(
+            message.starts_with("cg_crowd_config.min_interest_time is -1: "),
+            "{message}"
+        );
+        let message = create_error(|c| {
+            c.units_per_metre = 100.0;
+            c.max_distance = 0.5;
+        });
+        assert!(
+            message.starts_with(
+                "cg_crowd_config.max_distance is 0.5 (your units; units_per_metre is 100): "
+            ),
+            "{message}"
+        );
+        let message = create_error(|c| c.units_per_metre = 1e30);
+        assert!(message.starts_with("units_per_metre is "), "{message}");
+        // Only a combination is wrong: the core's words, after the struct's name.
+        let message = create_error(|c| {
+            c.attention_fraction_min = 0.9;
+            c.attention_fraction_max = 0.5;
+        });
+        assert!(message.starts_with("cg_crowd_config: "), "{message}");
+        assert!(message.contains("attention_fraction_max"), "{message}");
+    }
 }
