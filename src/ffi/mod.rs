@@ -3,9 +3,16 @@
 //!
 //! Every `extern "C"` body runs inside `ffi_boundary!`, which catches panics (they never
 //! cross into C), poisons the handle a failed call was changing ([`poison`]), records the
-//! error message for `cg_last_error_message`, and maps the error to a [`cg_status`]. Unsafe
-//! code of the crate lives only in this module; each block says why it is sound in a
-//! `// SAFETY:` line.
+//! error message for `cg_last_error_message`, and maps the error to a [`cg_status`].
+//!
+//! Unsafe code: most of the crate's lives here, reading and writing through the caller's
+//! pointers. The rest is in four places, each for speed or sharing: `math::wide` (SIMD
+//! intrinsics, run only after the processor's check), `attention::candidates` (unchecked
+//! loads within padding it asserts), `crowd::states` and `crowd::step` (disjoint character
+//! ranges stepped from several threads) and `crowd::pool` (the worker threads' shared run).
+//! Every unsafe block says why it is sound in a `// SAFETY:` comment, and every unsafe
+//! operation sits in one (`unsafe_op_in_unsafe_fn` and `clippy::undocumented_unsafe_blocks`
+//! are errors, Cargo.toml).
 #![allow(non_camel_case_types)]
 // C callers cannot see Rust's `unsafe`: every pointer is checked (NULL, alignment, size)
 // before use, and the remaining validity contract is written in each function's doc.
