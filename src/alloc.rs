@@ -7,7 +7,7 @@
 //! it: a capacity inside its documented range could kill an engine that asked for too much
 //! (a 100 GB recording, a 16-million-character crowd under a 2 GiB address-space limit).
 //! These helpers use `try_reserve_exact` instead, and count elements with checked
-//! arithmetic ([`checked`]): a count that overflows `usize` fails the same way.
+//! arithmetic ([`checked`](crate::alloc::checked)): a count that overflows `usize` fails the same way.
 //!
 //! A buffer is allocated exactly to the length asked (as `Vec::with_capacity` does), so a
 //! fallible create sizes everything as the infallible one did.

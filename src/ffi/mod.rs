@@ -2,7 +2,7 @@
 //! core's types, forward the call, convert the result back. No algorithm lives here.
 //!
 //! Every `extern "C"` body runs inside `ffi_boundary!`, which catches panics (they never
-//! cross into C), poisons the handle a failed call was changing ([`poison`]), records the
+//! cross into C), poisons the handle a failed call was changing (`poison`), records the
 //! error message for `cg_last_error_message`, and maps the error to a [`cg_status`].
 //!
 //! Unsafe code: most of the crate's lives here, reading and writing through the caller's
