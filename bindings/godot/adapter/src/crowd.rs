@@ -22,7 +22,7 @@ use crate::skeleton::{character_frame, BoundSkeleton, PoseConvention, SkeletonAc
 use crate::xform::Xform;
 
 /// A node's key: an id that names it for as long as it lives (Godot's instance id).
-pub type NodeKey = u64;
+pub type NodeKey = i64;
 
 /// How a character is registered.
 #[derive(Debug, Clone, PartialEq)]

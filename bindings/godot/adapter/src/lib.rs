@@ -17,6 +17,9 @@
 //! Nothing here panics on any input: bad transforms and skeletons come back as
 //! [`crowdgaze::Error`]s for the front end to report.
 
+/// The library, re-exported so that the front ends use the adapter's version of it.
+pub use crowdgaze;
+
 pub mod crowd;
 pub mod skeleton;
 pub mod xform;
