@@ -192,7 +192,9 @@ impl<H> SceneCrowd<H> {
     }
 
     /// Registers a character node: maps its skeleton's bones to a gaze chain and adds it to
-    /// the crowd at its node's place. `node` is the character node's global transform.
+    /// the crowd at its node's place. `node` is the character node's transform relative to
+    /// its skeleton (the node is the skeleton's child: identity unless the model faces
+    /// elsewhere than the character).
     ///
     /// Errors (nothing is added): the node is registered already, the skeleton has no
     /// recognisable head (the message lists its bones) or another mapping error, a
@@ -218,7 +220,7 @@ impl<H> SceneCrowd<H> {
         }
         let (bound, chain) =
             BoundSkeleton::bind(skeleton, node, &settings.bone_map, self.convention)?;
-        let (position, heading, _) = character_frame(node);
+        let (position, heading, _) = character_frame(&skeleton.global_transform().mul(node));
         let id = self.crowd.add_character(&CharacterDesc {
             position,
             heading,
@@ -349,8 +351,8 @@ impl<H> SceneCrowd<H> {
         self.viewer
     }
 
-    /// Reads character `slot`: its node's global transform `node` and its skeleton's
-    /// animated pose. On a NaN or infinite transform the character keeps its last state
+    /// Reads character `slot`: its node's transform relative to its skeleton, `node`, and
+    /// the skeleton's place and animated pose. On a NaN or infinite transform the character keeps its last state
     /// (position, base pose, bones) until its transforms are finite again; the error is
     /// returned once, when that starts.
     pub fn read_character(

@@ -71,6 +71,27 @@ fn libm_atan2(y: f32, x: f32) -> f32 {
     }
 }
 
+/// The rotation of a bone pose's basis (rotation times per-axis scale, Godot's TRS) whose
+/// column lengths are `scale`; [`rotation_of`] for any other basis.
+fn pose_rotation(basis: &glam::Mat3, scale: Vec3) -> Quat {
+    if scale == Vec3::ONE {
+        Quat::from_mat3(basis).normalize()
+    } else if scale.min_element() > 1e-6 {
+        let unit = glam::Mat3::from_cols(
+            basis.x_axis / scale.x,
+            basis.y_axis / scale.y,
+            basis.z_axis / scale.z,
+        );
+        if unit.determinant() > 0.0 {
+            Quat::from_mat3(&unit).normalize()
+        } else {
+            rotation_of(basis)
+        }
+    } else {
+        rotation_of(basis)
+    }
+}
+
 /// A character's chain bones and what the adapter remembers of them between frames.
 #[derive(Debug, Clone)]
 pub struct BoundSkeleton {
@@ -81,6 +102,8 @@ pub struct BoundSkeleton {
     pub bones: [usize; MAX_CHAIN_JOINTS],
     /// Number of chain joints.
     pub joint_count: usize,
+    /// The name of each chain bone (for messages).
+    names: Vec<String>,
     /// The chain root and its ancestors, from the top bone down to the root.
     pub root_path: [usize; MAX_ROOT_DEPTH],
     /// Length of `root_path`.
@@ -100,6 +123,8 @@ pub struct BoundSkeleton {
     written: [Xform; MAX_CHAIN_JOINTS],
     /// True once `written` holds poses.
     has_written: bool,
+    /// Bit `k` set if chain bone `k`'s pose read this frame was still the one written.
+    unchanged: u32,
     /// The chain root's rotation in the character frame this frame.
     root_rotation: Quat,
     /// How bone poses relate to local transforms.
@@ -121,8 +146,8 @@ pub struct PoseRead {
 
 impl BoundSkeleton {
     /// Maps `skeleton`'s bones to a gaze chain with `map`. `node` is the character node's
-    /// global transform now (its frame is the character's). Returns the binding and the
-    /// chain to give the crowd.
+    /// transform relative to the skeleton (its frame is the character's). Returns the
+    /// binding and the chain to give the crowd.
     ///
     /// Errors: those of [`map_skeleton`] (no head: the message lists the bones), a chain
     /// root deeper than [`MAX_ROOT_DEPTH`], a non-finite or singular transform.
@@ -139,7 +164,7 @@ impl BoundSkeleton {
                 "the skeleton's or the character's transform is not finite".into(),
             ));
         }
-        let (_, _, frame) = character_frame(node);
+        let (_, _, frame) = character_frame(&skeleton_global.mul(node));
         // The skeleton in the character frame; its scale makes the length unit.
         let to_character = frame
             .inverse()
@@ -207,6 +232,7 @@ impl BoundSkeleton {
             bone_count: count,
             bones: [0; MAX_CHAIN_JOINTS],
             joint_count: mapped.bones.len(),
+            names: mapped.bones.iter().map(|&b| names[b].clone()).collect(),
             root_path: [0; MAX_ROOT_DEPTH],
             root_depth: path.len(),
             root_rests: [Xform::IDENTITY; MAX_ROOT_DEPTH],
@@ -216,6 +242,7 @@ impl BoundSkeleton {
             scales: [Vec3::ONE; MAX_CHAIN_JOINTS],
             written: [Xform::IDENTITY; MAX_CHAIN_JOINTS],
             has_written: false,
+            unchanged: 0,
             root_rotation: Quat::IDENTITY,
             convention,
         };
@@ -249,7 +276,7 @@ impl BoundSkeleton {
     }
 
     /// Reads the character's frame and its chain's animated pose. `node` is the character
-    /// node's global transform. A chain bone whose pose is still exactly what the adapter
+    /// node's transform relative to the skeleton. A chain bone whose pose is still exactly what the adapter
     /// wrote last (nothing animated it since) keeps its previous local rotation, so the gaze
     /// never feeds back into the base pose.
     ///
@@ -265,7 +292,7 @@ impl BoundSkeleton {
         }
         if !node.is_finite() {
             return Err(Error::NonFinite(
-                "the character's global transform is not finite".into(),
+                "the character node's transform is not finite".into(),
             ));
         }
         let skeleton_global = skeleton.global_transform();
@@ -286,24 +313,28 @@ impl BoundSkeleton {
             ));
         }
         let mut poses = [Xform::IDENTITY; MAX_CHAIN_JOINTS];
-        for (slot, &bone) in poses.iter_mut().zip(self.chain_bones()) {
+        for (k, (slot, &bone)) in poses.iter_mut().zip(self.chain_bones()).enumerate() {
             *slot = skeleton.bone_pose(bone);
             if !slot.is_finite() {
                 return Err(Error::NonFinite(format!(
-                    "bone {bone}'s pose is not finite"
+                    "bone {}'s pose is not finite",
+                    self.names[k]
                 )));
             }
         }
-        let (position, heading, frame) = character_frame(node);
+        let (position, heading, frame) = character_frame(&skeleton_global.mul(node));
         let mut read = PoseRead {
             position,
             heading,
             base: [Quat::IDENTITY; MAX_CHAIN_JOINTS],
         };
         self.root_rotation = (frame.rotation().conjugate() * rotation_of(&root.basis)).normalize();
+        self.unchanged = 0;
         for (k, pose) in poses.iter().enumerate().take(self.joint_count) {
             let unchanged = self.has_written && *pose == self.written[k];
-            if !unchanged {
+            if unchanged {
+                self.unchanged |= 1 << k;
+            } else {
                 let scale = pose.scale();
                 self.scales[k] = if scale.abs_diff_eq(Vec3::ONE, 1e-5) {
                     Vec3::ONE
@@ -311,7 +342,7 @@ impl BoundSkeleton {
                     scale
                 };
                 self.origins[k] = pose.origin;
-                let rotation = rotation_of(&pose.basis);
+                let rotation = pose_rotation(&pose.basis, scale);
                 self.locals[k] = match self.convention {
                     PoseConvention::RestTimesPose => (self.rests[k] * rotation).normalize(),
                     PoseConvention::PoseIsLocal => rotation,
@@ -328,7 +359,9 @@ impl BoundSkeleton {
 
     /// Writes the chain's final rotations (the library's `base * delta`, the first in the
     /// character frame) as bone poses, keeping each pose's translation and scale from this
-    /// the animation's last pose. Call after [`read`](Self::read) in the same frame.
+    /// the animation's last pose. Call after [`read`](Self::read) in the same frame. A bone
+    /// that still holds exactly the pose to write is not written again (nothing to update
+    /// in the engine).
     pub fn write(&mut self, skeleton: &mut impl SkeletonAccess, rotations: &[Quat]) {
         for (k, rotation) in rotations.iter().enumerate().take(self.joint_count) {
             let local = if k == 0 {
@@ -344,6 +377,9 @@ impl BoundSkeleton {
                 basis: basis_of(pose_rotation.normalize(), self.scales[k]),
                 origin: self.origins[k],
             };
+            if self.has_written && self.unchanged & (1 << k) != 0 && pose == self.written[k] {
+                continue;
+            }
             skeleton.set_bone_pose(self.bones[k], pose);
             self.written[k] = pose;
         }

@@ -175,10 +175,10 @@ impl World {
         }
     }
 
-    /// Adds a character whose node is its skeleton (the node is a child at identity).
+    /// Adds a character whose node is its skeleton's child at identity.
     fn add(&mut self, skeleton: FakeSkeleton) -> crowdgaze::Result<u32> {
-        let key = 1000 + self.skeletons.len() as u64;
-        let node = skeleton.global;
+        let key = 1000 + self.skeletons.len() as i64;
+        let node = Xform::IDENTITY;
         let id = self.crowd.add_character(
             key,
             self.skeletons.len() as u32,
@@ -218,7 +218,7 @@ fn pose_error(world: &World, slot: usize) -> f32 {
     let mut library = [Quat::IDENTITY; 15];
     let count = world.crowd.joint_rotations(slot, &mut library).unwrap();
     assert_eq!(count, bones.len());
-    let (_, _, frame) = crate::skeleton::character_frame(&world.nodes[index]);
+    let (_, _, frame) = crate::skeleton::character_frame(&skeleton.global.mul(&world.nodes[index]));
     let mut worst = 0.0f32;
     for (k, &bone) in bones.iter().enumerate() {
         let parent = match skeleton.parents[bone] {
@@ -454,7 +454,6 @@ fn non_finite_transforms_stall_the_character_and_are_reported_once() {
         (world.nodes[0], world.skeletons[0]) = good;
         world.skeletons[0].poses = before.clone();
         world.frame(1.0 / 30.0);
-        assert!(world.skeletons[0].writes > writes);
         world.skeletons[0].writes = writes;
         assert!(pose_error(&world, 0) < 1e-5);
     }
@@ -592,8 +591,6 @@ fn capacities_and_scales() {
             100.0,
         ))
         .unwrap();
-    // The node is the skeleton: its frame has no scale.
-    world.nodes[0] = placed(Vec3::new(3.0, 0.0, 0.0), 1.0);
     let chain = *world.crowd.crowd().chain(id).unwrap();
     assert!((chain.look_at_height(Vec3::Y) - 1.64).abs() < 1e-4);
     assert!((chain.root_offset() - Vec3::new(0.0, 0.95, 0.0)).length() < 1e-4);
@@ -623,4 +620,51 @@ fn capacities_and_scales() {
         ..CrowdConfig::default()
     };
     assert!(SceneCrowd::<u32>::new(wrong_world, PoseConvention::PoseIsLocal).is_err());
+}
+
+#[test]
+fn scaled_bone_poses_keep_their_scale_and_translation() {
+    for convention in [PoseConvention::RestTimesPose, PoseConvention::PoseIsLocal] {
+        let mut world = World::new(CrowdConfig::default(), convention);
+        let id = world
+            .add(FakeSkeleton::human(
+                convention,
+                placed(Vec3::ZERO, 0.0),
+                1.0,
+            ))
+            .unwrap();
+        let neck = world.skeletons[0].bone("Neck");
+        let turn = Quat::from_rotation_x(0.2);
+        world.skeletons[0].animate(neck, turn);
+        let scale = Vec3::new(1.1, 0.9, 1.2);
+        world.skeletons[0].poses[neck].basis *= glam::Mat3::from_diagonal(scale);
+        let origin = world.skeletons[0].poses[neck].origin + Vec3::new(0.0, 0.01, 0.0);
+        world.skeletons[0].poses[neck].origin = origin;
+        world
+            .crowd
+            .crowd_mut()
+            .set_gaze_target(
+                id,
+                ExplicitTarget::Point(Vec3::new(2.0, 1.5, 2.0)),
+                TargetPriority::Override,
+            )
+            .unwrap();
+        for _ in 0..30 {
+            world.frame(1.0 / 30.0);
+        }
+        let pose = world.skeletons[0].poses[neck];
+        assert!(pose.scale().abs_diff_eq(scale, 1e-5), "{convention:?}");
+        assert_eq!(pose.origin, origin);
+        // The base the library used is the animated rotation, scale removed.
+        let slot_bones = world.crowd.chain_bones(0).unwrap().to_vec();
+        let k = slot_bones.iter().position(|&b| b == neck).unwrap();
+        let delta = world.crowd.crowd().gaze_motion(id).unwrap().deltas()[k];
+        let mut rotations = [Quat::IDENTITY; 15];
+        world.crowd.joint_rotations(0, &mut rotations).unwrap();
+        let rest = rotation_of(&world.skeletons[0].rests[neck].basis);
+        assert!(
+            angle(rotations[k], rest * turn * delta) < 1e-5,
+            "{convention:?}"
+        );
+    }
 }

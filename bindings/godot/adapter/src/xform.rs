@@ -110,7 +110,12 @@ pub fn rotation_of(basis: &Mat3) -> Quat {
 
 /// A basis of rotation `rotation` whose local axes are scaled by `scale`.
 pub fn basis_of(rotation: Quat, scale: Vec3) -> Mat3 {
-    Mat3::from_quat(rotation) * Mat3::from_diagonal(scale)
+    let basis = Mat3::from_quat(rotation);
+    if scale == Vec3::ONE {
+        basis
+    } else {
+        basis * Mat3::from_diagonal(scale)
+    }
 }
 
 #[cfg(test)]

@@ -69,6 +69,11 @@ func _ready():
 		if not with_addon:
 			crowd.free()
 			crowd = null
+		elif OS.get_environment("CROWDGAZE_ATTENTION_PERIOD") != "":
+			# Settings are read when the crowd is made, as the node enters the tree.
+			remove_child(crowd)
+			crowd.attention_period = int(OS.get_environment("CROWDGAZE_ATTENTION_PERIOD"))
+			add_child(crowd)
 		setup_bench(int(OS.get_environment("CROWDGAZE_BENCH")))
 		return
 	for palette in PALETTES:
@@ -261,19 +266,22 @@ func bench_frame(delta):
 		person.root.transform = Transform(Basis(Vector3.UP, person.heading), person.center + offset)
 		walk.pose(person, delta, time)
 	if frame > 30:
-		var crowd_usec = crowd.get_frame_usec() if with_addon else 0.0
-		bench_frames.append([now - last_ticks, crowd_usec])
+		var parts = crowd.get_frame_parts_usec() if with_addon else Vector3.ZERO
+		bench_frames.append([now - last_ticks, parts.x + parts.y + parts.z, parts])
 	last_ticks = now
 	if time >= seconds - 1e-6:
-		var frame_times = []
-		var crowd_times = []
+		var columns = [[], [], [], [], []]
 		for sample in bench_frames:
-			frame_times.append(sample[0] / 1000.0)
-			crowd_times.append(sample[1] / 1000.0)
-		frame_times.sort()
-		crowd_times.sort()
-		var middle = frame_times.size() / 2
-		print("CROWDGAZE BENCH characters=%d addon=%d frames=%d frame_ms=%.3f crowdgaze_ms=%.3f crowd_count=%d" % [
-			bench.size(), 1 if with_addon else 0, frame_times.size(), frame_times[middle],
-			crowd_times[middle], crowd.get_character_count() if with_addon else 0])
+			columns[0].append(sample[0] / 1000.0)
+			columns[1].append(sample[1] / 1000.0)
+			for k in range(3):
+				columns[2 + k].append(sample[2][k] / 1000.0)
+		var medians = []
+		for column in columns:
+			column.sort()
+			medians.append(column[column.size() / 2])
+		print("CROWDGAZE BENCH characters=%d addon=%d attention_period=%d frames=%d frame_ms=%.3f crowdgaze_ms=%.3f (read %.3f, step %.3f, write %.3f)" % [
+			bench.size(), 1 if with_addon else 0, crowd.attention_period if with_addon else 0,
+			columns[0].size(), medians[0], medians[1],
+			medians[2], medians[3], medians[4]])
 		get_tree().quit(0)

@@ -63,6 +63,17 @@ pub struct CrowdGaze {
     /// Threads a step uses (1: the main thread only; 0: one per core).
     #[property(default = 1)]
     threads: i64,
+    /// Level of detail: each character's attention is updated every `attention_period`
+    /// frames (1 to 64, staggered; gaze IK runs every frame).
+    #[property(default = 1)]
+    attention_period: i64,
+    /// Level of detail by distance: beyond `lod_distance` metres from the camera,
+    /// attention is updated every `far_attention_period` frames (0: off).
+    #[property(default = 0.0)]
+    lod_distance: f64,
+    /// See `lod_distance` (1 to 64).
+    #[property(default = 4)]
+    far_attention_period: i64,
     /// Make the active camera an entity the characters may look at.
     #[property(default = true)]
     camera_is_viewer: bool,
@@ -74,8 +85,8 @@ pub struct CrowdGaze {
     refused: HashSet<i64>,
     /// True once creating the crowd failed (reported once).
     config_failed: bool,
-    /// The last frame's cost (read, step, write), microseconds.
-    frame_usec: f64,
+    /// The last frame's cost, microseconds: reading the scene, stepping, writing bones.
+    frame_usec: [f64; 3],
 }
 
 /// The character or target node behind a variant, by instance id.
@@ -89,9 +100,27 @@ fn instance_id(node: &Variant) -> Option<i64> {
 
 /// The node of an instance id, if it is alive.
 fn node_of(id: i64) -> Option<TRef<'static, Node, Shared>> {
-    // SAFETY: called on the main thread, which owns the scene's nodes; the reference is used
-    // within the current call only.
-    unsafe { Node::try_from_instance_id(id) }
+    // SAFETY: every id the crowd keeps was taken from a `Node` (or a subclass).
+    unsafe { live::<Node>(id) }
+}
+
+/// The object of an instance id while it lives (Godot 3 never reuses an id): one ObjectDB
+/// lookup, without gdnative's class check by name (a string comparison through Godot,
+/// several times the lookup's cost, that the per-frame loop cannot afford).
+///
+/// # Safety
+///
+/// `id` must have been taken from an object of class `T` (or a subclass), and the reference
+/// used on the main thread within the current call only.
+unsafe fn live<'a, T: GodotObject<RefKind = gdnative::ref_kind::ManuallyManaged>>(
+    id: i64,
+) -> Option<TRef<'a, T, Shared>> {
+    let api = gdnative::private::get_api();
+    // SAFETY: the GDNative API is initialised while any method of ours runs.
+    let object = unsafe { (api.godot_instance_from_id)(id as gdnative::sys::godot_int) };
+    let object = std::ptr::NonNull::new(object)?;
+    // SAFETY: the object is alive (ObjectDB has it) and of class `T` (the caller's promise).
+    Some(unsafe { Ref::<T, Shared>::from_sys(object).assume_safe() })
 }
 
 /// A node's path, for messages.
@@ -110,12 +139,15 @@ impl CrowdGaze {
             attention_fraction_min: 0.2,
             attention_fraction_max: 0.6,
             threads: 1,
+            attention_period: 1,
+            lod_distance: 0.0,
+            far_attention_period: 4,
             camera_is_viewer: true,
             viewer_impact: 3.0,
             scene: None,
             refused: HashSet::new(),
             config_failed: false,
-            frame_usec: 0.0,
+            frame_usec: [0.0; 3],
         }
     }
 
@@ -153,6 +185,9 @@ impl CrowdGaze {
                 self.attention_fraction_max as f32,
             ),
             threads: count(self.threads),
+            attention_period: count(self.attention_period),
+            lod_distance: self.lod_distance as f32,
+            far_attention_period: count(self.far_attention_period),
             ..CrowdConfig::default()
         };
         config.scoring.max_distance = self.max_distance as f32;
@@ -214,7 +249,7 @@ impl CrowdGaze {
                         key,
                         handle,
                         &GodotSkeleton(skeleton),
-                        &xform(&node.global_transform()),
+                        &xform(&node.transform()),
                         &settings,
                     )
                 })
@@ -334,12 +369,12 @@ impl CrowdGaze {
             let Some(handle) = scene.character_handle(slot).copied() else {
                 break;
             };
-            // SAFETY: instance ids of nodes on the main thread, used within this call.
-            let node = unsafe { Spatial::try_from_instance_id(handle.node) };
-            let skeleton = unsafe { Skeleton::try_from_instance_id(handle.skeleton) };
+            // SAFETY: ids taken from a Spatial and a Skeleton, used within this call.
+            let node = unsafe { live::<Spatial>(handle.node) };
+            let skeleton = unsafe { live::<Skeleton>(handle.skeleton) };
             match (node, skeleton) {
-                (Some(node), Some(skeleton)) if node.is_inside_tree() => {
-                    let placed = xform(&node.global_transform());
+                (Some(node), Some(skeleton)) => {
+                    let placed = xform(&node.transform());
                     if let Err(error) =
                         scene.read_character(slot, &GodotSkeleton(skeleton), &placed)
                     {
@@ -360,9 +395,9 @@ impl CrowdGaze {
             let Some(handle) = scene.target_handle(slot).copied() else {
                 break;
             };
-            // SAFETY: as above.
-            match unsafe { Spatial::try_from_instance_id(handle.node) } {
-                Some(node) if node.is_inside_tree() => {
+            // SAFETY: an id taken from a Spatial, used within this call.
+            match unsafe { live::<Spatial>(handle.node) } {
+                Some(node) => {
                     if let Err(error) = scene.read_target(slot, &xform(&node.global_transform())) {
                         godot_error!(
                             "crowdgaze: {}: {error}; the target stays where it was",
@@ -380,22 +415,29 @@ impl CrowdGaze {
         if let Err(error) = scene.set_viewer(viewer, viewer_impact) {
             godot_error!("crowdgaze: {}: the viewer: {error}", path_of(owner));
         }
+        let read = start.elapsed();
         if let Err(error) = scene.step(delta as f32) {
             godot_error!("crowdgaze: {}: {error}", path_of(owner));
             return;
         }
+        let stepped = start.elapsed();
         for slot in 0..scene.character_count() {
             let Some(handle) = scene.character_handle(slot).copied() else {
                 break;
             };
-            // SAFETY: as above.
-            if let Some(skeleton) = unsafe { Skeleton::try_from_instance_id(handle.skeleton) } {
+            // SAFETY: an id taken from a Skeleton, used within this call.
+            if let Some(skeleton) = unsafe { live::<Skeleton>(handle.skeleton) } {
                 if let Err(error) = scene.write_character(slot, &mut GodotSkeleton(skeleton)) {
                     godot_error!("crowdgaze: writing the gaze: {error}");
                 }
             }
         }
-        self.frame_usec = start.elapsed().as_secs_f64() * 1e6;
+        let written = start.elapsed();
+        self.frame_usec = [
+            read.as_secs_f64() * 1e6,
+            (stepped - read).as_secs_f64() * 1e6,
+            (written - stepped).as_secs_f64() * 1e6,
+        ];
         // Signals go out at the end of the frame, when no method of this node is running.
         for &(slot, target) in scene.interest_changes() {
             let Some(character) = scene.character_handle(slot).and_then(|h| node_of(h.node)) else {
@@ -653,9 +695,20 @@ impl CrowdGaze {
         })
     }
 
-    /// The last frame's cost in this node (reading, stepping and writing), microseconds.
+    /// The last frame's cost in this node (reading the scene, stepping the crowd and
+    /// writing the bones), microseconds.
     #[export]
     fn get_frame_usec(&self, _owner: &Spatial) -> f64 {
-        self.frame_usec
+        self.frame_usec.iter().sum()
+    }
+
+    /// The last frame's cost in this node by part, microseconds: `[read, step, write]`.
+    #[export]
+    fn get_frame_parts_usec(&self, _owner: &Spatial) -> Vector3 {
+        Vector3::new(
+            self.frame_usec[0] as f32,
+            self.frame_usec[1] as f32,
+            self.frame_usec[2] as f32,
+        )
     }
 }
