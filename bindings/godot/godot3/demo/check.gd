@@ -50,7 +50,7 @@ func look_at_point(target):
 	var origin = target.global_transform.origin
 	if target is Camera:
 		return origin
-	if target.has_method("get_crowd"):   # a CrowdGazeCharacter
+	if target.has_method("get_crowd_node"):   # a CrowdGazeCharacter
 		return origin + Vector3.UP * demo.crowd.get_look_at_height(target)
 	return origin + Vector3.UP * target.look_at_height
 

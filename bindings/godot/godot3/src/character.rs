@@ -98,7 +98,7 @@ impl CrowdGazeCharacter {
 
     /// The `CrowdGaze` node this character joins (null if there is none).
     #[export]
-    fn get_crowd(&self, owner: TRef<Spatial>) -> Variant {
+    fn get_crowd_node(&self, owner: TRef<Spatial>) -> Variant {
         find_crowd(&owner, &self.crowd).map_or_else(Variant::new, |crowd| crowd.to_variant())
     }
 }
