@@ -619,4 +619,11 @@ impl CrowdGaze {
     fn get_frame_usec(&self) -> f64 {
         self.frame_usec.iter().sum()
     }
+
+    /// The last frame's cost in this node by part, microseconds: `(read, step, 0)` (the
+    /// writes are the modifiers').
+    #[func]
+    fn get_frame_parts_usec(&self) -> Vector3 {
+        Vector3::new(self.frame_usec[0] as f32, self.frame_usec[1] as f32, 0.0)
+    }
 }
