@@ -17,6 +17,8 @@
 //! Nothing here panics on any input: bad transforms and skeletons come back as
 //! [`crowdgaze::Error`]s for the front end to report.
 
+#![warn(missing_docs)]
+
 /// The library, re-exported so that the front ends use the adapter's version of it.
 pub use crowdgaze;
 

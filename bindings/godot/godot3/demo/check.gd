@@ -3,9 +3,9 @@
 #   1. each chain bone's local rotation, from the Skeleton's global bone poses (the first
 #      relative to the character node's frame), equals the rotation the library returned
 #      (get_joint_rotations) within 1e-5 rad;
-#   2. once its gaze has settled on a target (is_holding, attending), each eye's forward
-#      (its rest forward, the skeleton's +Z, carried by the eye bone's global pose) points at
-#      the target's look-at point within 2 degrees;
+#   2. once its gaze has settled on a target (is_holding; attention's or an explicit one),
+#      each eye's forward (its rest forward, the skeleton's +Z, carried by the eye bone's
+#      global pose) points at the target's look-at point within 2 degrees;
 #   3. the crowd holds exactly the character nodes in the tree (freed people leave at once).
 # Prints the figures and "CROWDGAZE CHECK PASSED" (or FAILED), then quits with 0 (or 1).
 extends Node
@@ -94,10 +94,12 @@ func check_character(crowd, gaze):
 			worst_pose = error
 		if error > POSE_TOLERANCE:
 			fail("%s: bone %s is %g rad from the library's rotation" % [gaze.get_path(), skeleton.get_bone_name(bones[k]), error])
+	# The eyes' target: from attention, or an explicit one (the chatting pair's).
 	var target = crowd.get_gaze_target(gaze)
-	if target == null or not crowd.is_attending(gaze):
+	if target == null:
 		return
-	attending[gaze.get_instance_id()] = true
+	if crowd.is_attending(gaze):
+		attending[gaze.get_instance_id()] = true
 	targets_seen[target.get_instance_id()] = true
 	if not crowd.is_holding(gaze):
 		return

@@ -12,6 +12,8 @@
 //! This crate only checks, converts and forwards; every exported method runs inside
 //! [`convert::boundary`], so no panic reaches the engine.
 
+#![warn(missing_docs)]
+
 pub mod character;
 pub mod convert;
 pub mod crowd_gaze;

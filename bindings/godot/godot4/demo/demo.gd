@@ -120,10 +120,21 @@ func ground(point):
 func setup_scene():
 	center = window_center()
 	# Bystanders beside the walkway, and scene objects to look at.
-	var spots = [[Vector3(-2.2, 0, 2.6), 2.6], [Vector3(1.6, 0, 3.1), -2.8], [Vector3(3.4, 0, -2.2), -1.2], [Vector3(-3.6, 0, -1.5), 1.4]]
+	var spots = [[Vector3(-3.2, 0, 1.8), 2.08], [Vector3(3.0, 0, 2.2), -2.2], [Vector3(3.4, 0, -2.6), -1.2], [Vector3(-3.6, 0, -1.8), 1.4]]
 	for k in range(spots.size()):
 		standing.append(make_person(spots[k][0], spots[k][1], k % PALETTES.size(), "Bystander%d" % k))
-	add_target("Kiosk", Vector3(-1.0, 0, 4.2), Color(0.85, 0.15, 0.15), 1.9, 2.0)
+	# Two people chatting in front of the camera: each looks at the other (an explicit
+	# target, which overrides their attention), half turned towards the street.
+	var left = make_person(Vector3(-0.75, 0, 4.8), PI / 2 - 0.6, 3, "ChatLeft")
+	var right = make_person(Vector3(0.75, 0, 4.8), -PI / 2 + 0.6, 5, "ChatRight")
+	standing.append(left)
+	standing.append(right)
+	if with_addon:
+		var a = left.skeleton.get_node("Gaze")
+		var b = right.skeleton.get_node("Gaze")
+		crowd.set_gaze_target(a, b)
+		crowd.set_gaze_target(b, a)
+	add_target("Kiosk", Vector3(-3.8, 0, 3.6), Color(0.85, 0.15, 0.15), 1.9, 2.0)
 	add_target("Sign", Vector3(3.8, 0, 1.4), Color(0.95, 0.8, 0.1), 2.2, 2.0)
 	add_target("Fountain", Vector3(-4.2, 0, 2.0), Color(0.2, 0.55, 0.9), 1.0, 1.5)
 	update_people(0.0)

@@ -7,8 +7,8 @@
 # vertex bound rigidly to one bone, so that heads and eyes turn with their bones.
 extends Reference
 
-const EYE_RADIUS = 0.022
-const PUPIL_RADIUS = 0.011
+const EYE_RADIUS = 0.024
+const PUPIL_RADIUS = 0.0125
 
 var names = []       # bone names
 var parents = []     # parent index, -1 for the root
@@ -237,7 +237,7 @@ func mesh(shirt, trousers):
 	var head = names.find("Head")
 	var h = positions[head]
 	_sphere(h + Vector3(0, 0.09, 0.01), 0.105, skin, head, 10, Vector3(0.92, 1.1, 1.0))
-	_sphere(h + Vector3(0, 0.175, -0.01), 0.1, dark, head, 8, Vector3(0.95, 0.55, 1.0))
+	_sphere(h + Vector3(0, 0.17, -0.035), 0.11, dark, head, 8, Vector3(0.97, 0.7, 1.0))
 	_box(h + Vector3(0, 0.05, 0.1), h + Vector3(0, 0.05, 0.16), 0.035, 0.04, skin.darkened(0.15), head)
 	for eye in [names.find("LeftEye"), names.find("RightEye")]:
 		var e = positions[eye]
