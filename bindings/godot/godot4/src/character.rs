@@ -26,6 +26,8 @@ pub struct CrowdGazeCharacter {
     /// How interesting this character is to others (`I_E`, ≥ 0).
     #[export]
     impact: f64,
+    /// The `CrowdGaze` node joined (its instance id), for the per-frame write.
+    joined: Option<InstanceId>,
     base: Base<SkeletonModifier3D>,
 }
 
@@ -53,6 +55,7 @@ impl ISkeletonModifier3D for CrowdGazeCharacter {
             crowd: NodePath::default(),
             bone_map: GString::new(),
             impact: 1.0,
+            joined: None,
             base,
         }
     }
@@ -72,7 +75,11 @@ impl ISkeletonModifier3D for CrowdGazeCharacter {
         boundary("CrowdGazeCharacter._exit_tree", (), || {
             self.base_mut().remove_from_group(CHARACTER_GROUP);
             let node = self.to_gd().upcast::<Node>();
-            if let Some(mut crowd) = find_crowd(&node, &self.crowd) {
+            let crowd = self
+                .joined
+                .take()
+                .and_then(|id| Gd::try_from_instance_id(id).ok());
+            if let Some(mut crowd) = crowd.or_else(|| find_crowd(&node, &self.crowd)) {
                 let key = node.instance_id().to_i64();
                 crowd.bind_mut().unregister(key);
             }
@@ -84,11 +91,13 @@ impl ISkeletonModifier3D for CrowdGazeCharacter {
             let Some(skeleton) = self.base().get_skeleton() else {
                 return;
             };
-            let node = self.to_gd().upcast::<Node>();
-            if let Some(mut crowd) = find_crowd(&node, &self.crowd) {
-                crowd
-                    .bind_mut()
-                    .write_character(node.instance_id().to_i64(), skeleton);
+            let Some(id) = self.joined else {
+                return;
+            };
+            // The crowd joined, found by id: no search of the tree each frame.
+            if let Ok(mut crowd) = Gd::<CrowdGaze>::try_from_instance_id(id) {
+                let key = self.to_gd().instance_id().to_i64();
+                crowd.bind_mut().write_character(key, skeleton);
             }
         })
     }
@@ -105,16 +114,22 @@ impl CrowdGazeCharacter {
 }
 
 impl CrowdGazeCharacter {
+    /// Records the `CrowdGaze` node that registered the character (it writes through it).
+    pub fn set_joined(&mut self, crowd: InstanceId) {
+        self.joined = Some(crowd);
+    }
+
     /// The settings a `CrowdGaze` registers the character with: bone map and impact.
     pub fn settings(&self) -> (String, f64) {
         (self.bone_map.to_string(), self.impact)
     }
 
-    fn join(&self, warn: bool) {
+    fn join(&mut self, warn: bool) {
         let node = self.to_gd();
         match find_crowd(&node.clone().upcast::<Node>(), &self.crowd) {
             Some(mut crowd) => {
                 let (bone_map, impact) = self.settings();
+                self.joined = Some(crowd.instance_id());
                 crowd
                     .bind_mut()
                     .register_character(node.upcast::<Node3D>(), &bone_map, impact);

@@ -311,8 +311,9 @@ impl CrowdGaze {
         }
         let tree = self.base().get_tree();
         for node in tree.get_nodes_in_group(CHARACTER_GROUP).iter_shared() {
-            if let Ok(character) = node.try_cast::<crate::character::CrowdGazeCharacter>() {
+            if let Ok(mut character) = node.try_cast::<crate::character::CrowdGazeCharacter>() {
                 let (bone_map, impact) = character.bind().settings();
+                character.bind_mut().set_joined(self.to_gd().instance_id());
                 self.register_character(character.upcast(), &bone_map, impact);
             }
         }
