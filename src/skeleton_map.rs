@@ -4,20 +4,24 @@
 //!
 //! The engines' adapters and the command-line tool's `bvh` command share this mapping:
 //!
-//! 1. A [`BoneMap`] gives each bone name a [`BoneRole`] (case-insensitive, any
-//!    `namespace:` prefix ignored): [`DEFAULT_BONE_MAP`] with the caller's overrides.
-//! 2. [`map_skeleton`] finds the head, walks down its ancestors while they are neck then
-//!    spine bones (the first other ancestor is the chain root), takes the head's two eye
-//!    children if both are mapped, and builds the [`GazeChain`].
+//! 1. A [`BoneMap`](crate::skeleton_map::BoneMap) gives each bone name a
+//!    [`BoneRole`](crate::skeleton_map::BoneRole) (case-insensitive, any `namespace:` prefix
+//!    ignored): [`DEFAULT_BONE_MAP`](crate::skeleton_map::DEFAULT_BONE_MAP) with the
+//!    caller's overrides.
+//! 2. [`map_skeleton`](crate::skeleton_map::map_skeleton) finds the head, walks down its
+//!    ancestors while they are neck then spine bones (the first other ancestor is the chain
+//!    root), takes the head's two eye children if both are mapped, and builds the
+//!    [`GazeChain`](crate::ik::GazeChain).
 //!
 //! Conventions: bones are given at rest, each as a translation (caller's units) and a
 //! rotation relative to its parent, parents before children; a bone without a parent is
 //! relative to the character (its position on the ground, at heading 0, in the world's
 //! axes). The chain root's frame is the character's: its rest rotation is folded into the
 //! first chain joint's, so an engine whose chain root turns (a pelvis that sways) passes
-//! that turn in the first joint's base rotation (see [`MappedChain::root`]). Twist axes and
-//! the eyes' forward and up are expressed in each joint's own frame at rest, so skeletons
-//! whose bones have rotated rest poses (as imported models do) need nothing special.
+//! that turn in the first joint's base rotation (see
+//! [`MappedChain::root`](crate::skeleton_map::MappedChain::root)). Twist axes and the eyes'
+//! forward and up are expressed in each joint's own frame at rest, so skeletons whose bones
+//! have rotated rest poses (as imported models do) need nothing special.
 
 use std::collections::HashMap;
 
