@@ -35,6 +35,8 @@ pub mod scenario;
 /// cbindgen:ignore
 pub mod scene;
 /// cbindgen:ignore
+pub mod skeleton_map;
+/// cbindgen:ignore
 pub mod world;
 
 pub use blend::{ViewBlender, ViewBlenderConfig};

@@ -180,8 +180,10 @@ pub struct PlotArgs {
 #[command(
     after_help = "Default joint map (case-insensitive, any 'namespace:' prefix ignored): \
 Hips=root, Spine=spine, Spine1=spine, Spine2=spine, Spine3=spine, Chest=spine, \
-UpperChest=spine, LowerBack=spine, Neck=neck, Neck1=neck, Head=head. The chain runs from the \
-head down through neck and spine joints; its root is the first joint below them.\n\nThe \
+UpperChest=spine, LowerBack=spine, Neck=neck, Neck1=neck, Head=head, LeftEye=left_eye, \
+RightEye=right_eye (also Eye_L, Eye.L and the R ones). The chain runs from the head down \
+through neck and spine joints; its root is the first joint below them; eyes are children of \
+the head, both or neither.\n\nThe \
 trajectory's x runs along the skeleton's rest facing direction (--forward) and y along its \
 left; the clip loops if the track is longer. Output: the same hierarchy and channel orders; \
 the root follows the trajectory (keeping the clip's height), turns with the walking \
@@ -214,7 +216,7 @@ pub struct BvhArgs {
     #[arg(long, value_parser = parse_axis_arg, allow_hyphen_values = true)]
     pub forward: Option<crowdgaze::world::Axis>,
     /// Joint map overrides, NAME=ROLE comma separated (roles: root, spine, neck, head,
-    /// none).
+    /// left_eye, right_eye, none).
     #[arg(long, value_name = "MAP")]
     pub map: Option<String>,
     /// Time conversion and window.

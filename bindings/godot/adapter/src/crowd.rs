@@ -1,0 +1,544 @@
+//! The scene as a crowd: character, target and viewer nodes and their entity ids, the
+//! frame's states pushed, the crowd stepped, the gaze written back, and the changes of
+//! interest reported.
+//!
+//! A front end keeps one [`SceneCrowd`] per `CrowdGaze` node. Per frame: for each character
+//! [`read_character`](SceneCrowd::read_character), for each target
+//! [`read_target`](SceneCrowd::read_target), [`set_viewer`](SceneCrowd::set_viewer), then
+//! [`step`](SceneCrowd::step), then for each character
+//! [`write_character`](SceneCrowd::write_character), then
+//! [`interest_changes`](SceneCrowd::interest_changes). After registration nothing allocates.
+
+use std::collections::HashMap;
+
+use crowdgaze::ik::{GazePhase, MAX_CHAIN_JOINTS};
+use crowdgaze::scene::ids::NO_ENTITY;
+use crowdgaze::scene::EntityUpdate;
+use crowdgaze::skeleton_map::BoneMap;
+use crowdgaze::{CharacterDesc, Crowd, CrowdConfig, Error, GazeInfo, ObjectDesc, Result};
+use glam::{Quat, Vec3};
+
+use crate::skeleton::{character_frame, BoundSkeleton, PoseConvention, SkeletonAccess};
+use crate::xform::Xform;
+
+/// A node's key: an id that names it for as long as it lives (Godot's instance id).
+pub type NodeKey = i64;
+
+/// How a character is registered.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CharacterSettings {
+    /// Bone names to roles: the library's default map with the node's overrides.
+    pub bone_map: BoneMap,
+    /// `I_E`, how interesting the character is to others (≥ 0).
+    pub impact: f32,
+}
+
+impl Default for CharacterSettings {
+    fn default() -> Self {
+        CharacterSettings {
+            bone_map: BoneMap::default(),
+            impact: 1.0,
+        }
+    }
+}
+
+/// A registered character.
+#[derive(Debug)]
+struct Character<H> {
+    key: NodeKey,
+    handle: H,
+    id: u32,
+    skeleton: BoundSkeleton,
+    /// True while its transforms are not finite: it keeps its last state.
+    stalled: bool,
+    /// True if it was read this frame (and is pushed and written).
+    fresh: bool,
+    /// Its eyes' target after the last step, to report changes.
+    target: u32,
+}
+
+/// A registered scene object.
+#[derive(Debug)]
+struct Target<H> {
+    key: NodeKey,
+    handle: H,
+    id: u32,
+    look_at_height: f32,
+    stalled: bool,
+}
+
+/// What an entity id is in the scene.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum EntityNode<'a, H> {
+    /// A character node.
+    Character(&'a H),
+    /// A target node.
+    Target(&'a H),
+    /// The viewer (the camera).
+    Viewer,
+    /// Nothing (no target, or an id no longer in the scene).
+    None,
+}
+
+/// Where an entity id lives.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Slot {
+    Character(usize),
+    Target(usize),
+}
+
+/// One `CrowdGaze` node's crowd and the nodes in it. Not safe for concurrent mutation.
+#[derive(Debug)]
+pub struct SceneCrowd<H> {
+    crowd: Crowd,
+    convention: PoseConvention,
+    characters: Vec<Character<H>>,
+    targets: Vec<Target<H>>,
+    by_key: HashMap<NodeKey, u32>,
+    slots: HashMap<u32, Slot>,
+    viewer: Option<u32>,
+    viewer_position: Option<Vec3>,
+    /// This frame's entity states (capacity for every entity: no allocation per frame).
+    updates: Vec<EntityUpdate>,
+    /// Characters whose eyes' target changed in the last step: (slot, new target).
+    changes: Vec<(usize, u32)>,
+    /// Scratch for one character's joints.
+    joints: [Quat; MAX_CHAIN_JOINTS],
+    time: f64,
+}
+
+impl<H> SceneCrowd<H> {
+    /// A crowd with `config` (its world must be Godot's: Y up, +Z forward, metres, the
+    /// library's default) for skeletons whose poses follow `convention`.
+    pub fn new(config: CrowdConfig, convention: PoseConvention) -> Result<SceneCrowd<H>> {
+        let world = crowdgaze::World::y_up();
+        if config.world != world {
+            return Err(Error::InvalidArgument(
+                "a Godot crowd's world is Y up, +Z forward, in metres".into(),
+            ));
+        }
+        let entities = (config.max_characters + config.max_objects) as usize + 1;
+        let characters = config.max_characters as usize;
+        Ok(SceneCrowd {
+            crowd: Crowd::new(config)?,
+            convention,
+            characters: Vec::with_capacity(characters),
+            targets: Vec::new(),
+            by_key: HashMap::with_capacity(entities),
+            slots: HashMap::with_capacity(entities),
+            viewer: None,
+            viewer_position: None,
+            updates: Vec::with_capacity(entities),
+            changes: Vec::with_capacity(characters),
+            joints: [Quat::IDENTITY; MAX_CHAIN_JOINTS],
+            time: 0.0,
+        })
+    }
+
+    /// The crowd (for reading gaze, chains and joints).
+    pub fn crowd(&self) -> &Crowd {
+        &self.crowd
+    }
+
+    /// The crowd, for game logic (explicit targets, parameters). Removing entities through
+    /// it leaves their nodes registered here: use [`remove`](Self::remove).
+    pub fn crowd_mut(&mut self) -> &mut Crowd {
+        &mut self.crowd
+    }
+
+    /// Number of registered characters.
+    pub fn character_count(&self) -> usize {
+        self.characters.len()
+    }
+
+    /// Number of registered targets.
+    pub fn target_count(&self) -> usize {
+        self.targets.len()
+    }
+
+    /// The handle of character `slot` (`0 .. character_count()`).
+    pub fn character_handle(&self, slot: usize) -> Option<&H> {
+        self.characters.get(slot).map(|c| &c.handle)
+    }
+
+    /// The handle of target `slot` (`0 .. target_count()`).
+    pub fn target_handle(&self, slot: usize) -> Option<&H> {
+        self.targets.get(slot).map(|t| &t.handle)
+    }
+
+    /// The entity id of a registered node.
+    pub fn entity_of(&self, key: NodeKey) -> Option<u32> {
+        self.by_key.get(&key).copied()
+    }
+
+    /// The character slot of a registered character node.
+    pub fn character_slot(&self, key: NodeKey) -> Option<usize> {
+        match self.slots.get(&self.entity_of(key)?) {
+            Some(Slot::Character(slot)) => Some(*slot),
+            _ => None,
+        }
+    }
+
+    /// The node behind an entity id.
+    pub fn node_of(&self, id: u32) -> EntityNode<'_, H> {
+        if Some(id) == self.viewer && id != NO_ENTITY {
+            return EntityNode::Viewer;
+        }
+        match self.slots.get(&id) {
+            Some(Slot::Character(slot)) => EntityNode::Character(&self.characters[*slot].handle),
+            Some(Slot::Target(slot)) => EntityNode::Target(&self.targets[*slot].handle),
+            None => EntityNode::None,
+        }
+    }
+
+    /// Registers a character node: maps its skeleton's bones to a gaze chain and adds it to
+    /// the crowd at its node's place. `node` is the character node's transform relative to
+    /// its skeleton (the node is the skeleton's child: identity unless the model faces
+    /// elsewhere than the character).
+    ///
+    /// Errors (nothing is added): the node is registered already, the skeleton has no
+    /// recognisable head (the message lists its bones) or another mapping error, a
+    /// transform is not finite, the crowd is full.
+    pub fn add_character(
+        &mut self,
+        key: NodeKey,
+        handle: H,
+        skeleton: &impl SkeletonAccess,
+        node: &Xform,
+        settings: &CharacterSettings,
+    ) -> Result<u32> {
+        if self.by_key.contains_key(&key) {
+            return Err(Error::InvalidArgument(
+                "the node is registered already".into(),
+            ));
+        }
+        if self.characters.len() >= self.crowd.config().max_characters as usize {
+            return Err(Error::Capacity(format!(
+                "the crowd already holds max_characters = {} characters",
+                self.crowd.config().max_characters
+            )));
+        }
+        let (bound, chain) =
+            BoundSkeleton::bind(skeleton, node, &settings.bone_map, self.convention)?;
+        let (position, heading, _) = character_frame(&skeleton.global_transform().mul(node));
+        let id = self.crowd.add_character(&CharacterDesc {
+            position,
+            heading,
+            impact: settings.impact,
+            chain: Some(chain),
+            ..CharacterDesc::default()
+        })?;
+        self.by_key.insert(key, id);
+        self.slots
+            .insert(id, Slot::Character(self.characters.len()));
+        self.characters.push(Character {
+            key,
+            handle,
+            id,
+            skeleton: bound,
+            stalled: false,
+            fresh: false,
+            target: NO_ENTITY,
+        });
+        Ok(id)
+    }
+
+    /// Registers a scene object: a target at the node's origin whose look-at point is
+    /// `look_at_height` metres above it, of interest `impact`.
+    pub fn add_target(
+        &mut self,
+        key: NodeKey,
+        handle: H,
+        node: &Xform,
+        look_at_height: f32,
+        impact: f32,
+    ) -> Result<u32> {
+        if self.by_key.contains_key(&key) {
+            return Err(Error::InvalidArgument(
+                "the node is registered already".into(),
+            ));
+        }
+        if !node.is_finite() {
+            return Err(Error::NonFinite(
+                "the target's global transform is not finite".into(),
+            ));
+        }
+        let (position, heading, _) = character_frame(node);
+        let id = self.crowd.add_object(&ObjectDesc {
+            position,
+            heading,
+            look_at_height,
+            impact,
+        })?;
+        self.by_key.insert(key, id);
+        self.slots.insert(id, Slot::Target(self.targets.len()));
+        self.targets.push(Target {
+            key,
+            handle,
+            id,
+            look_at_height,
+            stalled: false,
+        });
+        Ok(id)
+    }
+
+    /// Removes a character or target node from the crowd (at once: characters looking at
+    /// it look elsewhere from the next step). Returns its handle, `None` if it was not
+    /// registered.
+    pub fn remove(&mut self, key: NodeKey) -> Option<H> {
+        let id = self.by_key.remove(&key)?;
+        let slot = self.slots.remove(&id)?;
+        // The crowd knows the id: the adapter added it and nothing else removes it.
+        let _ = self.crowd.remove_entity(id);
+        let handle = match slot {
+            Slot::Character(slot) => {
+                let removed = self.characters.swap_remove(slot);
+                if let Some(moved) = self.characters.get(slot) {
+                    self.slots.insert(moved.id, Slot::Character(slot));
+                }
+                // Pending changes follow the character moved into the slot.
+                let moved_from = self.characters.len();
+                self.changes.retain(|(changed, _)| *changed != slot);
+                for (changed, _) in &mut self.changes {
+                    if *changed == moved_from {
+                        *changed = slot;
+                    }
+                }
+                removed.handle
+            }
+            Slot::Target(slot) => {
+                let removed = self.targets.swap_remove(slot);
+                if let Some(moved) = self.targets.get(slot) {
+                    self.slots.insert(moved.id, Slot::Target(slot));
+                }
+                removed.handle
+            }
+        };
+        // Characters that looked at it keep its (never reused) id as their last target, so
+        // the next step reports their change.
+        Some(handle)
+    }
+
+    /// Makes the viewer (the active camera) an entity at `position`, or removes it with
+    /// `None`. Its interest is `impact`. Call once per frame before [`step`](Self::step);
+    /// its velocity comes from the frames.
+    pub fn set_viewer(&mut self, position: Option<Vec3>, impact: f32) -> Result<()> {
+        match position {
+            Some(position) => {
+                if !position.is_finite() {
+                    return Err(Error::NonFinite(
+                        "the camera's position is not finite".into(),
+                    ));
+                }
+                match self.viewer {
+                    None => self.viewer = Some(self.crowd.set_viewer(position, impact)?),
+                    Some(id) => self.crowd.set_impact(id, impact)?,
+                }
+                self.viewer_position = Some(position);
+            }
+            None => {
+                if let Some(id) = self.viewer.take() {
+                    self.crowd.remove_entity(id)?;
+                }
+                self.viewer_position = None;
+            }
+        }
+        Ok(())
+    }
+
+    /// The viewer's entity id, if there is one.
+    pub fn viewer(&self) -> Option<u32> {
+        self.viewer
+    }
+
+    /// Reads character `slot`: its node's transform relative to its skeleton, `node`, and
+    /// the skeleton's place and animated pose. On a NaN or infinite transform the character keeps its last state
+    /// (position, base pose, bones) until its transforms are finite again; the error is
+    /// returned once, when that starts.
+    pub fn read_character(
+        &mut self,
+        slot: usize,
+        skeleton: &impl SkeletonAccess,
+        node: &Xform,
+    ) -> Result<()> {
+        let character = self
+            .characters
+            .get_mut(slot)
+            .ok_or_else(|| Error::InvalidArgument(format!("there is no character {slot}")))?;
+        character.fresh = false;
+        match character.skeleton.read(skeleton, node) {
+            Ok(read) => {
+                let joints = character.skeleton.joint_count;
+                self.crowd
+                    .set_base_pose(character.id, &read.base[..joints])?;
+                character.stalled = false;
+                character.fresh = true;
+                self.updates.push(EntityUpdate {
+                    id: character.id,
+                    position: read.position,
+                    heading: read.heading,
+                    heading_from_motion: false,
+                    velocity: None,
+                });
+                Ok(())
+            }
+            Err(error) => {
+                let first = !character.stalled;
+                character.stalled = true;
+                if first {
+                    Err(error)
+                } else {
+                    Ok(())
+                }
+            }
+        }
+    }
+
+    /// Reads target `slot` at its node's global transform `node`. A NaN or infinite
+    /// transform keeps it where it was; the error is returned once, when that starts.
+    pub fn read_target(&mut self, slot: usize, node: &Xform) -> Result<()> {
+        let target = self
+            .targets
+            .get_mut(slot)
+            .ok_or_else(|| Error::InvalidArgument(format!("there is no target {slot}")))?;
+        if !node.is_finite() {
+            let first = !target.stalled;
+            target.stalled = true;
+            return if first {
+                Err(Error::NonFinite(
+                    "the target's global transform is not finite".into(),
+                ))
+            } else {
+                Ok(())
+            };
+        }
+        target.stalled = false;
+        let (position, heading, _) = character_frame(node);
+        self.updates.push(EntityUpdate {
+            id: target.id,
+            position,
+            heading,
+            heading_from_motion: false,
+            velocity: None,
+        });
+        Ok(())
+    }
+
+    /// Pushes the frame read since the last step (`dt` seconds after it) and steps the
+    /// crowd. Characters and targets not read this frame keep their last state.
+    pub fn step(&mut self, dt: f32) -> Result<()> {
+        if !(dt.is_finite() && dt >= 0.0) {
+            self.updates.clear();
+            return Err(Error::InvalidArgument(format!(
+                "the frame's delta is {dt}: it must be finite and ≥ 0"
+            )));
+        }
+        if let (Some(id), Some(position)) = (self.viewer, self.viewer_position) {
+            self.updates.push(EntityUpdate {
+                id,
+                position,
+                heading: 0.0,
+                heading_from_motion: true,
+                velocity: None,
+            });
+        }
+        self.time += f64::from(dt);
+        let pushed = self.crowd.push_frame(self.time, &self.updates);
+        self.updates.clear();
+        pushed?;
+        self.crowd.step(dt)?;
+        self.changes.clear();
+        for (slot, character) in self.characters.iter_mut().enumerate() {
+            let target = self
+                .crowd
+                .gaze(character.id)
+                .map_or(NO_ENTITY, |g| g.target);
+            if target != character.target {
+                character.target = target;
+                self.changes.push((slot, target));
+            }
+        }
+        Ok(())
+    }
+
+    /// Writes character `slot`'s gaze to its skeleton's chain bones (if it was read this
+    /// frame; a stalled character's bones are left alone).
+    pub fn write_character(
+        &mut self,
+        slot: usize,
+        skeleton: &mut impl SkeletonAccess,
+    ) -> Result<()> {
+        let character = self
+            .characters
+            .get_mut(slot)
+            .ok_or_else(|| Error::InvalidArgument(format!("there is no character {slot}")))?;
+        if !character.fresh {
+            return Ok(());
+        }
+        let joints = character.skeleton.joint_count;
+        self.crowd
+            .read_joints_of(character.id, false, &mut self.joints[..joints])?;
+        character.skeleton.write(skeleton, &self.joints[..joints]);
+        Ok(())
+    }
+
+    /// The characters whose eyes' target changed in the last step: (character slot, new
+    /// target id, [`NO_ENTITY`] for none). Map ids to nodes with [`node_of`](Self::node_of).
+    pub fn interest_changes(&self) -> &[(usize, u32)] {
+        &self.changes
+    }
+
+    /// Where character `slot` looks after the last step.
+    pub fn gaze(&self, slot: usize) -> Result<GazeInfo> {
+        self.crowd.gaze(self.character(slot)?.id)
+    }
+
+    /// True once character `slot`'s gaze has arrived on its target and follows it.
+    pub fn is_holding(&self, slot: usize) -> Result<bool> {
+        Ok(self.crowd.gaze_motion(self.character(slot)?.id)?.phase() == GazePhase::Holding)
+    }
+
+    /// The final local rotations of character `slot`'s chain joints (`base * delta`, the
+    /// first in the character frame), as the library returned them; `out` must hold one per
+    /// joint. Returns how many.
+    pub fn joint_rotations(&self, slot: usize, out: &mut [Quat]) -> Result<usize> {
+        self.crowd
+            .read_joints_of(self.character(slot)?.id, false, out)
+    }
+
+    /// The chain bones of character `slot`, bottom to top (spine, neck, head, eyes).
+    pub fn chain_bones(&self, slot: usize) -> Result<&[usize]> {
+        Ok(self.character(slot)?.skeleton.chain_bones())
+    }
+
+    /// How high above its node's origin character `slot` is looked at (its rest eye
+    /// height), metres.
+    pub fn look_at_height(&self, slot: usize) -> Result<f32> {
+        let id = self.character(slot)?.id;
+        Ok(self.crowd.chain(id)?.look_at_height(Vec3::Y))
+    }
+
+    /// The look-at height of target `slot`, metres.
+    pub fn target_look_at_height(&self, slot: usize) -> Result<f32> {
+        self.targets
+            .get(slot)
+            .map(|t| t.look_at_height)
+            .ok_or_else(|| Error::InvalidArgument(format!("there is no target {slot}")))
+    }
+
+    /// The key of character `slot`.
+    pub fn character_key(&self, slot: usize) -> Option<NodeKey> {
+        self.characters.get(slot).map(|c| c.key)
+    }
+
+    /// The key of target `slot`.
+    pub fn target_key(&self, slot: usize) -> Option<NodeKey> {
+        self.targets.get(slot).map(|t| t.key)
+    }
+
+    fn character(&self, slot: usize) -> Result<&Character<H>> {
+        self.characters
+            .get(slot)
+            .ok_or_else(|| Error::InvalidArgument(format!("there is no character {slot}")))
+    }
+}

@@ -1,0 +1,34 @@
+//! # crowdgaze-godot-adapter
+//!
+//! The engine-neutral half of crowdgaze's Godot addon, shared by its two front ends (the
+//! Godot 4 GDExtension and the Godot 3.2 GDNative library): it turns a Godot scene into a
+//! crowd and the crowd's gaze into bone poses. It calls crowdgaze's Rust API directly;
+//! the front ends only check, convert Godot's values to and from [`Xform`], and forward.
+//!
+//! - [`skeleton`]: one character's skeleton — its chain bones found by name (the library's
+//!   [`skeleton_map`](crowdgaze::skeleton_map), overridable per bone), its animated pose
+//!   read as the base pose, its gaze written back as bone poses, in Godot 3's convention
+//!   (`rest * pose`) or Godot 4's (the pose is the local transform).
+//! - [`crowd`]: one `CrowdGaze` node's crowd — node keys ↔ entity ids, characters, targets
+//!   and the viewer pushed each frame, the step, the gaze written, interest changes.
+//! - [`xform`]: Godot's transform layout as glam values.
+//!
+//! Godot's conventions are the library's defaults: Y up, metres, characters facing +Z.
+//! Nothing here panics on any input: bad transforms and skeletons come back as
+//! [`crowdgaze::Error`]s for the front end to report.
+
+#![warn(missing_docs)]
+
+/// The library, re-exported so that the front ends use the adapter's version of it.
+pub use crowdgaze;
+
+pub mod crowd;
+pub mod skeleton;
+pub mod xform;
+
+pub use crowd::{CharacterSettings, EntityNode, NodeKey, SceneCrowd};
+pub use skeleton::{PoseConvention, SkeletonAccess};
+pub use xform::Xform;
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,388 @@
+//! One character's skeleton: the bones of its gaze chain (found by name with the library's
+//! [`skeleton_map`](crowdgaze::skeleton_map)), its animated pose read as the base pose, and
+//! the gaze written back as bone poses.
+//!
+//! Frames: the *character frame* is the library's, `translation(position) ·
+//! rotation(heading about +Y)`, read from the character node's global transform (its
+//! origin, and its +Z axis on the ground). The chain root's rotation in that frame is folded
+//! into the first chain joint, as the library's chains expect.
+
+use crowdgaze::ik::MAX_CHAIN_JOINTS;
+use crowdgaze::skeleton_map::{map_skeleton, BoneMap, RestBone, SkeletonOptions};
+use crowdgaze::world::{Axis, World};
+use crowdgaze::{Error, Result};
+use glam::{Quat, Vec3};
+
+use crate::xform::{basis_of, rotation_of, Xform};
+
+/// Most bones from the chain root up to the skeleton's top (the chain root's ancestors,
+/// itself included) that the adapter composes each frame.
+pub const MAX_ROOT_DEPTH: usize = 16;
+
+/// How a bone's pose relates to its local transform.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PoseConvention {
+    /// Godot 3: the local transform is `rest * pose` (the pose is relative to the rest).
+    RestTimesPose,
+    /// Godot 4: the pose is the local transform (the rest is only the default pose).
+    PoseIsLocal,
+}
+
+/// What the adapter needs from an engine's skeleton. The front ends implement it over
+/// Godot's `Skeleton` (3) and `Skeleton3D` (4); the tests over a skeleton of their own.
+pub trait SkeletonAccess {
+    /// Number of bones.
+    fn bone_count(&self) -> usize;
+    /// A bone's name.
+    fn bone_name(&self, bone: usize) -> String;
+    /// A bone's parent (always a lower index), `None` for a top bone.
+    fn bone_parent(&self, bone: usize) -> Option<usize>;
+    /// A bone's rest transform, relative to its parent.
+    fn bone_rest(&self, bone: usize) -> Xform;
+    /// A bone's current pose (see [`PoseConvention`]).
+    fn bone_pose(&self, bone: usize) -> Xform;
+    /// Sets a bone's pose (see [`PoseConvention`]).
+    fn set_bone_pose(&mut self, bone: usize, pose: Xform);
+    /// The skeleton node's global transform.
+    fn global_transform(&self) -> Xform;
+}
+
+/// The library's character frame for a node's global transform: its origin, and its
+/// heading from its +Z axis projected on the ground (0 when it points straight up or down).
+/// Returns the position, the heading and the frame.
+pub fn character_frame(node: &Xform) -> (Vec3, f32, Xform) {
+    let world = World::y_up();
+    let facing = node.basis.z_axis;
+    let heading = libm_atan2(facing.dot(world.side), facing.dot(world.forward));
+    let rotation = Quat::from_axis_angle(world.up, heading);
+    (
+        node.origin,
+        heading,
+        Xform::from_rotation_translation(rotation, node.origin),
+    )
+}
+
+/// `atan2` that gives 0 for (0, 0) and never a NaN from finite input.
+fn libm_atan2(y: f32, x: f32) -> f32 {
+    if y == 0.0 && x == 0.0 {
+        0.0
+    } else {
+        y.atan2(x)
+    }
+}
+
+/// The rotation of a bone pose's basis (rotation times per-axis scale, Godot's TRS) whose
+/// column lengths are `scale`; [`rotation_of`] for any other basis.
+fn pose_rotation(basis: &glam::Mat3, scale: Vec3) -> Quat {
+    if scale == Vec3::ONE {
+        Quat::from_mat3(basis).normalize()
+    } else if scale.min_element() > 1e-6 {
+        let unit = glam::Mat3::from_cols(
+            basis.x_axis / scale.x,
+            basis.y_axis / scale.y,
+            basis.z_axis / scale.z,
+        );
+        if unit.determinant() > 0.0 {
+            Quat::from_mat3(&unit).normalize()
+        } else {
+            rotation_of(basis)
+        }
+    } else {
+        rotation_of(basis)
+    }
+}
+
+/// A character's chain bones and what the adapter remembers of them between frames.
+#[derive(Debug, Clone)]
+pub struct BoundSkeleton {
+    /// The skeleton's bone count at registration (a skeleton whose count changes is
+    /// refused until it is registered again).
+    pub bone_count: usize,
+    /// The bone of each chain joint, bottom to top.
+    pub bones: [usize; MAX_CHAIN_JOINTS],
+    /// Number of chain joints.
+    pub joint_count: usize,
+    /// The name of each chain bone (for messages).
+    names: Vec<String>,
+    /// The chain root and its ancestors, from the top bone down to the root.
+    pub root_path: [usize; MAX_ROOT_DEPTH],
+    /// Length of `root_path`.
+    pub root_depth: usize,
+    /// Rest transform of each bone of `root_path`.
+    root_rests: [Xform; MAX_ROOT_DEPTH],
+    /// Rest rotation of each chain bone.
+    rests: [Quat; MAX_CHAIN_JOINTS],
+    /// The pre-gaze local rotation of each chain bone, last frame it was read.
+    locals: [Quat; MAX_CHAIN_JOINTS],
+    /// The translation of each chain bone's pose, as the animation last set it.
+    origins: [Vec3; MAX_CHAIN_JOINTS],
+    /// The scale of each chain bone's pose, as the animation last set it (1 within 10⁻⁵
+    /// is taken as exactly 1).
+    scales: [Vec3; MAX_CHAIN_JOINTS],
+    /// The pose the adapter last wrote to each chain bone.
+    written: [Xform; MAX_CHAIN_JOINTS],
+    /// True once `written` holds poses.
+    has_written: bool,
+    /// Bit `k` set if chain bone `k`'s pose read this frame was still the one written.
+    unchanged: u32,
+    /// The chain root's rotation in the character frame this frame.
+    root_rotation: Quat,
+    /// How bone poses relate to local transforms.
+    convention: PoseConvention,
+}
+
+/// What [`BoundSkeleton::read`] hands the crowd: the character's position and heading and
+/// its base pose.
+#[derive(Debug, Clone, Copy)]
+pub struct PoseRead {
+    /// Position (metres).
+    pub position: Vec3,
+    /// Heading (radians about +Y, 0 along +Z).
+    pub heading: f32,
+    /// The base pose: each chain joint's local rotation, the first one in the character
+    /// frame.
+    pub base: [Quat; MAX_CHAIN_JOINTS],
+}
+
+impl BoundSkeleton {
+    /// Maps `skeleton`'s bones to a gaze chain with `map`. `node` is the character node's
+    /// transform relative to the skeleton (its frame is the character's). Returns the
+    /// binding and the chain to give the crowd.
+    ///
+    /// Errors: those of [`map_skeleton`] (no head: the message lists the bones), a chain
+    /// root deeper than [`MAX_ROOT_DEPTH`], a non-finite or singular transform.
+    pub fn bind(
+        skeleton: &impl SkeletonAccess,
+        node: &Xform,
+        map: &BoneMap,
+        convention: PoseConvention,
+    ) -> Result<(BoundSkeleton, crowdgaze::ik::GazeChain)> {
+        let count = skeleton.bone_count();
+        let skeleton_global = skeleton.global_transform();
+        if !skeleton_global.is_finite() || !node.is_finite() {
+            return Err(Error::NonFinite(
+                "the skeleton's or the character's transform is not finite".into(),
+            ));
+        }
+        let (_, _, frame) = character_frame(&skeleton_global.mul(node));
+        // The skeleton in the character frame; its scale makes the length unit.
+        let to_character = frame
+            .inverse()
+            .map(|inverse| inverse.mul(&skeleton_global))
+            .ok_or_else(|| Error::InvalidArgument("the character frame is singular".into()))?;
+        let scale = to_character.basis.determinant().abs().cbrt();
+        if !(scale.is_finite() && scale > 1e-6) {
+            return Err(Error::InvalidArgument(format!(
+                "the skeleton's scale is {scale}: it must be positive"
+            )));
+        }
+        let placement = to_character.rotation();
+        let names: Vec<String> = (0..count).map(|b| skeleton.bone_name(b)).collect();
+        let mut parents = Vec::with_capacity(count);
+        let mut rests = Vec::with_capacity(count);
+        for (bone, name) in names.iter().enumerate() {
+            let parent = skeleton.bone_parent(bone).filter(|&p| p < bone);
+            let rest = skeleton.bone_rest(bone);
+            if !rest.is_finite() {
+                return Err(Error::NonFinite(format!(
+                    "bone {name}'s rest transform is not finite"
+                )));
+            }
+            parents.push(parent);
+            rests.push(rest);
+        }
+        let bones: Vec<RestBone<'_>> = (0..count)
+            .map(|bone| {
+                let rest = &rests[bone];
+                // Top bones are placed in the character frame (in skeleton units).
+                let (translation, rotation) = match parents[bone] {
+                    Some(_) => (rest.origin, rest.rotation()),
+                    None => (
+                        placement * rest.origin + to_character.origin / scale,
+                        placement * rest.rotation(),
+                    ),
+                };
+                RestBone {
+                    name: &names[bone],
+                    parent: parents[bone],
+                    translation,
+                    rotation,
+                }
+            })
+            .collect();
+        let options = SkeletonOptions {
+            up: Some(Axis::PositiveY),
+            forward: Some(Axis::PositiveZ),
+            units_per_metre: 1.0 / scale,
+            root_offset: None,
+        };
+        let mapped = map_skeleton(&bones, map, &options)?;
+        let mut path = vec![mapped.root];
+        while let Some(parent) = parents[*path.last().unwrap_or(&0)] {
+            path.push(parent);
+            if path.len() > MAX_ROOT_DEPTH {
+                return Err(Error::InvalidArgument(format!(
+                    "the chain root {} has more than {MAX_ROOT_DEPTH} ancestors",
+                    names[mapped.root]
+                )));
+            }
+        }
+        path.reverse();
+        let mut bound = BoundSkeleton {
+            bone_count: count,
+            bones: [0; MAX_CHAIN_JOINTS],
+            joint_count: mapped.bones.len(),
+            names: mapped.bones.iter().map(|&b| names[b].clone()).collect(),
+            root_path: [0; MAX_ROOT_DEPTH],
+            root_depth: path.len(),
+            root_rests: [Xform::IDENTITY; MAX_ROOT_DEPTH],
+            rests: [Quat::IDENTITY; MAX_CHAIN_JOINTS],
+            locals: [Quat::IDENTITY; MAX_CHAIN_JOINTS],
+            origins: [Vec3::ZERO; MAX_CHAIN_JOINTS],
+            scales: [Vec3::ONE; MAX_CHAIN_JOINTS],
+            written: [Xform::IDENTITY; MAX_CHAIN_JOINTS],
+            has_written: false,
+            unchanged: 0,
+            root_rotation: Quat::IDENTITY,
+            convention,
+        };
+        for (k, &bone) in mapped.bones.iter().enumerate() {
+            bound.bones[k] = bone;
+            bound.rests[k] = rests[bone].rotation();
+            // Until the first read, the local rotation is the rest one.
+            bound.locals[k] = match convention {
+                PoseConvention::RestTimesPose => bound.rests[k],
+                PoseConvention::PoseIsLocal => rests[bone].rotation(),
+            };
+        }
+        for (k, &bone) in path.iter().enumerate() {
+            bound.root_path[k] = bone;
+            bound.root_rests[k] = rests[bone];
+        }
+        Ok((bound, mapped.chain))
+    }
+
+    /// The chain bones, bottom to top.
+    pub fn chain_bones(&self) -> &[usize] {
+        &self.bones[..self.joint_count]
+    }
+
+    /// The local transform of a bone from its rest and pose.
+    fn local(&self, rest: &Xform, pose: &Xform) -> Xform {
+        match self.convention {
+            PoseConvention::RestTimesPose => rest.mul(pose),
+            PoseConvention::PoseIsLocal => *pose,
+        }
+    }
+
+    /// Reads the character's frame and its chain's animated pose. `node` is the character
+    /// node's transform relative to the skeleton. A chain bone whose pose is still exactly what the adapter
+    /// wrote last (nothing animated it since) keeps its previous local rotation, so the gaze
+    /// never feeds back into the base pose.
+    ///
+    /// Errors: [`Error::NonFinite`] for a NaN or infinite transform (nothing is changed),
+    /// [`Error::InvalidArgument`] if the skeleton's bone count changed.
+    pub fn read(&mut self, skeleton: &impl SkeletonAccess, node: &Xform) -> Result<PoseRead> {
+        if skeleton.bone_count() != self.bone_count {
+            return Err(Error::InvalidArgument(format!(
+                "the skeleton has {} bones, {} when the character was registered",
+                skeleton.bone_count(),
+                self.bone_count
+            )));
+        }
+        if !node.is_finite() {
+            return Err(Error::NonFinite(
+                "the character node's transform is not finite".into(),
+            ));
+        }
+        let skeleton_global = skeleton.global_transform();
+        if !skeleton_global.is_finite() {
+            return Err(Error::NonFinite(
+                "the skeleton's global transform is not finite".into(),
+            ));
+        }
+        // The chain root's global transform, composed from the top bone down.
+        let mut root = skeleton_global;
+        for k in 0..self.root_depth {
+            let pose = skeleton.bone_pose(self.root_path[k]);
+            root = root.mul(&self.local(&self.root_rests[k], &pose));
+        }
+        if !root.is_finite() {
+            return Err(Error::NonFinite(
+                "a pose above the gaze chain is not finite".into(),
+            ));
+        }
+        let mut poses = [Xform::IDENTITY; MAX_CHAIN_JOINTS];
+        for (k, (slot, &bone)) in poses.iter_mut().zip(self.chain_bones()).enumerate() {
+            *slot = skeleton.bone_pose(bone);
+            if !slot.is_finite() {
+                return Err(Error::NonFinite(format!(
+                    "bone {}'s pose is not finite",
+                    self.names[k]
+                )));
+            }
+        }
+        let (position, heading, frame) = character_frame(&skeleton_global.mul(node));
+        let mut read = PoseRead {
+            position,
+            heading,
+            base: [Quat::IDENTITY; MAX_CHAIN_JOINTS],
+        };
+        self.root_rotation = (frame.rotation().conjugate() * rotation_of(&root.basis)).normalize();
+        self.unchanged = 0;
+        for (k, pose) in poses.iter().enumerate().take(self.joint_count) {
+            let unchanged = self.has_written && *pose == self.written[k];
+            if unchanged {
+                self.unchanged |= 1 << k;
+            } else {
+                let scale = pose.scale();
+                self.scales[k] = if scale.abs_diff_eq(Vec3::ONE, 1e-5) {
+                    Vec3::ONE
+                } else {
+                    scale
+                };
+                self.origins[k] = pose.origin;
+                let rotation = pose_rotation(&pose.basis, scale);
+                self.locals[k] = match self.convention {
+                    PoseConvention::RestTimesPose => (self.rests[k] * rotation).normalize(),
+                    PoseConvention::PoseIsLocal => rotation,
+                };
+            }
+            read.base[k] = if k == 0 {
+                (self.root_rotation * self.locals[k]).normalize()
+            } else {
+                self.locals[k]
+            };
+        }
+        Ok(read)
+    }
+
+    /// Writes the chain's final rotations (the library's `base * delta`, the first in the
+    /// character frame) as bone poses, keeping each pose's translation and scale from this
+    /// the animation's last pose. Call after [`read`](Self::read) in the same frame. A bone
+    /// that still holds exactly the pose to write is not written again (nothing to update
+    /// in the engine).
+    pub fn write(&mut self, skeleton: &mut impl SkeletonAccess, rotations: &[Quat]) {
+        for (k, rotation) in rotations.iter().enumerate().take(self.joint_count) {
+            let local = if k == 0 {
+                self.root_rotation.conjugate() * *rotation
+            } else {
+                *rotation
+            };
+            let pose_rotation = match self.convention {
+                PoseConvention::RestTimesPose => self.rests[k].conjugate() * local,
+                PoseConvention::PoseIsLocal => local,
+            };
+            let pose = Xform {
+                basis: basis_of(pose_rotation.normalize(), self.scales[k]),
+                origin: self.origins[k],
+            };
+            if self.has_written && self.unchanged & (1 << k) != 0 && pose == self.written[k] {
+                continue;
+            }
+            skeleton.set_bone_pose(self.bones[k], pose);
+            self.written[k] = pose;
+        }
+        self.has_written = true;
+    }
+}

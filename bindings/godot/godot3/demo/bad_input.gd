@@ -1,0 +1,190 @@
+# Bad input for the addon, headless (scripts/godot-check runs res://bad_input.tscn): an empty
+# crowd, a skeleton without a head, a character that is not under a skeleton, a bad bone
+# map, a full crowd, characters freed and removed mid-run, NaN and infinite transforms, and
+# bad arguments to every query. Each case that must report prints "EXPECT ERROR <text>"
+# first: scripts/godot-check checks that exactly those errors appear, once each, and no
+# others. Prints "CROWDGAZE BAD INPUT PASSED" (or FAILED) and quits with 0 (or 1).
+extends Spatial
+
+const Builder = preload("res://lib/bvh_skeleton.gd")
+const CharacterScript = preload("res://addons/crowdgaze/CrowdGazeCharacter.gdns")
+const TargetScript = preload("res://addons/crowdgaze/GazeTarget.gdns")
+
+var builder
+var frame = 0
+var failures = []
+var people = []
+var target
+var frozen = []
+
+onready var crowd = $CrowdGaze
+
+
+func expect(condition, what):
+	if not condition:
+		failures.append("frame %d: %s" % [frame, what])
+
+
+func expect_error(text):
+	print("EXPECT ERROR " + text)
+
+
+func person(name, position):
+	var root = Spatial.new()
+	root.name = name
+	var skeleton = Skeleton.new()
+	skeleton.name = "Skeleton"
+	builder.build(skeleton)
+	root.add_child(skeleton)
+	var gaze = CharacterScript.new()
+	gaze.name = "Gaze"
+	skeleton.add_child(gaze)
+	root.translation = position
+	add_child(root)
+	return root
+
+
+func _ready():
+	var data = OS.get_environment("CROWDGAZE_DATA")
+	if data == "":
+		data = ProjectSettings.globalize_path("res://").plus_file("../../../../../shared/data")
+	builder = Builder.new()
+	var error = builder.load_bvh(data.plus_file("bvh/zombie.bvh"), 1.7)
+	if error != "":
+		failures.append(error)
+
+
+func chain_poses(root):
+	var skeleton = root.get_node("Skeleton")
+	var poses = []
+	for bone in crowd.get_chain_bones(root.get_node("Skeleton/Gaze")):
+		poses.append(skeleton.get_bone_pose(bone))
+	return poses
+
+
+func _process(_delta):
+	frame += 1
+	match frame:
+		3:
+			# An empty crowd has stepped: nothing to do, nothing reported.
+			expect(crowd.get_character_count() == 0, "the empty crowd holds characters")
+			# A skeleton without a head: one error naming the node and its bones.
+			var root = Spatial.new()
+			root.name = "Headless"
+			var skeleton = Skeleton.new()
+			skeleton.name = "Skeleton"
+			for bone in ["Hips", "Spine", "Tail"]:
+				skeleton.add_bone(bone)
+			skeleton.set_bone_parent(1, 0)
+			skeleton.set_bone_parent(2, 1)
+			var gaze = CharacterScript.new()
+			gaze.name = "Gaze"
+			skeleton.add_child(gaze)
+			root.add_child(skeleton)
+			expect_error("/root/BadInput/Headless/Skeleton/Gaze: invalid argument: no head bone: none of the bones (Hips, Spine, Tail)")
+			add_child(root)
+			expect(crowd.get_character_count() == 0, "the headless skeleton joined")
+			# A character that is not under a skeleton.
+			var stray = CharacterScript.new()
+			stray.name = "Stray"
+			expect_error("/root/BadInput/Stray: a CrowdGazeCharacter must be a child of a Skeleton")
+			add_child(stray)
+			# A bone map that does not parse.
+			var odd = Spatial.new()
+			odd.name = "OddMap"
+			var odd_skeleton = Skeleton.new()
+			odd_skeleton.name = "Skeleton"
+			builder.build(odd_skeleton)
+			var odd_gaze = CharacterScript.new()
+			odd_gaze.name = "Gaze"
+			odd_gaze.bone_map = "Head=brain"
+			odd_skeleton.add_child(odd_gaze)
+			odd.add_child(odd_skeleton)
+			expect_error("/root/BadInput/OddMap/Skeleton/Gaze: invalid argument: bone map: 'brain' is not a role")
+			add_child(odd)
+		5:
+			for k in range(3):
+				people.append(person("Person%d" % k, Vector3(1.5 * k, 0, 0)))
+			expect(crowd.get_character_count() == 3, "3 characters joined, the crowd holds %d" % crowd.get_character_count())
+			# The crowd holds 3 (max_characters): a fourth is refused, once.
+			expect_error("/root/BadInput/Extra/Skeleton/Gaze: capacity exceeded")
+			person("Extra", Vector3(0, 0, 3))
+			target = TargetScript.new()
+			target.name = "Lamp"
+			target.translation = Vector3(0, 0, 2)
+			add_child(target)
+			expect(crowd.get_target_count() == 1, "the target did not join")
+		10:
+			# Freed: out of the crowd at once.
+			people[0].free()
+			expect(crowd.get_character_count() == 2, "a freed character is still in the crowd")
+			# Removed from the tree: out at once; back in: in again.
+			remove_child(people[1])
+			expect(crowd.get_character_count() == 1, "a removed character is still in the crowd")
+		12:
+			add_child(people[1])
+			expect(crowd.get_character_count() == 2, "a character back in the tree did not rejoin")
+			# The extra character may join now that there is room: free it instead.
+			get_node("Extra").free()
+		15:
+			# NaN position: one error, the character keeps its last state.
+			frozen = chain_poses(people[2])
+			expect_error("/root/BadInput/Person2/Skeleton/Gaze: non-finite value: the skeleton's global transform is not finite; the character keeps its last state")
+			people[2].translation = Vector3(NAN, 0, 0)
+			# An infinite target: one error, it stays where it was.
+			expect_error("/root/BadInput/Lamp: non-finite value: the target's global transform is not finite; the target stays where it was")
+			target.translation = Vector3(0, INF, 2)
+		16, 17, 18, 19:
+			expect(chain_poses(people[2]) == frozen, "a stalled character's bones moved")
+		20:
+			people[2].translation = Vector3(3, 0, 0)
+			target.translation = Vector3(0, 0, 2)
+		22:
+			# A NaN bone pose: reported once, and the pose is not overwritten by the addon.
+			var skeleton = people[1].get_node("Skeleton")
+			var spine = skeleton.find_bone("Spine1")
+			expect_error("/root/BadInput/Person1/Skeleton/Gaze: non-finite value: bone Spine1's pose is not finite")
+			skeleton.set_bone_pose(spine, Transform(Basis(Vector3(NAN, 0, 0), Vector3.UP, Vector3.BACK), Vector3.ZERO))
+		24:
+			var skeleton = people[1].get_node("Skeleton")
+			skeleton.set_bone_pose(skeleton.find_bone("Spine1"), Transform())
+		26:
+			# Bad arguments to the queries: empty answers, no crash.
+			expect(crowd.get_joint_rotations(null).size() == 0, "rotations of null")
+			expect(crowd.get_chain_bones(self).size() == 0, "chain bones of a non-character")
+			expect(crowd.get_gaze_target(target) == null, "the gaze target of a target")
+			expect(crowd.get_gaze_point(42) == Vector3.ZERO, "the gaze point of a number")
+			expect(not crowd.is_holding(null), "null is holding")
+			expect(not crowd.is_attending("x"), "a string attends")
+			expect(crowd.get_look_at_height(null) == 0.0, "the look-at height of null")
+			expect(not crowd.clear_gaze_target(null), "clearing null's target")
+			var gaze = people[1].get_node("Skeleton/Gaze")
+			expect_error("set_gaze_target: the target is neither a point nor in the crowd")
+			expect(not crowd.set_gaze_target(gaze, self), "looking at a node outside the crowd")
+			expect_error("set_gaze_target: invalid argument: a character cannot look at itself")
+			expect(not crowd.set_gaze_target(gaze, gaze), "looking at itself")
+			expect(crowd.set_gaze_target(gaze, Vector3(1, 1.5, 3)), "looking at a point")
+			expect(crowd.set_gaze_target(gaze, target), "looking at the target")
+			expect(crowd.clear_gaze_target(gaze), "clearing the target")
+		30:
+			expect(crowd.get_character_count() == 2, "the crowd holds %d characters at the end" % crowd.get_character_count())
+			for root in [people[1], people[2]]:
+				var rotations = crowd.get_joint_rotations(root.get_node("Skeleton/Gaze"))
+				expect(rotations.size() == 8, "rotations after recovering")
+				for q in rotations:
+					expect(is_finite_quat(q), "a rotation is not finite")
+			for failure in failures:
+				print("CROWDGAZE BAD INPUT FAILURE " + failure)
+			if failures.empty():
+				print("CROWDGAZE BAD INPUT PASSED")
+				get_tree().quit(0)
+			else:
+				print("CROWDGAZE BAD INPUT FAILED")
+				get_tree().quit(1)
+
+
+static func is_finite_quat(q):
+	for v in [q.x, q.y, q.z, q.w]:
+		if is_nan(v) or is_inf(v):
+			return false
+	return true

@@ -1,0 +1,90 @@
+//! Godot 3's values to and from the adapter's, and the boundary every exported method runs
+//! inside: a panic is caught there and reported as a Godot error, never unwound into the
+//! engine.
+
+use std::panic::{catch_unwind, AssertUnwindSafe};
+
+use crowdgaze_godot_adapter::Xform;
+use gdnative::prelude::*;
+
+/// Godot's `Transform` as the adapter's [`Xform`] (the same twelve floats).
+pub fn xform(transform: &Transform) -> Xform {
+    let row = |v: Vector3| [v.x, v.y, v.z];
+    let rows = &transform.basis.elements;
+    Xform::from_rows(
+        [row(rows[0]), row(rows[1]), row(rows[2])],
+        row(transform.origin),
+    )
+}
+
+/// The adapter's [`Xform`] as Godot's `Transform`.
+pub fn transform(xform: &Xform) -> Transform {
+    let rows = xform.rows();
+    let vector = |v: [f32; 3]| Vector3::new(v[0], v[1], v[2]);
+    Transform {
+        basis: Basis {
+            elements: [vector(rows[0]), vector(rows[1]), vector(rows[2])],
+        },
+        origin: vector(xform.origin.to_array()),
+    }
+}
+
+/// A glam vector as Godot's.
+pub fn vector(v: glam::Vec3) -> Vector3 {
+    Vector3::new(v.x, v.y, v.z)
+}
+
+/// Godot's vector as glam's.
+pub fn vec3(v: Vector3) -> glam::Vec3 {
+    glam::Vec3::new(v.x, v.y, v.z)
+}
+
+/// A glam quaternion as Godot's `Quat` (x, y, z, w).
+pub fn quat(q: glam::Quat) -> Quat {
+    Quat::quaternion(q.x, q.y, q.z, q.w)
+}
+
+/// Runs an exported method's body; a panic becomes one Godot error naming `what`, and the
+/// method returns `fallback`.
+pub fn boundary<T>(what: &str, fallback: T, body: impl FnOnce() -> T) -> T {
+    match catch_unwind(AssertUnwindSafe(body)) {
+        Ok(value) => value,
+        Err(payload) => {
+            let message = payload
+                .downcast_ref::<&str>()
+                .map(|s| s.to_string())
+                .or_else(|| payload.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "a panic".into());
+            godot_error!("crowdgaze: internal error in {what}: {message}");
+            fallback
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn transforms_round_trip_exactly() {
+        let t = Transform {
+            basis: Basis {
+                elements: [
+                    Vector3::new(1.0, 2.0, 3.0),
+                    Vector3::new(4.0, 5.0, 6.0),
+                    Vector3::new(7.0, 8.0, 9.5),
+                ],
+            },
+            origin: Vector3::new(-1.0, 0.5, 2.0),
+        };
+        let x = xform(&t);
+        // Godot's X axis is the first column of the rows.
+        assert_eq!(x.basis.x_axis, glam::Vec3::new(1.0, 4.0, 7.0));
+        assert_eq!(transform(&x), t);
+    }
+
+    #[test]
+    fn a_panic_is_caught() {
+        assert_eq!(boundary("test", 7, || 3), 3);
+    }
+}

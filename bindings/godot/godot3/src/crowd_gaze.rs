@@ -1,0 +1,714 @@
+//! `CrowdGaze` (a `Spatial`): owns the crowd, takes its settings from the inspector, and
+//! once per frame reads every character and target, steps, and writes the gaze to the
+//! skeletons. It emits `interest_changed(character, target)` when a character's eyes move
+//! to another target (`null` for none; the active camera when it looks at the player).
+
+use std::collections::HashSet;
+use std::time::Instant;
+
+use crowdgaze_godot_adapter::crowdgaze::crowd::{ExplicitTarget, TargetPriority};
+use crowdgaze_godot_adapter::crowdgaze::skeleton_map::BoneMap;
+use crowdgaze_godot_adapter::crowdgaze::CrowdConfig;
+use crowdgaze_godot_adapter::{CharacterSettings, EntityNode, PoseConvention, SceneCrowd};
+use gdnative::api::Skeleton;
+use gdnative::nativescript::init::{Signal, SignalArgument};
+use gdnative::nativescript::{ExportInfo, PropertyUsage};
+use gdnative::prelude::*;
+
+use crate::convert::{boundary, quat, vec3, vector, xform};
+use crate::skeleton::GodotSkeleton;
+
+/// The group every `CrowdGaze` node joins while in the tree.
+pub const CROWD_GROUP: &str = "crowdgaze";
+/// The group every `CrowdGazeCharacter` node joins while in the tree.
+pub const CHARACTER_GROUP: &str = "crowdgaze_characters";
+/// The group every `GazeTarget` node joins while in the tree.
+pub const TARGET_GROUP: &str = "crowdgaze_targets";
+
+/// A registered node: its instance id, and its skeleton's for a character (0 for a target).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Handle {
+    node: i64,
+    skeleton: i64,
+}
+
+/// The node that owns a crowd. Its exported fields are the crowd's settings, read when the
+/// crowd is created (when the node enters the tree); `camera_is_viewer` and
+/// `viewer_impact` are read every frame.
+#[derive(NativeClass)]
+#[inherit(Spatial)]
+#[register_with(Self::register)]
+pub struct CrowdGaze {
+    /// Seed of every random choice: the same scene and seed give the same gaze.
+    #[property(default = 1)]
+    seed: i64,
+    /// Most characters the crowd holds.
+    #[property(default = 1024)]
+    max_characters: i64,
+    /// Most targets (`GazeTarget` nodes) the crowd holds.
+    #[property(default = 256)]
+    max_targets: i64,
+    /// How far characters notice others (`d_m`, metres).
+    #[property(default = 10.0)]
+    max_distance: f64,
+    /// The characters' field of view, degrees.
+    #[property(default = 180.0)]
+    field_of_view: f64,
+    /// Smallest share of the time a character spends attending (0 to 1).
+    #[property(default = 0.2)]
+    attention_fraction_min: f64,
+    /// Largest share of the time a character spends attending (0 to 1).
+    #[property(default = 0.6)]
+    attention_fraction_max: f64,
+    /// Threads a step uses (1: the main thread only; 0: one per core).
+    #[property(default = 1)]
+    threads: i64,
+    /// Level of detail: each character's attention is updated every `attention_period`
+    /// frames (1 to 64, staggered; gaze IK runs every frame).
+    #[property(default = 1)]
+    attention_period: i64,
+    /// Level of detail by distance: beyond `lod_distance` metres from the camera,
+    /// attention is updated every `far_attention_period` frames (0: off).
+    #[property(default = 0.0)]
+    lod_distance: f64,
+    /// See `lod_distance` (1 to 64).
+    #[property(default = 4)]
+    far_attention_period: i64,
+    /// Make the active camera an entity the characters may look at.
+    #[property(default = true)]
+    camera_is_viewer: bool,
+    /// How interesting the camera is (`I_E`, ≥ 0).
+    #[property(default = 3.0)]
+    viewer_impact: f64,
+    scene: Option<SceneCrowd<Handle>>,
+    /// Nodes refused (reported once), by instance id.
+    refused: HashSet<i64>,
+    /// True once creating the crowd failed (reported once).
+    config_failed: bool,
+    /// The last frame's cost, microseconds: reading the scene, stepping, writing bones.
+    frame_usec: [f64; 3],
+}
+
+/// The character or target node behind a variant, by instance id.
+fn instance_id(node: &Variant) -> Option<i64> {
+    let object = node.try_to_object::<Object>()?;
+    // SAFETY: the object came from the engine on this (the main) thread, which owns it for
+    // this call; only its id is read.
+    let object = unsafe { object.assume_safe_if_sane()? };
+    Some(object.get_instance_id())
+}
+
+/// The node of an instance id, if it is alive.
+fn node_of(id: i64) -> Option<TRef<'static, Node, Shared>> {
+    // SAFETY: every id the crowd keeps was taken from a `Node` (or a subclass).
+    unsafe { live::<Node>(id) }
+}
+
+/// The object of an instance id while it lives (Godot 3 never reuses an id): one ObjectDB
+/// lookup, without gdnative's class check by name (a string comparison through Godot,
+/// several times the lookup's cost, that the per-frame loop cannot afford).
+///
+/// # Safety
+///
+/// `id` must have been taken from an object of class `T` (or a subclass), and the reference
+/// used on the main thread within the current call only.
+unsafe fn live<'a, T: GodotObject<RefKind = gdnative::ref_kind::ManuallyManaged>>(
+    id: i64,
+) -> Option<TRef<'a, T, Shared>> {
+    let api = gdnative::private::get_api();
+    // SAFETY: the GDNative API is initialised while any method of ours runs.
+    let object = unsafe { (api.godot_instance_from_id)(id as gdnative::sys::godot_int) };
+    let object = std::ptr::NonNull::new(object)?;
+    // SAFETY: the object is alive (ObjectDB has it) and of class `T` (the caller's promise).
+    Some(unsafe { Ref::<T, Shared>::from_sys(object).assume_safe() })
+}
+
+/// A node's path, for messages.
+fn path_of(node: &Node) -> String {
+    node.get_path().to_string()
+}
+
+impl CrowdGaze {
+    fn new(_owner: &Spatial) -> Self {
+        CrowdGaze {
+            seed: 1,
+            max_characters: 1024,
+            max_targets: 256,
+            max_distance: 10.0,
+            field_of_view: 180.0,
+            attention_fraction_min: 0.2,
+            attention_fraction_max: 0.6,
+            threads: 1,
+            attention_period: 1,
+            lod_distance: 0.0,
+            far_attention_period: 4,
+            camera_is_viewer: true,
+            viewer_impact: 3.0,
+            scene: None,
+            refused: HashSet::new(),
+            config_failed: false,
+            frame_usec: [0.0; 3],
+        }
+    }
+
+    fn register(builder: &ClassBuilder<Self>) {
+        let node = || SignalArgument {
+            name: "node",
+            default: Variant::new(),
+            export_info: ExportInfo::new(VariantType::Object),
+            usage: PropertyUsage::DEFAULT,
+        };
+        builder.add_signal(Signal {
+            name: "interest_changed",
+            args: &[
+                SignalArgument {
+                    name: "character",
+                    ..node()
+                },
+                SignalArgument {
+                    name: "target",
+                    ..node()
+                },
+            ],
+        });
+    }
+
+    /// The crowd's settings from the exported fields.
+    fn config(&self) -> CrowdConfig {
+        let count = |value: i64| value.clamp(0, i64::from(u32::MAX)) as u32;
+        let mut config = CrowdConfig {
+            seed: self.seed as u64,
+            max_characters: count(self.max_characters),
+            max_objects: count(self.max_targets),
+            attention_fraction_range: (
+                self.attention_fraction_min as f32,
+                self.attention_fraction_max as f32,
+            ),
+            threads: count(self.threads),
+            attention_period: count(self.attention_period),
+            lod_distance: self.lod_distance as f32,
+            far_attention_period: count(self.far_attention_period),
+            ..CrowdConfig::default()
+        };
+        config.scoring.max_distance = self.max_distance as f32;
+        config.scoring.field_of_view = (self.field_of_view as f32).to_radians();
+        config
+    }
+
+    /// The crowd, created from the settings the first time.
+    fn scene(&mut self, owner: &Spatial) -> Option<&mut SceneCrowd<Handle>> {
+        if self.scene.is_none() && !self.config_failed {
+            match SceneCrowd::new(self.config(), PoseConvention::RestTimesPose) {
+                Ok(scene) => self.scene = Some(scene),
+                Err(error) => {
+                    self.config_failed = true;
+                    godot_error!("crowdgaze: {}: {error}", path_of(owner));
+                }
+            }
+        }
+        self.scene.as_mut()
+    }
+
+    /// Adds a `CrowdGazeCharacter` node (a child of its `Skeleton`) to the crowd, once; a
+    /// skeleton that cannot be mapped is reported once and left out.
+    pub fn register_character(
+        &mut self,
+        owner: &Spatial,
+        node: TRef<Spatial>,
+        bone_map: &str,
+        impact: f64,
+    ) {
+        let key = node.get_instance_id();
+        if self.refused.contains(&key) {
+            return;
+        }
+        let Some(scene) = self.scene(owner) else {
+            return;
+        };
+        if scene.entity_of(key).is_some() {
+            return;
+        }
+        let skeleton = node
+            .get_parent()
+            // SAFETY: the parent is in the tree, owned by the main thread, for this call.
+            .and_then(|parent| unsafe { parent.assume_safe_if_sane() })
+            .and_then(|parent| parent.cast::<Skeleton>());
+        let result = match skeleton {
+            None => Err("a CrowdGazeCharacter must be a child of a Skeleton".to_string()),
+            Some(skeleton) => BoneMap::with_overrides(bone_map)
+                .and_then(|bone_map| {
+                    let settings = CharacterSettings {
+                        bone_map,
+                        impact: impact as f32,
+                    };
+                    let handle = Handle {
+                        node: key,
+                        skeleton: skeleton.get_instance_id(),
+                    };
+                    scene.add_character(
+                        key,
+                        handle,
+                        &GodotSkeleton(skeleton),
+                        &xform(&node.transform()),
+                        &settings,
+                    )
+                })
+                .map(|_| ())
+                .map_err(|error| error.to_string()),
+        };
+        if let Err(error) = result {
+            self.refused.insert(key);
+            godot_error!(
+                "crowdgaze: {}: {error}; the character is left out of the crowd",
+                path_of(&node)
+            );
+        }
+    }
+
+    /// Adds a `GazeTarget` node to the crowd, once.
+    pub fn register_target(
+        &mut self,
+        owner: &Spatial,
+        node: TRef<Spatial>,
+        look_at_height: f64,
+        impact: f64,
+    ) {
+        let key = node.get_instance_id();
+        if self.refused.contains(&key) {
+            return;
+        }
+        let Some(scene) = self.scene(owner) else {
+            return;
+        };
+        if scene.entity_of(key).is_some() {
+            return;
+        }
+        let handle = Handle {
+            node: key,
+            skeleton: 0,
+        };
+        let placed = xform(&node.global_transform());
+        if let Err(error) =
+            scene.add_target(key, handle, &placed, look_at_height as f32, impact as f32)
+        {
+            self.refused.insert(key);
+            godot_error!(
+                "crowdgaze: {}: {error}; the target is left out of the crowd",
+                path_of(&node)
+            );
+        }
+    }
+
+    /// Removes a node from the crowd (it left the tree).
+    pub fn unregister(&mut self, key: i64) {
+        self.refused.remove(&key);
+        if let Some(scene) = self.scene.as_mut() {
+            scene.remove(key);
+        }
+    }
+
+    /// Registers the characters and targets already in the tree.
+    fn adopt(&mut self, owner: &Spatial) {
+        let Some(tree) = owner.get_tree() else {
+            return;
+        };
+        // SAFETY: the scene tree outlives this call, on the main thread.
+        let tree = unsafe { tree.assume_safe() };
+        for variant in tree.get_nodes_in_group(CHARACTER_GROUP).iter() {
+            let Some(node) = variant.try_to_object::<Spatial>() else {
+                continue;
+            };
+            // SAFETY: as above, for a node in the tree.
+            let Some(node) = (unsafe { node.assume_safe_if_sane() }) else {
+                continue;
+            };
+            let settings = node
+                .cast_instance::<crate::character::CrowdGazeCharacter>()
+                .and_then(|instance| instance.map(|c, _| c.settings()).ok());
+            if let Some((bone_map, impact)) = settings {
+                self.register_character(owner, node, &bone_map, impact);
+            }
+        }
+        for variant in tree.get_nodes_in_group(TARGET_GROUP).iter() {
+            let Some(node) = variant.try_to_object::<Spatial>() else {
+                continue;
+            };
+            // SAFETY: as above.
+            let Some(node) = (unsafe { node.assume_safe_if_sane() }) else {
+                continue;
+            };
+            let settings = node
+                .cast_instance::<crate::target::GazeTarget>()
+                .and_then(|instance| instance.map(|t, _| t.settings()).ok());
+            if let Some((height, impact)) = settings {
+                self.register_target(owner, node, height, impact);
+            }
+        }
+    }
+
+    /// One frame: read, step, write, report.
+    fn frame(&mut self, owner: &Spatial, delta: f64) {
+        let start = Instant::now();
+        let camera = if self.camera_is_viewer {
+            owner
+                .get_viewport()
+                // SAFETY: the viewport and its camera live on the main thread for this call.
+                .and_then(|viewport| unsafe { viewport.assume_safe_if_sane() })
+                .and_then(|viewport| viewport.get_camera())
+                .and_then(|camera| unsafe { camera.assume_safe_if_sane() })
+        } else {
+            None
+        };
+        let viewer_impact = self.viewer_impact as f32;
+        let Some(scene) = self.scene.as_mut() else {
+            return;
+        };
+        // Read every character; drop those whose node or skeleton is gone.
+        let mut slot = 0;
+        while slot < scene.character_count() {
+            let Some(handle) = scene.character_handle(slot).copied() else {
+                break;
+            };
+            // SAFETY: ids taken from a Spatial and a Skeleton, used within this call.
+            let node = unsafe { live::<Spatial>(handle.node) };
+            let skeleton = unsafe { live::<Skeleton>(handle.skeleton) };
+            match (node, skeleton) {
+                (Some(node), Some(skeleton)) => {
+                    let placed = xform(&node.transform());
+                    if let Err(error) =
+                        scene.read_character(slot, &GodotSkeleton(skeleton), &placed)
+                    {
+                        godot_error!(
+                            "crowdgaze: {}: {error}; the character keeps its last state",
+                            path_of(&node)
+                        );
+                    }
+                    slot += 1;
+                }
+                _ => {
+                    scene.remove(handle.node);
+                }
+            }
+        }
+        let mut slot = 0;
+        while slot < scene.target_count() {
+            let Some(handle) = scene.target_handle(slot).copied() else {
+                break;
+            };
+            // SAFETY: an id taken from a Spatial, used within this call.
+            match unsafe { live::<Spatial>(handle.node) } {
+                Some(node) => {
+                    if let Err(error) = scene.read_target(slot, &xform(&node.global_transform())) {
+                        godot_error!(
+                            "crowdgaze: {}: {error}; the target stays where it was",
+                            path_of(&node)
+                        );
+                    }
+                    slot += 1;
+                }
+                _ => {
+                    scene.remove(handle.node);
+                }
+            }
+        }
+        let viewer = camera.map(|camera| vec3(camera.global_transform().origin));
+        if let Err(error) = scene.set_viewer(viewer, viewer_impact) {
+            godot_error!("crowdgaze: {}: the viewer: {error}", path_of(owner));
+        }
+        let read = start.elapsed();
+        if let Err(error) = scene.step(delta as f32) {
+            godot_error!("crowdgaze: {}: {error}", path_of(owner));
+            return;
+        }
+        let stepped = start.elapsed();
+        for slot in 0..scene.character_count() {
+            let Some(handle) = scene.character_handle(slot).copied() else {
+                break;
+            };
+            // SAFETY: an id taken from a Skeleton, used within this call.
+            if let Some(skeleton) = unsafe { live::<Skeleton>(handle.skeleton) } {
+                if let Err(error) = scene.write_character(slot, &mut GodotSkeleton(skeleton)) {
+                    godot_error!("crowdgaze: writing the gaze: {error}");
+                }
+            }
+        }
+        let written = start.elapsed();
+        self.frame_usec = [
+            read.as_secs_f64() * 1e6,
+            (stepped - read).as_secs_f64() * 1e6,
+            (written - stepped).as_secs_f64() * 1e6,
+        ];
+        // Signals go out at the end of the frame, when no method of this node is running.
+        for &(slot, target) in scene.interest_changes() {
+            let Some(character) = scene.character_handle(slot).and_then(|h| node_of(h.node)) else {
+                continue;
+            };
+            let target = match scene.node_of(target) {
+                EntityNode::Character(handle) | EntityNode::Target(handle) => {
+                    node_of(handle.node).map(|node| node.to_variant())
+                }
+                EntityNode::Viewer => camera.map(|camera| camera.to_variant()),
+                EntityNode::None => None,
+            };
+            let arguments = [
+                "interest_changed".to_variant(),
+                character.to_variant(),
+                target.unwrap_or_default(),
+            ];
+            // SAFETY: a deferred call of a built-in method on the node itself.
+            unsafe { owner.call_deferred("emit_signal", &arguments) };
+        }
+    }
+
+    /// The character slot of a node variant.
+    fn slot_of(&self, character: &Variant) -> Option<usize> {
+        self.scene.as_ref()?.character_slot(instance_id(character)?)
+    }
+}
+
+#[methods]
+impl CrowdGaze {
+    #[export]
+    fn _enter_tree(&mut self, owner: &Spatial) {
+        boundary("CrowdGaze._enter_tree", (), || {
+            owner.add_to_group(CROWD_GROUP, false);
+            // After the scripts that animate in _process (AnimationPlayers run before any).
+            if owner.process_priority() == 0 {
+                owner.set_process_priority(100);
+            }
+            self.scene(owner);
+            self.adopt(owner);
+        })
+    }
+
+    #[export]
+    fn _ready(&mut self, owner: &Spatial) {
+        boundary("CrowdGaze._ready", (), || self.adopt(owner))
+    }
+
+    #[export]
+    fn _exit_tree(&mut self, owner: &Spatial) {
+        boundary("CrowdGaze._exit_tree", (), || {
+            owner.remove_from_group(CROWD_GROUP);
+            self.scene = None;
+            self.refused.clear();
+            self.config_failed = false;
+        })
+    }
+
+    #[export]
+    fn _process(&mut self, owner: &Spatial, delta: f64) {
+        boundary("CrowdGaze._process", (), || self.frame(owner, delta))
+    }
+
+    /// Number of characters in the crowd.
+    #[export]
+    fn get_character_count(&self, _owner: &Spatial) -> i64 {
+        boundary("CrowdGaze.get_character_count", 0, || {
+            self.scene
+                .as_ref()
+                .map_or(0, |s| s.character_count() as i64)
+        })
+    }
+
+    /// Number of targets in the crowd.
+    #[export]
+    fn get_target_count(&self, _owner: &Spatial) -> i64 {
+        boundary("CrowdGaze.get_target_count", 0, || {
+            self.scene.as_ref().map_or(0, |s| s.target_count() as i64)
+        })
+    }
+
+    /// What a character's eyes look at: a character or target node, the camera, or null.
+    #[export]
+    fn get_gaze_target(&self, owner: &Spatial, character: Variant) -> Variant {
+        boundary("CrowdGaze.get_gaze_target", Variant::new(), || {
+            let (Some(scene), Some(slot)) = (self.scene.as_ref(), self.slot_of(&character)) else {
+                return Variant::new();
+            };
+            let Ok(gaze) = scene.gaze(slot) else {
+                return Variant::new();
+            };
+            match scene.node_of(gaze.target) {
+                EntityNode::Character(handle) | EntityNode::Target(handle) => {
+                    node_of(handle.node).map_or_else(Variant::new, |node| node.to_variant())
+                }
+                EntityNode::Viewer => owner
+                    .get_viewport()
+                    .and_then(|viewport| unsafe { viewport.assume_safe_if_sane() })
+                    .and_then(|viewport| viewport.get_camera())
+                    .map_or_else(Variant::new, |camera| camera.to_variant()),
+                EntityNode::None => Variant::new(),
+            }
+        })
+    }
+
+    /// The point a character's eyes are sent to (metres, world).
+    #[export]
+    fn get_gaze_point(&self, _owner: &Spatial, character: Variant) -> Vector3 {
+        boundary("CrowdGaze.get_gaze_point", Vector3::zero(), || {
+            self.slot_of(&character)
+                .and_then(|slot| self.scene.as_ref()?.gaze(slot).ok())
+                .map_or(Vector3::zero(), |gaze| vector(gaze.target_position))
+        })
+    }
+
+    /// True if a character attends to something.
+    #[export]
+    fn is_attending(&self, _owner: &Spatial, character: Variant) -> bool {
+        boundary("CrowdGaze.is_attending", false, || {
+            self.slot_of(&character)
+                .and_then(|slot| self.scene.as_ref()?.gaze(slot).ok())
+                .is_some_and(|gaze| gaze.attending)
+        })
+    }
+
+    /// True once a character's gaze has arrived on its target and follows it.
+    #[export]
+    fn is_holding(&self, _owner: &Spatial, character: Variant) -> bool {
+        boundary("CrowdGaze.is_holding", false, || {
+            self.slot_of(&character)
+                .and_then(|slot| self.scene.as_ref()?.is_holding(slot).ok())
+                .unwrap_or(false)
+        })
+    }
+
+    /// The bones of a character's gaze chain, bottom to top (spine, neck, head, eyes).
+    #[export]
+    fn get_chain_bones(&self, _owner: &Spatial, character: Variant) -> VariantArray {
+        boundary(
+            "CrowdGaze.get_chain_bones",
+            VariantArray::new().into_shared(),
+            || {
+                let array = VariantArray::new();
+                if let Some(bones) = self
+                    .slot_of(&character)
+                    .and_then(|slot| self.scene.as_ref()?.chain_bones(slot).ok())
+                {
+                    for &bone in bones {
+                        array.push(bone as i64);
+                    }
+                }
+                array.into_shared()
+            },
+        )
+    }
+
+    /// The library's final rotation of each chain joint (`base * delta`): local to its
+    /// parent bone, the first one relative to the character node's frame.
+    #[export]
+    fn get_joint_rotations(&self, _owner: &Spatial, character: Variant) -> VariantArray {
+        boundary(
+            "CrowdGaze.get_joint_rotations",
+            VariantArray::new().into_shared(),
+            || {
+                let array = VariantArray::new();
+                let mut joints = [glam::Quat::IDENTITY;
+                    crowdgaze_godot_adapter::crowdgaze::ik::MAX_CHAIN_JOINTS];
+                if let Some(count) = self
+                    .slot_of(&character)
+                    .and_then(|slot| self.scene.as_ref()?.joint_rotations(slot, &mut joints).ok())
+                {
+                    for joint in &joints[..count] {
+                        array.push(quat(*joint));
+                    }
+                }
+                array.into_shared()
+            },
+        )
+    }
+
+    /// How high above a character's node its eyes are at rest (where others look), metres.
+    #[export]
+    fn get_look_at_height(&self, _owner: &Spatial, character: Variant) -> f64 {
+        boundary("CrowdGaze.get_look_at_height", 0.0, || {
+            self.slot_of(&character)
+                .and_then(|slot| self.scene.as_ref()?.look_at_height(slot).ok())
+                .map_or(0.0, f64::from)
+        })
+    }
+
+    /// Makes a character look at `target` (a registered character or target node, the
+    /// camera, or a `Vector3` point) whatever its attention says, until
+    /// `clear_gaze_target`. Returns false (with an error) if either is unknown.
+    #[export]
+    fn set_gaze_target(&mut self, owner: &Spatial, character: Variant, target: Variant) -> bool {
+        boundary("CrowdGaze.set_gaze_target", false, || {
+            let slot = self.slot_of(&character);
+            let Some(scene) = self.scene.as_mut() else {
+                return false;
+            };
+            let explicit = if target.get_type() == VariantType::Vector3 {
+                Some(ExplicitTarget::Point(vec3(target.to_vector3())))
+            } else {
+                instance_id(&target)
+                    .and_then(|key| {
+                        scene.entity_of(key).or_else(|| {
+                            // The camera is the viewer.
+                            let camera = owner
+                                .get_viewport()
+                                .and_then(|v| unsafe { v.assume_safe_if_sane() })
+                                .and_then(|v| v.get_camera())
+                                .and_then(|c| unsafe { c.assume_safe_if_sane() })?;
+                            (camera.get_instance_id() == key)
+                                .then(|| scene.viewer())
+                                .flatten()
+                        })
+                    })
+                    .map(ExplicitTarget::Entity)
+            };
+            let result = match (slot, explicit) {
+                (Some(slot), Some(explicit)) => scene
+                    .gaze(slot)
+                    .map(|gaze| gaze.character)
+                    .and_then(|id| {
+                        scene
+                            .crowd_mut()
+                            .set_gaze_target(id, explicit, TargetPriority::Override)
+                    })
+                    .map_err(|e| e.to_string()),
+                (None, _) => Err("the character is not in the crowd".into()),
+                (_, None) => Err("the target is neither a point nor in the crowd".into()),
+            };
+            match result {
+                Ok(()) => true,
+                Err(error) => {
+                    godot_error!("crowdgaze: {}: set_gaze_target: {error}", path_of(owner));
+                    false
+                }
+            }
+        })
+    }
+
+    /// Gives a character back to its attention.
+    #[export]
+    fn clear_gaze_target(&mut self, _owner: &Spatial, character: Variant) -> bool {
+        boundary("CrowdGaze.clear_gaze_target", false, || {
+            let slot = self.slot_of(&character);
+            let Some((scene, slot)) = self.scene.as_mut().zip(slot) else {
+                return false;
+            };
+            scene
+                .gaze(slot)
+                .and_then(|gaze| scene.crowd_mut().clear_gaze_target(gaze.character))
+                .is_ok()
+        })
+    }
+
+    /// The last frame's cost in this node (reading the scene, stepping the crowd and
+    /// writing the bones), microseconds.
+    #[export]
+    fn get_frame_usec(&self, _owner: &Spatial) -> f64 {
+        self.frame_usec.iter().sum()
+    }
+
+    /// The last frame's cost in this node by part, microseconds: `[read, step, write]`.
+    #[export]
+    fn get_frame_parts_usec(&self, _owner: &Spatial) -> Vector3 {
+        Vector3::new(
+            self.frame_usec[0] as f32,
+            self.frame_usec[1] as f32,
+            self.frame_usec[2] as f32,
+        )
+    }
+}

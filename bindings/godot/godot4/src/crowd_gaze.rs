@@ -1,0 +1,630 @@
+//! `CrowdGaze` (a `Node3D`): owns the crowd, takes its settings from the inspector, and
+//! once per frame reads every character and target and steps; each character's
+//! `SkeletonModifier3D` then writes its gaze in its skeleton's modifier pass. It emits
+//! `interest_changed(character, target)` when a character's eyes move to another target
+//! (`null` for none; the active camera when it looks at the player).
+
+use std::collections::HashSet;
+use std::time::Instant;
+
+use crowdgaze_godot_adapter::crowdgaze::crowd::{ExplicitTarget, TargetPriority};
+use crowdgaze_godot_adapter::crowdgaze::ik::MAX_CHAIN_JOINTS;
+use crowdgaze_godot_adapter::crowdgaze::skeleton_map::BoneMap;
+use crowdgaze_godot_adapter::crowdgaze::CrowdConfig;
+use crowdgaze_godot_adapter::{CharacterSettings, EntityNode, PoseConvention, SceneCrowd};
+use godot::classes::{Camera3D, INode3D, Node3D, Skeleton3D};
+use godot::prelude::*;
+
+use crate::convert::{boundary, quaternion, vec3, vector, xform};
+use crate::skeleton::GodotSkeleton;
+
+/// The group every `CrowdGaze` node joins while in the tree.
+pub const CROWD_GROUP: &str = "crowdgaze";
+/// The group every `CrowdGazeCharacter` node joins while in the tree.
+pub const CHARACTER_GROUP: &str = "crowdgaze_characters";
+/// The group every `GazeTarget` node joins while in the tree.
+pub const TARGET_GROUP: &str = "crowdgaze_targets";
+
+/// A registered node: its instance id, and its skeleton's for a character (0 for a target).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Handle {
+    node: i64,
+    skeleton: i64,
+}
+
+/// The live object of an instance id, if it is still there and of class `T`.
+fn live<T: GodotClass + Inherits<Object>>(id: i64) -> Option<Gd<T>> {
+    if id == 0 {
+        return None;
+    }
+    Gd::<T>::try_from_instance_id(InstanceId::from_i64(id)).ok()
+}
+
+/// A node's path, for messages.
+fn path_of<T: Inherits<Node>>(node: &Gd<T>) -> String {
+    node.clone().upcast::<Node>().get_path().to_string()
+}
+
+/// The instance id of the object in a variant, if any.
+fn instance_id(node: &Variant) -> Option<i64> {
+    let object = node.try_to::<Gd<Object>>().ok()?;
+    Some(object.instance_id().to_i64())
+}
+
+/// The node that owns a crowd. Its exported fields are the crowd's settings, read when the
+/// crowd is created (when the node enters the tree); `camera_is_viewer` and
+/// `viewer_impact` are read every frame.
+#[derive(GodotClass)]
+#[class(base = Node3D)]
+pub struct CrowdGaze {
+    /// Seed of every random choice: the same scene and seed give the same gaze.
+    #[export]
+    seed: i64,
+    /// Most characters the crowd holds.
+    #[export]
+    max_characters: i64,
+    /// Most targets (`GazeTarget` nodes) the crowd holds.
+    #[export]
+    max_targets: i64,
+    /// How far characters notice others (`d_m`, metres).
+    #[export]
+    max_distance: f64,
+    /// The characters' field of view, degrees.
+    #[export]
+    field_of_view: f64,
+    /// Smallest share of the time a character spends attending (0 to 1).
+    #[export]
+    attention_fraction_min: f64,
+    /// Largest share of the time a character spends attending (0 to 1).
+    #[export]
+    attention_fraction_max: f64,
+    /// Threads a step uses (1: the main thread only; 0: one per core).
+    #[export]
+    threads: i64,
+    /// Level of detail: each character's attention is updated every `attention_period`
+    /// frames (1 to 64, staggered; gaze IK runs every frame).
+    #[export]
+    attention_period: i64,
+    /// Level of detail by distance: beyond `lod_distance` metres from the camera, attention
+    /// is updated every `far_attention_period` frames (0: off).
+    #[export]
+    lod_distance: f64,
+    /// See `lod_distance` (1 to 64).
+    #[export]
+    far_attention_period: i64,
+    /// Make the active camera an entity the characters may look at.
+    #[export]
+    camera_is_viewer: bool,
+    /// How interesting the camera is (`I_E`, ≥ 0).
+    #[export]
+    viewer_impact: f64,
+    scene: Option<SceneCrowd<Handle>>,
+    /// Nodes refused (reported once), by instance id.
+    refused: HashSet<i64>,
+    /// True once creating the crowd failed (reported once).
+    config_failed: bool,
+    /// The last frame's cost, microseconds: reading the scene, stepping.
+    frame_usec: [f64; 2],
+    base: Base<Node3D>,
+}
+
+#[godot_api]
+impl INode3D for CrowdGaze {
+    fn init(base: Base<Node3D>) -> Self {
+        CrowdGaze {
+            seed: 1,
+            max_characters: 1024,
+            max_targets: 256,
+            max_distance: 10.0,
+            field_of_view: 180.0,
+            attention_fraction_min: 0.2,
+            attention_fraction_max: 0.6,
+            threads: 1,
+            attention_period: 1,
+            lod_distance: 0.0,
+            far_attention_period: 4,
+            camera_is_viewer: true,
+            viewer_impact: 3.0,
+            scene: None,
+            refused: HashSet::new(),
+            config_failed: false,
+            frame_usec: [0.0; 2],
+            base,
+        }
+    }
+
+    fn enter_tree(&mut self) {
+        boundary("CrowdGaze._enter_tree", (), || {
+            self.base_mut().add_to_group(CROWD_GROUP);
+            // After the scripts that animate in _process (AnimationMixers run before any).
+            if self.base().get_process_priority() == 0 {
+                self.base_mut().set_process_priority(100);
+            }
+            self.scene();
+            self.adopt();
+        })
+    }
+
+    fn ready(&mut self) {
+        boundary("CrowdGaze._ready", (), || self.adopt())
+    }
+
+    fn exit_tree(&mut self) {
+        boundary("CrowdGaze._exit_tree", (), || {
+            self.base_mut().remove_from_group(CROWD_GROUP);
+            self.scene = None;
+            self.refused.clear();
+            self.config_failed = false;
+        })
+    }
+
+    fn process(&mut self, delta: f64) {
+        boundary("CrowdGaze._process", (), || self.frame(delta))
+    }
+}
+
+impl CrowdGaze {
+    /// The crowd's settings from the exported fields.
+    fn config(&self) -> CrowdConfig {
+        let count = |value: i64| value.clamp(0, i64::from(u32::MAX)) as u32;
+        let mut config = CrowdConfig {
+            seed: self.seed as u64,
+            max_characters: count(self.max_characters),
+            max_objects: count(self.max_targets),
+            attention_fraction_range: (
+                self.attention_fraction_min as f32,
+                self.attention_fraction_max as f32,
+            ),
+            threads: count(self.threads),
+            attention_period: count(self.attention_period),
+            lod_distance: self.lod_distance as f32,
+            far_attention_period: count(self.far_attention_period),
+            ..CrowdConfig::default()
+        };
+        config.scoring.max_distance = self.max_distance as f32;
+        config.scoring.field_of_view = (self.field_of_view as f32).to_radians();
+        config
+    }
+
+    /// The crowd, created from the settings the first time.
+    fn scene(&mut self) -> Option<&mut SceneCrowd<Handle>> {
+        if self.scene.is_none() && !self.config_failed {
+            match SceneCrowd::new(self.config(), PoseConvention::PoseIsLocal) {
+                Ok(scene) => self.scene = Some(scene),
+                Err(error) => {
+                    self.config_failed = true;
+                    godot_error!("crowdgaze: {}: {error}", path_of(&self.to_gd()));
+                }
+            }
+        }
+        self.scene.as_mut()
+    }
+
+    /// The active camera, when it is the viewer.
+    fn camera(&self) -> Option<Gd<Camera3D>> {
+        if !self.camera_is_viewer {
+            return None;
+        }
+        self.base().get_viewport()?.get_camera_3d()
+    }
+
+    /// Adds a `CrowdGazeCharacter` node (a child of its `Skeleton3D`) to the crowd, once; a
+    /// skeleton that cannot be mapped is reported once and left out.
+    pub fn register_character(&mut self, node: Gd<Node3D>, bone_map: &str, impact: f64) {
+        let key = node.instance_id().to_i64();
+        if self.refused.contains(&key) {
+            return;
+        }
+        let Some(scene) = self.scene() else {
+            return;
+        };
+        if scene.entity_of(key).is_some() {
+            return;
+        }
+        let skeleton = node
+            .get_parent()
+            .and_then(|parent| parent.try_cast::<Skeleton3D>().ok());
+        let result = match skeleton {
+            None => Err("a CrowdGazeCharacter must be a child of a Skeleton3D".to_string()),
+            Some(skeleton) => BoneMap::with_overrides(bone_map)
+                .and_then(|bone_map| {
+                    let settings = CharacterSettings {
+                        bone_map,
+                        impact: impact as f32,
+                    };
+                    let handle = Handle {
+                        node: key,
+                        skeleton: skeleton.instance_id().to_i64(),
+                    };
+                    scene.add_character(
+                        key,
+                        handle,
+                        &GodotSkeleton(skeleton),
+                        &xform(&node.get_transform()),
+                        &settings,
+                    )
+                })
+                .map(|_| ())
+                .map_err(|error| error.to_string()),
+        };
+        if let Err(error) = result {
+            self.refused.insert(key);
+            godot_error!(
+                "crowdgaze: {}: {error}; the character is left out of the crowd",
+                path_of(&node)
+            );
+        }
+    }
+
+    /// Adds a `GazeTarget` node to the crowd, once.
+    pub fn register_target(&mut self, node: Gd<Node3D>, look_at_height: f64, impact: f64) {
+        let key = node.instance_id().to_i64();
+        if self.refused.contains(&key) {
+            return;
+        }
+        let Some(scene) = self.scene() else {
+            return;
+        };
+        if scene.entity_of(key).is_some() {
+            return;
+        }
+        let handle = Handle {
+            node: key,
+            skeleton: 0,
+        };
+        let placed = xform(&node.get_global_transform());
+        if let Err(error) =
+            scene.add_target(key, handle, &placed, look_at_height as f32, impact as f32)
+        {
+            self.refused.insert(key);
+            godot_error!(
+                "crowdgaze: {}: {error}; the target is left out of the crowd",
+                path_of(&node)
+            );
+        }
+    }
+
+    /// Removes a node from the crowd (it left the tree).
+    pub fn unregister(&mut self, key: i64) {
+        self.refused.remove(&key);
+        if let Some(scene) = self.scene.as_mut() {
+            scene.remove(key);
+        }
+    }
+
+    /// Writes a character's gaze to its skeleton (its modifier pass, after the animation).
+    pub fn write_character(&mut self, key: i64, skeleton: Gd<Skeleton3D>) {
+        let Some(scene) = self.scene.as_mut() else {
+            return;
+        };
+        if let Some(slot) = scene.character_slot(key) {
+            if let Err(error) = scene.write_character(slot, &mut GodotSkeleton(skeleton)) {
+                godot_error!("crowdgaze: writing the gaze: {error}");
+            }
+        }
+    }
+
+    /// Registers the characters and targets already in the tree.
+    fn adopt(&mut self) {
+        if !self.base().is_inside_tree() {
+            return;
+        }
+        let tree = self.base().get_tree();
+        for node in tree.get_nodes_in_group(CHARACTER_GROUP).iter_shared() {
+            if let Ok(mut character) = node.try_cast::<crate::character::CrowdGazeCharacter>() {
+                let (bone_map, impact) = character.bind().settings();
+                character.bind_mut().set_joined(self.to_gd().instance_id());
+                self.register_character(character.upcast(), &bone_map, impact);
+            }
+        }
+        for node in tree.get_nodes_in_group(TARGET_GROUP).iter_shared() {
+            if let Ok(target) = node.try_cast::<crate::target::GazeTarget>() {
+                let (height, impact) = target.bind().settings();
+                self.register_target(target.upcast(), height, impact);
+            }
+        }
+    }
+
+    /// One frame: read, step, report. The characters' modifiers write afterwards.
+    fn frame(&mut self, delta: f64) {
+        let start = Instant::now();
+        let camera = self.camera();
+        let viewer_impact = self.viewer_impact as f32;
+        let me = self.to_gd();
+        let Some(scene) = self.scene.as_mut() else {
+            return;
+        };
+        let mut slot = 0;
+        while slot < scene.character_count() {
+            let Some(handle) = scene.character_handle(slot).copied() else {
+                break;
+            };
+            match (
+                live::<Node3D>(handle.node),
+                live::<Skeleton3D>(handle.skeleton),
+            ) {
+                (Some(node), Some(skeleton)) => {
+                    let placed = xform(&node.get_transform());
+                    if let Err(error) =
+                        scene.read_character(slot, &GodotSkeleton(skeleton), &placed)
+                    {
+                        godot_error!(
+                            "crowdgaze: {}: {error}; the character keeps its last state",
+                            path_of(&node)
+                        );
+                    }
+                    slot += 1;
+                }
+                _ => {
+                    scene.remove(handle.node);
+                }
+            }
+        }
+        let mut slot = 0;
+        while slot < scene.target_count() {
+            let Some(handle) = scene.target_handle(slot).copied() else {
+                break;
+            };
+            match live::<Node3D>(handle.node) {
+                Some(node) => {
+                    if let Err(error) =
+                        scene.read_target(slot, &xform(&node.get_global_transform()))
+                    {
+                        godot_error!(
+                            "crowdgaze: {}: {error}; the target stays where it was",
+                            path_of(&node)
+                        );
+                    }
+                    slot += 1;
+                }
+                None => {
+                    scene.remove(handle.node);
+                }
+            }
+        }
+        let viewer = camera
+            .as_ref()
+            .map(|camera| vec3(camera.get_global_transform().origin));
+        if let Err(error) = scene.set_viewer(viewer, viewer_impact) {
+            godot_error!("crowdgaze: {}: the viewer: {error}", path_of(&me));
+        }
+        let read = start.elapsed();
+        if let Err(error) = scene.step(delta as f32) {
+            godot_error!("crowdgaze: {}: {error}", path_of(&me));
+            return;
+        }
+        self.frame_usec = [
+            read.as_secs_f64() * 1e6,
+            (start.elapsed() - read).as_secs_f64() * 1e6,
+        ];
+        // Signals go out at the end of the frame, when no method of this node is running.
+        let mut emits = Vec::new();
+        for &(slot, target) in scene.interest_changes() {
+            let Some(character) = scene
+                .character_handle(slot)
+                .and_then(|h| live::<Node>(h.node))
+            else {
+                continue;
+            };
+            let target = match scene.node_of(target) {
+                EntityNode::Character(handle) | EntityNode::Target(handle) => {
+                    live::<Node>(handle.node).map(|node| node.to_variant())
+                }
+                EntityNode::Viewer => camera.as_ref().map(|camera| camera.to_variant()),
+                EntityNode::None => None,
+            };
+            emits.push([
+                "interest_changed".to_variant(),
+                character.to_variant(),
+                target.unwrap_or_default(),
+            ]);
+        }
+        for arguments in emits {
+            self.base_mut().call_deferred("emit_signal", &arguments);
+        }
+    }
+
+    /// The character slot of a node variant.
+    fn slot_of(&self, character: &Variant) -> Option<usize> {
+        self.scene.as_ref()?.character_slot(instance_id(character)?)
+    }
+}
+
+#[godot_api]
+impl CrowdGaze {
+    /// A character's eyes moved to another target: a character or target node, the camera,
+    /// or null.
+    #[signal]
+    fn interest_changed(character: Gd<Node>, target: Variant);
+
+    /// Number of characters in the crowd.
+    #[func]
+    fn get_character_count(&self) -> i64 {
+        boundary("CrowdGaze.get_character_count", 0, || {
+            self.scene
+                .as_ref()
+                .map_or(0, |s| s.character_count() as i64)
+        })
+    }
+
+    /// Number of targets in the crowd.
+    #[func]
+    fn get_target_count(&self) -> i64 {
+        boundary("CrowdGaze.get_target_count", 0, || {
+            self.scene.as_ref().map_or(0, |s| s.target_count() as i64)
+        })
+    }
+
+    /// What a character's eyes look at: a character or target node, the camera, or null.
+    #[func]
+    fn get_gaze_target(&self, character: Variant) -> Variant {
+        boundary("CrowdGaze.get_gaze_target", Variant::nil(), || {
+            let (Some(scene), Some(slot)) = (self.scene.as_ref(), self.slot_of(&character)) else {
+                return Variant::nil();
+            };
+            let Ok(gaze) = scene.gaze(slot) else {
+                return Variant::nil();
+            };
+            match scene.node_of(gaze.target) {
+                EntityNode::Character(handle) | EntityNode::Target(handle) => {
+                    live::<Node>(handle.node).map_or_else(Variant::nil, |node| node.to_variant())
+                }
+                EntityNode::Viewer => self
+                    .camera()
+                    .map_or_else(Variant::nil, |camera| camera.to_variant()),
+                EntityNode::None => Variant::nil(),
+            }
+        })
+    }
+
+    /// The point a character's eyes are sent to (metres, world).
+    #[func]
+    fn get_gaze_point(&self, character: Variant) -> Vector3 {
+        boundary("CrowdGaze.get_gaze_point", Vector3::ZERO, || {
+            self.slot_of(&character)
+                .and_then(|slot| self.scene.as_ref()?.gaze(slot).ok())
+                .map_or(Vector3::ZERO, |gaze| vector(gaze.target_position))
+        })
+    }
+
+    /// True if a character attends to something.
+    #[func]
+    fn is_attending(&self, character: Variant) -> bool {
+        boundary("CrowdGaze.is_attending", false, || {
+            self.slot_of(&character)
+                .and_then(|slot| self.scene.as_ref()?.gaze(slot).ok())
+                .is_some_and(|gaze| gaze.attending)
+        })
+    }
+
+    /// True once a character's gaze has arrived on its target and follows it.
+    #[func]
+    fn is_holding(&self, character: Variant) -> bool {
+        boundary("CrowdGaze.is_holding", false, || {
+            self.slot_of(&character)
+                .and_then(|slot| self.scene.as_ref()?.is_holding(slot).ok())
+                .unwrap_or(false)
+        })
+    }
+
+    /// The bones of a character's gaze chain, bottom to top (spine, neck, head, eyes).
+    #[func]
+    fn get_chain_bones(&self, character: Variant) -> PackedInt32Array {
+        boundary("CrowdGaze.get_chain_bones", PackedInt32Array::new(), || {
+            let mut array = PackedInt32Array::new();
+            if let Some(bones) = self
+                .slot_of(&character)
+                .and_then(|slot| self.scene.as_ref()?.chain_bones(slot).ok())
+            {
+                for &bone in bones {
+                    array.push(bone as i32);
+                }
+            }
+            array
+        })
+    }
+
+    /// The library's final rotation of each chain joint (`base * delta`): local to its
+    /// parent bone, the first one relative to the character node's frame.
+    #[func]
+    fn get_joint_rotations(&self, character: Variant) -> Array<Quaternion> {
+        boundary("CrowdGaze.get_joint_rotations", Array::new(), || {
+            let mut array = Array::new();
+            let mut joints = [glam::Quat::IDENTITY; MAX_CHAIN_JOINTS];
+            if let Some(count) = self
+                .slot_of(&character)
+                .and_then(|slot| self.scene.as_ref()?.joint_rotations(slot, &mut joints).ok())
+            {
+                for joint in &joints[..count] {
+                    array.push(quaternion(*joint));
+                }
+            }
+            array
+        })
+    }
+
+    /// How high above a character's node its eyes are at rest (where others look), metres.
+    #[func]
+    fn get_look_at_height(&self, character: Variant) -> f64 {
+        boundary("CrowdGaze.get_look_at_height", 0.0, || {
+            self.slot_of(&character)
+                .and_then(|slot| self.scene.as_ref()?.look_at_height(slot).ok())
+                .map_or(0.0, f64::from)
+        })
+    }
+
+    /// Makes a character look at `target` (a registered character or target node, the
+    /// camera, or a `Vector3` point) whatever its attention says, until
+    /// `clear_gaze_target`. Returns false (with an error) if either is unknown.
+    #[func]
+    fn set_gaze_target(&mut self, character: Variant, target: Variant) -> bool {
+        boundary("CrowdGaze.set_gaze_target", false, || {
+            let slot = self.slot_of(&character);
+            let camera = self.camera().map(|c| c.instance_id().to_i64());
+            let me = path_of(&self.to_gd());
+            let Some(scene) = self.scene.as_mut() else {
+                return false;
+            };
+            let explicit = if let Ok(point) = target.try_to::<Vector3>() {
+                Some(ExplicitTarget::Point(vec3(point)))
+            } else {
+                instance_id(&target)
+                    .and_then(|key| {
+                        scene
+                            .entity_of(key)
+                            .or_else(|| (camera == Some(key)).then(|| scene.viewer()).flatten())
+                    })
+                    .map(ExplicitTarget::Entity)
+            };
+            let result = match (slot, explicit) {
+                (Some(slot), Some(explicit)) => scene
+                    .gaze(slot)
+                    .map(|gaze| gaze.character)
+                    .and_then(|id| {
+                        scene
+                            .crowd_mut()
+                            .set_gaze_target(id, explicit, TargetPriority::Override)
+                    })
+                    .map_err(|e| e.to_string()),
+                (None, _) => Err("the character is not in the crowd".into()),
+                (_, None) => Err("the target is neither a point nor in the crowd".into()),
+            };
+            match result {
+                Ok(()) => true,
+                Err(error) => {
+                    godot_error!("crowdgaze: {me}: set_gaze_target: {error}");
+                    false
+                }
+            }
+        })
+    }
+
+    /// Gives a character back to its attention.
+    #[func]
+    fn clear_gaze_target(&mut self, character: Variant) -> bool {
+        boundary("CrowdGaze.clear_gaze_target", false, || {
+            let slot = self.slot_of(&character);
+            let Some((scene, slot)) = self.scene.as_mut().zip(slot) else {
+                return false;
+            };
+            scene
+                .gaze(slot)
+                .and_then(|gaze| scene.crowd_mut().clear_gaze_target(gaze.character))
+                .is_ok()
+        })
+    }
+
+    /// The last frame's cost in this node (reading the scene and stepping the crowd; the
+    /// modifiers' writes come after), microseconds.
+    #[func]
+    fn get_frame_usec(&self) -> f64 {
+        self.frame_usec.iter().sum()
+    }
+
+    /// The last frame's cost in this node by part, microseconds: `(read, step, 0)` (the
+    /// writes are the modifiers').
+    #[func]
+    fn get_frame_parts_usec(&self) -> Vector3 {
+        Vector3::new(self.frame_usec[0] as f32, self.frame_usec[1] as f32, 0.0)
+    }
+}
