@@ -1,4 +1,5 @@
-//! The one error type of the Rust core; `src/ffi` maps each kind to a `cg_status`.
+//! The one error type of the Rust core; `src/ffi` adds the kinds only a C caller can cause
+//! and maps each kind to a `cg_status`.
 
 use thiserror::Error;
 
@@ -8,9 +9,6 @@ use thiserror::Error;
 /// `cg_last_error_message`. The *kind* of a variant (its name) is what callers branch on.
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum Error {
-    /// A required pointer or reference was missing.
-    #[error("null argument: {0}")]
-    NullArgument(String),
     /// A value is out of its documented range or inconsistent with another one.
     #[error("invalid argument: {0}")]
     InvalidArgument(String),
@@ -23,9 +21,6 @@ pub enum Error {
     /// A fixed capacity chosen at creation would be exceeded.
     #[error("capacity exceeded: {0}")]
     Capacity(String),
-    /// A versioned struct's `struct_size` is not one this library knows.
-    #[error("bad struct_size: {0}")]
-    BadStructSize(String),
     /// The call is not allowed in the object's current state.
     #[error("wrong state: {0}")]
     WrongState(String),
@@ -39,10 +34,6 @@ pub enum Error {
     /// message names the number and the bytes asked); nothing was created or changed.
     #[error("out of memory: {0}")]
     OutOfMemory(String),
-    /// An earlier call that changed this object failed inside crowdgaze and may have left it
-    /// half-updated; carries that call's message.
-    #[error("poisoned: an earlier call failed inside the library: {0}")]
-    Poisoned(String),
 }
 
 /// Shorthand for results of the Rust core.

@@ -318,7 +318,7 @@ fn a_panic_in_any_step_call_poisons_the_crowd_and_destroy_still_frees_it() {
         let held = live() - before;
         assert!(held > 100 * SLACK, "the crowd holds only {held} bytes");
         // SAFETY: a live handle.
-        let panic_next = || unsafe { panic_next(crowd, at) }.expect("hook set");
+        let panic_next = || assert_eq!(unsafe { panic_next(crowd, at) }, cg_status::Ok);
         let status = match at {
             PanicAt::BeginStep => {
                 panic_next();
@@ -402,7 +402,7 @@ fn a_panic_in_a_blender_change_poisons_it_and_destroy_still_frees_it() {
     let before = live();
     let blender = blender();
     // SAFETY: a live handle.
-    unsafe { panic_next_change(blender) }.expect("hook set");
+    assert_eq!(unsafe { panic_next_change(blender) }, cg_status::Ok);
     assert_eq!(
         cg_view_blender_add_camera(blender, vec3(1.0, 0.0, 0.0), 0),
         cg_status::Internal

@@ -741,20 +741,21 @@ impl Crowd {
     /// `i < count` converts the caller's i-th state (it is called twice per state: once to
     /// check them all, once to apply). Lets a caller hand over its own layout without a
     /// buffer.
-    pub fn push_frame_with(
+    pub fn push_frame_with<E: From<Error>>(
         &mut self,
         time: f64,
         count: usize,
-        state: impl Fn(usize) -> Result<EntityUpdate>,
-    ) -> Result<()> {
+        state: impl Fn(usize) -> std::result::Result<EntityUpdate, E>,
+    ) -> std::result::Result<(), E> {
         if !time.is_finite() {
-            return Err(Error::NonFinite(format!("frame time is {time}")));
+            return Err(Error::NonFinite(format!("frame time is {time}")).into());
         }
         if time < self.shared.time {
             return Err(Error::InvalidArgument(format!(
                 "frame time {time} is earlier than the previous frame's {}",
                 self.shared.time
-            )));
+            ))
+            .into());
         }
         self.ensure_online("push a frame")?;
         for i in 0..count {

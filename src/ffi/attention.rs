@@ -5,12 +5,15 @@ use glam::Vec3;
 
 use super::chain::cg_chain_desc;
 use super::crowd::{cg_crowd, crowd_handle, crowd_mut, crowd_ref, test_hook, Hook};
+use super::error::{FfiError, Result};
 use super::types::cg_vec3;
-use super::{cg_status, ffi_boundary, read_versioned, write_versioned, Versioned};
+use super::{
+    cg_status, ffi_boundary, read_versioned, write_optional, write_versioned, Out, Versioned,
+};
 use crate::attention::score::SubscoreWeights;
 use crate::attention::{AttentionModel, CharacterParams};
 use crate::crowd::{CharacterDesc, ObjectDesc};
-use crate::error::{ensure_finite, Error, Result};
+use crate::error::{ensure_finite, Error};
 use crate::scene::EntityUpdate;
 use crate::world::World;
 
@@ -45,7 +48,8 @@ impl cg_attention_model {
             2 => Ok(AttentionModel::Baseline),
             other => Err(Error::InvalidArgument(format!(
                 "attention_model is {other}, not a cg_attention_model"
-            ))),
+            ))
+            .into()),
         }
     }
 
@@ -360,7 +364,8 @@ pub extern "C" fn cg_crowd_add_character(
         let crowd = unsafe { crowd_mut(crowd) }?;
         // SAFETY: the caller passes a readable desc of at least its struct_size bytes.
         let desc = unsafe { read_versioned(desc) }?;
-        super::non_null(out_id, "out_id")?;
+        // SAFETY: the caller provides a writable uint32_t (or NULL, rejected).
+        let out_id = unsafe { Out::new(out_id, "out_id") }?;
         let world = crowd.config().world;
         let chain = if desc.chain.is_null() {
             None
@@ -379,8 +384,7 @@ pub extern "C" fn cg_crowd_add_character(
             model: cg_attention_model::parse(desc.attention_model)?,
         };
         let id = crowd.add_character(&core)?;
-        // SAFETY: checked non-null above; the caller provides a writable u32.
-        unsafe { out_id.write_unaligned(id) };
+        out_id.write(id);
         Ok(())
     })
 }
@@ -402,7 +406,8 @@ pub extern "C" fn cg_crowd_add_object(
         let crowd = unsafe { crowd_mut(crowd) }?;
         // SAFETY: the caller passes a readable desc of at least its struct_size bytes.
         let desc = unsafe { read_versioned(desc) }?;
-        super::non_null(out_id, "out_id")?;
+        // SAFETY: the caller provides a writable uint32_t (or NULL, rejected).
+        let out_id = unsafe { Out::new(out_id, "out_id") }?;
         ensure_finite(desc.look_at_height, "look_at_height")?;
         let core = ObjectDesc {
             position: metres(&crowd.config().world, desc.position, "position")?,
@@ -411,8 +416,7 @@ pub extern "C" fn cg_crowd_add_object(
             impact: desc.impact,
         };
         let id = crowd.add_object(&core)?;
-        // SAFETY: checked non-null above; the caller provides a writable u32.
-        unsafe { out_id.write_unaligned(id) };
+        out_id.write(id);
         Ok(())
     })
 }
@@ -428,7 +432,7 @@ pub extern "C" fn cg_crowd_remove_entity(crowd: *mut cg_crowd, id: u32) -> cg_st
     ffi_boundary!({
         // SAFETY: handle contract of cg_crowd.
         let crowd = unsafe { crowd_mut(crowd) }?;
-        crowd.remove_entity(id)
+        Ok(crowd.remove_entity(id)?)
     })
 }
 
@@ -443,8 +447,8 @@ pub extern "C" fn cg_crowd_character_count(
         // SAFETY: handle contract of cg_crowd.
         let crowd = unsafe { crowd_ref(crowd) }?;
         // SAFETY: the caller provides a writable size_t (or NULL, rejected).
-        let out = unsafe { super::borrow_mut(out_count, "out_count") }?;
-        *out = crowd.character_count();
+        let out_count = unsafe { Out::new(out_count, "out_count") }?;
+        out_count.write(crowd.character_count());
         Ok(())
     })
 }
@@ -464,7 +468,7 @@ unsafe fn entity_update(
     // SAFETY: as above; read_versioned checks struct_size against this library's layout.
     let state = unsafe { read_versioned(element) }?;
     if state.struct_size as usize != stride {
-        return Err(Error::BadStructSize(format!(
+        return Err(FfiError::BadStructSize(format!(
             "states[{index}].struct_size is {}, but states[0]'s is {stride}",
             state.struct_size
         )));
@@ -474,7 +478,8 @@ unsafe fn entity_update(
         return Err(Error::InvalidArgument(format!(
             "states[{index}].flags has unknown bits 0x{:x}",
             state.flags
-        )));
+        ))
+        .into());
     }
     let velocity = if state.flags & CG_STATE_HAS_VELOCITY != 0 {
         Some(metres(world, state.velocity, "velocity")?)
@@ -625,6 +630,8 @@ pub extern "C" fn cg_crowd_read_gaze(
         let crowd = unsafe { crowd_ref(crowd) }?;
         // SAFETY: the caller provides `count` writable cg_gaze_info (or (NULL, 0)).
         let out = unsafe { super::slice_mut(out, count, "out") }?;
+        // SAFETY: the caller provides a writable size_t, or NULL.
+        let out_written = unsafe { Out::optional(out_written, "out_written") }?;
         let units = crowd.config().world.units_per_metre;
         let written = out.len().min(crowd.character_count());
         for (character, slot) in out.iter_mut().enumerate().take(written) {
@@ -642,8 +649,7 @@ pub extern "C" fn cg_crowd_read_gaze(
                 attentive_fraction: gaze.attentive_fraction,
             };
         }
-        // SAFETY: `out_written` is NULL or a writable output (caller contract).
-        unsafe { super::write_optional(out_written, written) };
+        write_optional(out_written, written);
         Ok(())
     })
 }
@@ -664,12 +670,11 @@ pub extern "C" fn cg_crowd_score(
     ffi_boundary!({
         // SAFETY: handle contract of cg_crowd.
         let crowd = unsafe { crowd_ref(crowd) }?;
-        super::non_null(out, "out")?;
+        // SAFETY: the caller provides a writable cg_score_breakdown (or NULL, rejected).
+        let out = unsafe { Out::new(out, "out") }?;
         let score = crowd.score(character, entity)?;
         let units = crowd.config().world.units_per_metre;
-        // SAFETY: the caller provides a writable cg_score_breakdown (checked non-null).
-        let out = unsafe { super::borrow_mut(out, "out") }?;
-        *out = cg_score_breakdown {
+        out.write(cg_score_breakdown {
             // Two entities near opposite ends of the float range are farther apart than
             // FLT_MAX: report the largest float, not infinity.
             distance: (score.distance * units).min(f32::MAX),
@@ -682,7 +687,7 @@ pub extern "C" fn cg_crowd_score(
             periphery: score.periphery,
             total: score.total,
             pruned: u32::from(score.pruned),
-        };
+        });
         Ok(())
     })
 }
@@ -753,14 +758,14 @@ pub extern "C" fn cg_crowd_set_character_params(
         let weights = SubscoreWeights::normalised(raw).ok_or_else(|| {
             Error::InvalidArgument("weights must be >= 0 and not all zero".into())
         })?;
-        crowd.set_character_params(
+        Ok(crowd.set_character_params(
             character,
             &CharacterParams {
                 weights,
                 attention_fraction: params.attention_fraction,
                 model: cg_attention_model::parse(params.attention_model)?,
             },
-        )
+        )?)
     })
 }
 
@@ -773,7 +778,7 @@ pub extern "C" fn cg_crowd_set_impact(crowd: *mut cg_crowd, entity: u32, impact:
     ffi_boundary!({
         // SAFETY: handle contract of cg_crowd.
         let crowd = unsafe { crowd_mut(crowd) }?;
-        crowd.set_impact(entity, impact)
+        Ok(crowd.set_impact(entity, impact)?)
     })
 }
 
@@ -792,7 +797,7 @@ pub extern "C" fn cg_crowd_plan(crowd: *mut cg_crowd) -> cg_status {
     ffi_boundary!({
         // SAFETY: handle contract of cg_crowd.
         let crowd = unsafe { crowd_mut(crowd) }?;
-        crowd.plan()
+        Ok(crowd.plan()?)
     })
 }
 
@@ -828,6 +833,8 @@ pub extern "C" fn cg_crowd_read_constraints(
         let crowd = unsafe { crowd_ref(crowd) }?;
         // SAFETY: the caller provides `count` writable cg_constraint (or (NULL, 0)).
         let out = unsafe { super::slice_mut(out, count, "out") }?;
+        // SAFETY: the caller provides a writable size_t, or NULL.
+        let out_total = unsafe { Out::optional(out_total, "out_total") }?;
         let constraints = crowd.constraints(character)?;
         for (slot, constraint) in out.iter_mut().zip(constraints) {
             *slot = cg_constraint {
@@ -837,8 +844,7 @@ pub extern "C" fn cg_crowd_read_constraints(
                 end: constraint.end,
             };
         }
-        // SAFETY: `out_total` is NULL or a writable output (caller contract).
-        unsafe { super::write_optional(out_total, constraints.len()) };
+        write_optional(out_total, constraints.len());
         Ok(())
     })
 }
@@ -863,11 +869,12 @@ pub extern "C" fn cg_crowd_set_viewer(
         let crowd = unsafe { crowd_mut(crowd) }?;
         // SAFETY: the caller passes a readable cg_vec3 (or NULL, rejected).
         let position = unsafe { super::borrow(position, "position") }?;
+        // SAFETY: the caller provides a writable uint32_t, or NULL.
+        let out_id = unsafe { Out::optional(out_id, "out_id") }?;
         let position = metres(&crowd.config().world, *position, "position")?;
         ensure_finite(impact, "impact")?;
         let id = crowd.set_viewer(position, impact)?;
-        // SAFETY: `out_id` is NULL or a writable output (caller contract).
-        unsafe { super::write_optional(out_id, id) };
+        write_optional(out_id, id);
         Ok(())
     })
 }
@@ -888,6 +895,6 @@ pub extern "C" fn cg_crowd_set_attention_period(
     ffi_boundary!({
         // SAFETY: handle contract of cg_crowd.
         let crowd = unsafe { crowd_mut(crowd) }?;
-        crowd.set_attention_period(character, period)
+        Ok(crowd.set_attention_period(character, period)?)
     })
 }

@@ -5,18 +5,19 @@
 
 use glam::{Mat4, Quat};
 
-use super::poison::{self, Poison};
+use super::error::Result;
+use super::poison::Poison;
 use super::status::cg_status;
 use super::types::{cg_dualquat, cg_quat, cg_vec3};
 use super::{
-    borrow, borrow_mut, ffi_boundary, non_null, read_versioned, slice, slice_mut, write_versioned,
-    Versioned,
+    borrow, ffi_boundary, handle_mut, handle_ref, into_c, non_null, read_versioned, slice,
+    slice_mut, write_versioned, Handle, Out, Versioned,
 };
 use crate::blend::{
     self, AsDualQuat, BlendMethod, DibSettings, KeyClip, ViewBlender, ViewBlenderConfig,
     ViewDistance,
 };
-use crate::error::{ensure_finite, Error, Result};
+use crate::error::{ensure_finite, Error};
 use crate::math::dualquat::DualQuat;
 
 // ---------------------------------------------------------------------------------------------
@@ -36,7 +37,7 @@ impl cg_dualquat {
     pub(crate) fn to_unit(self, what: &str) -> Result<DualQuat> {
         let raw = self.raw();
         if !raw.is_finite() {
-            return Err(Error::NonFinite(format!("{what} is not finite: {self:?}")));
+            return Err(Error::NonFinite(format!("{what} is not finite: {self:?}")).into());
         }
         let unit = raw.try_normalize().ok_or_else(|| {
             Error::InvalidArgument(format!(
@@ -60,7 +61,8 @@ fn check_translation(translation: glam::Vec3, what: impl std::fmt::Display) -> R
     } else {
         Err(Error::InvalidArgument(format!(
             "{what} has a translation longer than {MAX_TRANSLATION:e}"
-        )))
+        ))
+        .into())
     }
 }
 
@@ -89,14 +91,15 @@ fn check_all(values: &[cg_dualquat], what: &str) -> Result<()> {
     for (index, value) in values.iter().enumerate() {
         let raw = value.raw();
         if !raw.is_finite() {
-            return Err(Error::NonFinite(format!(
-                "{what}[{index}] is not finite: {value:?}"
-            )));
+            return Err(
+                Error::NonFinite(format!("{what}[{index}] is not finite: {value:?}")).into(),
+            );
         }
         let Some(unit) = raw.try_normalize() else {
             return Err(Error::InvalidArgument(format!(
                 "{what}[{index}] has a zero real part, not a rigid transform"
-            )));
+            ))
+            .into());
         };
         check_translation(unit.translation(), format_args!("{what}[{index}]"))?;
     }
@@ -117,16 +120,16 @@ fn check_disjoint<A, B>(
     let output_start = output as usize;
     let output_end = output_start + output_count * std::mem::size_of::<B>();
     if input_count > 0 && output_count > 0 && input_start < output_end && output_start < input_end {
-        return Err(Error::InvalidArgument(format!("{what} overlaps its input")));
+        return Err(Error::InvalidArgument(format!("{what} overlaps its input")).into());
     }
     Ok(())
 }
 
 /// `key_count × joint_count`, or [`Error::InvalidArgument`] on overflow.
 fn pose_elements(key_count: usize, joint_count: usize) -> Result<usize> {
-    key_count
-        .checked_mul(joint_count)
-        .ok_or_else(|| Error::InvalidArgument(format!("{key_count} × {joint_count} overflows")))
+    key_count.checked_mul(joint_count).ok_or_else(|| {
+        Error::InvalidArgument(format!("{key_count} × {joint_count} overflows")).into()
+    })
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -148,6 +151,8 @@ pub extern "C" fn cg_dualquat_from_rt(
     out: *mut cg_dualquat,
 ) -> cg_status {
     ffi_boundary!({
+        // SAFETY: the caller passes a writable cg_dualquat (or NULL, rejected).
+        let out = unsafe { Out::new(out, "out") }?;
         // SAFETY: the caller passes readable rotation and translation (or NULL).
         let rotation = unsafe { borrow(rotation, "rotation") }?.to_unit("rotation")?;
         // SAFETY: as above.
@@ -155,8 +160,7 @@ pub extern "C" fn cg_dualquat_from_rt(
             unsafe { borrow(translation, "translation") }?.to_finite("translation")?;
         check_translation(translation, "translation")?;
         let result = DualQuat::from_rotation_translation(rotation, translation);
-        // SAFETY: the caller passes a writable cg_dualquat (or NULL).
-        *unsafe { borrow_mut(out, "out") }? = result.into();
+        out.write(result.into());
         Ok(())
     })
 }
@@ -176,15 +180,15 @@ pub extern "C" fn cg_dualquat_to_rt(
     out_translation: *mut cg_vec3,
 ) -> cg_status {
     ffi_boundary!({
-        non_null(out_rotation, "out_rotation")?;
-        non_null(out_translation, "out_translation")?;
+        // SAFETY: the caller passes a writable cg_quat (or NULL, rejected).
+        let out_rotation = unsafe { Out::new(out_rotation, "out_rotation") }?;
+        // SAFETY: the caller passes a writable cg_vec3 (or NULL, rejected).
+        let out_translation = unsafe { Out::new(out_translation, "out_translation") }?;
         // SAFETY: the caller passes a readable cg_dualquat (or NULL).
         let q = unsafe { borrow(dual_quat, "dual_quat") }?.to_unit("dual_quat")?;
         let (rotation, translation) = q.to_rotation_translation();
-        // SAFETY: checked non-null above; the caller passes writable outputs.
-        *unsafe { borrow_mut(out_rotation, "out_rotation") }? = rotation.into();
-        // SAFETY: as above.
-        *unsafe { borrow_mut(out_translation, "out_translation") }? = translation.into();
+        out_rotation.write(rotation.into());
+        out_translation.write(translation.into());
         Ok(())
     })
 }
@@ -204,14 +208,14 @@ pub extern "C" fn cg_dualquat_to_rt(
 #[no_mangle]
 pub extern "C" fn cg_dualquat_from_matrix(matrix: *const f32, out: *mut cg_dualquat) -> cg_status {
     ffi_boundary!({
-        non_null(out, "out")?;
+        // SAFETY: the caller passes a writable cg_dualquat (or NULL, rejected).
+        let out = unsafe { Out::new(out, "out") }?;
         let mut elements = [0.0f32; 16];
         // SAFETY: the caller passes 16 readable floats (or NULL).
         elements.copy_from_slice(unsafe { slice(matrix, 16, "matrix") }?);
         let result = DualQuat::from_mat4(&Mat4::from_cols_array(&elements))?;
         check_translation(result.translation(), "matrix")?;
-        // SAFETY: the caller passes a writable cg_dualquat.
-        *unsafe { borrow_mut(out, "out") }? = result.into();
+        out.write(result.into());
         Ok(())
     })
 }
@@ -264,11 +268,11 @@ pub extern "C" fn cg_blend_dlb(
         let inputs = unsafe { slice(inputs, count, "inputs") }?;
         // SAFETY: as above.
         let weights = unsafe { slice(weights, count, "weights") }?;
-        non_null(out, "out")?;
+        // SAFETY: the caller passes a writable cg_dualquat (or NULL, rejected).
+        let out = unsafe { Out::new(out, "out") }?;
         check_all(inputs, "inputs")?;
         let result = blend::dlb(inputs, weights)?;
-        // SAFETY: the caller passes a writable cg_dualquat; the inputs are no longer used.
-        *unsafe { borrow_mut(out, "out") }? = result.into();
+        out.write(result.into());
         Ok(())
     })
 }
@@ -305,16 +309,17 @@ pub extern "C" fn cg_blend_dib(
         let inputs = unsafe { slice(inputs, count, "inputs") }?;
         // SAFETY: as above.
         let weights = unsafe { slice(weights, count, "weights") }?;
-        non_null(out, "out")?;
+        // SAFETY: the caller passes a writable cg_dualquat (or NULL, rejected).
+        let out = unsafe { Out::new(out, "out") }?;
         check_all(inputs, "inputs")?;
         let settings = DibSettings {
             precision,
             max_iterations,
         };
         let outcome = blend::dib(inputs, weights, &settings)?;
-        // SAFETY: the caller passes a writable cg_dualquat; the inputs are no longer used.
-        *unsafe { borrow_mut(out, "out") }? = outcome.blend.into();
-        outcome.into_result(&settings).map(|_| ())
+        out.write(outcome.blend.into());
+        outcome.into_result(&settings)?;
+        Ok(())
     })
 }
 
@@ -366,7 +371,12 @@ pub extern "C" fn cg_blend_pose_dlb(
         // SAFETY: forwarded caller contract of cg_blend_pose_dlb.
         let (keys_slice, weights, out) =
             unsafe { pose_arguments(keys, weights, key_count, joint_count, out_pose) }?;
-        blend::blend_pose_dlb(keys_slice, weights, joint_count, out)
+        Ok(blend::blend_pose_dlb(
+            keys_slice,
+            weights,
+            joint_count,
+            out,
+        )?)
     })
 }
 
@@ -396,12 +406,14 @@ pub extern "C" fn cg_blend_pose_dib(
             precision,
             max_iterations,
         };
-        blend::blend_pose_dib(keys_slice, weights, joint_count, &settings, out)?
-            .into_result(&settings)
+        Ok(
+            blend::blend_pose_dib(keys_slice, weights, joint_count, &settings, out)?
+                .into_result(&settings)?,
+        )
     })
 }
 
-/// Fails with [`Error::NullArgument`] for an output array `(NULL, n > 0)`.
+/// Fails with [`FfiError::NullArgument`](super::error::FfiError::NullArgument) for an output array `(NULL, n > 0)`.
 fn non_null_array<T>(pointer: *const T, count: usize, what: &str) -> Result<()> {
     if count > 0 {
         non_null(pointer, what)?;
@@ -428,13 +440,13 @@ pub extern "C" fn cg_camera_center_from_projection(
     out: *mut cg_vec3,
 ) -> cg_status {
     ffi_boundary!({
-        non_null(out, "out")?;
+        // SAFETY: the caller passes a writable cg_vec3 (or NULL, rejected).
+        let out = unsafe { Out::new(out, "out") }?;
         let mut elements = [0.0f32; 12];
         // SAFETY: the caller passes 12 readable floats (or NULL).
         elements.copy_from_slice(unsafe { slice(projection, 12, "projection") }?);
         let centre = blend::camera_centre_from_projection(&elements)?;
-        // SAFETY: the caller passes a writable cg_vec3.
-        *unsafe { borrow_mut(out, "out") }? = centre.into();
+        out.write(centre.into());
         Ok(())
     })
 }
@@ -493,6 +505,15 @@ pub(crate) struct BlenderHandle {
     /// Test builds: whether the next set/add call panics once it has changed the blender.
     #[cfg(feature = "test-hooks")]
     panic_next: std::sync::atomic::AtomicBool,
+}
+
+// SAFETY: `cg_view_blender` is the opaque type of view blender handles only.
+unsafe impl Handle for BlenderHandle {
+    type Opaque = cg_view_blender;
+    const NAME: &'static str = "blender";
+    fn poison(&self) -> &Poison {
+        &self.poison
+    }
 }
 
 impl BlenderHandle {
@@ -573,7 +594,8 @@ impl cg_view_blender_config {
             other => {
                 return Err(Error::InvalidArgument(format!(
                     "distance is {other}, not a cg_view_distance"
-                )))
+                ))
+                .into())
             }
         };
         let method = match self.method {
@@ -582,7 +604,8 @@ impl cg_view_blender_config {
             other => {
                 return Err(Error::InvalidArgument(format!(
                     "method is {other}, not a cg_blend_method"
-                )))
+                ))
+                .into())
             }
         };
         let config = ViewBlenderConfig {
@@ -631,13 +654,12 @@ pub extern "C" fn cg_view_blender_create(
     out_blender: *mut *mut cg_view_blender,
 ) -> cg_status {
     ffi_boundary!({
-        non_null(out_blender, "out_blender")?;
+        // SAFETY: the caller provides a writable cg_view_blender* (or NULL, rejected).
+        let out_blender = unsafe { Out::new(out_blender, "out_blender") }?;
         // SAFETY: the caller passes a readable config of at least its struct_size bytes.
         let config = unsafe { read_versioned(config) }?.to_core()?;
         let blender = Box::new(BlenderHandle::new(ViewBlender::new(config)?));
-        // SAFETY: out_blender was checked non-null; the caller provides a writable slot.
-        let out = unsafe { borrow_mut(out_blender, "out_blender") }?;
-        *out = Box::into_raw(blender).cast::<cg_view_blender>();
+        out_blender.write(into_c(blender));
         Ok(())
     })
 }
@@ -649,15 +671,9 @@ pub extern "C" fn cg_view_blender_create(
 /// on this blender may be running.
 #[no_mangle]
 pub extern "C" fn cg_view_blender_destroy(blender: *mut cg_view_blender) {
-    if blender.is_null() {
-        return;
-    }
-    let _ = ffi_boundary!({
-        // SAFETY: a non-null handle was produced by Box::into_raw in cg_view_blender_create
-        // and is destroyed once, by the caller's contract.
-        drop(unsafe { Box::from_raw(blender.cast::<BlenderHandle>()) });
-        Ok(())
-    });
+    // SAFETY: a blender handle from cg_view_blender_create (or NULL), destroyed once and not
+    // in use (the caller's contract).
+    unsafe { super::handle::destroy::<BlenderHandle>(blender) }
 }
 
 /// Reborrows a blender handle as its handle state; fails if the blender is poisoned.
@@ -668,10 +684,8 @@ pub extern "C" fn cg_view_blender_destroy(blender: *mut cg_view_blender) {
 pub(crate) unsafe fn blender_handle<'a>(
     blender: *const cg_view_blender,
 ) -> Result<&'a BlenderHandle> {
-    // SAFETY: forwarded contract: a live handle is a Box<BlenderHandle>.
-    let handle = unsafe { borrow(blender.cast::<BlenderHandle>(), "blender") }?;
-    handle.poison.check()?;
-    Ok(handle)
+    // SAFETY: forwarded contract.
+    unsafe { handle_ref::<BlenderHandle>(blender) }
 }
 
 /// Reborrows a blender handle as the core blender; fails if the blender is poisoned.
@@ -691,11 +705,8 @@ unsafe fn blender_ref<'a>(blender: *const cg_view_blender) -> Result<&'a ViewBle
 /// `blender`, if not NULL, must be a live handle from `cg_view_blender_create`, not accessed
 /// by anything else for `'a`.
 unsafe fn blender_mut<'a>(blender: *mut cg_view_blender) -> Result<&'a mut ViewBlender> {
-    // SAFETY: forwarded contract: a live handle is a Box<BlenderHandle>.
-    let handle = unsafe { borrow_mut(blender.cast::<BlenderHandle>(), "blender") }?;
-    handle.poison.check()?;
-    poison::arm(&handle.poison);
-    Ok(&mut handle.blender)
+    // SAFETY: forwarded contract.
+    Ok(&mut unsafe { handle_mut::<BlenderHandle>(blender) }?.blender)
 }
 
 /// Test builds (feature `test-hooks`): panics if the next set/add call on `blender` was
@@ -875,7 +886,7 @@ pub extern "C" fn cg_view_blender_weights(
         let (character, viewer) = unsafe { read_view(character, viewer) }?;
         // SAFETY: the caller passes `count` writable floats (or NULL, 0).
         let out = unsafe { slice_mut(out_weights, count, "out_weights") }?;
-        blender.weights(character, viewer, out)
+        Ok(blender.weights(character, viewer, out)?)
     })
 }
 
@@ -911,15 +922,16 @@ pub extern "C" fn cg_view_blender_evaluate(
         // SAFETY: the caller passes `joints` writable transforms (or NULL, 0); the character
         // and viewer were copied out above.
         let out = unsafe { slice_mut(out_pose, joints, "out_pose") }?;
-        blender
+        Ok(blender
             .evaluate(character, viewer, t, out)?
-            .into_result(&blender.config().dib_settings())
+            .into_result(&blender.config().dib_settings())?)
     })
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::ffi::error::FfiError;
 
     fn dq(q: DualQuat) -> cg_dualquat {
         q.into()
@@ -936,10 +948,16 @@ mod tests {
             },
             dual: cg_quat::IDENTITY,
         };
-        assert!(matches!(zero.to_unit("q"), Err(Error::InvalidArgument(_))));
+        assert!(matches!(
+            zero.to_unit("q"),
+            Err(FfiError::Core(Error::InvalidArgument(_)))
+        ));
         let mut nan = dq(DualQuat::IDENTITY);
         nan.dual.y = f32::NAN;
-        assert!(matches!(nan.to_unit("q"), Err(Error::NonFinite(_))));
+        assert!(matches!(
+            nan.to_unit("q"),
+            Err(FfiError::Core(Error::NonFinite(_)))
+        ));
         let mut scaled = dq(DualQuat::IDENTITY);
         scaled.real.w = 3.0;
         assert_eq!(scaled.to_unit("q").unwrap(), DualQuat::IDENTITY);
@@ -953,15 +971,15 @@ mod tests {
         assert!(far(7.0e17).to_unit("q").is_ok());
         assert!(matches!(
             far(1.0e18).to_unit("q"),
-            Err(Error::InvalidArgument(_))
+            Err(FfiError::Core(Error::InvalidArgument(_)))
         ));
         assert!(matches!(
             far(f32::MAX).to_unit("q"),
-            Err(Error::InvalidArgument(_))
+            Err(FfiError::Core(Error::InvalidArgument(_)))
         ));
         assert!(matches!(
             check_all(&[dq(DualQuat::IDENTITY), far(1.0e30)], "keys"),
-            Err(Error::InvalidArgument(_))
+            Err(FfiError::Core(Error::InvalidArgument(_)))
         ));
     }
 

@@ -3,9 +3,10 @@
 
 use glam::Vec3;
 
+use super::error::Result;
 use super::types::{cg_axis, cg_quat, cg_vec3};
 use super::{ffi_boundary, write_versioned, Versioned};
-use crate::error::{ensure_all_finite, ensure_finite, Error, Result};
+use crate::error::{ensure_all_finite, ensure_finite, Error};
 use crate::ik::{ChainJoint, GazeChain, JointLimits, JointRole, MAX_CHAIN_JOINTS};
 use crate::world::World;
 
@@ -42,7 +43,8 @@ impl cg_joint_role {
             other => {
                 return Err(Error::InvalidArgument(format!(
                     "{what} is {other}, not a cg_joint_role"
-                )))
+                ))
+                .into())
             }
         })
     }
@@ -162,13 +164,15 @@ impl cg_chain_desc {
         if units_per_metre <= 0.0 {
             return Err(Error::InvalidArgument(format!(
                 "units_per_metre is {units_per_metre}, must be > 0"
-            )));
+            ))
+            .into());
         }
         let count = self.joint_count as usize;
         if count == 0 || count > CG_MAX_CHAIN_JOINTS {
             return Err(Error::InvalidArgument(format!(
                 "cg_chain_desc.joint_count is {count}, must be 1..={CG_MAX_CHAIN_JOINTS}"
-            )));
+            ))
+            .into());
         }
         let placeholder = ChainJoint::new(
             JointRole::Head,
@@ -187,7 +191,8 @@ impl cg_chain_desc {
                 return Err(Error::InvalidArgument(format!(
                     "{} has zero length",
                     what("twist_axis")
-                )));
+                ))
+                .into());
             }
             ensure_all_finite(
                 &[desc.max_swing, desc.min_twist, desc.max_twist],
@@ -203,7 +208,12 @@ impl cg_chain_desc {
         let eye_forward = self.eye_forward.to_finite("eye_forward")?;
         let eye_up = self.eye_up.to_finite("eye_up")?;
         let root_offset = self.root_offset.to_finite("root_offset")? / units_per_metre;
-        GazeChain::new(&joints[..count], eye_forward, eye_up, root_offset)
+        Ok(GazeChain::new(
+            &joints[..count],
+            eye_forward,
+            eye_up,
+            root_offset,
+        )?)
     }
 }
 
@@ -255,6 +265,7 @@ pub extern "C" fn cg_chain_desc_init_human(
 mod tests {
     use super::super::{cg_status, last_error, read_versioned};
     use super::*;
+    use crate::ffi::error::FfiError;
 
     fn human_desc(up: cg_axis, forward: cg_axis) -> cg_chain_desc {
         // SAFETY: zero bytes are a valid cg_chain_desc (plain old data).
@@ -337,12 +348,23 @@ mod tests {
     #[test]
     fn bad_descriptions_are_rejected() {
         let good = human_desc(cg_axis::PositiveY, cg_axis::PositiveZ);
-        let invalid =
-            |desc: &cg_chain_desc| matches!(desc.to_core(1.0), Err(Error::InvalidArgument(_)));
-        let non_finite =
-            |desc: &cg_chain_desc| matches!(desc.to_core(1.0), Err(Error::NonFinite(_)));
-        assert!(matches!(good.to_core(0.0), Err(Error::InvalidArgument(_))));
-        assert!(matches!(good.to_core(f32::NAN), Err(Error::NonFinite(_))));
+        let invalid = |desc: &cg_chain_desc| {
+            matches!(
+                desc.to_core(1.0),
+                Err(FfiError::Core(Error::InvalidArgument(_)))
+            )
+        };
+        let non_finite = |desc: &cg_chain_desc| {
+            matches!(desc.to_core(1.0), Err(FfiError::Core(Error::NonFinite(_))))
+        };
+        assert!(matches!(
+            good.to_core(0.0),
+            Err(FfiError::Core(Error::InvalidArgument(_)))
+        ));
+        assert!(matches!(
+            good.to_core(f32::NAN),
+            Err(FfiError::Core(Error::NonFinite(_)))
+        ));
         let mut desc = good;
         desc.joint_count = 0;
         assert!(invalid(&desc));
@@ -394,6 +416,6 @@ mod tests {
         desc.struct_size = 12;
         // SAFETY: desc is a valid, aligned cg_chain_desc.
         let read = unsafe { read_versioned(&desc) };
-        assert!(matches!(read, Err(Error::BadStructSize(_))));
+        assert!(matches!(read, Err(FfiError::BadStructSize(_))));
     }
 }

@@ -3,15 +3,19 @@
 use std::cell::UnsafeCell;
 use std::sync::atomic::{AtomicU32, AtomicU8, Ordering};
 
+use super::error::{FfiError, Result};
 use super::poison::{self, Poison};
 use super::types::cg_axis;
-use super::{ffi_boundary, layout_size, read_versioned, write_versioned, Versioned};
+use super::{
+    ffi_boundary, handle_ref, into_c, layout_size, read_versioned, write_versioned, Handle, Out,
+    Versioned,
+};
 use crate::attention::baseline::BaselineConfig;
 use crate::attention::interest::InterestConfig;
 use crate::attention::saliency::SaliencyConfig;
 use crate::attention::score::ScoringConfig;
 use crate::crowd::{Crowd, CrowdConfig, StepRanges};
-use crate::error::{Error, Result};
+use crate::error::Error;
 use crate::ik::GazeConfig;
 use crate::world::World;
 
@@ -73,6 +77,15 @@ pub(crate) struct CrowdHandle {
     panic_at: AtomicU8,
 }
 
+// SAFETY: `cg_crowd` is the opaque type of crowd handles only.
+unsafe impl Handle for CrowdHandle {
+    type Opaque = cg_crowd;
+    const NAME: &'static str = "crowd";
+    fn poison(&self) -> &Poison {
+        &self.poison
+    }
+}
+
 // SAFETY: the cells are accessed as the phase protocol allows: `crowd` mutably only by the
 // single thread that moved the phase out of OPEN (or by a caller with exclusive use of the
 // handle, per the C contract), `ranges` written only while not OPEN and read only while
@@ -125,7 +138,8 @@ impl CrowdHandle {
             IDLE => Ok(()),
             _ => Err(Error::WrongState(
                 "a ranged step is open: finish it with cg_crowd_end_step first".into(),
-            )),
+            )
+            .into()),
         }
     }
 
@@ -135,7 +149,7 @@ impl CrowdHandle {
         self.phase
             .compare_exchange(from, CHANGING, Ordering::SeqCst, Ordering::SeqCst)
             .map(|_| ())
-            .map_err(|_| Error::WrongState(refusal.into()))
+            .map_err(|_| Error::WrongState(refusal.into()).into())
     }
 
     /// Opens a ranged step (`cg_crowd_begin_step`).
@@ -167,7 +181,7 @@ impl CrowdHandle {
             }
             Err(error) => {
                 self.phase.store(IDLE, Ordering::SeqCst);
-                Err(error)
+                Err(error.into())
             }
         }
     }
@@ -181,13 +195,13 @@ impl CrowdHandle {
             OPEN => match unsafe { &*self.ranges.get() } {
                 Some(ranges) => {
                     self.arm();
-                    let result = ranges.run_range(first, count);
+                    let result = ranges.run_range(first, count).map_err(FfiError::from);
                     self.test_hook(Hook::StepRange);
                     result
                 }
-                None => Err(Error::Internal("an open step has no ranges".into())),
+                None => Err(Error::Internal("an open step has no ranges".into()).into()),
             },
-            _ => Err(Error::WrongState(NO_STEP_OPEN.into())),
+            _ => Err(Error::WrongState(NO_STEP_OPEN.into()).into()),
         };
         self.ranges_running.fetch_sub(1, Ordering::SeqCst);
         result
@@ -205,13 +219,16 @@ impl CrowdHandle {
             self.phase.store(OPEN, Ordering::SeqCst);
             return Err(Error::WrongState(
                 "cg_crowd_step_range calls are still running on this crowd".into(),
-            ));
+            )
+            .into());
         }
         // SAFETY: CHANGING, and no range runs (ranges seen running above would have kept
         // the phase OPEN; later ones see CHANGING and leave).
         unsafe { *self.ranges.get() = None };
         // SAFETY: as above; the ranges' borrow of the crowd is gone.
-        let result = unsafe { &mut *self.crowd.get() }.end_step();
+        let result = unsafe { &mut *self.crowd.get() }
+            .end_step()
+            .map_err(FfiError::from);
         self.test_hook(Hook::EndStep);
         self.phase.store(IDLE, Ordering::SeqCst);
         result
@@ -405,14 +422,14 @@ impl cg_crowd_config {
 
     /// Checks and converts to the core's config (lengths to metres); an error names the
     /// field of this struct at fault.
-    fn to_core(self) -> Result<CrowdConfig> {
+    fn to_core(self) -> crate::error::Result<CrowdConfig> {
         // The axes and unit first: their errors name them already.
         self.world()?;
         self.convert().map_err(|error| self.name_the_field(error))
     }
 
     /// The world conventions of this config.
-    fn world(&self) -> Result<World> {
+    fn world(&self) -> crate::error::Result<World> {
         World::new(
             cg_axis::parse(self.up_axis, "up_axis")?,
             cg_axis::parse(self.forward_axis, "forward_axis")?,
@@ -421,7 +438,7 @@ impl cg_crowd_config {
     }
 
     /// [`Self::to_core`] with the core's words in errors.
-    fn convert(self) -> Result<CrowdConfig> {
+    fn convert(self) -> crate::error::Result<CrowdConfig> {
         let world = self.world()?;
         let metres = 1.0 / self.units_per_metre;
         let config = CrowdConfig {
@@ -589,13 +606,12 @@ pub extern "C" fn cg_crowd_create(
     out_crowd: *mut *mut cg_crowd,
 ) -> super::cg_status {
     ffi_boundary!({
-        super::non_null(out_crowd, "out_crowd")?;
+        // SAFETY: the caller provides a writable cg_crowd* (or NULL, rejected).
+        let out_crowd = unsafe { Out::new(out_crowd, "out_crowd") }?;
         // SAFETY: the caller passes a readable config of at least its struct_size bytes.
         let config = unsafe { read_versioned(config) }?.to_core()?;
         let crowd = Box::new(CrowdHandle::new(Crowd::new(config)?));
-        // SAFETY: out_crowd was checked non-null; the caller provides a writable slot.
-        let out_crowd = unsafe { super::borrow_mut(out_crowd, "out_crowd") }?;
-        *out_crowd = Box::into_raw(crowd).cast::<cg_crowd>();
+        out_crowd.write(into_c(crowd));
         Ok(())
     })
 }
@@ -607,15 +623,9 @@ pub extern "C" fn cg_crowd_create(
 /// on this crowd may be running.
 #[no_mangle]
 pub extern "C" fn cg_crowd_destroy(crowd: *mut cg_crowd) {
-    if crowd.is_null() {
-        return;
-    }
-    let _ = ffi_boundary!({
-        // SAFETY: a non-null crowd handle was produced by Box::into_raw in cg_crowd_create and
-        // is destroyed once, by the caller's contract.
-        drop(unsafe { Box::from_raw(crowd.cast::<CrowdHandle>()) });
-        Ok(())
-    });
+    // SAFETY: a crowd handle from cg_crowd_create (or NULL), destroyed once and not in use
+    // (the caller's contract).
+    unsafe { super::handle::destroy::<CrowdHandle>(crowd) }
 }
 
 /// Reborrows a crowd handle as its handle state (for the ranged step); fails if the crowd
@@ -624,10 +634,8 @@ pub extern "C" fn cg_crowd_destroy(crowd: *mut cg_crowd) {
 /// # Safety
 /// `crowd`, if not NULL, must be a live handle from `cg_crowd_create`.
 pub(crate) unsafe fn crowd_handle<'a>(crowd: *const cg_crowd) -> Result<&'a CrowdHandle> {
-    // SAFETY: forwarded contract: a live handle is a Box<CrowdHandle>.
-    let handle = unsafe { super::borrow(crowd.cast::<CrowdHandle>(), "crowd") }?;
-    handle.poison.check()?;
-    Ok(handle)
+    // SAFETY: forwarded contract.
+    unsafe { handle_ref::<CrowdHandle>(crowd) }
 }
 
 /// Test builds (feature `test-hooks`): panics if the next call reaching `hook` was asked

@@ -4,10 +4,11 @@
 use glam::Quat;
 
 use super::crowd::{cg_crowd, crowd_mut, crowd_ref};
+use super::error::Result;
 use super::types::{cg_quat, cg_vec3};
-use super::{cg_status, ffi_boundary, read_versioned, write_versioned, Versioned};
+use super::{cg_status, ffi_boundary, read_versioned, write_versioned, Out, Versioned};
 use crate::crowd::{ExplicitTarget, TargetPriority};
-use crate::error::{Error, Result};
+use crate::error::Error;
 
 /// `cg_gaze_target.kind`: look at `point`.
 pub const CG_GAZE_TARGET_POINT: u32 = 0;
@@ -110,7 +111,8 @@ pub extern "C" fn cg_crowd_set_gaze_target(
             other => {
                 return Err(Error::InvalidArgument(format!(
                     "cg_gaze_target.priority is {other}, not a CG_GAZE_PRIORITY_*"
-                )))
+                ))
+                .into())
             }
         };
         let explicit = match target.kind {
@@ -122,10 +124,11 @@ pub extern "C" fn cg_crowd_set_gaze_target(
             other => {
                 return Err(Error::InvalidArgument(format!(
                     "cg_gaze_target.kind is {other}, not a CG_GAZE_TARGET_*"
-                )))
+                ))
+                .into())
             }
         };
-        crowd.set_gaze_target(character, explicit, priority)
+        Ok(crowd.set_gaze_target(character, explicit, priority)?)
     })
 }
 
@@ -138,7 +141,7 @@ pub extern "C" fn cg_crowd_clear_gaze_target(crowd: *mut cg_crowd, character: u3
     ffi_boundary!({
         // SAFETY: handle contract of cg_crowd.
         let crowd = unsafe { crowd_mut(crowd) }?;
-        crowd.clear_gaze_target(character)
+        Ok(crowd.clear_gaze_target(character)?)
     })
 }
 
@@ -174,11 +177,12 @@ pub extern "C" fn cg_crowd_set_base_pose(
             return Err(Error::InvalidArgument(format!(
                 "count is {count}, a chain has at most {} joints",
                 crate::ik::MAX_CHAIN_JOINTS
-            )));
+            ))
+            .into());
         }
         let mut rotations = [Quat::IDENTITY; crate::ik::MAX_CHAIN_JOINTS];
         to_quats(local, &mut rotations)?;
-        crowd.set_base_pose(character, &rotations[..count])
+        Ok(crowd.set_base_pose(character, &rotations[..count])?)
     })
 }
 
@@ -212,7 +216,8 @@ pub extern "C" fn cg_crowd_set_base_poses(
         if needed != local_count {
             return Err(Error::InvalidArgument(format!(
                 "local_count is {local_count}, the characters' chains have {needed} joints"
-            )));
+            ))
+            .into());
         }
         for (index, rotation) in local.iter().enumerate() {
             rotation.to_unit(&format!("local[{index}]"))?;
@@ -245,8 +250,8 @@ pub extern "C" fn cg_crowd_joint_total(
         // SAFETY: handle contract of cg_crowd.
         let crowd = unsafe { crowd_ref(crowd) }?;
         // SAFETY: the caller provides a writable size_t (or NULL, rejected).
-        let out = unsafe { super::borrow_mut(out_total, "out_total") }?;
-        *out = crowd.joint_total(first as usize, count as usize)?;
+        let out_total = unsafe { Out::new(out_total, "out_total") }?;
+        out_total.write(crowd.joint_total(first as usize, count as usize)?);
         Ok(())
     })
 }
@@ -267,7 +272,8 @@ fn read_joints(
     if out.len() < total {
         return Err(Error::InvalidArgument(format!(
             "out_len is {out_len}, the characters' chains have {total} joints"
-        )));
+        ))
+        .into());
     }
     // Written in place through a cg_quat-sized view: cg_quat and Quat are both x, y, z, w.
     let mut written = 0;
@@ -339,7 +345,8 @@ pub extern "C" fn cg_crowd_read_eyes(
         if out.len() < count as usize {
             return Err(Error::InvalidArgument(format!(
                 "out_len is {out_len}, {count} characters were asked for"
-            )));
+            ))
+            .into());
         }
         let world = crowd.config().world;
         for (slot, character) in out.iter_mut().zip(first as usize..(first + count) as usize) {

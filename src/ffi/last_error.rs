@@ -3,15 +3,15 @@
 use libc::c_char;
 use std::cell::RefCell;
 
+use super::error::FfiError;
 use super::status::cg_status;
-use crate::error::Error;
 
 thread_local! {
     static LAST_ERROR: RefCell<String> = const { RefCell::new(String::new()) };
 }
 
 /// Records `error` as this thread's last error and returns its status.
-pub(crate) fn record(error: &Error) -> cg_status {
+pub(crate) fn record(error: &FfiError) -> cg_status {
     LAST_ERROR.with(|slot| {
         let mut message = slot.borrow_mut();
         message.clear();

@@ -9,21 +9,20 @@
 //! ([`run_boundary`](super::run_boundary)) poisons what the call armed if it failed inside
 //! the library, and disarms after every call.
 
+use super::error::{FfiError, Result};
 use std::cell::Cell;
 use std::sync::OnceLock;
-
-use crate::error::{Error, Result};
 
 /// A handle's poison: the message of the failure that poisoned it, once one did.
 #[derive(Debug, Default)]
 pub(crate) struct Poison(OnceLock<String>);
 
 impl Poison {
-    /// Fails with [`Error::Poisoned`] if the handle is poisoned.
+    /// Fails with [`FfiError::Poisoned`] if the handle is poisoned.
     pub(crate) fn check(&self) -> Result<()> {
         match self.0.get() {
             None => Ok(()),
-            Some(message) => Err(Error::Poisoned(message.clone())),
+            Some(message) => Err(FfiError::Poisoned(message.clone())),
         }
     }
 }
@@ -47,12 +46,13 @@ pub(crate) fn enter() -> *const Poison {
 }
 
 /// Ends a C call that returned `result`: poisons the handle the call armed if it failed
-/// inside the library ([`Error::Internal`]), and re-arms `outer`.
+/// inside the library ([`Error::Internal`](crate::error::Error::Internal)), and re-arms `outer`.
 pub(crate) fn leave<T>(outer: *const Poison, result: &Result<T>) {
     let armed = ARMED
         .try_with(|armed| armed.replace(outer))
         .unwrap_or(std::ptr::null());
-    if let (Err(error @ Error::Internal(_)), false) = (result, armed.is_null()) {
+    let failed_inside = result.as_ref().err().filter(|error| error.is_internal());
+    if let (Some(error), false) = (failed_inside, armed.is_null()) {
         // SAFETY: `arm` stored a pointer to the poison of a handle this call was using; the
         // C contract keeps a handle alive (no `_destroy`) while a call on it runs, and the
         // call has not returned yet.

@@ -2,8 +2,6 @@
 
 use libc::c_char;
 
-use crate::error::Error;
-
 /// Result code of every fallible crowdgaze C function. `CG_STATUS_OK` (0) is success; any
 /// other value means the call changed nothing and `cg_last_error_message` says why.
 ///
@@ -87,24 +85,6 @@ impl TryFrom<u32> for cg_status {
 
     fn try_from(value: u32) -> Result<Self, u32> {
         cg_status::ALL.get(value as usize).copied().ok_or(value)
-    }
-}
-
-impl From<&Error> for cg_status {
-    fn from(error: &Error) -> Self {
-        match error {
-            Error::NullArgument(_) => cg_status::NullArgument,
-            Error::InvalidArgument(_) => cg_status::InvalidArgument,
-            Error::NonFinite(_) => cg_status::NonFinite,
-            Error::NotFound(_) => cg_status::NotFound,
-            Error::Capacity(_) => cg_status::Capacity,
-            Error::BadStructSize(_) => cg_status::BadStructSize,
-            Error::WrongState(_) => cg_status::WrongState,
-            Error::NotConverged(_) => cg_status::NotConverged,
-            Error::Internal(_) => cg_status::Internal,
-            Error::OutOfMemory(_) => cg_status::OutOfMemory,
-            Error::Poisoned(_) => cg_status::Poisoned,
-        }
     }
 }
 

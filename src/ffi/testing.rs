@@ -6,7 +6,7 @@
 
 use super::blend::{blender_handle, cg_view_blender};
 use super::crowd::{cg_crowd, crowd_handle, Hook};
-use crate::error::Result;
+use super::{cg_status, ffi_boundary};
 
 /// The crowd calls that [`panic_next`] can make panic. Each panics after it has changed the
 /// crowd: `BeginStep` once the step is begun (the handle still in transition), `StepRange`
@@ -25,30 +25,35 @@ pub enum PanicAt {
 }
 
 /// Makes the next call of kind `at` on `crowd` panic inside the library, once it has changed
-/// the crowd. Fails if `crowd` is NULL or poisoned.
+/// the crowd. Fails (like a C call: a status, and `cg_last_error_message`) if `crowd` is NULL
+/// or poisoned.
 ///
 /// # Safety
 /// `crowd`, if not NULL, must be a live handle from `cg_crowd_create`.
-pub unsafe fn panic_next(crowd: *mut cg_crowd, at: PanicAt) -> Result<()> {
-    // SAFETY: forwarded contract.
-    let handle = unsafe { crowd_handle(crowd) }?;
-    handle.panic_next(match at {
-        PanicAt::BeginStep => Hook::BeginStep,
-        PanicAt::StepRange => Hook::StepRange,
-        PanicAt::EndStep => Hook::EndStep,
-        PanicAt::Step => Hook::Step,
-    });
-    Ok(())
+pub unsafe fn panic_next(crowd: *mut cg_crowd, at: PanicAt) -> cg_status {
+    ffi_boundary!({
+        // SAFETY: forwarded contract.
+        let handle = unsafe { crowd_handle(crowd) }?;
+        handle.panic_next(match at {
+            PanicAt::BeginStep => Hook::BeginStep,
+            PanicAt::StepRange => Hook::StepRange,
+            PanicAt::EndStep => Hook::EndStep,
+            PanicAt::Step => Hook::Step,
+        });
+        Ok(())
+    })
 }
 
 /// Makes the next set/add call on `blender` (`cg_view_blender_set_key_clip`,
 /// `cg_view_blender_set_key_pose`, `cg_view_blender_add_camera`) panic inside the library,
-/// once it has changed the blender. Fails if `blender` is NULL or poisoned.
+/// once it has changed the blender. Fails (a status) if `blender` is NULL or poisoned.
 ///
 /// # Safety
 /// `blender`, if not NULL, must be a live handle from `cg_view_blender_create`.
-pub unsafe fn panic_next_change(blender: *mut cg_view_blender) -> Result<()> {
-    // SAFETY: forwarded contract.
-    unsafe { blender_handle(blender) }?.panic_next();
-    Ok(())
+pub unsafe fn panic_next_change(blender: *mut cg_view_blender) -> cg_status {
+    ffi_boundary!({
+        // SAFETY: forwarded contract.
+        unsafe { blender_handle(blender) }?.panic_next();
+        Ok(())
+    })
 }
