@@ -9,6 +9,11 @@
  *   nothing and cg_last_error_message() explains it in one line.
  * - Outputs are written only on success. (NULL, 0) is a valid empty array;
  *   (NULL, n > 0) is CG_STATUS_NULL_ARGUMENT.
+ * - Pointers: a required pointer that is NULL is CG_STATUS_NULL_ARGUMENT, one not aligned
+ *   for its type CG_STATUS_INVALID_ARGUMENT. Beyond that the library cannot check them:
+ *   each pointer must be valid for the reads and writes its function describes for the
+ *   whole call, and each handle live (created and not yet destroyed). This is the safety
+ *   contract of every function taking a pointer (they are `unsafe` to Rust callers).
  * - Lengths are in your units (cg_crowd_config.units_per_metre), angles in radians, time in
  *   seconds. Quaternions are x, y, z, w.
  * - Objects are not safe for concurrent mutation; functions whose handle argument is const

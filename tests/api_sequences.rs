@@ -2,6 +2,11 @@
 //! never panic (`CG_STATUS_INTERNAL`), never leave a NaN in any output, and keep the crowd
 //! usable. Deterministic (seeded); a quick cousin of a fuzz target.
 
+// The `unsafe { cg_... }` calls below pass pointers to live values of the sizes the header
+// asks for, or deliberately bad ones (NULL, misaligned, wrong struct_size) that the library
+// must refuse: that is their safety comment, once for the file.
+#![allow(clippy::undocumented_unsafe_blocks)]
+
 use crowdgaze::ffi::attention::*;
 use crowdgaze::ffi::crowd::*;
 use crowdgaze::ffi::gaze::*;
@@ -11,7 +16,7 @@ use crowdgaze::math::random::Random;
 use std::mem::MaybeUninit;
 use std::ptr::{null, null_mut};
 
-fn init<T>(f: extern "C" fn(*mut T) -> cg_status) -> T {
+fn init<T>(f: unsafe extern "C" fn(*mut T) -> cg_status) -> T {
     let mut value = MaybeUninit::<T>::uninit();
     // SAFETY: every versioned struct starts with `uint32_t struct_size`, which the caller
     // sets to its size before the `_init` call.
@@ -21,7 +26,7 @@ fn init<T>(f: extern "C" fn(*mut T) -> cg_status) -> T {
             .cast::<u32>()
             .write(std::mem::size_of::<T>() as u32)
     };
-    assert_eq!(f(value.as_mut_ptr()), cg_status::Ok);
+    assert_eq!(unsafe { f(value.as_mut_ptr()) }, cg_status::Ok);
     // SAFETY: initialised by the _init function just above.
     unsafe { value.assume_init() }
 }
@@ -81,7 +86,10 @@ fn random_call_sequences_never_panic_or_produce_nan() {
         config.max_objects = 4;
         config.max_recorded_states = 400;
         let mut crowd = null_mut();
-        assert_eq!(cg_crowd_create(&config, &mut crowd), cg_status::Ok);
+        assert_eq!(
+            unsafe { cg_crowd_create(&config, &mut crowd) },
+            cg_status::Ok
+        );
         let mut ids: Vec<u32> = Vec::new();
         let mut time = 0.0f64;
         let mut succeeded = 0;
@@ -95,7 +103,7 @@ fn random_call_sequences_never_panic_or_produce_nan() {
                     desc.heading = if bad { fuzz.float() } else { fuzz.good_float() };
                     desc.attention_model = fuzz.random.below(if bad { 5 } else { 3 });
                     let mut id = 0;
-                    let status = cg_crowd_add_character(crowd, &desc, &mut id);
+                    let status = unsafe { cg_crowd_add_character(crowd, &desc, &mut id) };
                     if status == cg_status::Ok {
                         ids.push(id);
                     }
@@ -106,7 +114,7 @@ fn random_call_sequences_never_panic_or_produce_nan() {
                     desc.position = fuzz.vec3(bad);
                     desc.impact = if bad { fuzz.float() } else { 1.0 };
                     let mut id = 0;
-                    let status = cg_crowd_add_object(crowd, &desc, &mut id);
+                    let status = unsafe { cg_crowd_add_object(crowd, &desc, &mut id) };
                     if status == cg_status::Ok {
                         ids.push(id);
                     }
@@ -114,7 +122,7 @@ fn random_call_sequences_never_panic_or_produce_nan() {
                 }
                 3 => {
                     let id = fuzz.id(&ids);
-                    let status = cg_crowd_remove_entity(crowd, id);
+                    let status = unsafe { cg_crowd_remove_entity(crowd, id) };
                     if status == cg_status::Ok {
                         ids.retain(|&known| known != id);
                     }
@@ -138,7 +146,7 @@ fn random_call_sequences_never_panic_or_produce_nan() {
                     } else {
                         states.as_ptr()
                     };
-                    let status = cg_crowd_push_frame(crowd, time, pointer, count);
+                    let status = unsafe { cg_crowd_push_frame(crowd, time, pointer, count) };
                     if status != cg_status::Ok && !bad {
                         time -= 1.0 / 30.0;
                     }
@@ -146,12 +154,13 @@ fn random_call_sequences_never_panic_or_produce_nan() {
                 }
                 6 | 7 => {
                     let dt = if bad { fuzz.float() } else { 1.0 / 30.0 };
-                    cg_crowd_step(crowd, dt)
+                    unsafe { cg_crowd_step(crowd, dt) }
                 }
                 8 => {
                     let mut gaze = vec![cg_gaze_info::default(); 16];
                     let mut written = 0;
-                    let status = cg_crowd_read_gaze(crowd, gaze.as_mut_ptr(), 16, &mut written);
+                    let status =
+                        unsafe { cg_crowd_read_gaze(crowd, gaze.as_mut_ptr(), 16, &mut written) };
                     for g in &gaze[..written] {
                         no_nan(
                             &[
@@ -170,21 +179,18 @@ fn random_call_sequences_never_panic_or_produce_nan() {
                     let first = fuzz.random.below(14);
                     let count = fuzz.random.below(14);
                     let mut joints = vec![cg_quat::IDENTITY; fuzz.random.below(160) as usize];
-                    let status = cg_crowd_read_joints(
-                        crowd,
-                        first,
-                        count,
-                        joints.as_mut_ptr(),
-                        joints.len(),
-                    );
+                    let status = unsafe {
+                        cg_crowd_read_joints(crowd, first, count, joints.as_mut_ptr(), joints.len())
+                    };
                     if status == cg_status::Ok {
                         for q in &joints {
                             no_nan(&[q.x, q.y, q.z, q.w], "joints");
                         }
                     }
                     let mut eyes = vec![cg_eye_info::default(); 14];
-                    let eye_status =
-                        cg_crowd_read_eyes(crowd, first, count, eyes.as_mut_ptr(), eyes.len());
+                    let eye_status = unsafe {
+                        cg_crowd_read_eyes(crowd, first, count, eyes.as_mut_ptr(), eyes.len())
+                    };
                     if eye_status == cg_status::Ok {
                         for e in &eyes[..count as usize] {
                             no_nan(
@@ -203,9 +209,9 @@ fn random_call_sequences_never_panic_or_produce_nan() {
                     target.point = fuzz.vec3(bad);
                     let character = fuzz.id(&ids);
                     if fuzz.random.below(4) == 0 {
-                        cg_crowd_clear_gaze_target(crowd, character)
+                        unsafe { cg_crowd_clear_gaze_target(crowd, character) }
                     } else {
-                        cg_crowd_set_gaze_target(crowd, character, &target)
+                        unsafe { cg_crowd_set_gaze_target(crowd, character, &target) }
                     }
                 }
                 11 => {
@@ -226,31 +232,35 @@ fn random_call_sequences_never_panic_or_produce_nan() {
                             w: 1.0,
                         })
                         .collect();
-                    cg_crowd_set_base_pose(crowd, fuzz.id(&ids), local.as_ptr(), count)
+                    unsafe { cg_crowd_set_base_pose(crowd, fuzz.id(&ids), local.as_ptr(), count) }
                 }
                 12 => {
                     let position = fuzz.vec3(bad);
                     let mut id = 0;
                     match fuzz.random.below(4) {
-                        0 => cg_crowd_set_attention_period(
-                            crowd,
-                            fuzz.id(&ids),
-                            fuzz.random.below(70),
-                        ),
+                        0 => unsafe {
+                            cg_crowd_set_attention_period(
+                                crowd,
+                                fuzz.id(&ids),
+                                fuzz.random.below(70),
+                            )
+                        },
                         1 => {
-                            let status = cg_crowd_set_viewer(crowd, &position, 1.0, &mut id);
+                            let status =
+                                unsafe { cg_crowd_set_viewer(crowd, &position, 1.0, &mut id) };
                             if status == cg_status::Ok && !ids.contains(&id) {
                                 ids.push(id);
                             }
                             status
                         }
-                        2 => cg_crowd_plan(crowd),
-                        _ => cg_crowd_clear_plan(crowd),
+                        2 => unsafe { cg_crowd_plan(crowd) },
+                        _ => unsafe { cg_crowd_clear_plan(crowd) },
                     }
                 }
                 _ => {
                     let mut score = cg_score_breakdown::default();
-                    let status = cg_crowd_score(crowd, fuzz.id(&ids), fuzz.id(&ids), &mut score);
+                    let status =
+                        unsafe { cg_crowd_score(crowd, fuzz.id(&ids), fuzz.id(&ids), &mut score) };
                     if status == cg_status::Ok {
                         no_nan(&[score.total, score.distance, score.view_angle], "score");
                     }
@@ -273,8 +283,8 @@ fn random_call_sequences_never_panic_or_produce_nan() {
         // Both kinds must be well represented for the sequence to mean anything.
         assert!(succeeded > 1500 && failed > 400, "{succeeded} / {failed}");
         // Still usable afterwards.
-        assert_eq!(cg_crowd_clear_plan(crowd), cg_status::Ok);
-        assert_eq!(cg_crowd_step(crowd, 1.0 / 30.0), cg_status::Ok);
-        cg_crowd_destroy(crowd);
+        assert_eq!(unsafe { cg_crowd_clear_plan(crowd) }, cg_status::Ok);
+        assert_eq!(unsafe { cg_crowd_step(crowd, 1.0 / 30.0) }, cg_status::Ok);
+        unsafe { cg_crowd_destroy(crowd) };
     }
 }

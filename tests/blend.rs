@@ -2,6 +2,11 @@
 //! and through the C ABI: round trips, DLB and DIB properties, view weights, key clips, and
 //! every kind of bad input from C.
 
+// The `unsafe { cg_... }` calls below pass pointers to live values of the sizes the header
+// asks for, or deliberately bad ones (NULL, misaligned, wrong struct_size) that the library
+// must refuse: that is their safety comment, once for the file.
+#![allow(clippy::undocumented_unsafe_blocks)]
+
 use std::f32::consts::{FRAC_PI_2, FRAC_PI_3, PI};
 use std::ptr::{null, null_mut};
 
@@ -106,7 +111,7 @@ fn rotation_translation_dual_quaternion_and_matrix_round_trip() {
         // C: the same through the ABI.
         let mut dq = SENTINEL;
         assert_eq!(
-            cg_dualquat_from_rt(&rotation.into(), &translation.into(), &mut dq),
+            unsafe { cg_dualquat_from_rt(&rotation.into(), &translation.into(), &mut dq) },
             cg_status::Ok
         );
         // 1e−6 relative to the translation: f32 resolves no better.
@@ -114,7 +119,7 @@ fn rotation_translation_dual_quaternion_and_matrix_round_trip() {
         assert!(same(rust(dq), q, tolerance));
         let mut matrix = [0.0f32; 16];
         assert_eq!(
-            cg_dualquat_to_matrix(&dq, matrix.as_mut_ptr()),
+            unsafe { cg_dualquat_to_matrix(&dq, matrix.as_mut_ptr()) },
             cg_status::Ok
         );
         let expected = Mat4::from_rotation_translation(rotation, translation).to_cols_array();
@@ -126,13 +131,13 @@ fn rotation_translation_dual_quaternion_and_matrix_round_trip() {
         }
         let mut from_matrix = SENTINEL;
         assert_eq!(
-            cg_dualquat_from_matrix(matrix.as_ptr(), &mut from_matrix),
+            unsafe { cg_dualquat_from_matrix(matrix.as_ptr(), &mut from_matrix) },
             cg_status::Ok
         );
         let mut out_rotation = cg_quat::IDENTITY;
         let mut out_translation = cg_vec3::default();
         assert_eq!(
-            cg_dualquat_to_rt(&from_matrix, &mut out_rotation, &mut out_translation),
+            unsafe { cg_dualquat_to_rt(&from_matrix, &mut out_rotation, &mut out_translation) },
             cg_status::Ok
         );
         let out_rotation = Quat::from_xyzw(
@@ -156,7 +161,7 @@ fn osg_row_vector_matrices_are_read_as_is() {
     ];
     let mut dq = SENTINEL;
     assert_eq!(
-        cg_dualquat_from_matrix(osg.as_ptr(), &mut dq),
+        unsafe { cg_dualquat_from_matrix(osg.as_ptr(), &mut dq) },
         cg_status::Ok
     );
     let q = rust(dq);
@@ -192,7 +197,7 @@ fn dlb_equals_the_closed_formula_through_c() {
         let c_inputs: Vec<cg_dualquat> = inputs.iter().map(|&q| c(q)).collect();
         let mut out = SENTINEL;
         assert_eq!(
-            cg_blend_dlb(c_inputs.as_ptr(), weights.as_ptr(), 4, &mut out),
+            unsafe { cg_blend_dlb(c_inputs.as_ptr(), weights.as_ptr(), 4, &mut out) },
             cg_status::Ok
         );
         assert!(
@@ -215,7 +220,7 @@ fn dib_of_two_is_sclerp_and_of_one_is_the_input() {
         let weights = [1.0 - t, t];
         let mut out = SENTINEL;
         assert_eq!(
-            cg_blend_dib(inputs.as_ptr(), weights.as_ptr(), 2, 1e-6, 16, &mut out),
+            unsafe { cg_blend_dib(inputs.as_ptr(), weights.as_ptr(), 2, 1e-6, 16, &mut out) },
             cg_status::Ok
         );
         assert!(same(rust(out), expected, 1e-5));
@@ -231,7 +236,7 @@ fn dib_of_two_is_sclerp_and_of_one_is_the_input() {
 
         let mut one = SENTINEL;
         assert_eq!(
-            cg_blend_dib(inputs.as_ptr(), [0.4f32].as_ptr(), 1, 1e-6, 16, &mut one),
+            unsafe { cg_blend_dib(inputs.as_ptr(), [0.4f32].as_ptr(), 1, 1e-6, 16, &mut one) },
             cg_status::Ok
         );
         assert!(same(rust(one), a, 1e-6));
@@ -310,13 +315,13 @@ fn not_converging_is_reported_with_the_best_result_written() {
     let weights = [0.3f32, 0.4, 0.3];
     let mut out = SENTINEL;
     assert_eq!(
-        cg_blend_dib(inputs.as_ptr(), weights.as_ptr(), 3, 1e-6, 1, &mut out),
+        unsafe { cg_blend_dib(inputs.as_ptr(), weights.as_ptr(), 3, 1e-6, 1, &mut out) },
         cg_status::NotConverged
     );
     assert!(last_error_message().starts_with("not converged: DIB: 1 of 1"));
     let mut linear = SENTINEL;
     assert_eq!(
-        cg_blend_dlb(inputs.as_ptr(), weights.as_ptr(), 3, &mut linear),
+        unsafe { cg_blend_dlb(inputs.as_ptr(), weights.as_ptr(), 3, &mut linear) },
         cg_status::Ok
     );
     assert!(
@@ -325,7 +330,7 @@ fn not_converging_is_reported_with_the_best_result_written() {
     );
     // With enough iterations the same blend converges.
     assert_eq!(
-        cg_blend_dib(inputs.as_ptr(), weights.as_ptr(), 3, 1e-6, 100, &mut out),
+        unsafe { cg_blend_dib(inputs.as_ptr(), weights.as_ptr(), 3, 1e-6, 100, &mut out) },
         cg_status::Ok
     );
 
@@ -335,15 +340,17 @@ fn not_converging_is_reported_with_the_best_result_written() {
     ];
     let mut pose = [SENTINEL; 2];
     assert_eq!(
-        cg_blend_pose_dib(
-            keys.as_ptr(),
-            weights.as_ptr(),
-            3,
-            2,
-            1e-6,
-            1,
-            pose.as_mut_ptr()
-        ),
+        unsafe {
+            cg_blend_pose_dib(
+                keys.as_ptr(),
+                weights.as_ptr(),
+                3,
+                2,
+                1e-6,
+                1,
+                pose.as_mut_ptr(),
+            )
+        },
         cg_status::NotConverged
     );
     assert!(pose.iter().all(|q| *q != SENTINEL));
@@ -361,25 +368,29 @@ fn pose_forms_blend_joint_by_joint() {
     let mut linear = vec![SENTINEL; joints];
     let mut iterative = vec![SENTINEL; joints];
     assert_eq!(
-        cg_blend_pose_dlb(
-            c_poses.as_ptr(),
-            weights.as_ptr(),
-            keys,
-            joints,
-            linear.as_mut_ptr()
-        ),
+        unsafe {
+            cg_blend_pose_dlb(
+                c_poses.as_ptr(),
+                weights.as_ptr(),
+                keys,
+                joints,
+                linear.as_mut_ptr(),
+            )
+        },
         cg_status::Ok
     );
     assert_eq!(
-        cg_blend_pose_dib(
-            c_poses.as_ptr(),
-            weights.as_ptr(),
-            keys,
-            joints,
-            1e-6,
-            16,
-            iterative.as_mut_ptr()
-        ),
+        unsafe {
+            cg_blend_pose_dib(
+                c_poses.as_ptr(),
+                weights.as_ptr(),
+                keys,
+                joints,
+                1e-6,
+                16,
+                iterative.as_mut_ptr(),
+            )
+        },
         cg_status::Ok
     );
     let mut rust_pose = vec![DualQuat::ZERO; joints];
@@ -402,7 +413,7 @@ fn pose_forms_blend_joint_by_joint() {
     }
     // An empty pose is valid.
     assert_eq!(
-        cg_blend_pose_dlb(null(), weights.as_ptr(), keys, 0, null_mut()),
+        unsafe { cg_blend_pose_dlb(null(), weights.as_ptr(), keys, 0, null_mut()) },
         cg_status::Ok
     );
 }
@@ -611,7 +622,7 @@ fn c_config(joints: u32, keys: u32) -> cg_view_blender_config {
             .write(std::mem::size_of::<cg_view_blender_config>() as u32)
     };
     assert_eq!(
-        cg_view_blender_config_init(config.as_mut_ptr()),
+        unsafe { cg_view_blender_config_init(config.as_mut_ptr()) },
         cg_status::Ok
     );
     // SAFETY: initialised by cg_view_blender_config_init.
@@ -625,7 +636,10 @@ fn c_blender(method: cg_blend_method) -> *mut cg_view_blender {
     let mut config = c_config(1, 3);
     config.method = method as u32;
     let mut blender = null_mut();
-    assert_eq!(cg_view_blender_create(&config, &mut blender), cg_status::Ok);
+    assert_eq!(
+        unsafe { cg_view_blender_create(&config, &mut blender) },
+        cg_status::Ok
+    );
     let (sin, cos) = FRAC_PI_3.sin_cos();
     let cameras = [
         vec3(sin, 0.0, cos),
@@ -635,11 +649,11 @@ fn c_blender(method: cg_blend_method) -> *mut cg_view_blender {
     for (key, camera) in cameras.into_iter().enumerate() {
         let pose = [c(transform(Vec3::Y, (key as f32 - 1.0) * -0.9, Vec3::Y))];
         assert_eq!(
-            cg_view_blender_set_key_pose(blender, key as u32, pose.as_ptr(), 1),
+            unsafe { cg_view_blender_set_key_pose(blender, key as u32, pose.as_ptr(), 1) },
             cg_status::Ok
         );
         assert_eq!(
-            cg_view_blender_add_camera(blender, camera, key as u32),
+            unsafe { cg_view_blender_add_camera(blender, camera, key as u32) },
             cg_status::Ok
         );
     }
@@ -657,19 +671,21 @@ fn the_c_view_blender_works_end_to_end() {
         let viewer = vec3(6.0, 1.6, -1.0);
         let mut w = [0.0f32; 3];
         assert_eq!(
-            cg_view_blender_weights(blender, &character, &viewer, w.as_mut_ptr(), 3),
+            unsafe { cg_view_blender_weights(blender, &character, &viewer, w.as_mut_ptr(), 3) },
             cg_status::Ok
         );
         assert!((w.iter().sum::<f32>() - 1.0).abs() < 1e-6);
         let mut pose = [SENTINEL];
         assert_eq!(
-            cg_view_blender_evaluate(blender, &character, &viewer, 0.5, pose.as_mut_ptr(), 1),
+            unsafe {
+                cg_view_blender_evaluate(blender, &character, &viewer, 0.5, pose.as_mut_ptr(), 1)
+            },
             cg_status::Ok
         );
         assert!(is_rigid(rust(pose[0])));
-        cg_view_blender_destroy(blender);
+        unsafe { cg_view_blender_destroy(blender) };
     }
-    cg_view_blender_destroy(null_mut());
+    unsafe { cg_view_blender_destroy(null_mut()) };
 }
 
 #[test]
@@ -689,104 +705,104 @@ fn bad_input_from_c_is_rejected_and_changes_nothing() {
 
     // NULL and counts.
     assert_eq!(
-        cg_blend_dlb(null(), w.as_ptr(), 1, &mut out),
+        unsafe { cg_blend_dlb(null(), w.as_ptr(), 1, &mut out) },
         cg_status::NullArgument
     );
     assert_eq!(
-        cg_blend_dlb(&q, null(), 1, &mut out),
+        unsafe { cg_blend_dlb(&q, null(), 1, &mut out) },
         cg_status::NullArgument
     );
     assert_eq!(
-        cg_blend_dlb(&q, w.as_ptr(), 1, null_mut()),
+        unsafe { cg_blend_dlb(&q, w.as_ptr(), 1, null_mut()) },
         cg_status::NullArgument
     );
     assert_eq!(
-        cg_blend_dlb(null(), null(), 0, &mut out),
+        unsafe { cg_blend_dlb(null(), null(), 0, &mut out) },
         cg_status::InvalidArgument
     );
     assert_eq!(
-        cg_dualquat_from_rt(null(), &vec3(0.0, 0.0, 0.0), &mut out),
+        unsafe { cg_dualquat_from_rt(null(), &vec3(0.0, 0.0, 0.0), &mut out) },
         cg_status::NullArgument
     );
     assert_eq!(
-        cg_dualquat_to_rt(&q, null_mut(), &mut cg_vec3::default()),
+        unsafe { cg_dualquat_to_rt(&q, null_mut(), &mut cg_vec3::default()) },
         cg_status::NullArgument
     );
     assert_eq!(
-        cg_dualquat_from_matrix(null(), &mut out),
+        unsafe { cg_dualquat_from_matrix(null(), &mut out) },
         cg_status::NullArgument
     );
     assert_eq!(
-        cg_camera_center_from_projection(null(), &mut cg_vec3::default()),
+        unsafe { cg_camera_center_from_projection(null(), &mut cg_vec3::default()) },
         cg_status::NullArgument
     );
     // Non-finite anywhere.
     assert_eq!(
-        cg_blend_dlb(&nan, w.as_ptr(), 1, &mut out),
+        unsafe { cg_blend_dlb(&nan, w.as_ptr(), 1, &mut out) },
         cg_status::NonFinite
     );
     assert_eq!(
-        cg_blend_dlb(&q, [f32::INFINITY].as_ptr(), 1, &mut out),
+        unsafe { cg_blend_dlb(&q, [f32::INFINITY].as_ptr(), 1, &mut out) },
         cg_status::NonFinite
     );
     assert_eq!(
-        cg_blend_dib(&q, w.as_ptr(), 1, f32::NAN, 4, &mut out),
+        unsafe { cg_blend_dib(&q, w.as_ptr(), 1, f32::NAN, 4, &mut out) },
         cg_status::NonFinite
     );
     assert_eq!(
-        cg_dualquat_from_rt(&cg_quat::IDENTITY, &vec3(f32::NAN, 0.0, 0.0), &mut out),
+        unsafe { cg_dualquat_from_rt(&cg_quat::IDENTITY, &vec3(f32::NAN, 0.0, 0.0), &mut out) },
         cg_status::NonFinite
     );
     let mut matrix = Mat4::IDENTITY.to_cols_array();
     matrix[13] = f32::INFINITY;
     assert_eq!(
-        cg_dualquat_from_matrix(matrix.as_ptr(), &mut out),
+        unsafe { cg_dualquat_from_matrix(matrix.as_ptr(), &mut out) },
         cg_status::NonFinite
     );
     // Invalid values.
     assert_eq!(
-        cg_blend_dlb(&zero, w.as_ptr(), 1, &mut out),
+        unsafe { cg_blend_dlb(&zero, w.as_ptr(), 1, &mut out) },
         cg_status::InvalidArgument
     );
     assert_eq!(
-        cg_blend_dlb(&q, [-1.0f32].as_ptr(), 1, &mut out),
+        unsafe { cg_blend_dlb(&q, [-1.0f32].as_ptr(), 1, &mut out) },
         cg_status::InvalidArgument
     );
     assert_eq!(
-        cg_blend_dlb(&q, [0.0f32].as_ptr(), 1, &mut out),
+        unsafe { cg_blend_dlb(&q, [0.0f32].as_ptr(), 1, &mut out) },
         cg_status::InvalidArgument
     );
     assert_eq!(
-        cg_blend_dib(&q, w.as_ptr(), 1, 0.0, 4, &mut out),
+        unsafe { cg_blend_dib(&q, w.as_ptr(), 1, 0.0, 4, &mut out) },
         cg_status::InvalidArgument
     );
     assert_eq!(
-        cg_blend_dib(&q, w.as_ptr(), 1, 1e-6, 0, &mut out),
+        unsafe { cg_blend_dib(&q, w.as_ptr(), 1, 1e-6, 0, &mut out) },
         cg_status::InvalidArgument
     );
     assert_eq!(
-        cg_blend_dib(&q, w.as_ptr(), 1, 1e-6, 1001, &mut out),
+        unsafe { cg_blend_dib(&q, w.as_ptr(), 1, 1e-6, 1001, &mut out) },
         cg_status::InvalidArgument
     );
     let scaled = Mat4::from_scale(Vec3::splat(2.0)).to_cols_array();
     assert_eq!(
-        cg_dualquat_from_matrix(scaled.as_ptr(), &mut out),
+        unsafe { cg_dualquat_from_matrix(scaled.as_ptr(), &mut out) },
         cg_status::InvalidArgument
     );
     // Pose forms: counts, overflow, aliasing.
     let keys = [q, q];
     let mut pose = [SENTINEL, SENTINEL];
     assert_eq!(
-        cg_blend_pose_dlb(keys.as_ptr(), w.as_ptr(), 1, usize::MAX, pose.as_mut_ptr()),
+        unsafe { cg_blend_pose_dlb(keys.as_ptr(), w.as_ptr(), 1, usize::MAX, pose.as_mut_ptr()) },
         cg_status::InvalidArgument
     );
     let mut aliased = [q, q];
     assert_eq!(
-        cg_blend_pose_dlb(aliased.as_ptr(), w.as_ptr(), 1, 2, aliased.as_mut_ptr()),
+        unsafe { cg_blend_pose_dlb(aliased.as_ptr(), w.as_ptr(), 1, 2, aliased.as_mut_ptr()) },
         cg_status::InvalidArgument
     );
     assert_eq!(
-        cg_blend_pose_dlb(keys.as_ptr(), w.as_ptr(), 1, 2, null_mut()),
+        unsafe { cg_blend_pose_dlb(keys.as_ptr(), w.as_ptr(), 1, 2, null_mut()) },
         cg_status::NullArgument
     );
     assert_eq!(out, SENTINEL, "failed calls write nothing");
@@ -798,17 +814,17 @@ fn bad_input_from_c_is_rejected_and_changes_nothing() {
         1.0f32, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0,
     ];
     assert_eq!(
-        cg_camera_center_from_projection(affine.as_ptr(), &mut centre),
+        unsafe { cg_camera_center_from_projection(affine.as_ptr(), &mut centre) },
         cg_status::InvalidArgument
     );
     assert_eq!(
-        cg_camera_center_from_projection([0.0f32; 12].as_ptr(), &mut centre),
+        unsafe { cg_camera_center_from_projection([0.0f32; 12].as_ptr(), &mut centre) },
         cg_status::InvalidArgument
     );
     let mut nan_p = affine;
     nan_p[2] = f32::NAN;
     assert_eq!(
-        cg_camera_center_from_projection(nan_p.as_ptr(), &mut centre),
+        unsafe { cg_camera_center_from_projection(nan_p.as_ptr(), &mut centre) },
         cg_status::NonFinite
     );
     assert_eq!(centre, vec3(9.0, 9.0, 9.0));
@@ -817,7 +833,7 @@ fn bad_input_from_c_is_rejected_and_changes_nothing() {
         500.0f32, 0.0, 0.0, -500.0, 0.0, 500.0, 0.0, -1000.0, 0.0, 0.0, 1.0, -3.0,
     ];
     assert_eq!(
-        cg_camera_center_from_projection(good.as_ptr(), &mut centre),
+        unsafe { cg_camera_center_from_projection(good.as_ptr(), &mut centre) },
         cg_status::Ok
     );
     assert!(
@@ -832,21 +848,21 @@ fn bad_input_to_the_c_view_blender() {
     // Configs.
     let mut blender = null_mut();
     assert_eq!(
-        cg_view_blender_config_init(null_mut()),
+        unsafe { cg_view_blender_config_init(null_mut()) },
         cg_status::NullArgument
     );
     let mut config = c_config(1, 3);
     assert_eq!(
-        cg_view_blender_create(null(), &mut blender),
+        unsafe { cg_view_blender_create(null(), &mut blender) },
         cg_status::NullArgument
     );
     assert_eq!(
-        cg_view_blender_create(&config, null_mut()),
+        unsafe { cg_view_blender_create(&config, null_mut()) },
         cg_status::NullArgument
     );
     config.struct_size = 3;
     assert_eq!(
-        cg_view_blender_create(&config, &mut blender),
+        unsafe { cg_view_blender_create(&config, &mut blender) },
         cg_status::BadStructSize
     );
     assert!(last_error_message().contains("cg_view_blender_config.struct_size is 3"));
@@ -870,7 +886,7 @@ fn bad_input_to_the_c_view_blender() {
             _ => config.precision = -1.0,
         }
         assert_eq!(
-            cg_view_blender_create(&config, &mut blender),
+            unsafe { cg_view_blender_create(&config, &mut blender) },
             status,
             "{field}"
         );
@@ -879,57 +895,62 @@ fn bad_input_to_the_c_view_blender() {
 
     // Setup calls.
     let config = c_config(2, 2);
-    assert_eq!(cg_view_blender_create(&config, &mut blender), cg_status::Ok);
+    assert_eq!(
+        unsafe { cg_view_blender_create(&config, &mut blender) },
+        cg_status::Ok
+    );
     let pose = [c(DualQuat::IDENTITY); 2];
     let mut nan_pose = pose;
     nan_pose[1].real.w = f32::NAN;
     assert_eq!(
-        cg_view_blender_set_key_pose(null_mut(), 0, pose.as_ptr(), 2),
+        unsafe { cg_view_blender_set_key_pose(null_mut(), 0, pose.as_ptr(), 2) },
         cg_status::NullArgument
     );
     assert_eq!(
-        cg_view_blender_set_key_pose(blender, 0, null(), 2),
+        unsafe { cg_view_blender_set_key_pose(blender, 0, null(), 2) },
         cg_status::NullArgument
     );
     assert_eq!(
-        cg_view_blender_set_key_pose(blender, 0, pose.as_ptr(), 1),
+        unsafe { cg_view_blender_set_key_pose(blender, 0, pose.as_ptr(), 1) },
         cg_status::InvalidArgument
     );
     assert_eq!(
-        cg_view_blender_set_key_pose(blender, 2, pose.as_ptr(), 2),
+        unsafe { cg_view_blender_set_key_pose(blender, 2, pose.as_ptr(), 2) },
         cg_status::InvalidArgument
     );
     assert_eq!(
-        cg_view_blender_set_key_pose(blender, 0, nan_pose.as_ptr(), 2),
+        unsafe { cg_view_blender_set_key_pose(blender, 0, nan_pose.as_ptr(), 2) },
         cg_status::NonFinite
     );
     assert_eq!(
-        cg_view_blender_set_key_clip(blender, 0, null(), 0, 30.0, false),
+        unsafe { cg_view_blender_set_key_clip(blender, 0, null(), 0, 30.0, false) },
         cg_status::InvalidArgument
     );
     assert_eq!(
-        cg_view_blender_set_key_clip(blender, 0, pose.as_ptr(), 1, f32::NAN, false),
+        unsafe { cg_view_blender_set_key_clip(blender, 0, pose.as_ptr(), 1, f32::NAN, false) },
         cg_status::NonFinite
     );
     let two_frames = [pose, pose].concat();
     assert_eq!(
-        cg_view_blender_set_key_clip(blender, 0, two_frames.as_ptr(), 2, 0.0, true),
+        unsafe { cg_view_blender_set_key_clip(blender, 0, two_frames.as_ptr(), 2, 0.0, true) },
         cg_status::InvalidArgument
     );
     assert_eq!(
-        cg_view_blender_set_key_clip(blender, 0, two_frames.as_ptr(), usize::MAX, 30.0, true),
+        unsafe {
+            cg_view_blender_set_key_clip(blender, 0, two_frames.as_ptr(), usize::MAX, 30.0, true)
+        },
         cg_status::InvalidArgument
     );
     assert_eq!(
-        cg_view_blender_add_camera(blender, vec3(0.0, 0.0, 0.0), 0),
+        unsafe { cg_view_blender_add_camera(blender, vec3(0.0, 0.0, 0.0), 0) },
         cg_status::InvalidArgument
     );
     assert_eq!(
-        cg_view_blender_add_camera(blender, vec3(f32::NAN, 0.0, 1.0), 0),
+        unsafe { cg_view_blender_add_camera(blender, vec3(f32::NAN, 0.0, 1.0), 0) },
         cg_status::NonFinite
     );
     assert_eq!(
-        cg_view_blender_add_camera(blender, vec3(0.0, 0.0, 1.0), 9),
+        unsafe { cg_view_blender_add_camera(blender, vec3(0.0, 0.0, 1.0), 9) },
         cg_status::InvalidArgument
     );
 
@@ -939,27 +960,27 @@ fn bad_input_to_the_c_view_blender() {
     let mut w = [0.25f32; 2];
     let mut out = [SENTINEL; 2];
     assert_eq!(
-        cg_view_blender_weights(blender, &character, &viewer, w.as_mut_ptr(), 2),
+        unsafe { cg_view_blender_weights(blender, &character, &viewer, w.as_mut_ptr(), 2) },
         cg_status::WrongState
     );
     assert_eq!(
-        cg_view_blender_add_camera(blender, vec3(0.0, 0.0, 1.0), 0),
+        unsafe { cg_view_blender_add_camera(blender, vec3(0.0, 0.0, 1.0), 0) },
         cg_status::Ok
     );
     assert_eq!(
-        cg_view_blender_add_camera(blender, vec3(1.0, 0.0, 0.0), 1),
+        unsafe { cg_view_blender_add_camera(blender, vec3(1.0, 0.0, 0.0), 1) },
         cg_status::Ok
     );
     assert_eq!(
-        cg_view_blender_evaluate(blender, &character, &viewer, 0.0, out.as_mut_ptr(), 2),
+        unsafe { cg_view_blender_evaluate(blender, &character, &viewer, 0.0, out.as_mut_ptr(), 2) },
         cg_status::WrongState
     );
     assert_eq!(
-        cg_view_blender_set_key_clip(blender, 0, two_frames.as_ptr(), 2, 30.0, true),
+        unsafe { cg_view_blender_set_key_clip(blender, 0, two_frames.as_ptr(), 2, 30.0, true) },
         cg_status::Ok
     );
     assert_eq!(
-        cg_view_blender_set_key_pose(blender, 1, pose.as_ptr(), 2),
+        unsafe { cg_view_blender_set_key_pose(blender, 1, pose.as_ptr(), 2) },
         cg_status::Ok
     );
 
@@ -967,55 +988,61 @@ fn bad_input_to_the_c_view_blender() {
     let mut nan_character = character;
     nan_character.dual.z = f32::INFINITY;
     assert_eq!(
-        cg_view_blender_weights(null(), &character, &viewer, w.as_mut_ptr(), 2),
+        unsafe { cg_view_blender_weights(null(), &character, &viewer, w.as_mut_ptr(), 2) },
         cg_status::NullArgument
     );
     assert_eq!(
-        cg_view_blender_weights(blender, null(), &viewer, w.as_mut_ptr(), 2),
+        unsafe { cg_view_blender_weights(blender, null(), &viewer, w.as_mut_ptr(), 2) },
         cg_status::NullArgument
     );
     assert_eq!(
-        cg_view_blender_weights(blender, &character, null(), w.as_mut_ptr(), 2),
+        unsafe { cg_view_blender_weights(blender, &character, null(), w.as_mut_ptr(), 2) },
         cg_status::NullArgument
     );
     assert_eq!(
-        cg_view_blender_weights(blender, &character, &viewer, null_mut(), 2),
+        unsafe { cg_view_blender_weights(blender, &character, &viewer, null_mut(), 2) },
         cg_status::NullArgument
     );
     assert_eq!(
-        cg_view_blender_weights(blender, &character, &viewer, w.as_mut_ptr(), 1),
+        unsafe { cg_view_blender_weights(blender, &character, &viewer, w.as_mut_ptr(), 1) },
         cg_status::InvalidArgument
     );
     assert_eq!(
-        cg_view_blender_weights(blender, &nan_character, &viewer, w.as_mut_ptr(), 2),
+        unsafe { cg_view_blender_weights(blender, &nan_character, &viewer, w.as_mut_ptr(), 2) },
         cg_status::NonFinite
     );
     assert_eq!(
-        cg_view_blender_weights(
-            blender,
-            &character,
-            &vec3(0.0, f32::NAN, 0.0),
-            w.as_mut_ptr(),
-            2
-        ),
+        unsafe {
+            cg_view_blender_weights(
+                blender,
+                &character,
+                &vec3(0.0, f32::NAN, 0.0),
+                w.as_mut_ptr(),
+                2,
+            )
+        },
         cg_status::NonFinite
     );
     let at_centre = vec3(0.0, 0.0, 0.0);
     assert_eq!(
-        cg_view_blender_weights(blender, &character, &at_centre, w.as_mut_ptr(), 2),
+        unsafe { cg_view_blender_weights(blender, &character, &at_centre, w.as_mut_ptr(), 2) },
         cg_status::InvalidArgument
     );
     assert!(last_error_message().contains("centre"));
     assert_eq!(
-        cg_view_blender_evaluate(blender, &character, &at_centre, 0.0, out.as_mut_ptr(), 2),
+        unsafe {
+            cg_view_blender_evaluate(blender, &character, &at_centre, 0.0, out.as_mut_ptr(), 2)
+        },
         cg_status::InvalidArgument
     );
     assert_eq!(
-        cg_view_blender_evaluate(blender, &character, &viewer, f64::NAN, out.as_mut_ptr(), 2),
+        unsafe {
+            cg_view_blender_evaluate(blender, &character, &viewer, f64::NAN, out.as_mut_ptr(), 2)
+        },
         cg_status::NonFinite
     );
     assert_eq!(
-        cg_view_blender_evaluate(blender, &character, &viewer, 0.0, out.as_mut_ptr(), 3),
+        unsafe { cg_view_blender_evaluate(blender, &character, &viewer, 0.0, out.as_mut_ptr(), 3) },
         cg_status::InvalidArgument
     );
     assert_eq!(w, [0.25; 2]);
@@ -1023,13 +1050,13 @@ fn bad_input_to_the_c_view_blender() {
 
     // And then it works.
     assert_eq!(
-        cg_view_blender_weights(blender, &character, &viewer, w.as_mut_ptr(), 2),
+        unsafe { cg_view_blender_weights(blender, &character, &viewer, w.as_mut_ptr(), 2) },
         cg_status::Ok
     );
     assert_eq!(w, [1.0, 0.0]);
     assert_eq!(
-        cg_view_blender_evaluate(blender, &character, &viewer, 0.0, out.as_mut_ptr(), 2),
+        unsafe { cg_view_blender_evaluate(blender, &character, &viewer, 0.0, out.as_mut_ptr(), 2) },
         cg_status::Ok
     );
-    cg_view_blender_destroy(blender);
+    unsafe { cg_view_blender_destroy(blender) };
 }

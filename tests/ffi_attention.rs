@@ -1,6 +1,11 @@
 //! The crowd-attention C entry points seen from C's side: statuses for NULL and bad input,
 //! unit conversion at the edge, and "a failed call changes nothing".
 
+// The `unsafe { cg_... }` calls below pass pointers to live values of the sizes the header
+// asks for, or deliberately bad ones (NULL, misaligned, wrong struct_size) that the library
+// must refuse: that is their safety comment, once for the file.
+#![allow(clippy::undocumented_unsafe_blocks)]
+
 use crowdgaze::ffi::attention::*;
 use crowdgaze::ffi::crowd::*;
 use crowdgaze::ffi::last_error::last_error_message;
@@ -18,7 +23,10 @@ fn crowd(units_per_metre: f32, recorded: u32) -> *mut cg_crowd {
             .cast::<u32>()
             .write(std::mem::size_of::<cg_crowd_config>() as u32)
     };
-    assert_eq!(cg_crowd_config_init(config.as_mut_ptr()), cg_status::Ok);
+    assert_eq!(
+        unsafe { cg_crowd_config_init(config.as_mut_ptr()) },
+        cg_status::Ok
+    );
     // SAFETY: initialised above.
     let mut config = unsafe { config.assume_init() };
     config.units_per_metre = units_per_metre;
@@ -28,7 +36,10 @@ fn crowd(units_per_metre: f32, recorded: u32) -> *mut cg_crowd {
     config.max_objects = 1;
     config.max_recorded_states = recorded;
     let mut handle = null_mut();
-    assert_eq!(cg_crowd_create(&config, &mut handle), cg_status::Ok);
+    assert_eq!(
+        unsafe { cg_crowd_create(&config, &mut handle) },
+        cg_status::Ok
+    );
     handle
 }
 
@@ -40,14 +51,17 @@ fn character(handle: *mut cg_crowd, x: f32, z: f32, heading: f32) -> u32 {
             .cast::<u32>()
             .write(std::mem::size_of::<cg_character_desc>() as u32)
     };
-    assert_eq!(cg_character_desc_init(desc.as_mut_ptr()), cg_status::Ok);
+    assert_eq!(
+        unsafe { cg_character_desc_init(desc.as_mut_ptr()) },
+        cg_status::Ok
+    );
     // SAFETY: initialised above.
     let mut desc = unsafe { desc.assume_init() };
     desc.position = cg_vec3 { x, y: 0.0, z };
     desc.heading = heading;
     let mut id = 0;
     assert_eq!(
-        cg_crowd_add_character(handle, &desc, &mut id),
+        unsafe { cg_crowd_add_character(handle, &desc, &mut id) },
         cg_status::Ok
     );
     id
@@ -62,7 +76,10 @@ fn state(id: u32, x: f32, z: f32) -> cg_entity_state {
             .cast::<u32>()
             .write(std::mem::size_of::<cg_entity_state>() as u32)
     };
-    assert_eq!(cg_entity_state_init(state.as_mut_ptr()), cg_status::Ok);
+    assert_eq!(
+        unsafe { cg_entity_state_init(state.as_mut_ptr()) },
+        cg_status::Ok
+    );
     // SAFETY: initialised above.
     let mut state = unsafe { state.assume_init() };
     state.id = id;
@@ -74,7 +91,7 @@ fn gaze(handle: *const cg_crowd) -> Vec<cg_gaze_info> {
     let mut out = vec![cg_gaze_info::default(); 4];
     let mut written = 0;
     assert_eq!(
-        cg_crowd_read_gaze(handle, out.as_mut_ptr(), out.len(), &mut written),
+        unsafe { cg_crowd_read_gaze(handle, out.as_mut_ptr(), out.len(), &mut written) },
         cg_status::Ok
     );
     out.truncate(written);
@@ -93,68 +110,92 @@ fn null_arguments_are_rejected() {
             .cast::<u32>()
             .write(std::mem::size_of::<cg_character_desc>() as u32)
     };
-    assert_eq!(cg_character_desc_init(null_mut()), cg_status::NullArgument);
-    assert_eq!(cg_object_desc_init(null_mut()), cg_status::NullArgument);
-    assert_eq!(cg_entity_state_init(null_mut()), cg_status::NullArgument);
-    assert_eq!(cg_character_desc_init(desc.as_mut_ptr()), cg_status::Ok);
     assert_eq!(
-        cg_crowd_add_character(null_mut(), desc.as_ptr(), &mut id),
+        unsafe { cg_character_desc_init(null_mut()) },
         cg_status::NullArgument
     );
     assert_eq!(
-        cg_crowd_add_character(handle, null(), &mut id),
+        unsafe { cg_object_desc_init(null_mut()) },
         cg_status::NullArgument
     );
     assert_eq!(
-        cg_crowd_add_character(handle, desc.as_ptr(), null_mut()),
+        unsafe { cg_entity_state_init(null_mut()) },
         cg_status::NullArgument
     );
     assert_eq!(
-        cg_crowd_add_object(handle, null(), &mut id),
-        cg_status::NullArgument
-    );
-    assert_eq!(
-        cg_crowd_remove_entity(null_mut(), a),
-        cg_status::NullArgument
-    );
-    assert_eq!(
-        cg_crowd_character_count(handle, null_mut()),
-        cg_status::NullArgument
-    );
-    assert_eq!(
-        cg_crowd_push_frame(handle, 0.0, null(), 3),
-        cg_status::NullArgument
-    );
-    assert_eq!(cg_crowd_push_frame(handle, 0.0, null(), 0), cg_status::Ok);
-    assert_eq!(cg_crowd_step(null_mut(), 0.1), cg_status::NullArgument);
-    assert_eq!(
-        cg_crowd_read_gaze(handle, null_mut(), 2, null_mut()),
-        cg_status::NullArgument
-    );
-    assert_eq!(
-        cg_crowd_read_gaze(handle, null_mut(), 0, null_mut()),
+        unsafe { cg_character_desc_init(desc.as_mut_ptr()) },
         cg_status::Ok
     );
     assert_eq!(
-        cg_crowd_score(handle, a, a, null_mut()),
+        unsafe { cg_crowd_add_character(null_mut(), desc.as_ptr(), &mut id) },
         cg_status::NullArgument
     );
     assert_eq!(
-        cg_crowd_get_character_params(handle, a, null_mut()),
+        unsafe { cg_crowd_add_character(handle, null(), &mut id) },
         cg_status::NullArgument
     );
     assert_eq!(
-        cg_crowd_set_character_params(handle, a, null()),
+        unsafe { cg_crowd_add_character(handle, desc.as_ptr(), null_mut()) },
         cg_status::NullArgument
     );
-    assert_eq!(cg_crowd_plan(null_mut()), cg_status::NullArgument);
-    assert_eq!(cg_crowd_clear_plan(null_mut()), cg_status::NullArgument);
     assert_eq!(
-        cg_crowd_read_constraints(null(), a, null_mut(), 0, null_mut()),
+        unsafe { cg_crowd_add_object(handle, null(), &mut id) },
+        cg_status::NullArgument
+    );
+    assert_eq!(
+        unsafe { cg_crowd_remove_entity(null_mut(), a) },
+        cg_status::NullArgument
+    );
+    assert_eq!(
+        unsafe { cg_crowd_character_count(handle, null_mut()) },
+        cg_status::NullArgument
+    );
+    assert_eq!(
+        unsafe { cg_crowd_push_frame(handle, 0.0, null(), 3) },
+        cg_status::NullArgument
+    );
+    assert_eq!(
+        unsafe { cg_crowd_push_frame(handle, 0.0, null(), 0) },
+        cg_status::Ok
+    );
+    assert_eq!(
+        unsafe { cg_crowd_step(null_mut(), 0.1) },
+        cg_status::NullArgument
+    );
+    assert_eq!(
+        unsafe { cg_crowd_read_gaze(handle, null_mut(), 2, null_mut()) },
+        cg_status::NullArgument
+    );
+    assert_eq!(
+        unsafe { cg_crowd_read_gaze(handle, null_mut(), 0, null_mut()) },
+        cg_status::Ok
+    );
+    assert_eq!(
+        unsafe { cg_crowd_score(handle, a, a, null_mut()) },
+        cg_status::NullArgument
+    );
+    assert_eq!(
+        unsafe { cg_crowd_get_character_params(handle, a, null_mut()) },
+        cg_status::NullArgument
+    );
+    assert_eq!(
+        unsafe { cg_crowd_set_character_params(handle, a, null()) },
+        cg_status::NullArgument
+    );
+    assert_eq!(
+        unsafe { cg_crowd_plan(null_mut()) },
+        cg_status::NullArgument
+    );
+    assert_eq!(
+        unsafe { cg_crowd_clear_plan(null_mut()) },
+        cg_status::NullArgument
+    );
+    assert_eq!(
+        unsafe { cg_crowd_read_constraints(null(), a, null_mut(), 0, null_mut()) },
         cg_status::NullArgument
     );
     assert!(last_error_message().contains("NULL"));
-    cg_crowd_destroy(handle);
+    unsafe { cg_crowd_destroy(handle) };
 }
 
 #[test]
@@ -164,51 +205,60 @@ fn bad_values_fail_and_change_nothing() {
     let b = character(handle, 0.0, 3.0, std::f32::consts::PI);
     let good = [state(a, 0.0, 0.0), state(b, 0.0, 3.0)];
     assert_eq!(
-        cg_crowd_push_frame(handle, 1.0, good.as_ptr(), 2),
+        unsafe { cg_crowd_push_frame(handle, 1.0, good.as_ptr(), 2) },
         cg_status::Ok
     );
-    assert_eq!(cg_crowd_step(handle, 0.1), cg_status::Ok);
+    assert_eq!(unsafe { cg_crowd_step(handle, 0.1) }, cg_status::Ok);
     let before = gaze(handle);
 
     let mut bad = good;
     bad[1].position.x = f32::NAN;
     assert_eq!(
-        cg_crowd_push_frame(handle, 2.0, bad.as_ptr(), 2),
+        unsafe { cg_crowd_push_frame(handle, 2.0, bad.as_ptr(), 2) },
         cg_status::NonFinite
     );
     let mut unknown = good;
     unknown[1].id = 12345;
     assert_eq!(
-        cg_crowd_push_frame(handle, 2.0, unknown.as_ptr(), 2),
+        unsafe { cg_crowd_push_frame(handle, 2.0, unknown.as_ptr(), 2) },
         cg_status::NotFound
     );
     assert_eq!(
-        cg_crowd_push_frame(handle, 0.5, good.as_ptr(), 2),
+        unsafe { cg_crowd_push_frame(handle, 0.5, good.as_ptr(), 2) },
         cg_status::InvalidArgument
     );
     assert_eq!(
-        cg_crowd_push_frame(handle, f64::NAN, good.as_ptr(), 2),
+        unsafe { cg_crowd_push_frame(handle, f64::NAN, good.as_ptr(), 2) },
         cg_status::NonFinite
     );
     let mut wrong_size = good;
     wrong_size[0].struct_size = 8;
     assert_eq!(
-        cg_crowd_push_frame(handle, 2.0, wrong_size.as_ptr(), 2),
+        unsafe { cg_crowd_push_frame(handle, 2.0, wrong_size.as_ptr(), 2) },
         cg_status::BadStructSize
     );
     let mut flags = good;
     flags[0].flags = 0x80;
     assert_eq!(
-        cg_crowd_push_frame(handle, 2.0, flags.as_ptr(), 2),
+        unsafe { cg_crowd_push_frame(handle, 2.0, flags.as_ptr(), 2) },
         cg_status::InvalidArgument
     );
-    assert_eq!(cg_crowd_step(handle, f32::INFINITY), cg_status::NonFinite);
-    assert_eq!(cg_crowd_step(handle, -1.0), cg_status::InvalidArgument);
     assert_eq!(
-        cg_crowd_set_impact(handle, a, -1.0),
+        unsafe { cg_crowd_step(handle, f32::INFINITY) },
+        cg_status::NonFinite
+    );
+    assert_eq!(
+        unsafe { cg_crowd_step(handle, -1.0) },
         cg_status::InvalidArgument
     );
-    assert_eq!(cg_crowd_set_impact(handle, 999, 1.0), cg_status::NotFound);
+    assert_eq!(
+        unsafe { cg_crowd_set_impact(handle, a, -1.0) },
+        cg_status::InvalidArgument
+    );
+    assert_eq!(
+        unsafe { cg_crowd_set_impact(handle, 999, 1.0) },
+        cg_status::NotFound
+    );
 
     let mut params = MaybeUninit::<cg_character_params>::uninit();
     // SAFETY: a versioned struct starts with its `uint32_t struct_size`, set before the call.
@@ -219,7 +269,7 @@ fn bad_values_fail_and_change_nothing() {
             .write(std::mem::size_of::<cg_character_params>() as u32)
     };
     assert_eq!(
-        cg_crowd_get_character_params(handle, a, params.as_mut_ptr()),
+        unsafe { cg_crowd_get_character_params(handle, a, params.as_mut_ptr()) },
         cg_status::Ok
     );
     // SAFETY: written above.
@@ -229,7 +279,7 @@ fn bad_values_fail_and_change_nothing() {
         ..params
     };
     assert_eq!(
-        cg_crowd_set_character_params(handle, a, &negative),
+        unsafe { cg_crowd_set_character_params(handle, a, &negative) },
         cg_status::InvalidArgument
     );
     let fraction = cg_character_params {
@@ -237,7 +287,7 @@ fn bad_values_fail_and_change_nothing() {
         ..params
     };
     assert_eq!(
-        cg_crowd_set_character_params(handle, a, &fraction),
+        unsafe { cg_crowd_set_character_params(handle, a, &fraction) },
         cg_status::InvalidArgument
     );
     let nan = cg_character_params {
@@ -245,7 +295,7 @@ fn bad_values_fail_and_change_nothing() {
         ..params
     };
     assert_eq!(
-        cg_crowd_set_character_params(handle, a, &nan),
+        unsafe { cg_crowd_set_character_params(handle, a, &nan) },
         cg_status::NonFinite
     );
     let mut again = MaybeUninit::<cg_character_params>::uninit();
@@ -257,7 +307,7 @@ fn bad_values_fail_and_change_nothing() {
             .write(std::mem::size_of::<cg_character_params>() as u32)
     };
     assert_eq!(
-        cg_crowd_get_character_params(handle, a, again.as_mut_ptr()),
+        unsafe { cg_crowd_get_character_params(handle, a, again.as_mut_ptr()) },
         cg_status::Ok
     );
     // SAFETY: written above.
@@ -265,14 +315,14 @@ fn bad_values_fail_and_change_nothing() {
     assert_eq!(again.weight_speed, params.weight_speed);
     assert_eq!(again.attention_fraction, params.attention_fraction);
 
-    assert_eq!(cg_crowd_plan(handle), cg_status::WrongState);
+    assert_eq!(unsafe { cg_crowd_plan(handle) }, cg_status::WrongState);
     assert_eq!(
-        cg_crowd_read_constraints(handle, a, null_mut(), 0, null_mut()),
+        unsafe { cg_crowd_read_constraints(handle, a, null_mut(), 0, null_mut()) },
         cg_status::WrongState
     );
     let mut out = cg_score_breakdown::default();
     assert_eq!(
-        cg_crowd_score(handle, a, 4242, &mut out),
+        unsafe { cg_crowd_score(handle, a, 4242, &mut out) },
         cg_status::NotFound
     );
 
@@ -294,15 +344,21 @@ fn bad_values_fail_and_change_nothing() {
             .cast::<u32>()
             .write(std::mem::size_of::<cg_character_desc>() as u32)
     };
-    assert_eq!(cg_character_desc_init(desc.as_mut_ptr()), cg_status::Ok);
+    assert_eq!(
+        unsafe { cg_character_desc_init(desc.as_mut_ptr()) },
+        cg_status::Ok
+    );
     let mut id = 0;
     assert_eq!(
-        cg_crowd_add_character(handle, desc.as_ptr(), &mut id),
+        unsafe { cg_crowd_add_character(handle, desc.as_ptr(), &mut id) },
         cg_status::Capacity
     );
-    assert_eq!(cg_crowd_remove_entity(handle, a), cg_status::Ok);
-    assert_eq!(cg_crowd_remove_entity(handle, a), cg_status::NotFound);
-    cg_crowd_destroy(handle);
+    assert_eq!(unsafe { cg_crowd_remove_entity(handle, a) }, cg_status::Ok);
+    assert_eq!(
+        unsafe { cg_crowd_remove_entity(handle, a) },
+        cg_status::NotFound
+    );
+    unsafe { cg_crowd_destroy(handle) };
 }
 
 #[test]
@@ -315,7 +371,7 @@ fn lengths_are_converted_at_the_edge() {
         let b = character(handle, 0.5 * units, 2.0 * units, std::f32::consts::PI);
         let states = [state(a, 0.0, 0.0), state(b, 0.5 * units, 2.0 * units)];
         assert_eq!(
-            cg_crowd_push_frame(handle, 0.0, states.as_ptr(), 2),
+            unsafe { cg_crowd_push_frame(handle, 0.0, states.as_ptr(), 2) },
             cg_status::Ok
         );
         let moved = [
@@ -323,22 +379,25 @@ fn lengths_are_converted_at_the_edge() {
             state(b, 0.5 * units, 1.9 * units),
         ];
         assert_eq!(
-            cg_crowd_push_frame(handle, 0.1, moved.as_ptr(), 2),
+            unsafe { cg_crowd_push_frame(handle, 0.1, moved.as_ptr(), 2) },
             cg_status::Ok
         );
         let mut score = cg_score_breakdown::default();
-        assert_eq!(cg_crowd_score(handle, a, b, &mut score), cg_status::Ok);
+        assert_eq!(
+            unsafe { cg_crowd_score(handle, a, b, &mut score) },
+            cg_status::Ok
+        );
         assert!((score.distance / units - (0.25f32 + 1.8 * 1.8).sqrt()).abs() < 1e-4);
         assert!((score.relative_speed / units - 2.0).abs() < 1e-3);
         assert_eq!(score.pruned, 0);
         results.push((score.total, score.view_angle, score.proximity));
-        assert_eq!(cg_crowd_step(handle, 0.1), cg_status::Ok);
+        assert_eq!(unsafe { cg_crowd_step(handle, 0.1) }, cg_status::Ok);
         let g = gaze(handle);
         assert!(
             g[0].target_position.y > 1.0 * units,
             "eye height in caller units"
         );
-        cg_crowd_destroy(handle);
+        unsafe { cg_crowd_destroy(handle) };
     }
     assert!((results[0].0 - results[1].0).abs() < 1e-5);
     assert!((results[0].1 - results[1].1).abs() < 1e-5);
@@ -357,32 +416,34 @@ fn offline_planning_through_the_c_api() {
             s.flags = CG_STATE_HEADING_FROM_MOTION;
         }
         assert_eq!(
-            cg_crowd_push_frame(handle, t, states.as_ptr(), 2),
+            unsafe { cg_crowd_push_frame(handle, t, states.as_ptr(), 2) },
             cg_status::Ok
         );
     }
-    assert_eq!(cg_crowd_plan(handle), cg_status::Ok);
-    assert_eq!(cg_crowd_plan(handle), cg_status::WrongState);
+    assert_eq!(unsafe { cg_crowd_plan(handle) }, cg_status::Ok);
+    assert_eq!(unsafe { cg_crowd_plan(handle) }, cg_status::WrongState);
     let mut total = 0;
     assert_eq!(
-        cg_crowd_read_constraints(handle, a, null_mut(), 0, &mut total),
+        unsafe { cg_crowd_read_constraints(handle, a, null_mut(), 0, &mut total) },
         cg_status::Ok
     );
     let mut constraints = vec![cg_constraint::default(); total];
     assert_eq!(
-        cg_crowd_read_constraints(handle, a, constraints.as_mut_ptr(), total, &mut total),
+        unsafe {
+            cg_crowd_read_constraints(handle, a, constraints.as_mut_ptr(), total, &mut total)
+        },
         cg_status::Ok
     );
     assert!(constraints.iter().all(|k| k.entity == b && k.end > k.begin));
     let states = [state(a, 0.0, 0.0)];
     assert_eq!(
-        cg_crowd_push_frame(handle, 99.0, states.as_ptr(), 1),
+        unsafe { cg_crowd_push_frame(handle, 99.0, states.as_ptr(), 1) },
         cg_status::WrongState
     );
-    assert_eq!(cg_crowd_clear_plan(handle), cg_status::Ok);
+    assert_eq!(unsafe { cg_crowd_clear_plan(handle) }, cg_status::Ok);
     assert_eq!(
-        cg_crowd_push_frame(handle, 99.0, states.as_ptr(), 1),
+        unsafe { cg_crowd_push_frame(handle, 99.0, states.as_ptr(), 1) },
         cg_status::Ok
     );
-    cg_crowd_destroy(handle);
+    unsafe { cg_crowd_destroy(handle) };
 }

@@ -3,6 +3,11 @@
 //!
 //! Each feature adds its per-frame calls here, after a warm-up that may allocate.
 
+// The `unsafe { cg_... }` calls below pass pointers to live values of the sizes the header
+// asks for, or deliberately bad ones (NULL, misaligned, wrong struct_size) that the library
+// must refuse: that is their safety comment, once for the file.
+#![allow(clippy::undocumented_unsafe_blocks)]
+
 mod support;
 
 use std::alloc::{GlobalAlloc, Layout, System};
@@ -77,12 +82,12 @@ fn status_and_version_queries_do_not_allocate() {
             .write(std::mem::size_of::<crowd::cg_crowd_config>() as u32)
     };
     assert_eq!(
-        crowd::cg_crowd_config_init(config.as_mut_ptr()),
+        unsafe { crowd::cg_crowd_config_init(config.as_mut_ptr()) },
         status::cg_status::Ok
     );
     let mut handle = std::ptr::null_mut();
     assert_eq!(
-        crowd::cg_crowd_create(config.as_ptr(), &mut handle),
+        unsafe { crowd::cg_crowd_create(config.as_ptr(), &mut handle) },
         status::cg_status::Ok
     );
     assert_no_alloc("status, version and config queries", || {
@@ -92,11 +97,11 @@ fn status_and_version_queries_do_not_allocate() {
         assert_ne!(version::cg_version(), u32::MAX);
         assert!(!version::cg_version_string().is_null());
         assert_eq!(
-            crowd::cg_crowd_get_config(handle, config.as_mut_ptr()),
+            unsafe { crowd::cg_crowd_get_config(handle, config.as_mut_ptr()) },
             status::cg_status::Ok
         );
     });
-    crowd::cg_crowd_destroy(handle);
+    unsafe { crowd::cg_crowd_destroy(handle) };
 }
 
 #[test]
@@ -114,13 +119,19 @@ fn push_frame_step_and_read_gaze_do_not_allocate() {
             .cast::<u32>()
             .write(std::mem::size_of::<cg_crowd_config>() as u32)
     };
-    assert_eq!(cg_crowd_config_init(config.as_mut_ptr()), cg_status::Ok);
+    assert_eq!(
+        unsafe { cg_crowd_config_init(config.as_mut_ptr()) },
+        cg_status::Ok
+    );
     // SAFETY: initialised just above.
     let mut config = unsafe { config.assume_init() };
     // Storage reordered every 8 steps: 11 times in the measured frames.
     config.reorder_period = 8;
     let mut handle = std::ptr::null_mut();
-    assert_eq!(cg_crowd_create(&config, &mut handle), cg_status::Ok);
+    assert_eq!(
+        unsafe { cg_crowd_create(&config, &mut handle) },
+        cg_status::Ok
+    );
     let mut desc = std::mem::MaybeUninit::<cg_character_desc>::uninit();
     // SAFETY: a versioned struct starts with its `uint32_t struct_size`, set before the call.
     unsafe {
@@ -128,7 +139,10 @@ fn push_frame_step_and_read_gaze_do_not_allocate() {
             .cast::<u32>()
             .write(std::mem::size_of::<cg_character_desc>() as u32)
     };
-    assert_eq!(cg_character_desc_init(desc.as_mut_ptr()), cg_status::Ok);
+    assert_eq!(
+        unsafe { cg_character_desc_init(desc.as_mut_ptr()) },
+        cg_status::Ok
+    );
     // SAFETY: initialised just above.
     let mut desc = unsafe { desc.assume_init() };
     let mut states = Vec::new();
@@ -140,7 +154,7 @@ fn push_frame_step_and_read_gaze_do_not_allocate() {
         };
         let mut id = 0;
         assert_eq!(
-            cg_crowd_add_character(handle, &desc, &mut id),
+            unsafe { cg_crowd_add_character(handle, &desc, &mut id) },
             cg_status::Ok
         );
         let mut state = std::mem::MaybeUninit::<cg_entity_state>::uninit();
@@ -151,7 +165,10 @@ fn push_frame_step_and_read_gaze_do_not_allocate() {
                 .cast::<u32>()
                 .write(std::mem::size_of::<cg_entity_state>() as u32)
         };
-        assert_eq!(cg_entity_state_init(state.as_mut_ptr()), cg_status::Ok);
+        assert_eq!(
+            unsafe { cg_entity_state_init(state.as_mut_ptr()) },
+            cg_status::Ok
+        );
         // SAFETY: initialised just above.
         let mut state = unsafe { state.assume_init() };
         state.id = id;
@@ -165,22 +182,28 @@ fn push_frame_step_and_read_gaze_do_not_allocate() {
             state.position.x += if i % 2 == 0 { 0.04 } else { -0.04 };
         }
         assert_eq!(
-            cg_crowd_push_frame(handle, t, states.as_ptr(), states.len()),
+            unsafe { cg_crowd_push_frame(handle, t, states.as_ptr(), states.len()) },
             cg_status::Ok
         );
         if t * 30.0 % 2.0 < 1.0 {
-            assert_eq!(cg_crowd_step(handle, 1.0 / 30.0), cg_status::Ok);
+            assert_eq!(unsafe { cg_crowd_step(handle, 1.0 / 30.0) }, cg_status::Ok);
         } else {
             // The ranged form: three ranges, the rest stepped by end_step.
-            assert_eq!(cg_crowd_begin_step(handle, 1.0 / 30.0), cg_status::Ok);
+            assert_eq!(
+                unsafe { cg_crowd_begin_step(handle, 1.0 / 30.0) },
+                cg_status::Ok
+            );
             for (first, count) in [(0, 64), (128, 50), (64, 40)] {
-                assert_eq!(cg_crowd_step_range(handle, first, count), cg_status::Ok);
+                assert_eq!(
+                    unsafe { cg_crowd_step_range(handle, first, count) },
+                    cg_status::Ok
+                );
             }
-            assert_eq!(cg_crowd_end_step(handle), cg_status::Ok);
+            assert_eq!(unsafe { cg_crowd_end_step(handle) }, cg_status::Ok);
         }
         let mut written = 0;
         assert_eq!(
-            cg_crowd_read_gaze(handle, gaze.as_mut_ptr(), gaze.len(), &mut written),
+            unsafe { cg_crowd_read_gaze(handle, gaze.as_mut_ptr(), gaze.len(), &mut written) },
             cg_status::Ok
         );
         assert_eq!(written, 200);
@@ -197,7 +220,7 @@ fn push_frame_step_and_read_gaze_do_not_allocate() {
         },
     );
     assert!(gaze.iter().any(|g| g.s_max > 0.0));
-    cg_crowd_destroy(handle);
+    unsafe { cg_crowd_destroy(handle) };
 }
 
 #[test]
@@ -278,7 +301,7 @@ fn view_blending_does_not_allocate_per_frame() {
                 .write(std::mem::size_of::<cg_view_blender_config>() as u32)
         };
         assert_eq!(
-            cg_view_blender_config_init(config.as_mut_ptr()),
+            unsafe { cg_view_blender_config_init(config.as_mut_ptr()) },
             cg_status::Ok
         );
         // SAFETY: initialised by cg_view_blender_config_init.
@@ -287,13 +310,18 @@ fn view_blending_does_not_allocate_per_frame() {
         config.key_count = keys;
         config.method = method as u32;
         let mut blender = std::ptr::null_mut();
-        assert_eq!(cg_view_blender_create(&config, &mut blender), cg_status::Ok);
+        assert_eq!(
+            unsafe { cg_view_blender_create(&config, &mut blender) },
+            cg_status::Ok
+        );
         for key in 0..keys {
             let frames: Vec<cg_dualquat> = (0..10 * joints)
                 .map(|i| dq((key as f32 - 1.0) * 0.5 + 0.02 * (i / joints) as f32, 0.2))
                 .collect();
             assert_eq!(
-                cg_view_blender_set_key_clip(blender, key, frames.as_ptr(), 10, 30.0, true),
+                unsafe {
+                    cg_view_blender_set_key_clip(blender, key, frames.as_ptr(), 10, 30.0, true)
+                },
                 cg_status::Ok
             );
             let angle = (key as f32 - 1.0) * 1.0;
@@ -303,7 +331,7 @@ fn view_blending_does_not_allocate_per_frame() {
                 z: angle.cos(),
             };
             assert_eq!(
-                cg_view_blender_add_camera(blender, direction, key),
+                unsafe { cg_view_blender_add_camera(blender, direction, key) },
                 cg_status::Ok
             );
         }
@@ -320,50 +348,66 @@ fn view_blending_does_not_allocate_per_frame() {
                     z: 4.0 * angle.cos(),
                 };
                 assert_eq!(
-                    cg_view_blender_weights(blender, &character, &viewer, weights.as_mut_ptr(), 3),
+                    unsafe {
+                        cg_view_blender_weights(
+                            blender,
+                            &character,
+                            &viewer,
+                            weights.as_mut_ptr(),
+                            3,
+                        )
+                    },
                     cg_status::Ok
                 );
-                let status = cg_view_blender_evaluate(
-                    blender,
-                    &character,
-                    &viewer,
-                    f64::from(frame) / 30.0,
-                    pose.as_mut_ptr(),
-                    joints,
-                );
+                let status = unsafe {
+                    cg_view_blender_evaluate(
+                        blender,
+                        &character,
+                        &viewer,
+                        f64::from(frame) / 30.0,
+                        pose.as_mut_ptr(),
+                        joints,
+                    )
+                };
                 assert_eq!(status, cg_status::Ok);
             }
             // The stateless blends too, on the last pose (3 keys of 9 joints).
             let mut out = [pose[0]; 9];
             assert_eq!(
-                cg_blend_pose_dlb(pose.as_ptr(), weights.as_ptr(), 3, 9, out.as_mut_ptr()),
+                unsafe {
+                    cg_blend_pose_dlb(pose.as_ptr(), weights.as_ptr(), 3, 9, out.as_mut_ptr())
+                },
                 cg_status::Ok
             );
             assert_eq!(
-                cg_blend_pose_dib(
-                    pose.as_ptr(),
-                    weights.as_ptr(),
-                    3,
-                    9,
-                    1e-6,
-                    16,
-                    out.as_mut_ptr()
-                ),
+                unsafe {
+                    cg_blend_pose_dib(
+                        pose.as_ptr(),
+                        weights.as_ptr(),
+                        3,
+                        9,
+                        1e-6,
+                        16,
+                        out.as_mut_ptr(),
+                    )
+                },
                 cg_status::Ok
             );
             assert_eq!(
-                cg_blend_dib(
-                    pose.as_ptr(),
-                    weights.as_ptr(),
-                    3,
-                    1e-6,
-                    16,
-                    out.as_mut_ptr()
-                ),
+                unsafe {
+                    cg_blend_dib(
+                        pose.as_ptr(),
+                        weights.as_ptr(),
+                        3,
+                        1e-6,
+                        16,
+                        out.as_mut_ptr(),
+                    )
+                },
                 cg_status::Ok
             );
         });
-        cg_view_blender_destroy(blender);
+        unsafe { cg_view_blender_destroy(blender) };
     }
 }
 

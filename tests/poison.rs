@@ -7,6 +7,11 @@
 //! `test-hooks`, enabled for this crate's tests only). A counting allocator (bytes live per
 //! thread) checks that `_destroy` frees a poisoned handle's memory.
 
+// The `unsafe { cg_... }` calls below pass pointers to live values of the sizes the header
+// asks for, or deliberately bad ones (NULL, misaligned, wrong struct_size) that the library
+// must refuse: that is their safety comment, once for the file.
+#![allow(clippy::undocumented_unsafe_blocks)]
+
 use crowdgaze::ffi::attention::*;
 use crowdgaze::ffi::blend::*;
 use crowdgaze::ffi::crowd::*;
@@ -98,7 +103,7 @@ fn ok(status: cg_status) {
 }
 
 /// A struct filled by its `_init` function, after setting its `struct_size`.
-fn init<T>(f: extern "C" fn(*mut T) -> cg_status) -> T {
+fn init<T>(f: unsafe extern "C" fn(*mut T) -> cg_status) -> T {
     let mut value = MaybeUninit::<T>::uninit();
     // SAFETY: every versioned struct starts with its `uint32_t struct_size`.
     unsafe {
@@ -107,7 +112,7 @@ fn init<T>(f: extern "C" fn(*mut T) -> cg_status) -> T {
             .cast::<u32>()
             .write(size_of::<T>() as u32)
     };
-    ok(f(value.as_mut_ptr()));
+    ok(unsafe { f(value.as_mut_ptr()) });
     // SAFETY: initialised by the _init function just above.
     unsafe { value.assume_init() }
 }
@@ -120,21 +125,21 @@ fn vec3(x: f32, y: f32, z: f32) -> cg_vec3 {
 fn crowd() -> (*mut cg_crowd, Vec<u32>) {
     let config: cg_crowd_config = init(cg_crowd_config_init);
     let mut crowd = null_mut();
-    ok(cg_crowd_create(&config, &mut crowd));
+    ok(unsafe { cg_crowd_create(&config, &mut crowd) });
     let mut ids = Vec::new();
     for x in [0.0, 1.5, -1.5] {
         let mut desc: cg_character_desc = init(cg_character_desc_init);
         desc.position = vec3(x, 0.0, 0.0);
         let mut id = 0;
-        ok(cg_crowd_add_character(crowd, &desc, &mut id));
+        ok(unsafe { cg_crowd_add_character(crowd, &desc, &mut id) });
         ids.push(id);
     }
     let mut object: cg_object_desc = init(cg_object_desc_init);
     object.position = vec3(0.0, 1.0, 3.0);
     let mut id = 0;
-    ok(cg_crowd_add_object(crowd, &object, &mut id));
+    ok(unsafe { cg_crowd_add_object(crowd, &object, &mut id) });
     ids.push(id);
-    ok(cg_crowd_step(crowd, 0.05));
+    ok(unsafe { cg_crowd_step(crowd, 0.05) });
     (crowd, ids)
 }
 
@@ -219,74 +224,82 @@ fn every_crowd_call(crowd: *mut cg_crowd, ids: &[u32], expected: &str) {
     let (gaze_out, eyes_out) = (gaze.as_mut_ptr(), eyes.as_mut_ptr());
     let (constraints_out, quats_out) = (constraints.as_mut_ptr(), quats.as_mut_ptr());
     let calls: [(&str, &dyn Fn() -> cg_status); 28] = [
-        ("cg_crowd_begin_step", &|| cg_crowd_begin_step(crowd, 0.05)),
-        ("cg_crowd_step_range", &|| cg_crowd_step_range(crowd, 0, 1)),
-        ("cg_crowd_end_step", &|| cg_crowd_end_step(crowd)),
-        ("cg_crowd_step", &|| cg_crowd_step(crowd, 0.05)),
-        ("cg_crowd_push_frame", &|| {
+        ("cg_crowd_begin_step", &|| unsafe {
+            cg_crowd_begin_step(crowd, 0.05)
+        }),
+        ("cg_crowd_step_range", &|| unsafe {
+            cg_crowd_step_range(crowd, 0, 1)
+        }),
+        ("cg_crowd_end_step", &|| unsafe { cg_crowd_end_step(crowd) }),
+        ("cg_crowd_step", &|| unsafe { cg_crowd_step(crowd, 0.05) }),
+        ("cg_crowd_push_frame", &|| unsafe {
             cg_crowd_push_frame(crowd, 1.0, &state, 1)
         }),
-        ("cg_crowd_add_character", &|| {
+        ("cg_crowd_add_character", &|| unsafe {
             cg_crowd_add_character(crowd, &desc, id_out)
         }),
-        ("cg_crowd_add_object", &|| {
+        ("cg_crowd_add_object", &|| unsafe {
             cg_crowd_add_object(crowd, &object_desc, id_out)
         }),
-        ("cg_crowd_remove_entity", &|| {
+        ("cg_crowd_remove_entity", &|| unsafe {
             cg_crowd_remove_entity(crowd, b)
         }),
-        ("cg_crowd_character_count", &|| {
+        ("cg_crowd_character_count", &|| unsafe {
             cg_crowd_character_count(crowd, count_out)
         }),
-        ("cg_crowd_read_gaze", &|| {
+        ("cg_crowd_read_gaze", &|| unsafe {
             cg_crowd_read_gaze(crowd, gaze_out, 3, null_mut())
         }),
-        ("cg_crowd_score", &|| cg_crowd_score(crowd, a, b, score_out)),
-        ("cg_crowd_get_character_params", &|| {
+        ("cg_crowd_score", &|| unsafe {
+            cg_crowd_score(crowd, a, b, score_out)
+        }),
+        ("cg_crowd_get_character_params", &|| unsafe {
             cg_crowd_get_character_params(crowd, a, params_out)
         }),
-        ("cg_crowd_set_character_params", &|| {
+        ("cg_crowd_set_character_params", &|| unsafe {
             cg_crowd_set_character_params(crowd, a, params_out)
         }),
-        ("cg_crowd_set_impact", &|| {
+        ("cg_crowd_set_impact", &|| unsafe {
             cg_crowd_set_impact(crowd, a, 2.0)
         }),
-        ("cg_crowd_plan", &|| cg_crowd_plan(crowd)),
-        ("cg_crowd_clear_plan", &|| cg_crowd_clear_plan(crowd)),
-        ("cg_crowd_read_constraints", &|| {
+        ("cg_crowd_plan", &|| unsafe { cg_crowd_plan(crowd) }),
+        ("cg_crowd_clear_plan", &|| unsafe {
+            cg_crowd_clear_plan(crowd)
+        }),
+        ("cg_crowd_read_constraints", &|| unsafe {
             cg_crowd_read_constraints(crowd, a, constraints_out, 4, null_mut())
         }),
-        ("cg_crowd_set_viewer", &|| {
+        ("cg_crowd_set_viewer", &|| unsafe {
             cg_crowd_set_viewer(crowd, &viewer, 1.0, null_mut())
         }),
-        ("cg_crowd_set_attention_period", &|| {
+        ("cg_crowd_set_attention_period", &|| unsafe {
             cg_crowd_set_attention_period(crowd, a, 2)
         }),
-        ("cg_crowd_get_config", &|| {
+        ("cg_crowd_get_config", &|| unsafe {
             cg_crowd_get_config(crowd, config_out)
         }),
-        ("cg_crowd_set_gaze_target", &|| {
+        ("cg_crowd_set_gaze_target", &|| unsafe {
             cg_crowd_set_gaze_target(crowd, a, &target)
         }),
-        ("cg_crowd_clear_gaze_target", &|| {
+        ("cg_crowd_clear_gaze_target", &|| unsafe {
             cg_crowd_clear_gaze_target(crowd, a)
         }),
-        ("cg_crowd_set_base_pose", &|| {
+        ("cg_crowd_set_base_pose", &|| unsafe {
             cg_crowd_set_base_pose(crowd, a, pose.as_ptr(), 10)
         }),
-        ("cg_crowd_set_base_poses", &|| {
+        ("cg_crowd_set_base_poses", &|| unsafe {
             cg_crowd_set_base_poses(crowd, &a, 1, pose.as_ptr(), 10)
         }),
-        ("cg_crowd_joint_total", &|| {
+        ("cg_crowd_joint_total", &|| unsafe {
             cg_crowd_joint_total(crowd, 0, 3, count_out)
         }),
-        ("cg_crowd_read_joints", &|| {
+        ("cg_crowd_read_joints", &|| unsafe {
             cg_crowd_read_joints(crowd, 0, 3, quats_out, 30)
         }),
-        ("cg_crowd_read_joint_deltas", &|| {
+        ("cg_crowd_read_joint_deltas", &|| unsafe {
             cg_crowd_read_joint_deltas(crowd, 0, 3, quats_out, 30)
         }),
-        ("cg_crowd_read_eyes", &|| {
+        ("cg_crowd_read_eyes", &|| unsafe {
             cg_crowd_read_eyes(crowd, 0, 3, eyes_out, 3)
         }),
     ];
@@ -322,23 +335,23 @@ fn a_panic_in_any_step_call_poisons_the_crowd_and_destroy_still_frees_it() {
         let status = match at {
             PanicAt::BeginStep => {
                 panic_next();
-                cg_crowd_begin_step(crowd, 0.05)
+                unsafe { cg_crowd_begin_step(crowd, 0.05) }
             }
             PanicAt::StepRange => {
-                ok(cg_crowd_begin_step(crowd, 0.05));
-                ok(cg_crowd_step_range(crowd, 2, 1));
+                ok(unsafe { cg_crowd_begin_step(crowd, 0.05) });
+                ok(unsafe { cg_crowd_step_range(crowd, 2, 1) });
                 panic_next();
-                cg_crowd_step_range(crowd, 0, 2)
+                unsafe { cg_crowd_step_range(crowd, 0, 2) }
             }
             PanicAt::EndStep => {
-                ok(cg_crowd_begin_step(crowd, 0.05));
-                ok(cg_crowd_step_range(crowd, 0, 1));
+                ok(unsafe { cg_crowd_begin_step(crowd, 0.05) });
+                ok(unsafe { cg_crowd_step_range(crowd, 0, 1) });
                 panic_next();
-                cg_crowd_end_step(crowd)
+                unsafe { cg_crowd_end_step(crowd) }
             }
             PanicAt::Step => {
                 panic_next();
-                cg_crowd_step(crowd, 0.05)
+                unsafe { cg_crowd_step(crowd, 0.05) }
             }
         };
         assert_eq!(status, cg_status::Internal, "{at:?}");
@@ -351,7 +364,7 @@ fn a_panic_in_any_step_call_poisons_the_crowd_and_destroy_still_frees_it() {
         // Every later call, twice over: the crowd stays poisoned.
         every_crowd_call(crowd, &ids, &expected);
         every_crowd_call(crowd, &ids, &expected);
-        cg_crowd_destroy(crowd);
+        unsafe { cg_crowd_destroy(crowd) };
         let left = live() - before;
         assert!(left < SLACK, "{at:?}: {left} bytes left live after destroy");
     }
@@ -360,16 +373,28 @@ fn a_panic_in_any_step_call_poisons_the_crowd_and_destroy_still_frees_it() {
 #[test]
 fn failures_that_are_not_internal_do_not_poison() {
     let (crowd, ids) = crowd();
-    assert_eq!(cg_crowd_step(crowd, -1.0), cg_status::InvalidArgument);
-    assert_eq!(cg_crowd_step_range(crowd, 0, 1), cg_status::WrongState);
-    assert_eq!(cg_crowd_remove_entity(crowd, 4242), cg_status::NotFound);
-    ok(cg_crowd_begin_step(crowd, 0.05));
-    assert_eq!(cg_crowd_step(crowd, 0.05), cg_status::WrongState);
-    assert_eq!(cg_crowd_step_range(crowd, 0, 9), cg_status::InvalidArgument);
-    ok(cg_crowd_end_step(crowd));
-    ok(cg_crowd_step(crowd, 0.05));
-    ok(cg_crowd_remove_entity(crowd, ids[1]));
-    cg_crowd_destroy(crowd);
+    assert_eq!(
+        unsafe { cg_crowd_step(crowd, -1.0) },
+        cg_status::InvalidArgument
+    );
+    assert_eq!(
+        unsafe { cg_crowd_step_range(crowd, 0, 1) },
+        cg_status::WrongState
+    );
+    assert_eq!(
+        unsafe { cg_crowd_remove_entity(crowd, 4242) },
+        cg_status::NotFound
+    );
+    ok(unsafe { cg_crowd_begin_step(crowd, 0.05) });
+    assert_eq!(unsafe { cg_crowd_step(crowd, 0.05) }, cg_status::WrongState);
+    assert_eq!(
+        unsafe { cg_crowd_step_range(crowd, 0, 9) },
+        cg_status::InvalidArgument
+    );
+    ok(unsafe { cg_crowd_end_step(crowd) });
+    ok(unsafe { cg_crowd_step(crowd, 0.05) });
+    ok(unsafe { cg_crowd_remove_entity(crowd, ids[1]) });
+    unsafe { cg_crowd_destroy(crowd) };
 }
 
 /// A two-joint, one-key blender with a pose and a camera.
@@ -377,10 +402,10 @@ fn blender() -> *mut cg_view_blender {
     let mut config: cg_view_blender_config = init(cg_view_blender_config_init);
     (config.joint_count, config.key_count) = (2, 1);
     let mut blender = null_mut();
-    ok(cg_view_blender_create(&config, &mut blender));
+    ok(unsafe { cg_view_blender_create(&config, &mut blender) });
     let pose = [identity(); 2];
-    ok(cg_view_blender_set_key_pose(blender, 0, pose.as_ptr(), 2));
-    ok(cg_view_blender_add_camera(blender, vec3(0.0, 0.0, 1.0), 0));
+    ok(unsafe { cg_view_blender_set_key_pose(blender, 0, pose.as_ptr(), 2) });
+    ok(unsafe { cg_view_blender_add_camera(blender, vec3(0.0, 0.0, 1.0), 0) });
     blender
 }
 
@@ -404,7 +429,7 @@ fn a_panic_in_a_blender_change_poisons_it_and_destroy_still_frees_it() {
     // SAFETY: a live handle.
     assert_eq!(unsafe { panic_next_change(blender) }, cg_status::Ok);
     assert_eq!(
-        cg_view_blender_add_camera(blender, vec3(1.0, 0.0, 0.0), 0),
+        unsafe { cg_view_blender_add_camera(blender, vec3(1.0, 0.0, 0.0), 0) },
         cg_status::Internal
     );
     let first = last_error_message();
@@ -416,26 +441,26 @@ fn a_panic_in_a_blender_change_poisons_it_and_destroy_still_frees_it() {
     let mut out = [identity(); 2];
     let (weights_out, pose_out) = (weights.as_mut_ptr(), out.as_mut_ptr());
     let calls: [(&str, &dyn Fn() -> cg_status); 5] = [
-        ("cg_view_blender_set_key_clip", &|| {
+        ("cg_view_blender_set_key_clip", &|| unsafe {
             cg_view_blender_set_key_clip(blender, 0, pose.as_ptr(), 1, 30.0, false)
         }),
-        ("cg_view_blender_set_key_pose", &|| {
+        ("cg_view_blender_set_key_pose", &|| unsafe {
             cg_view_blender_set_key_pose(blender, 0, pose.as_ptr(), 2)
         }),
-        ("cg_view_blender_add_camera", &|| {
+        ("cg_view_blender_add_camera", &|| unsafe {
             cg_view_blender_add_camera(blender, vec3(0.0, 0.0, -1.0), 0)
         }),
-        ("cg_view_blender_weights", &|| {
+        ("cg_view_blender_weights", &|| unsafe {
             cg_view_blender_weights(blender, &character, &viewer, weights_out, 1)
         }),
-        ("cg_view_blender_evaluate", &|| {
+        ("cg_view_blender_evaluate", &|| unsafe {
             cg_view_blender_evaluate(blender, &character, &viewer, 0.0, pose_out, 2)
         }),
     ];
     all_poisoned("cg_view_blender", &calls, &expected);
     assert!(weights[0].is_nan(), "nothing written");
     assert!(out.iter().all(|q| q.dual.w == 0.0 && q.real.w == 1.0));
-    cg_view_blender_destroy(blender);
+    unsafe { cg_view_blender_destroy(blender) };
     let left = live() - before;
     assert!(left < SLACK, "{left} bytes left live after destroy");
 }

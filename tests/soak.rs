@@ -8,6 +8,11 @@
 //! default), and the share of attentive character-frames must not drift from the first loop
 //! to the last. Resident memory is the whole process's, so the tests here run one at a time.
 
+// The `unsafe { cg_... }` calls below pass pointers to live values of the sizes the header
+// asks for, or deliberately bad ones (NULL, misaligned, wrong struct_size) that the library
+// must refuse: that is their safety comment, once for the file.
+#![allow(clippy::undocumented_unsafe_blocks)]
+
 mod support;
 
 use crowdgaze::ffi::attention::*;
@@ -87,24 +92,29 @@ impl Observer {
 
     fn observe(&mut self, crowd: *const cg_crowd) {
         let mut count = 0;
-        check(cg_crowd_character_count(crowd, &mut count), "count");
+        check(
+            unsafe { cg_crowd_character_count(crowd, &mut count) },
+            "count",
+        );
         let mut written = 0;
         check(
-            cg_crowd_read_gaze(crowd, self.gaze.as_mut_ptr(), count, &mut written),
+            unsafe { cg_crowd_read_gaze(crowd, self.gaze.as_mut_ptr(), count, &mut written) },
             "cg_crowd_read_gaze",
         );
         assert_eq!(written, count);
         let mut total = 0;
         check(
-            cg_crowd_joint_total(crowd, 0, count as u32, &mut total),
+            unsafe { cg_crowd_joint_total(crowd, 0, count as u32, &mut total) },
             "cg_crowd_joint_total",
         );
         check(
-            cg_crowd_read_joints(crowd, 0, count as u32, self.joints.as_mut_ptr(), total),
+            unsafe {
+                cg_crowd_read_joints(crowd, 0, count as u32, self.joints.as_mut_ptr(), total)
+            },
             "cg_crowd_read_joints",
         );
         check(
-            cg_crowd_read_eyes(crowd, 0, count as u32, self.eyes.as_mut_ptr(), count),
+            unsafe { cg_crowd_read_eyes(crowd, 0, count as u32, self.eyes.as_mut_ptr(), count) },
             "cg_crowd_read_eyes",
         );
         self.hash.write_usize(count);

@@ -4,6 +4,11 @@
 //! of one thread alone, bit for bit. Failing calls are included: their messages are the
 //! calling thread's own.
 
+// The `unsafe { cg_... }` calls below pass pointers to live values of the sizes the header
+// asks for, or deliberately bad ones (NULL, misaligned, wrong struct_size) that the library
+// must refuse: that is their safety comment, once for the file.
+#![allow(clippy::undocumented_unsafe_blocks)]
+
 mod support;
 
 use crowdgaze::ffi::attention::*;
@@ -69,32 +74,33 @@ fn status(out: &mut String, what: &str, status: cg_status) {
 fn crowd_transcript(crowd: *const cg_crowd) -> String {
     let mut out = String::new();
     let mut count = 0;
-    status(
-        &mut out,
-        "count",
-        cg_crowd_character_count(crowd, &mut count),
-    );
+    status(&mut out, "count", unsafe {
+        cg_crowd_character_count(crowd, &mut count)
+    });
     let mut config: cg_crowd_config = init(cg_crowd_config_init);
-    status(&mut out, "config", cg_crowd_get_config(crowd, &mut config));
+    status(&mut out, "config", unsafe {
+        cg_crowd_get_config(crowd, &mut config)
+    });
     writeln!(out, "{count} {config:?}").unwrap();
 
     let mut gaze = vec![cg_gaze_info::default(); count];
     let mut written = 0;
-    let s = cg_crowd_read_gaze(crowd, gaze.as_mut_ptr(), count, &mut written);
+    let s = unsafe { cg_crowd_read_gaze(crowd, gaze.as_mut_ptr(), count, &mut written) };
     status(&mut out, "gaze", s);
     writeln!(out, "{written} {gaze:?}").unwrap();
 
     let mut total = 0;
-    let s = cg_crowd_joint_total(crowd, 0, count as u32, &mut total);
+    let s = unsafe { cg_crowd_joint_total(crowd, 0, count as u32, &mut total) };
     status(&mut out, "joint total", s);
     let mut joints = vec![cg_quat::IDENTITY; total];
-    let s = cg_crowd_read_joints(crowd, 0, count as u32, joints.as_mut_ptr(), total);
+    let s = unsafe { cg_crowd_read_joints(crowd, 0, count as u32, joints.as_mut_ptr(), total) };
     status(&mut out, "joints", s);
     let mut deltas = vec![cg_quat::IDENTITY; total];
-    let s = cg_crowd_read_joint_deltas(crowd, 0, count as u32, deltas.as_mut_ptr(), total);
+    let s =
+        unsafe { cg_crowd_read_joint_deltas(crowd, 0, count as u32, deltas.as_mut_ptr(), total) };
     status(&mut out, "deltas", s);
     let mut eyes = vec![cg_eye_info::default(); count];
-    let s = cg_crowd_read_eyes(crowd, 0, count as u32, eyes.as_mut_ptr(), count);
+    let s = unsafe { cg_crowd_read_eyes(crowd, 0, count as u32, eyes.as_mut_ptr(), count) };
     status(&mut out, "eyes", s);
     writeln!(out, "{total} {joints:?} {deltas:?} {eyes:?}").unwrap();
 
@@ -103,40 +109,41 @@ fn crowd_transcript(crowd: *const cg_crowd) -> String {
     let mut one = [cg_quat::IDENTITY; crowdgaze::ik::MAX_CHAIN_JOINTS];
     let mut constraints = vec![cg_constraint::default(); 64];
     for (index, info) in gaze.iter().enumerate() {
-        let s = cg_crowd_read_joints(crowd, index as u32, 1, one.as_mut_ptr(), one.len());
+        let s =
+            unsafe { cg_crowd_read_joints(crowd, index as u32, 1, one.as_mut_ptr(), one.len()) };
         status(&mut out, "one's joints", s);
         // SAFETY: cg_character_params is plain u32 and f32 fields: all zeros is a value.
         let mut params: cg_character_params = unsafe { std::mem::zeroed() };
         params.struct_size = std::mem::size_of::<cg_character_params>() as u32;
-        let s = cg_crowd_get_character_params(crowd, info.character, &mut params);
+        let s = unsafe { cg_crowd_get_character_params(crowd, info.character, &mut params) };
         status(&mut out, "params", s);
         writeln!(out, "{one:?} {params:?}").unwrap();
         let neighbour = gaze[(index + 1) % gaze.len()].character;
         for entity in [neighbour, info.target, info.head_target] {
             let mut score = cg_score_breakdown::default();
-            let s = cg_crowd_score(crowd, info.character, entity, &mut score);
+            let s = unsafe { cg_crowd_score(crowd, info.character, entity, &mut score) };
             status(&mut out, "score", s);
             writeln!(out, "{score:?}").unwrap();
         }
         let mut total = 0;
-        let s = cg_crowd_read_constraints(
-            crowd,
-            info.character,
-            constraints.as_mut_ptr(),
-            constraints.len(),
-            &mut total,
-        );
+        let s = unsafe {
+            cg_crowd_read_constraints(
+                crowd,
+                info.character,
+                constraints.as_mut_ptr(),
+                constraints.len(),
+                &mut total,
+            )
+        };
         status(&mut out, "constraints", s);
         writeln!(out, "{total} {:?}", &constraints[..total.min(64)]).unwrap();
     }
     // Bad arguments: each thread records its own message.
-    let s = cg_crowd_read_joints(crowd, count as u32, 1, one.as_mut_ptr(), one.len());
+    let s = unsafe { cg_crowd_read_joints(crowd, count as u32, 1, one.as_mut_ptr(), one.len()) };
     status(&mut out, "joints past the end", s);
-    status(
-        &mut out,
-        "unknown id",
-        cg_crowd_score(crowd, 0xdead_beef, 0, &mut cg_score_breakdown::default()),
-    );
+    status(&mut out, "unknown id", unsafe {
+        cg_crowd_score(crowd, 0xdead_beef, 0, &mut cg_score_breakdown::default())
+    });
     out
 }
 
@@ -191,10 +198,13 @@ fn const_crowd_calls_agree_across_threads() {
     for _ in 0..recorded_frames {
         street.frame();
     }
-    check(cg_crowd_plan(street.crowd.as_mut()), "cg_crowd_plan");
+    check(
+        unsafe { cg_crowd_plan(street.crowd.as_mut()) },
+        "cg_crowd_plan",
+    );
     for _ in 0..120 {
         check(
-            cg_crowd_step(street.crowd.as_mut(), Street::DT),
+            unsafe { cg_crowd_step(street.crowd.as_mut(), Street::DT) },
             "cg_crowd_step",
         );
     }
@@ -223,15 +233,20 @@ fn blender_transcript(blender: *const cg_view_blender) -> String {
             y: 1.6,
             z: 5.0 + 3.0 * angle.cos(),
         };
-        let s = cg_view_blender_weights(blender, &character, &viewer, weights.as_mut_ptr(), 3);
+        let s = unsafe {
+            cg_view_blender_weights(blender, &character, &viewer, weights.as_mut_ptr(), 3)
+        };
         status(&mut out, "weights", s);
         let t = f64::from(step) / 24.0;
-        let s =
-            cg_view_blender_evaluate(blender, &character, &viewer, t, pose.as_mut_ptr(), JOINTS);
+        let s = unsafe {
+            cg_view_blender_evaluate(blender, &character, &viewer, t, pose.as_mut_ptr(), JOINTS)
+        };
         status(&mut out, "evaluate", s);
         writeln!(out, "{weights:?} {pose:?}").unwrap();
     }
-    let s = cg_view_blender_evaluate(blender, &character, &viewer, 0.0, pose.as_mut_ptr(), 2);
+    let s = unsafe {
+        cg_view_blender_evaluate(blender, &character, &viewer, 0.0, pose.as_mut_ptr(), 2)
+    };
     status(&mut out, "evaluate with a wrong joint count", s);
     out
 }
@@ -244,7 +259,10 @@ fn const_view_blender_calls_agree_across_threads() {
         config.key_count = KEYS;
         config.method = method as u32;
         let mut blender = null_mut();
-        check(cg_view_blender_create(&config, &mut blender), "create");
+        check(
+            unsafe { cg_view_blender_create(&config, &mut blender) },
+            "create",
+        );
         for key in 0..KEYS {
             // Key k turns the body towards its side and nods, over 12 frames at 10 fps.
             let side = 1.0 - key as f32;
@@ -259,7 +277,9 @@ fn const_view_blender_calls_agree_across_threads() {
                 })
                 .collect();
             check(
-                cg_view_blender_set_key_clip(blender, key, frames.as_ptr(), 12, 10.0, true),
+                unsafe {
+                    cg_view_blender_set_key_clip(blender, key, frames.as_ptr(), 12, 10.0, true)
+                },
                 "set_key_clip",
             );
             let direction = cg_vec3 {
@@ -268,12 +288,12 @@ fn const_view_blender_calls_agree_across_threads() {
                 z: 1.0 - side.abs() * 0.5,
             };
             check(
-                cg_view_blender_add_camera(blender, direction, key),
+                unsafe { cg_view_blender_add_camera(blender, direction, key) },
                 "add_camera",
             );
         }
         same_on_every_thread(blender.cast_const(), blender_transcript);
-        cg_view_blender_destroy(blender);
+        unsafe { cg_view_blender_destroy(blender) };
     }
 }
 

@@ -2,6 +2,11 @@
 //! into ranges, ranges stepped concurrently from several threads, and the ranged step's
 //! state rules through the C API.
 
+// The `unsafe { cg_... }` calls below pass pointers to live values of the sizes the header
+// asks for, or deliberately bad ones (NULL, misaligned, wrong struct_size) that the library
+// must refuse: that is their safety comment, once for the file.
+#![allow(clippy::undocumented_unsafe_blocks)]
+
 mod support;
 
 use crowdgaze::scenario::Scenario;
@@ -191,12 +196,18 @@ mod c_api {
                 .cast::<u32>()
                 .write(std::mem::size_of::<cg_crowd_config>() as u32)
         };
-        assert_eq!(cg_crowd_config_init(config.as_mut_ptr()), cg_status::Ok);
+        assert_eq!(
+            unsafe { cg_crowd_config_init(config.as_mut_ptr()) },
+            cg_status::Ok
+        );
         // SAFETY: initialised just above.
         let mut config = unsafe { config.assume_init() };
         config.threads = threads;
         let mut handle = std::ptr::null_mut();
-        assert_eq!(cg_crowd_create(&config, &mut handle), cg_status::Ok);
+        assert_eq!(
+            unsafe { cg_crowd_create(&config, &mut handle) },
+            cg_status::Ok
+        );
         let mut desc = std::mem::MaybeUninit::<cg_character_desc>::uninit();
         // SAFETY: a versioned struct starts with its `uint32_t struct_size`, set before the call.
         unsafe {
@@ -204,7 +215,10 @@ mod c_api {
                 .cast::<u32>()
                 .write(std::mem::size_of::<cg_character_desc>() as u32)
         };
-        assert_eq!(cg_character_desc_init(desc.as_mut_ptr()), cg_status::Ok);
+        assert_eq!(
+            unsafe { cg_character_desc_init(desc.as_mut_ptr()) },
+            cg_status::Ok
+        );
         // SAFETY: initialised just above.
         let mut desc = unsafe { desc.assume_init() };
         for i in 0..characters {
@@ -216,7 +230,7 @@ mod c_api {
             desc.heading = i as f32 * 0.7;
             let mut id = 0;
             assert_eq!(
-                cg_crowd_add_character(handle, &desc, &mut id),
+                unsafe { cg_crowd_add_character(handle, &desc, &mut id) },
                 cg_status::Ok
             );
         }
@@ -225,11 +239,14 @@ mod c_api {
 
     fn gaze(handle: *mut cg_crowd) -> Vec<cg_gaze_info> {
         let mut count = 0;
-        assert_eq!(cg_crowd_character_count(handle, &mut count), cg_status::Ok);
+        assert_eq!(
+            unsafe { cg_crowd_character_count(handle, &mut count) },
+            cg_status::Ok
+        );
         let mut out = vec![cg_gaze_info::default(); count];
         let mut written = 0;
         assert_eq!(
-            cg_crowd_read_gaze(handle, out.as_mut_ptr(), out.len(), &mut written),
+            unsafe { cg_crowd_read_gaze(handle, out.as_mut_ptr(), out.len(), &mut written) },
             cg_status::Ok
         );
         out
@@ -240,10 +257,13 @@ mod c_api {
         use crowdgaze::ffi::gaze::{cg_crowd_joint_total, cg_crowd_read_joints};
         use crowdgaze::ffi::types::cg_quat;
         let mut count = 0;
-        assert_eq!(cg_crowd_character_count(handle, &mut count), cg_status::Ok);
+        assert_eq!(
+            unsafe { cg_crowd_character_count(handle, &mut count) },
+            cg_status::Ok
+        );
         let mut total = 0;
         assert_eq!(
-            cg_crowd_joint_total(handle, 0, count as u32, &mut total),
+            unsafe { cg_crowd_joint_total(handle, 0, count as u32, &mut total) },
             cg_status::Ok
         );
         let mut out = vec![
@@ -256,7 +276,7 @@ mod c_api {
             total
         ];
         assert_eq!(
-            cg_crowd_read_joints(handle, 0, count as u32, out.as_mut_ptr(), total),
+            unsafe { cg_crowd_read_joints(handle, 0, count as u32, out.as_mut_ptr(), total) },
             cg_status::Ok
         );
         out.iter()
@@ -285,9 +305,9 @@ mod c_api {
         let ranged = crowd(1, 300);
         let shared = Handle(ranged);
         for frame in 0..40 {
-            assert_eq!(cg_crowd_step(one_call, 0.05), cg_status::Ok);
-            assert_eq!(cg_crowd_step(pooled, 0.05), cg_status::Ok);
-            assert_eq!(cg_crowd_begin_step(ranged, 0.05), cg_status::Ok);
+            assert_eq!(unsafe { cg_crowd_step(one_call, 0.05) }, cg_status::Ok);
+            assert_eq!(unsafe { cg_crowd_step(pooled, 0.05) }, cg_status::Ok);
+            assert_eq!(unsafe { cg_crowd_begin_step(ranged, 0.05) }, cg_status::Ok);
             let next = std::sync::atomic::AtomicU32::new(0);
             std::thread::scope(|scope| {
                 for _ in 0..4 {
@@ -299,12 +319,15 @@ mod c_api {
                                 break;
                             }
                             let count = 32.min(300 - first);
-                            assert_eq!(cg_crowd_step_range(handle.0, first, count), cg_status::Ok);
+                            assert_eq!(
+                                unsafe { cg_crowd_step_range(handle.0, first, count) },
+                                cg_status::Ok
+                            );
                         }
                     });
                 }
             });
-            assert_eq!(cg_crowd_end_step(ranged), cg_status::Ok);
+            assert_eq!(unsafe { cg_crowd_end_step(ranged) }, cg_status::Ok);
             let expected = gaze(one_call);
             assert!(same(&expected, &gaze(pooled)), "pool, frame {frame}");
             assert!(same(&expected, &gaze(ranged)), "ranges, frame {frame}");
@@ -314,57 +337,78 @@ mod c_api {
         }
         assert!(gaze(one_call).iter().any(|g| g.s_max > 0.0));
         for handle in [one_call, pooled, ranged] {
-            cg_crowd_destroy(handle);
+            unsafe { cg_crowd_destroy(handle) };
         }
     }
 
     #[test]
     fn misuse_returns_wrong_state_and_changes_nothing() {
         let handle = crowd(1, 40);
-        assert_eq!(cg_crowd_step_range(handle, 0, 1), cg_status::WrongState);
-        assert_eq!(cg_crowd_end_step(handle), cg_status::WrongState);
-        assert_eq!(cg_crowd_step(handle, 0.05), cg_status::Ok);
-        let before = gaze(handle);
-        assert_eq!(cg_crowd_begin_step(handle, f32::NAN), cg_status::NonFinite);
         assert_eq!(
-            cg_crowd_begin_step(handle, -1.0),
-            cg_status::InvalidArgument
-        );
-        assert_eq!(cg_crowd_step_range(handle, 0, 1), cg_status::WrongState);
-        assert_eq!(cg_crowd_begin_step(handle, 0.05), cg_status::Ok);
-        assert_eq!(cg_crowd_begin_step(handle, 0.05), cg_status::WrongState);
-        // Every other call waits for the end of the step.
-        assert_eq!(cg_crowd_step(handle, 0.05), cg_status::WrongState);
-        let mut count = 0;
-        assert_eq!(
-            cg_crowd_character_count(handle, &mut count),
+            unsafe { cg_crowd_step_range(handle, 0, 1) },
             cg_status::WrongState
         );
-        assert_eq!(cg_crowd_remove_entity(handle, 1), cg_status::WrongState);
+        assert_eq!(unsafe { cg_crowd_end_step(handle) }, cg_status::WrongState);
+        assert_eq!(unsafe { cg_crowd_step(handle, 0.05) }, cg_status::Ok);
+        let before = gaze(handle);
         assert_eq!(
-            cg_crowd_step_range(handle, 30, 11),
+            unsafe { cg_crowd_begin_step(handle, f32::NAN) },
+            cg_status::NonFinite
+        );
+        assert_eq!(
+            unsafe { cg_crowd_begin_step(handle, -1.0) },
             cg_status::InvalidArgument
         );
-        assert_eq!(cg_crowd_step_range(handle, 5, 10), cg_status::Ok);
-        assert_eq!(cg_crowd_step_range(handle, 14, 3), cg_status::WrongState);
-        assert_eq!(cg_crowd_step_range(handle, 0, 0), cg_status::Ok);
         assert_eq!(
-            cg_crowd_step_range(std::ptr::null_mut(), 0, 1),
+            unsafe { cg_crowd_step_range(handle, 0, 1) },
+            cg_status::WrongState
+        );
+        assert_eq!(unsafe { cg_crowd_begin_step(handle, 0.05) }, cg_status::Ok);
+        assert_eq!(
+            unsafe { cg_crowd_begin_step(handle, 0.05) },
+            cg_status::WrongState
+        );
+        // Every other call waits for the end of the step.
+        assert_eq!(
+            unsafe { cg_crowd_step(handle, 0.05) },
+            cg_status::WrongState
+        );
+        let mut count = 0;
+        assert_eq!(
+            unsafe { cg_crowd_character_count(handle, &mut count) },
+            cg_status::WrongState
+        );
+        assert_eq!(
+            unsafe { cg_crowd_remove_entity(handle, 1) },
+            cg_status::WrongState
+        );
+        assert_eq!(
+            unsafe { cg_crowd_step_range(handle, 30, 11) },
+            cg_status::InvalidArgument
+        );
+        assert_eq!(unsafe { cg_crowd_step_range(handle, 5, 10) }, cg_status::Ok);
+        assert_eq!(
+            unsafe { cg_crowd_step_range(handle, 14, 3) },
+            cg_status::WrongState
+        );
+        assert_eq!(unsafe { cg_crowd_step_range(handle, 0, 0) }, cg_status::Ok);
+        assert_eq!(
+            unsafe { cg_crowd_step_range(std::ptr::null_mut(), 0, 1) },
             cg_status::NullArgument
         );
-        assert_eq!(cg_crowd_end_step(handle), cg_status::Ok);
-        assert_eq!(cg_crowd_end_step(handle), cg_status::WrongState);
+        assert_eq!(unsafe { cg_crowd_end_step(handle) }, cg_status::Ok);
+        assert_eq!(unsafe { cg_crowd_end_step(handle) }, cg_status::WrongState);
         // The refused calls changed nothing: this crowd matches one stepped twice.
         let reference = crowd(1, 40);
-        assert_eq!(cg_crowd_step(reference, 0.05), cg_status::Ok);
+        assert_eq!(unsafe { cg_crowd_step(reference, 0.05) }, cg_status::Ok);
         assert!(same(&before, &gaze(reference)));
-        assert_eq!(cg_crowd_step(reference, 0.05), cg_status::Ok);
+        assert_eq!(unsafe { cg_crowd_step(reference, 0.05) }, cg_status::Ok);
         assert!(same(&gaze(reference), &gaze(handle)));
         assert!(joints(reference) == joints(handle));
         // A crowd destroyed with a step open is released cleanly.
-        assert_eq!(cg_crowd_begin_step(handle, 0.05), cg_status::Ok);
-        cg_crowd_destroy(handle);
-        cg_crowd_destroy(reference);
+        assert_eq!(unsafe { cg_crowd_begin_step(handle, 0.05) }, cg_status::Ok);
+        unsafe { cg_crowd_destroy(handle) };
+        unsafe { cg_crowd_destroy(reference) };
     }
 
     #[test]
@@ -377,14 +421,17 @@ mod c_api {
                 .cast::<u32>()
                 .write(std::mem::size_of::<cg_crowd_config>() as u32)
         };
-        assert_eq!(cg_crowd_config_init(config.as_mut_ptr()), cg_status::Ok);
+        assert_eq!(
+            unsafe { cg_crowd_config_init(config.as_mut_ptr()) },
+            cg_status::Ok
+        );
         // SAFETY: initialised just above.
         let mut config = unsafe { config.assume_init() };
         assert_eq!(config.threads, 1);
         config.threads = 65;
         let mut handle = std::ptr::null_mut();
         assert_eq!(
-            cg_crowd_create(&config, &mut handle),
+            unsafe { cg_crowd_create(&config, &mut handle) },
             cg_status::InvalidArgument
         );
         assert!(handle.is_null());
@@ -413,10 +460,16 @@ mod c_api {
             )
         };
         let older_config = (&mut older as *mut Older).cast::<cg_crowd_config>();
-        assert_eq!(cg_crowd_create(older_config, &mut handle), cg_status::Ok);
+        assert_eq!(
+            unsafe { cg_crowd_create(older_config, &mut handle) },
+            cg_status::Ok
+        );
         older.config = [0; 144];
         older.config[..4].copy_from_slice(&(older_size as u32).to_ne_bytes());
-        assert_eq!(cg_crowd_get_config(handle, older_config), cg_status::Ok);
+        assert_eq!(
+            unsafe { cg_crowd_get_config(handle, older_config) },
+            cg_status::Ok
+        );
         assert_eq!(older.guard, [0xA5; 64], "written past the caller's struct");
         let field = |offset: usize| {
             u32::from_ne_bytes(older.config[offset..offset + 4].try_into().unwrap())
@@ -431,13 +484,13 @@ mod c_api {
                 .write(std::mem::size_of::<cg_crowd_config>() as u32)
         };
         assert_eq!(
-            cg_crowd_get_config(handle, read.as_mut_ptr()),
+            unsafe { cg_crowd_get_config(handle, read.as_mut_ptr()) },
             cg_status::Ok
         );
         // SAFETY: written by the call above.
         let read = unsafe { read.assume_init() };
         assert_eq!((read.threads, read.reorder_period), (9, 32));
-        cg_crowd_destroy(handle);
+        unsafe { cg_crowd_destroy(handle) };
     }
 }
 

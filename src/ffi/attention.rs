@@ -311,7 +311,7 @@ fn init<T: Versioned>(out: *mut T, what: &str) -> Result<()> {
 /// (`struct_size` not a size the library knows, 0 or an unset field included).
 /// Thread-safe.
 #[no_mangle]
-pub extern "C" fn cg_character_desc_init(desc: *mut cg_character_desc) -> cg_status {
+pub unsafe extern "C" fn cg_character_desc_init(desc: *mut cg_character_desc) -> cg_status {
     ffi_boundary!({ init(desc, "desc") })
 }
 
@@ -323,7 +323,7 @@ pub extern "C" fn cg_character_desc_init(desc: *mut cg_character_desc) -> cg_sta
 /// (`struct_size` not a size the library knows, 0 or an unset field included).
 /// Thread-safe.
 #[no_mangle]
-pub extern "C" fn cg_object_desc_init(desc: *mut cg_object_desc) -> cg_status {
+pub unsafe extern "C" fn cg_object_desc_init(desc: *mut cg_object_desc) -> cg_status {
     ffi_boundary!({ init(desc, "desc") })
 }
 
@@ -335,7 +335,7 @@ pub extern "C" fn cg_object_desc_init(desc: *mut cg_object_desc) -> cg_status {
 /// (`struct_size` not a size the library knows, 0 or an unset field included).
 /// Thread-safe.
 #[no_mangle]
-pub extern "C" fn cg_entity_state_init(state: *mut cg_entity_state) -> cg_status {
+pub unsafe extern "C" fn cg_entity_state_init(state: *mut cg_entity_state) -> cg_status {
     ffi_boundary!({ init(state, "state") })
 }
 
@@ -354,7 +354,7 @@ fn metres(world: &World, value: cg_vec3, what: &str) -> Result<Vec3> {
 /// active), `CG_STATUS_OUT_OF_MEMORY` (no memory for a new distinct chain). Not thread-safe
 /// (mutates the crowd).
 #[no_mangle]
-pub extern "C" fn cg_crowd_add_character(
+pub unsafe extern "C" fn cg_crowd_add_character(
     crowd: *mut cg_crowd,
     desc: *const cg_character_desc,
     out_id: *mut u32,
@@ -396,7 +396,7 @@ pub extern "C" fn cg_crowd_add_character(
 /// `CG_STATUS_CAPACITY` (already `max_objects`), `CG_STATUS_WRONG_STATE` (a plan is
 /// active). Not thread-safe.
 #[no_mangle]
-pub extern "C" fn cg_crowd_add_object(
+pub unsafe extern "C" fn cg_crowd_add_object(
     crowd: *mut cg_crowd,
     desc: *const cg_object_desc,
     out_id: *mut u32,
@@ -428,7 +428,7 @@ pub extern "C" fn cg_crowd_add_object(
 /// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NOT_FOUND`, `CG_STATUS_WRONG_STATE` (a
 /// plan is active). Not thread-safe.
 #[no_mangle]
-pub extern "C" fn cg_crowd_remove_entity(crowd: *mut cg_crowd, id: u32) -> cg_status {
+pub unsafe extern "C" fn cg_crowd_remove_entity(crowd: *mut cg_crowd, id: u32) -> cg_status {
     ffi_boundary!({
         // SAFETY: handle contract of cg_crowd.
         let crowd = unsafe { crowd_mut(crowd) }?;
@@ -439,7 +439,7 @@ pub extern "C" fn cg_crowd_remove_entity(crowd: *mut cg_crowd, id: u32) -> cg_st
 /// Writes the number of characters to `*out_count`. Errors: `CG_STATUS_NULL_ARGUMENT`.
 /// Safe to call concurrently with other `const` calls.
 #[no_mangle]
-pub extern "C" fn cg_crowd_character_count(
+pub unsafe extern "C" fn cg_crowd_character_count(
     crowd: *const cg_crowd,
     out_count: *mut usize,
 ) -> cg_status {
@@ -506,7 +506,7 @@ unsafe fn entity_update(
 /// previous frame's, unknown flag bits), `CG_STATUS_CAPACITY` (recording full),
 /// `CG_STATUS_WRONG_STATE` (a plan is active). Not thread-safe.
 #[no_mangle]
-pub extern "C" fn cg_crowd_push_frame(
+pub unsafe extern "C" fn cg_crowd_push_frame(
     crowd: *mut cg_crowd,
     t: f64,
     states: *const cg_entity_state,
@@ -542,7 +542,7 @@ pub extern "C" fn cg_crowd_push_frame(
 /// (dt < 0), `CG_STATUS_WRONG_STATE` (a ranged step is open). Not thread-safe: no other
 /// call on this crowd may run at the same time.
 #[no_mangle]
-pub extern "C" fn cg_crowd_step(crowd: *mut cg_crowd, dt: f32) -> cg_status {
+pub unsafe extern "C" fn cg_crowd_step(crowd: *mut cg_crowd, dt: f32) -> cg_status {
     ffi_boundary!({
         // SAFETY: handle contract of cg_crowd.
         unsafe { crowd_mut(crowd) }?.step(dt)?;
@@ -564,7 +564,7 @@ pub extern "C" fn cg_crowd_step(crowd: *mut cg_crowd, dt: f32) -> cg_status {
 /// (dt < 0), `CG_STATUS_WRONG_STATE` (a ranged step is already open). Not thread-safe: no
 /// other call on this crowd may run at the same time.
 #[no_mangle]
-pub extern "C" fn cg_crowd_begin_step(crowd: *mut cg_crowd, dt: f32) -> cg_status {
+pub unsafe extern "C" fn cg_crowd_begin_step(crowd: *mut cg_crowd, dt: f32) -> cg_status {
     ffi_boundary!({
         // SAFETY: handle contract of cg_crowd.
         let handle = unsafe { crowd_handle(crowd) }?;
@@ -585,7 +585,11 @@ pub extern "C" fn cg_crowd_begin_step(crowd: *mut cg_crowd, dt: f32) -> cg_statu
 /// last character), `CG_STATUS_WRONG_STATE` (no ranged step is open, or the range overlaps
 /// one already stepped in this step; then nothing in it is stepped).
 #[no_mangle]
-pub extern "C" fn cg_crowd_step_range(crowd: *mut cg_crowd, first: u32, count: u32) -> cg_status {
+pub unsafe extern "C" fn cg_crowd_step_range(
+    crowd: *mut cg_crowd,
+    first: u32,
+    count: u32,
+) -> cg_status {
     ffi_boundary!({
         // SAFETY: handle contract of cg_crowd; this call only needs shared access.
         let handle = unsafe { crowd_handle(crowd) }?;
@@ -601,7 +605,7 @@ pub extern "C" fn cg_crowd_step_range(crowd: *mut cg_crowd, first: u32, count: u
 /// `cg_crowd_step_range` calls are still running: the step stays open). Not thread-safe
 /// with anything but `cg_crowd_step_range`.
 #[no_mangle]
-pub extern "C" fn cg_crowd_end_step(crowd: *mut cg_crowd) -> cg_status {
+pub unsafe extern "C" fn cg_crowd_end_step(crowd: *mut cg_crowd) -> cg_status {
     ffi_boundary!({
         // SAFETY: handle contract of cg_crowd.
         let handle = unsafe { crowd_handle(crowd) }?;
@@ -619,7 +623,7 @@ pub extern "C" fn cg_crowd_end_step(crowd: *mut cg_crowd) -> cg_status {
 /// `CG_STATUS_INVALID_ARGUMENT` (a count too large for any array). Safe to call
 /// concurrently with other `const` calls.
 #[no_mangle]
-pub extern "C" fn cg_crowd_read_gaze(
+pub unsafe extern "C" fn cg_crowd_read_gaze(
     crowd: *const cg_crowd,
     out: *mut cg_gaze_info,
     count: usize,
@@ -661,7 +665,7 @@ pub extern "C" fn cg_crowd_read_gaze(
 /// `CG_STATUS_INVALID_ARGUMENT` (`character` is an object). Safe to call concurrently with
 /// other `const` calls.
 #[no_mangle]
-pub extern "C" fn cg_crowd_score(
+pub unsafe extern "C" fn cg_crowd_score(
     crowd: *const cg_crowd,
     character: u32,
     entity: u32,
@@ -701,7 +705,7 @@ pub extern "C" fn cg_crowd_score(
 /// `CG_STATUS_INVALID_ARGUMENT` (an object's id). Safe to call concurrently with other
 /// `const` calls.
 #[no_mangle]
-pub extern "C" fn cg_crowd_get_character_params(
+pub unsafe extern "C" fn cg_crowd_get_character_params(
     crowd: *const cg_crowd,
     character: u32,
     out_params: *mut cg_character_params,
@@ -737,7 +741,7 @@ pub extern "C" fn cg_crowd_get_character_params(
 /// `CG_STATUS_NON_FINITE`, `CG_STATUS_INVALID_ARGUMENT` (a negative weight, all weights
 /// zero, attention_fraction outside [0, 1], an object's id). Not thread-safe.
 #[no_mangle]
-pub extern "C" fn cg_crowd_set_character_params(
+pub unsafe extern "C" fn cg_crowd_set_character_params(
     crowd: *mut cg_crowd,
     character: u32,
     params: *const cg_character_params,
@@ -774,7 +778,11 @@ pub extern "C" fn cg_crowd_set_character_params(
 /// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NOT_FOUND`, `CG_STATUS_NON_FINITE`,
 /// `CG_STATUS_INVALID_ARGUMENT` (outside [0, 1e6]). Not thread-safe.
 #[no_mangle]
-pub extern "C" fn cg_crowd_set_impact(crowd: *mut cg_crowd, entity: u32, impact: f32) -> cg_status {
+pub unsafe extern "C" fn cg_crowd_set_impact(
+    crowd: *mut cg_crowd,
+    entity: u32,
+    impact: f32,
+) -> cg_status {
     ffi_boundary!({
         // SAFETY: handle contract of cg_crowd.
         let crowd = unsafe { crowd_mut(crowd) }?;
@@ -793,7 +801,7 @@ pub extern "C" fn cg_crowd_set_impact(crowd: *mut cg_crowd, entity: u32, impact:
 /// already planned), `CG_STATUS_OUT_OF_MEMORY` (the plan does not fit in memory; the crowd
 /// stays online and unchanged). Not thread-safe.
 #[no_mangle]
-pub extern "C" fn cg_crowd_plan(crowd: *mut cg_crowd) -> cg_status {
+pub unsafe extern "C" fn cg_crowd_plan(crowd: *mut cg_crowd) -> cg_status {
     ffi_boundary!({
         // SAFETY: handle contract of cg_crowd.
         let crowd = unsafe { crowd_mut(crowd) }?;
@@ -804,7 +812,7 @@ pub extern "C" fn cg_crowd_plan(crowd: *mut cg_crowd) -> cg_status {
 /// Leaves planned mode and forgets the recording; online stepping and pushing resume.
 /// Errors: `CG_STATUS_NULL_ARGUMENT`. Not thread-safe.
 #[no_mangle]
-pub extern "C" fn cg_crowd_clear_plan(crowd: *mut cg_crowd) -> cg_status {
+pub unsafe extern "C" fn cg_crowd_clear_plan(crowd: *mut cg_crowd) -> cg_status {
     ffi_boundary!({
         // SAFETY: handle contract of cg_crowd.
         let crowd = unsafe { crowd_mut(crowd) }?;
@@ -821,7 +829,7 @@ pub extern "C" fn cg_crowd_clear_plan(crowd: *mut cg_crowd) -> cg_status {
 /// (an object's id), `CG_STATUS_WRONG_STATE` (no plan). Safe to call concurrently with
 /// other `const` calls.
 #[no_mangle]
-pub extern "C" fn cg_crowd_read_constraints(
+pub unsafe extern "C" fn cg_crowd_read_constraints(
     crowd: *const cg_crowd,
     character: u32,
     out: *mut cg_constraint,
@@ -858,7 +866,7 @@ pub extern "C" fn cg_crowd_read_constraints(
 /// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE`, `CG_STATUS_INVALID_ARGUMENT`
 /// (impact outside [0, 1e6]), `CG_STATUS_WRONG_STATE` (a plan is active). Not thread-safe.
 #[no_mangle]
-pub extern "C" fn cg_crowd_set_viewer(
+pub unsafe extern "C" fn cg_crowd_set_viewer(
     crowd: *mut cg_crowd,
     position: *const cg_vec3,
     impact: f32,
@@ -887,7 +895,7 @@ pub extern "C" fn cg_crowd_set_viewer(
 /// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NOT_FOUND`, `CG_STATUS_INVALID_ARGUMENT`
 /// (period > 64, an object's id). Not thread-safe.
 #[no_mangle]
-pub extern "C" fn cg_crowd_set_attention_period(
+pub unsafe extern "C" fn cg_crowd_set_attention_period(
     crowd: *mut cg_crowd,
     character: u32,
     period: u32,

@@ -145,7 +145,7 @@ fn pose_elements(key_count: usize, joint_count: usize) -> Result<usize> {
 /// infinite component), `CG_STATUS_INVALID_ARGUMENT` (a zero-length rotation, a translation
 /// longer than 1e18).
 #[no_mangle]
-pub extern "C" fn cg_dualquat_from_rt(
+pub unsafe extern "C" fn cg_dualquat_from_rt(
     rotation: *const cg_quat,
     translation: *const cg_vec3,
     out: *mut cg_dualquat,
@@ -174,7 +174,7 @@ pub extern "C" fn cg_dualquat_from_rt(
 /// infinite component), `CG_STATUS_INVALID_ARGUMENT` (a zero real part, a translation longer
 /// than 1e18).
 #[no_mangle]
-pub extern "C" fn cg_dualquat_to_rt(
+pub unsafe extern "C" fn cg_dualquat_to_rt(
     dual_quat: *const cg_dualquat,
     out_rotation: *mut cg_quat,
     out_translation: *mut cg_vec3,
@@ -206,7 +206,10 @@ pub extern "C" fn cg_dualquat_to_rt(
 /// `CG_STATUS_INVALID_ARGUMENT` (a scale, shear, reflection or projection, a translation
 /// longer than 1e18).
 #[no_mangle]
-pub extern "C" fn cg_dualquat_from_matrix(matrix: *const f32, out: *mut cg_dualquat) -> cg_status {
+pub unsafe extern "C" fn cg_dualquat_from_matrix(
+    matrix: *const f32,
+    out: *mut cg_dualquat,
+) -> cg_status {
     ffi_boundary!({
         // SAFETY: the caller passes a writable cg_dualquat (or NULL, rejected).
         let out = unsafe { Out::new(out, "out") }?;
@@ -229,7 +232,10 @@ pub extern "C" fn cg_dualquat_from_matrix(matrix: *const f32, out: *mut cg_dualq
 /// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE`, `CG_STATUS_INVALID_ARGUMENT` (a
 /// zero real part, a translation longer than 1e18).
 #[no_mangle]
-pub extern "C" fn cg_dualquat_to_matrix(dual_quat: *const cg_dualquat, out: *mut f32) -> cg_status {
+pub unsafe extern "C" fn cg_dualquat_to_matrix(
+    dual_quat: *const cg_dualquat,
+    out: *mut f32,
+) -> cg_status {
     ffi_boundary!({
         non_null(out, "out")?;
         // SAFETY: the caller passes a readable cg_dualquat (or NULL).
@@ -257,7 +263,7 @@ pub extern "C" fn cg_dualquat_to_matrix(dual_quat: *const cg_dualquat, out: *mut
 /// (`count` 0, a negative weight, weights summing to 0, an input with a zero real part or a
 /// translation longer than 1e18).
 #[no_mangle]
-pub extern "C" fn cg_blend_dlb(
+pub unsafe extern "C" fn cg_blend_dlb(
     inputs: *const cg_dualquat,
     weights: *const f32,
     count: usize,
@@ -296,7 +302,7 @@ pub extern "C" fn cg_blend_dlb(
 /// NaN or infinite) and `CG_STATUS_INVALID_ARGUMENT` (precision `<= 0`, max_iterations 0 or
 /// above 1000).
 #[no_mangle]
-pub extern "C" fn cg_blend_dib(
+pub unsafe extern "C" fn cg_blend_dib(
     inputs: *const cg_dualquat,
     weights: *const f32,
     count: usize,
@@ -360,7 +366,7 @@ unsafe fn pose_arguments<'a>(
 /// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE`, `CG_STATUS_INVALID_ARGUMENT` (as
 /// `cg_blend_dlb`, plus `key_count * joint_count` overflowing or `out_pose` overlapping `keys`).
 #[no_mangle]
-pub extern "C" fn cg_blend_pose_dlb(
+pub unsafe extern "C" fn cg_blend_pose_dlb(
     keys: *const cg_dualquat,
     weights: *const f32,
     key_count: usize,
@@ -389,7 +395,7 @@ pub extern "C" fn cg_blend_pose_dlb(
 ///
 /// Errors (nothing written): those of `cg_blend_pose_dlb` and of the DIB settings.
 #[no_mangle]
-pub extern "C" fn cg_blend_pose_dib(
+pub unsafe extern "C" fn cg_blend_pose_dib(
     keys: *const cg_dualquat,
     weights: *const f32,
     key_count: usize,
@@ -435,7 +441,7 @@ fn non_null_array<T>(pointer: *const T, count: usize, what: &str) -> Result<()> 
 /// `CG_STATUS_INVALID_ARGUMENT` (a degenerate P: singular left 3×3 block, as for an affine
 /// camera, rank below 3, or a centre too far away for a float).
 #[no_mangle]
-pub extern "C" fn cg_camera_center_from_projection(
+pub unsafe extern "C" fn cg_camera_center_from_projection(
     projection: *const f32,
     out: *mut cg_vec3,
 ) -> cg_status {
@@ -630,7 +636,9 @@ impl cg_view_blender_config {
 /// `CG_STATUS_BAD_STRUCT_SIZE` if `struct_size` is not a size of this struct the library
 /// knows (0 or an unset field included). Thread-safe.
 #[no_mangle]
-pub extern "C" fn cg_view_blender_config_init(config: *mut cg_view_blender_config) -> cg_status {
+pub unsafe extern "C" fn cg_view_blender_config_init(
+    config: *mut cg_view_blender_config,
+) -> cg_status {
     ffi_boundary!({
         // SAFETY: the caller passes a cg_view_blender_config it owns, of at least its
         // struct_size bytes (or NULL).
@@ -649,7 +657,7 @@ pub extern "C" fn cg_view_blender_config_init(config: *mut cg_view_blender_confi
 /// an unknown enum value), `CG_STATUS_NON_FINITE` (alpha or precision NaN or infinite),
 /// `CG_STATUS_OUT_OF_MEMORY`.
 #[no_mangle]
-pub extern "C" fn cg_view_blender_create(
+pub unsafe extern "C" fn cg_view_blender_create(
     config: *const cg_view_blender_config,
     out_blender: *mut *mut cg_view_blender,
 ) -> cg_status {
@@ -670,7 +678,7 @@ pub extern "C" fn cg_view_blender_create(
 /// NULL is accepted and ignored. The handle must not be used afterwards, and no other call
 /// on this blender may be running.
 #[no_mangle]
-pub extern "C" fn cg_view_blender_destroy(blender: *mut cg_view_blender) {
+pub unsafe extern "C" fn cg_view_blender_destroy(blender: *mut cg_view_blender) {
     // SAFETY: a blender handle from cg_view_blender_create (or NULL), destroyed once and not
     // in use (the caller's contract).
     unsafe { super::handle::destroy::<BlenderHandle>(blender) }
@@ -754,7 +762,7 @@ unsafe fn test_hook(blender: *const cg_view_blender) {
 /// <= 0, a transform with a zero real part or a translation longer than 1e18, a count
 /// overflowing), `CG_STATUS_OUT_OF_MEMORY` (no memory for the copy of `frames`).
 #[no_mangle]
-pub extern "C" fn cg_view_blender_set_key_clip(
+pub unsafe extern "C" fn cg_view_blender_set_key_clip(
     blender: *mut cg_view_blender,
     key: u32,
     frames: *const cg_dualquat,
@@ -791,7 +799,7 @@ pub extern "C" fn cg_view_blender_set_key_clip(
 /// out of range, wrong `joint_count`, a transform with a zero real part or a translation longer
 /// than 1e18), `CG_STATUS_OUT_OF_MEMORY`.
 #[no_mangle]
-pub extern "C" fn cg_view_blender_set_key_pose(
+pub unsafe extern "C" fn cg_view_blender_set_key_pose(
     blender: *mut cg_view_blender,
     key: u32,
     pose: *const cg_dualquat,
@@ -823,7 +831,7 @@ pub extern "C" fn cg_view_blender_set_key_pose(
 /// `CG_STATUS_INVALID_ARGUMENT` (key out of range, a zero direction),
 /// `CG_STATUS_OUT_OF_MEMORY`.
 #[no_mangle]
-pub extern "C" fn cg_view_blender_add_camera(
+pub unsafe extern "C" fn cg_view_blender_add_camera(
     blender: *mut cg_view_blender,
     direction: cg_vec3,
     key: u32,
@@ -872,7 +880,7 @@ unsafe fn read_view(
 /// within 1e-6 of its position scaled by max(1, |positions|)), `CG_STATUS_WRONG_STATE` (no key
 /// camera yet).
 #[no_mangle]
-pub extern "C" fn cg_view_blender_weights(
+pub unsafe extern "C" fn cg_view_blender_weights(
     blender: *const cg_view_blender,
     character: *const cg_dualquat,
     viewer: *const cg_vec3,
@@ -906,7 +914,7 @@ pub extern "C" fn cg_view_blender_weights(
 /// `CG_STATUS_INVALID_ARGUMENT` (`joints` is not `joint_count`), `CG_STATUS_NON_FINITE` (`t`
 /// NaN or infinite), `CG_STATUS_WRONG_STATE` (a key without clip or pose).
 #[no_mangle]
-pub extern "C" fn cg_view_blender_evaluate(
+pub unsafe extern "C" fn cg_view_blender_evaluate(
     blender: *const cg_view_blender,
     character: *const cg_dualquat,
     viewer: *const cg_vec3,

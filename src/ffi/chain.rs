@@ -243,7 +243,7 @@ impl Versioned for cg_chain_desc {
 /// `CG_STATUS_BAD_STRUCT_SIZE` (`struct_size` not a size the library knows, 0 or an unset
 /// field included). Thread-safe.
 #[no_mangle]
-pub extern "C" fn cg_chain_desc_init_human(
+pub unsafe extern "C" fn cg_chain_desc_init_human(
     desc: *mut cg_chain_desc,
     up_axis: u32,
     forward_axis: u32,
@@ -262,6 +262,8 @@ pub extern "C" fn cg_chain_desc_init_human(
 }
 
 #[cfg(test)]
+// The tests' C calls pass pointers to live locals: their safety comment, once.
+#[allow(clippy::undocumented_unsafe_blocks)]
 mod tests {
     use super::super::{cg_status, last_error, read_versioned};
     use super::*;
@@ -272,7 +274,7 @@ mod tests {
         let mut desc: cg_chain_desc = unsafe { std::mem::zeroed() };
         desc.struct_size = std::mem::size_of::<cg_chain_desc>() as u32;
         assert_eq!(
-            cg_chain_desc_init_human(&mut desc, up as u32, forward as u32),
+            unsafe { cg_chain_desc_init_human(&mut desc, up as u32, forward as u32) },
             cg_status::Ok
         );
         desc
@@ -312,7 +314,7 @@ mod tests {
     #[test]
     fn init_checks_its_arguments_and_writes_only_on_success() {
         assert_eq!(
-            cg_chain_desc_init_human(std::ptr::null_mut(), 2, 4),
+            unsafe { cg_chain_desc_init_human(std::ptr::null_mut(), 2, 4) },
             cg_status::NullArgument
         );
         let mut desc = human_desc(cg_axis::PositiveY, cg_axis::PositiveZ);
@@ -320,17 +322,20 @@ mod tests {
         desc.joint_count = 3;
         let snapshot = desc;
         assert_eq!(
-            cg_chain_desc_init_human(&mut desc, 2, 3),
+            unsafe { cg_chain_desc_init_human(&mut desc, 2, 3) },
             cg_status::InvalidArgument
         );
         assert_eq!(desc, snapshot, "not perpendicular: unchanged");
         assert_eq!(
-            cg_chain_desc_init_human(&mut desc, 9, 4),
+            unsafe { cg_chain_desc_init_human(&mut desc, 9, 4) },
             cg_status::InvalidArgument
         );
         assert!(last_error::last_error_message().contains("not a cg_axis"));
         assert_eq!(desc, snapshot);
-        assert_eq!(cg_chain_desc_init_human(&mut desc, 2, 4), cg_status::Ok);
+        assert_eq!(
+            unsafe { cg_chain_desc_init_human(&mut desc, 2, 4) },
+            cg_status::Ok
+        );
         assert_eq!(desc, before);
         // A struct_size this library does not know: nothing is written.
         for size in [0, 4, 880, 888, u32::MAX] {
@@ -338,7 +343,7 @@ mod tests {
             desc.struct_size = size;
             let snapshot = desc;
             assert_eq!(
-                cg_chain_desc_init_human(&mut desc, 2, 4),
+                unsafe { cg_chain_desc_init_human(&mut desc, 2, 4) },
                 cg_status::BadStructSize
             );
             assert_eq!(desc, snapshot, "struct_size {size}: unchanged");

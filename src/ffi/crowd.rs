@@ -580,7 +580,7 @@ const LENGTH_FIELDS: &[&str] = &[
 /// `CG_STATUS_BAD_STRUCT_SIZE` if `struct_size` is not a size of this struct the library
 /// knows (0 or an unset field included). Thread-safe.
 #[no_mangle]
-pub extern "C" fn cg_crowd_config_init(config: *mut cg_crowd_config) -> super::cg_status {
+pub unsafe extern "C" fn cg_crowd_config_init(config: *mut cg_crowd_config) -> super::cg_status {
     ffi_boundary!({
         // SAFETY: the caller passes a cg_crowd_config it owns, of at least its struct_size
         // bytes (or NULL).
@@ -601,7 +601,7 @@ pub extern "C" fn cg_crowd_config_init(config: *mut cg_crowd_config) -> super::c
 /// capacities' buffers do not fit in memory; the message names the field and the bytes
 /// asked). Thread-safe.
 #[no_mangle]
-pub extern "C" fn cg_crowd_create(
+pub unsafe extern "C" fn cg_crowd_create(
     config: *const cg_crowd_config,
     out_crowd: *mut *mut cg_crowd,
 ) -> super::cg_status {
@@ -622,7 +622,7 @@ pub extern "C" fn cg_crowd_create(
 /// NULL is accepted and ignored. The handle must not be used afterwards, and no other call
 /// on this crowd may be running.
 #[no_mangle]
-pub extern "C" fn cg_crowd_destroy(crowd: *mut cg_crowd) {
+pub unsafe extern "C" fn cg_crowd_destroy(crowd: *mut cg_crowd) {
     // SAFETY: a crowd handle from cg_crowd_create (or NULL), destroyed once and not in use
     // (the caller's contract).
     unsafe { super::handle::destroy::<CrowdHandle>(crowd) }
@@ -689,7 +689,7 @@ pub(crate) unsafe fn crowd_mut<'a>(crowd: *mut cg_crowd) -> Result<&'a mut Crowd
 /// `CG_STATUS_BAD_STRUCT_SIZE` (`out_config->struct_size` not a size the library knows).
 /// Safe to call concurrently with other `const` calls on the same crowd.
 #[no_mangle]
-pub extern "C" fn cg_crowd_get_config(
+pub unsafe extern "C" fn cg_crowd_get_config(
     crowd: *const cg_crowd,
     out_config: *mut cg_crowd_config,
 ) -> super::cg_status {

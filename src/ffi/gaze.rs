@@ -78,7 +78,7 @@ pub struct cg_eye_info {
 /// (`struct_size` not a size the library knows, 0 or an unset field included).
 /// Thread-safe.
 #[no_mangle]
-pub extern "C" fn cg_gaze_target_init(target: *mut cg_gaze_target) -> cg_status {
+pub unsafe extern "C" fn cg_gaze_target_init(target: *mut cg_gaze_target) -> cg_status {
     ffi_boundary!({
         // SAFETY: the caller passes a cg_gaze_target of at least its struct_size bytes (or
         // NULL, rejected).
@@ -95,7 +95,7 @@ pub extern "C" fn cg_gaze_target_init(target: *mut cg_gaze_target) -> cg_status 
 /// `CG_STATUS_INVALID_ARGUMENT` (unknown kind or priority, an object as `character`, the
 /// character itself as target). Not thread-safe.
 #[no_mangle]
-pub extern "C" fn cg_crowd_set_gaze_target(
+pub unsafe extern "C" fn cg_crowd_set_gaze_target(
     crowd: *mut cg_crowd,
     character: u32,
     target: *const cg_gaze_target,
@@ -137,7 +137,10 @@ pub extern "C" fn cg_crowd_set_gaze_target(
 /// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NOT_FOUND`, `CG_STATUS_INVALID_ARGUMENT`
 /// (an object's id). Not thread-safe.
 #[no_mangle]
-pub extern "C" fn cg_crowd_clear_gaze_target(crowd: *mut cg_crowd, character: u32) -> cg_status {
+pub unsafe extern "C" fn cg_crowd_clear_gaze_target(
+    crowd: *mut cg_crowd,
+    character: u32,
+) -> cg_status {
     ffi_boundary!({
         // SAFETY: handle contract of cg_crowd.
         let crowd = unsafe { crowd_mut(crowd) }?;
@@ -162,7 +165,7 @@ fn to_quats(local: &[cg_quat], out: &mut [Quat]) -> Result<()> {
 /// `CG_STATUS_INVALID_ARGUMENT` (count, a zero quaternion, an object's id). Not
 /// thread-safe.
 #[no_mangle]
-pub extern "C" fn cg_crowd_set_base_pose(
+pub unsafe extern "C" fn cg_crowd_set_base_pose(
     crowd: *mut cg_crowd,
     character: u32,
     local: *const cg_quat,
@@ -194,7 +197,7 @@ pub extern "C" fn cg_crowd_set_base_pose(
 /// Errors: as `cg_crowd_set_base_pose`, and `CG_STATUS_INVALID_ARGUMENT` if `local_count`
 /// does not match. Not thread-safe.
 #[no_mangle]
-pub extern "C" fn cg_crowd_set_base_poses(
+pub unsafe extern "C" fn cg_crowd_set_base_poses(
     crowd: *mut cg_crowd,
     characters: *const u32,
     character_count: usize,
@@ -240,7 +243,7 @@ pub extern "C" fn cg_crowd_set_base_poses(
 /// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_INVALID_ARGUMENT` (range past the last
 /// character). Safe to call concurrently with other `const` calls.
 #[no_mangle]
-pub extern "C" fn cg_crowd_joint_total(
+pub unsafe extern "C" fn cg_crowd_joint_total(
     crowd: *const cg_crowd,
     first: u32,
     count: u32,
@@ -297,7 +300,7 @@ fn read_joints(
 /// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_INVALID_ARGUMENT` (range past the last
 /// character, `out_len` too small). Safe to call concurrently with other `const` calls.
 #[no_mangle]
-pub extern "C" fn cg_crowd_read_joints(
+pub unsafe extern "C" fn cg_crowd_read_joints(
     crowd: *const cg_crowd,
     first: u32,
     count: u32,
@@ -312,7 +315,7 @@ pub extern "C" fn cg_crowd_read_joints(
 ///
 /// Errors: as `cg_crowd_read_joints`. Safe to call concurrently with other `const` calls.
 #[no_mangle]
-pub extern "C" fn cg_crowd_read_joint_deltas(
+pub unsafe extern "C" fn cg_crowd_read_joint_deltas(
     crowd: *const cg_crowd,
     first: u32,
     count: u32,
@@ -329,7 +332,7 @@ pub extern "C" fn cg_crowd_read_joint_deltas(
 /// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_INVALID_ARGUMENT` (range, `out_len`). Safe
 /// to call concurrently with other `const` calls.
 #[no_mangle]
-pub extern "C" fn cg_crowd_read_eyes(
+pub unsafe extern "C" fn cg_crowd_read_eyes(
     crowd: *const cg_crowd,
     first: u32,
     count: u32,

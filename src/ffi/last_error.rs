@@ -38,7 +38,10 @@ pub fn last_error_message() -> String {
 /// by a NUL; a return value `>= len` means the message was truncated. The caller owns
 /// `buf`. Thread-safe (each thread has its own message).
 #[no_mangle]
-pub extern "C" fn cg_last_error_message(buf: *mut c_char, len: libc::size_t) -> libc::size_t {
+pub unsafe extern "C" fn cg_last_error_message(
+    buf: *mut c_char,
+    len: libc::size_t,
+) -> libc::size_t {
     let copy = std::panic::catch_unwind(|| {
         LAST_ERROR.with(|slot| {
             let message = slot.borrow();

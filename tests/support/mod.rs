@@ -2,6 +2,10 @@
 //! through the C API — the street of `crowdgaze::scenario` pushed with `cg_crowd_push_frame`
 //! — and the real ETH trajectories of the development workspace.
 #![allow(dead_code)]
+// The `unsafe { cg_... }` calls below pass pointers to live values of the sizes the header
+// asks for, or deliberately bad ones (NULL, misaligned, wrong struct_size) that the library
+// must refuse: that is their safety comment, once for the file.
+#![allow(clippy::undocumented_unsafe_blocks)]
 
 use crowdgaze::ffi::attention::*;
 use crowdgaze::ffi::crowd::*;
@@ -44,7 +48,7 @@ pub fn check(status: cg_status, what: &str) {
 }
 
 /// A struct filled by its `_init` function (after setting its `struct_size`).
-pub fn init<T>(f: extern "C" fn(*mut T) -> cg_status) -> T {
+pub fn init<T>(f: unsafe extern "C" fn(*mut T) -> cg_status) -> T {
     let mut value = MaybeUninit::<T>::uninit();
     // SAFETY: every versioned struct starts with `uint32_t struct_size`, which the caller
     // sets to its size before the `_init` call.
@@ -54,7 +58,7 @@ pub fn init<T>(f: extern "C" fn(*mut T) -> cg_status) -> T {
             .cast::<u32>()
             .write(std::mem::size_of::<T>() as u32)
     };
-    check(f(value.as_mut_ptr()), "init");
+    check(unsafe { f(value.as_mut_ptr()) }, "init");
     // SAFETY: initialised by the _init function just above.
     unsafe { value.assume_init() }
 }
@@ -65,7 +69,10 @@ pub struct CrowdHandle(*mut cg_crowd);
 impl CrowdHandle {
     pub fn new(config: &cg_crowd_config) -> CrowdHandle {
         let mut handle = null_mut();
-        check(cg_crowd_create(config, &mut handle), "cg_crowd_create");
+        check(
+            unsafe { cg_crowd_create(config, &mut handle) },
+            "cg_crowd_create",
+        );
         CrowdHandle(handle)
     }
 
@@ -84,29 +91,32 @@ impl CrowdHandle {
         desc.heading = heading;
         let mut id = 0;
         check(
-            cg_crowd_add_character(self.0, &desc, &mut id),
+            unsafe { cg_crowd_add_character(self.0, &desc, &mut id) },
             "cg_crowd_add_character",
         );
         id
     }
 
     pub fn remove(&self, id: u32) {
-        check(cg_crowd_remove_entity(self.0, id), "cg_crowd_remove_entity");
+        check(
+            unsafe { cg_crowd_remove_entity(self.0, id) },
+            "cg_crowd_remove_entity",
+        );
     }
 
     /// Pushes `states` at time `t`, then steps the crowd by `dt`.
     pub fn push_and_step(&self, t: f64, dt: f32, states: &[cg_entity_state]) {
         check(
-            cg_crowd_push_frame(self.0, t, states.as_ptr(), states.len()),
+            unsafe { cg_crowd_push_frame(self.0, t, states.as_ptr(), states.len()) },
             "cg_crowd_push_frame",
         );
-        check(cg_crowd_step(self.0, dt), "cg_crowd_step");
+        check(unsafe { cg_crowd_step(self.0, dt) }, "cg_crowd_step");
     }
 }
 
 impl Drop for CrowdHandle {
     fn drop(&mut self) {
-        cg_crowd_destroy(self.0);
+        unsafe { cg_crowd_destroy(self.0) };
     }
 }
 
@@ -161,7 +171,7 @@ impl Street {
             desc.impact = prop.impact;
             let mut id = 0;
             check(
-                cg_crowd_add_object(crowd.as_mut(), &desc, &mut id),
+                unsafe { cg_crowd_add_object(crowd.as_mut(), &desc, &mut id) },
                 "cg_crowd_add_object",
             );
         }

@@ -21,7 +21,7 @@ pub fn first_blender(state: &mut State) {
     );
     config.joint_count = 2;
     config.key_count = 3;
-    let status = cg_view_blender_create(&config, &mut state.blender);
+    let status = unsafe { cg_view_blender_create(&config, &mut state.blender) };
     assert_eq!(state.call("cg_view_blender_create", status), cg_status::Ok);
     state.blend_joints = 2;
     state.blend_keys = 3;
@@ -66,12 +66,11 @@ pub fn create(state: &mut State, input: &mut Input) {
     let mut blender: *mut cg_view_blender = null_mut();
     let pointer = pointer_to(&config, input);
     let out = or_null(&mut blender as *mut _, input);
-    let status = state.change(
-        "cg_view_blender_create",
-        cg_view_blender_create(pointer, out),
-    );
+    let status = state.change("cg_view_blender_create", unsafe {
+        cg_view_blender_create(pointer, out)
+    });
     if status == cg_status::Ok {
-        cg_view_blender_destroy(state.blender);
+        unsafe { cg_view_blender_destroy(state.blender) };
         state.blender = blender;
         state.blend_joints = config.joint_count as usize;
         state.blend_keys = config.key_count as usize;
@@ -100,8 +99,7 @@ pub fn set_key_clip(state: &mut State, input: &mut Input) {
     let looping = input.byte() % 2 == 1;
     let blender = state.blender(input);
     let pointer = array_pointer(&frames, input);
-    state.change(
-        "cg_view_blender_set_key_clip",
+    state.change("cg_view_blender_set_key_clip", unsafe {
         cg_view_blender_set_key_clip(
             blender,
             key,
@@ -109,8 +107,8 @@ pub fn set_key_clip(state: &mut State, input: &mut Input) {
             frame_count,
             frames_per_second,
             looping,
-        ),
-    );
+        )
+    });
 }
 
 pub fn set_key_pose(state: &mut State, input: &mut Input) {
@@ -119,10 +117,9 @@ pub fn set_key_pose(state: &mut State, input: &mut Input) {
     let pose = dualquats(input, count);
     let blender = state.blender(input);
     let pointer = array_pointer(&pose, input);
-    state.change(
-        "cg_view_blender_set_key_pose",
-        cg_view_blender_set_key_pose(blender, key, pointer, count),
-    );
+    state.change("cg_view_blender_set_key_pose", unsafe {
+        cg_view_blender_set_key_pose(blender, key, pointer, count)
+    });
 }
 
 pub fn add_camera(state: &mut State, input: &mut Input) {
@@ -138,10 +135,9 @@ pub fn add_camera(state: &mut State, input: &mut Input) {
     };
     let key = key(state, input);
     let blender = state.blender(input);
-    state.change(
-        "cg_view_blender_add_camera",
-        cg_view_blender_add_camera(blender, direction, key),
-    );
+    state.change("cg_view_blender_add_camera", unsafe {
+        cg_view_blender_add_camera(blender, direction, key)
+    });
 }
 
 /// Calls `cg_view_blender_weights` or `cg_view_blender_evaluate` (`call`) with a character
@@ -179,7 +175,7 @@ fn view_call<T: Output + std::fmt::Debug>(
 
 pub fn weights(state: &mut State, input: &mut Input) {
     let usual = state.blend_keys;
-    let call = |blender, character, viewer, out: *mut f32, count| {
+    let call = |blender, character, viewer, out: *mut f32, count| unsafe {
         cg_view_blender_weights(blender, character, viewer, out, count)
     };
     view_call(state, input, "cg_view_blender_weights", usual, call);
@@ -192,7 +188,7 @@ pub fn evaluate(state: &mut State, input: &mut Input) {
         _ => f64::from(input.byte()) / 16.0,
     };
     let usual = state.blend_joints;
-    let call = |blender, character, viewer, out: *mut cg_dualquat, count| {
+    let call = |blender, character, viewer, out: *mut cg_dualquat, count| unsafe {
         cg_view_blender_evaluate(blender, character, viewer, t, out, count)
     };
     view_call(state, input, "cg_view_blender_evaluate", usual, call);
@@ -202,11 +198,13 @@ pub fn from_rt(state: &mut State, input: &mut Input) {
     let rotation = quat(input);
     let translation = vec3(input);
     let mut out = sentinel::<cg_dualquat>(1);
-    let status = cg_dualquat_from_rt(
-        pointer_to(&rotation, input),
-        pointer_to(&translation, input),
-        or_null(out.as_mut_ptr(), input),
-    );
+    let status = unsafe {
+        cg_dualquat_from_rt(
+            pointer_to(&rotation, input),
+            pointer_to(&translation, input),
+            or_null(out.as_mut_ptr(), input),
+        )
+    };
     let status = state.call("cg_dualquat_from_rt", status);
     state.outputs("cg_dualquat_from_rt", status, &out, 1);
 }
@@ -215,11 +213,13 @@ pub fn to_rt(state: &mut State, input: &mut Input) {
     let transform = dualquat(input);
     let mut rotation = sentinel::<cg_quat>(1);
     let mut translation = sentinel::<cg_vec3>(1);
-    let status = cg_dualquat_to_rt(
-        pointer_to(&transform, input),
-        or_null(rotation.as_mut_ptr(), input),
-        or_null(translation.as_mut_ptr(), input),
-    );
+    let status = unsafe {
+        cg_dualquat_to_rt(
+            pointer_to(&transform, input),
+            or_null(rotation.as_mut_ptr(), input),
+            or_null(translation.as_mut_ptr(), input),
+        )
+    };
     let status = state.call("cg_dualquat_to_rt", status);
     state.outputs("cg_dualquat_to_rt", status, &rotation, 1);
     state.outputs("cg_dualquat_to_rt", status, &translation, 1);
@@ -230,7 +230,7 @@ pub fn to_rt(state: &mut State, input: &mut Input) {
 fn matrix(state: &State, input: &mut Input) -> [f32; 16] {
     let mut matrix = [0.0f32; 16];
     let transform = rigid(input.float(), vec3(input));
-    let status = cg_dualquat_to_matrix(&transform, matrix.as_mut_ptr());
+    let status = unsafe { cg_dualquat_to_matrix(&transform, matrix.as_mut_ptr()) };
     state.call("cg_dualquat_to_matrix", status);
     while input.rare() {
         matrix[input.below(16) as usize] = input.float();
@@ -242,7 +242,7 @@ pub fn from_matrix(state: &mut State, input: &mut Input) {
     let matrix = matrix(state, input);
     let mut out = sentinel::<cg_dualquat>(1);
     let pointer = array_pointer(&matrix, input);
-    let status = cg_dualquat_from_matrix(pointer, or_null(out.as_mut_ptr(), input));
+    let status = unsafe { cg_dualquat_from_matrix(pointer, or_null(out.as_mut_ptr(), input)) };
     let status = state.call("cg_dualquat_from_matrix", status);
     state.outputs("cg_dualquat_from_matrix", status, &out, 1);
 }
@@ -250,10 +250,12 @@ pub fn from_matrix(state: &mut State, input: &mut Input) {
 pub fn to_matrix(state: &mut State, input: &mut Input) {
     let transform = dualquat(input);
     let mut out = sentinel::<f32>(16);
-    let status = cg_dualquat_to_matrix(
-        pointer_to(&transform, input),
-        or_null(out.as_mut_ptr(), input),
-    );
+    let status = unsafe {
+        cg_dualquat_to_matrix(
+            pointer_to(&transform, input),
+            or_null(out.as_mut_ptr(), input),
+        )
+    };
     let status = state.call("cg_dualquat_to_matrix", status);
     state.outputs("cg_dualquat_to_matrix", status, &out, 16);
 }
@@ -289,12 +291,10 @@ fn blend(state: &mut State, input: &mut Input, dib: Option<(f32, u32)>) {
     let inputs_pointer = array_pointer(&inputs, input);
     let weights_pointer = array_pointer(&weights, input);
     let (function, status) = match dib {
-        None => (
-            "cg_blend_dlb",
-            cg_blend_dlb(inputs_pointer, weights_pointer, count, out_pointer),
-        ),
-        Some((precision, iterations)) => (
-            "cg_blend_dib",
+        None => ("cg_blend_dlb", unsafe {
+            cg_blend_dlb(inputs_pointer, weights_pointer, count, out_pointer)
+        }),
+        Some((precision, iterations)) => ("cg_blend_dib", unsafe {
             cg_blend_dib(
                 inputs_pointer,
                 weights_pointer,
@@ -302,8 +302,8 @@ fn blend(state: &mut State, input: &mut Input, dib: Option<(f32, u32)>) {
                 precision,
                 iterations,
                 out_pointer,
-            ),
-        ),
+            )
+        }),
     };
     let status = state.call(function, status);
     if aliased {
@@ -340,18 +340,16 @@ fn blend_pose(state: &mut State, input: &mut Input, dib: Option<(f32, u32)>) {
     let keys_pointer = array_pointer(&keys, input);
     let weights_pointer = array_pointer(&weights, input);
     let (function, status) = match dib {
-        None => (
-            "cg_blend_pose_dlb",
+        None => ("cg_blend_pose_dlb", unsafe {
             cg_blend_pose_dlb(
                 keys_pointer,
                 weights_pointer,
                 key_count,
                 joint_count,
                 out_pointer,
-            ),
-        ),
-        Some((precision, iterations)) => (
-            "cg_blend_pose_dib",
+            )
+        }),
+        Some((precision, iterations)) => ("cg_blend_pose_dib", unsafe {
             cg_blend_pose_dib(
                 keys_pointer,
                 weights_pointer,
@@ -360,8 +358,8 @@ fn blend_pose(state: &mut State, input: &mut Input, dib: Option<(f32, u32)>) {
                 precision,
                 iterations,
                 out_pointer,
-            ),
-        ),
+            )
+        }),
     };
     let status = state.call(function, status);
     assert!(
@@ -404,7 +402,8 @@ pub fn camera_center(state: &mut State, input: &mut Input) {
     }
     let mut out = sentinel::<cg_vec3>(1);
     let pointer = array_pointer(&projection, input);
-    let status = cg_camera_center_from_projection(pointer, or_null(out.as_mut_ptr(), input));
+    let status =
+        unsafe { cg_camera_center_from_projection(pointer, or_null(out.as_mut_ptr(), input)) };
     let status = state.call("cg_camera_center_from_projection", status);
     state.outputs("cg_camera_center_from_projection", status, &out, 1);
 }

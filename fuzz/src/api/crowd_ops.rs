@@ -22,7 +22,11 @@ const HUMAN_JOINTS: usize = 10;
 
 /// A struct filled by its `_init` function (whose status is checked), after setting its
 /// `struct_size`.
-pub fn init<T>(state: &State, function: &str, init: extern "C" fn(*mut T) -> cg_status) -> T {
+pub fn init<T>(
+    state: &State,
+    function: &str,
+    init: unsafe extern "C" fn(*mut T) -> cg_status,
+) -> T {
     let mut value = MaybeUninit::<T>::uninit();
     // SAFETY: every versioned struct starts with its `uint32_t struct_size`.
     unsafe {
@@ -32,7 +36,7 @@ pub fn init<T>(state: &State, function: &str, init: extern "C" fn(*mut T) -> cg_
             .write(size_of::<T>() as u32)
     };
     assert_eq!(
-        state.call(function, init(value.as_mut_ptr())),
+        state.call(function, unsafe { init(value.as_mut_ptr()) }),
         cg_status::Ok
     );
     // SAFETY: the _init function succeeded, so it filled the whole struct.
@@ -45,7 +49,7 @@ pub fn first_crowd(state: &mut State) {
     config.max_characters = 12;
     config.max_objects = 4;
     config.max_recorded_states = 4000;
-    let status = cg_crowd_create(&config, &mut state.crowd);
+    let status = unsafe { cg_crowd_create(&config, &mut state.crowd) };
     assert_eq!(state.call("cg_crowd_create", status), cg_status::Ok);
     state.config = config;
 }
@@ -130,9 +134,9 @@ pub fn create(state: &mut State, input: &mut Input) {
         config.max_recorded_states = u32::MAX;
     }
     let pointer: *const cg_crowd_config = if pointer.is_null() { pointer } else { &config };
-    let status = state.change("cg_crowd_create", cg_crowd_create(pointer, out));
+    let status = state.change("cg_crowd_create", unsafe { cg_crowd_create(pointer, out) });
     if status == cg_status::Ok {
-        cg_crowd_destroy(state.crowd);
+        unsafe { cg_crowd_destroy(state.crowd) };
         state.crowd = crowd;
         state.config = config;
         state.live.clear();
@@ -156,7 +160,7 @@ fn chain(state: &State, input: &mut Input) -> cg_chain_desc {
     } else {
         (2, 4)
     };
-    let status = cg_chain_desc_init_human(&mut chain, up, forward);
+    let status = unsafe { cg_chain_desc_init_human(&mut chain, up, forward) };
     state.call("cg_chain_desc_init_human", status);
     for _ in 0..input.below(4) {
         let joint = input.below(16) as usize % chain.joints.len();
@@ -186,12 +190,14 @@ fn add<D>(
     input: &mut Input,
     function: &str,
     desc: &D,
-    call: extern "C" fn(*mut cg_crowd, *const D, *mut u32) -> cg_status,
+    call: unsafe extern "C" fn(*mut cg_crowd, *const D, *mut u32) -> cg_status,
 ) {
     let crowd = state.crowd(input);
     let mut id = sentinel::<u32>(1);
     let out = or_null(id.as_mut_ptr(), input);
-    let status = state.change(function, call(crowd, pointer_to(desc, input), out));
+    let status = state.change(function, unsafe {
+        call(crowd, pointer_to(desc, input), out)
+    });
     state.outputs(function, status, &id, 1);
     added(state, status, out, id[0]);
 }
@@ -237,7 +243,9 @@ pub fn add_object(state: &mut State, input: &mut Input) {
 pub fn remove_entity(state: &mut State, input: &mut Input) {
     let id = state.id(input);
     let crowd = state.crowd(input);
-    let status = state.change("cg_crowd_remove_entity", cg_crowd_remove_entity(crowd, id));
+    let status = state.change("cg_crowd_remove_entity", unsafe {
+        cg_crowd_remove_entity(crowd, id)
+    });
     if status == cg_status::Ok {
         state.live.retain(|&live| live != id);
         state.removed.push(id);
@@ -272,10 +280,9 @@ pub fn push_frame(state: &mut State, input: &mut Input) {
     };
     let crowd = state.crowd(input);
     let pointer = array_pointer(&states, input);
-    let status = state.change(
-        "cg_crowd_push_frame",
-        cg_crowd_push_frame(crowd, t, pointer, count),
-    );
+    let status = state.change("cg_crowd_push_frame", unsafe {
+        cg_crowd_push_frame(crowd, t, pointer, count)
+    });
     if status == cg_status::Ok {
         state.time = t;
     }
@@ -284,7 +291,7 @@ pub fn push_frame(state: &mut State, input: &mut Input) {
 pub fn step(state: &mut State, input: &mut Input) {
     let dt = input.float_or(1.0 / 30.0);
     let crowd = state.crowd(input);
-    state.change("cg_crowd_step", cg_crowd_step(crowd, dt));
+    state.change("cg_crowd_step", unsafe { cg_crowd_step(crowd, dt) });
 }
 
 /// A step split into ranges: `cg_crowd_begin_step`, up to four `cg_crowd_step_range`
@@ -294,7 +301,9 @@ pub fn step(state: &mut State, input: &mut Input) {
 pub fn ranged_step(state: &mut State, input: &mut Input) {
     let dt = input.float_or(1.0 / 30.0);
     let crowd = state.crowd(input);
-    state.change("cg_crowd_begin_step", cg_crowd_begin_step(crowd, dt));
+    state.change("cg_crowd_begin_step", unsafe {
+        cg_crowd_begin_step(crowd, dt)
+    });
     for _ in 0..input.below(5) {
         let first = if input.rare() {
             input.u32()
@@ -307,14 +316,15 @@ pub fn ranged_step(state: &mut State, input: &mut Input) {
             input.below(64)
         };
         let crowd = state.crowd(input);
-        state.change(
-            "cg_crowd_step_range",
-            cg_crowd_step_range(crowd, first, count),
-        );
+        state.change("cg_crowd_step_range", unsafe {
+            cg_crowd_step_range(crowd, first, count)
+        });
     }
     let crowd = state.crowd(input);
-    state.change("cg_crowd_end_step", cg_crowd_end_step(crowd));
-    state.change("cg_crowd_end_step", cg_crowd_end_step(state.crowd));
+    state.change("cg_crowd_end_step", unsafe { cg_crowd_end_step(crowd) });
+    state.change("cg_crowd_end_step", unsafe {
+        cg_crowd_end_step(state.crowd)
+    });
 }
 
 /// A frame of a walking crowd: every live entity moves along x in its own lane, then a
@@ -335,14 +345,15 @@ pub fn walk(state: &mut State, input: &mut Input) {
             entity
         })
         .collect();
-    let status = state.change(
-        "cg_crowd_push_frame",
-        cg_crowd_push_frame(state.crowd, t, states.as_ptr(), states.len()),
-    );
+    let status = state.change("cg_crowd_push_frame", unsafe {
+        cg_crowd_push_frame(state.crowd, t, states.as_ptr(), states.len())
+    });
     if status == cg_status::Ok {
         state.time = t;
     }
-    state.change("cg_crowd_step", cg_crowd_step(state.crowd, 1.0 / 30.0));
+    state.change("cg_crowd_step", unsafe {
+        cg_crowd_step(state.crowd, 1.0 / 30.0)
+    });
 }
 
 pub fn read_gaze(state: &mut State, input: &mut Input) {
@@ -355,10 +366,9 @@ pub fn read_gaze(state: &mut State, input: &mut Input) {
     } else {
         written.as_mut_ptr()
     };
-    let status = state.call(
-        "cg_crowd_read_gaze",
-        cg_crowd_read_gaze(crowd, pointer, out.len(), written_pointer),
-    );
+    let status = state.call("cg_crowd_read_gaze", unsafe {
+        cg_crowd_read_gaze(crowd, pointer, out.len(), written_pointer)
+    });
     let filled = if written_pointer.is_null() {
         0
     } else {
@@ -378,10 +388,9 @@ pub fn score(state: &mut State, input: &mut Input) {
     let mut out = sentinel::<cg_score_breakdown>(1);
     let crowd = state.crowd(input);
     let pointer = or_null(out.as_mut_ptr(), input);
-    let status = state.call(
-        "cg_crowd_score",
-        cg_crowd_score(crowd, character, entity, pointer),
-    );
+    let status = state.call("cg_crowd_score", unsafe {
+        cg_crowd_score(crowd, character, entity, pointer)
+    });
     state.outputs("cg_crowd_score", status, &out, 1);
 }
 
@@ -390,10 +399,9 @@ pub fn get_character_params(state: &mut State, input: &mut Input) {
     let mut out = sized_sentinel::<cg_character_params>();
     let crowd = state.crowd(input);
     let pointer = or_null(out.as_mut_ptr(), input);
-    let status = state.call(
-        "cg_crowd_get_character_params",
-        cg_crowd_get_character_params(crowd, id, pointer),
-    );
+    let status = state.call("cg_crowd_get_character_params", unsafe {
+        cg_crowd_get_character_params(crowd, id, pointer)
+    });
     state.versioned_output("cg_crowd_get_character_params", status, &out);
 }
 
@@ -408,7 +416,7 @@ pub fn set_character_params(state: &mut State, input: &mut Input) {
         attention_fraction: 0.4,
         attention_model: 0,
     };
-    let status = cg_crowd_get_character_params(state.crowd, id, &mut params);
+    let status = unsafe { cg_crowd_get_character_params(state.crowd, id, &mut params) };
     state.call("cg_crowd_get_character_params", status);
     for _ in 0..input.below(3) {
         match input.below(7) {
@@ -423,30 +431,28 @@ pub fn set_character_params(state: &mut State, input: &mut Input) {
     }
     let crowd = state.crowd(input);
     let pointer = pointer_to(&params, input);
-    state.change(
-        "cg_crowd_set_character_params",
-        cg_crowd_set_character_params(crowd, id, pointer),
-    );
+    state.change("cg_crowd_set_character_params", unsafe {
+        cg_crowd_set_character_params(crowd, id, pointer)
+    });
 }
 
 pub fn set_impact(state: &mut State, input: &mut Input) {
     let id = state.id(input);
     let impact = input.positive();
     let crowd = state.crowd(input);
-    state.change(
-        "cg_crowd_set_impact",
-        cg_crowd_set_impact(crowd, id, impact),
-    );
+    state.change("cg_crowd_set_impact", unsafe {
+        cg_crowd_set_impact(crowd, id, impact)
+    });
 }
 
 pub fn plan(state: &mut State, input: &mut Input) {
     let crowd = state.crowd(input);
-    state.change("cg_crowd_plan", cg_crowd_plan(crowd));
+    state.change("cg_crowd_plan", unsafe { cg_crowd_plan(crowd) });
 }
 
 pub fn clear_plan(state: &mut State, input: &mut Input) {
     let crowd = state.crowd(input);
-    state.change("cg_crowd_clear_plan", cg_crowd_clear_plan(crowd));
+    state.change("cg_crowd_clear_plan", unsafe { cg_crowd_clear_plan(crowd) });
 }
 
 pub fn read_constraints(state: &mut State, input: &mut Input) {
@@ -456,10 +462,9 @@ pub fn read_constraints(state: &mut State, input: &mut Input) {
     let crowd = state.crowd(input);
     let pointer = or_null(out.as_mut_ptr(), input);
     let total_pointer = or_null(total.as_mut_ptr(), input);
-    let status = state.call(
-        "cg_crowd_read_constraints",
-        cg_crowd_read_constraints(crowd, id, pointer, out.len(), total_pointer),
-    );
+    let status = state.call("cg_crowd_read_constraints", unsafe {
+        cg_crowd_read_constraints(crowd, id, pointer, out.len(), total_pointer)
+    });
     let filled = if total_pointer.is_null() { 0 } else { total[0] };
     state.outputs("cg_crowd_read_constraints", status, &out, filled);
 }
@@ -475,10 +480,9 @@ pub fn set_viewer(state: &mut State, input: &mut Input) {
     } else {
         id.as_mut_ptr()
     };
-    let status = state.change(
-        "cg_crowd_set_viewer",
-        cg_crowd_set_viewer(crowd, pointer, impact, out),
-    );
+    let status = state.change("cg_crowd_set_viewer", unsafe {
+        cg_crowd_set_viewer(crowd, pointer, impact, out)
+    });
     state.outputs(
         "cg_crowd_set_viewer",
         status,
@@ -495,10 +499,9 @@ pub fn set_attention_period(state: &mut State, input: &mut Input) {
     let id = state.id(input);
     let period = input.choice(70);
     let crowd = state.crowd(input);
-    state.change(
-        "cg_crowd_set_attention_period",
-        cg_crowd_set_attention_period(crowd, id, period),
-    );
+    state.change("cg_crowd_set_attention_period", unsafe {
+        cg_crowd_set_attention_period(crowd, id, period)
+    });
 }
 
 pub fn set_gaze_target(state: &mut State, input: &mut Input) {
@@ -511,19 +514,17 @@ pub fn set_gaze_target(state: &mut State, input: &mut Input) {
     target.point = point(input, 1.6);
     let crowd = state.crowd(input);
     let pointer = pointer_to(&target, input);
-    state.change(
-        "cg_crowd_set_gaze_target",
-        cg_crowd_set_gaze_target(crowd, character, pointer),
-    );
+    state.change("cg_crowd_set_gaze_target", unsafe {
+        cg_crowd_set_gaze_target(crowd, character, pointer)
+    });
 }
 
 pub fn clear_gaze_target(state: &mut State, input: &mut Input) {
     let id = state.id(input);
     let crowd = state.crowd(input);
-    state.change(
-        "cg_crowd_clear_gaze_target",
-        cg_crowd_clear_gaze_target(crowd, id),
-    );
+    state.change("cg_crowd_clear_gaze_target", unsafe {
+        cg_crowd_clear_gaze_target(crowd, id)
+    });
 }
 
 /// `count` joint rotations, mostly `HUMAN_JOINTS`.
@@ -537,10 +538,9 @@ pub fn set_base_pose(state: &mut State, input: &mut Input) {
     let local = pose(input, count);
     let crowd = state.crowd(input);
     let pointer = array_pointer(&local, input);
-    state.change(
-        "cg_crowd_set_base_pose",
-        cg_crowd_set_base_pose(crowd, id, pointer, count),
-    );
+    state.change("cg_crowd_set_base_pose", unsafe {
+        cg_crowd_set_base_pose(crowd, id, pointer, count)
+    });
 }
 
 pub fn set_base_poses(state: &mut State, input: &mut Input) {
@@ -550,10 +550,9 @@ pub fn set_base_poses(state: &mut State, input: &mut Input) {
     let crowd = state.crowd(input);
     let ids = array_pointer(&characters, input);
     let pointer = array_pointer(&local, input);
-    state.change(
-        "cg_crowd_set_base_poses",
-        cg_crowd_set_base_poses(crowd, ids, characters.len(), pointer, count),
-    );
+    state.change("cg_crowd_set_base_poses", unsafe {
+        cg_crowd_set_base_poses(crowd, ids, characters.len(), pointer, count)
+    });
 }
 
 /// A character range: mostly small, rarely any values (overflowing `first + count`).
@@ -570,10 +569,9 @@ pub fn joint_total(state: &mut State, input: &mut Input) {
     let mut total = sentinel::<usize>(1);
     let crowd = state.crowd(input);
     let pointer = or_null(total.as_mut_ptr(), input);
-    let status = state.call(
-        "cg_crowd_joint_total",
-        cg_crowd_joint_total(crowd, first, count, pointer),
-    );
+    let status = state.call("cg_crowd_joint_total", unsafe {
+        cg_crowd_joint_total(crowd, first, count, pointer)
+    });
     state.outputs("cg_crowd_joint_total", status, &total, 1);
 }
 
@@ -582,17 +580,19 @@ fn read_joints(
     state: &mut State,
     input: &mut Input,
     function: &str,
-    read: extern "C" fn(*const cg_crowd, u32, u32, *mut cg_quat, usize) -> cg_status,
+    read: unsafe extern "C" fn(*const cg_crowd, u32, u32, *mut cg_quat, usize) -> cg_status,
 ) {
     let (first, count) = range(input);
     let length = input.count_or((count as usize).min(16) * HUMAN_JOINTS, 255);
     let mut out = sentinel::<cg_quat>(length);
     let crowd = state.crowd(input);
     let pointer = or_null(out.as_mut_ptr(), input);
-    let status = state.call(function, read(crowd, first, count, pointer, length));
+    let status = state.call(function, unsafe {
+        read(crowd, first, count, pointer, length)
+    });
     let mut total = 0;
     if status == cg_status::Ok {
-        let total_status = cg_crowd_joint_total(crowd, first, count, &mut total);
+        let total_status = unsafe { cg_crowd_joint_total(crowd, first, count, &mut total) };
         assert_eq!(
             total_status,
             cg_status::Ok,
@@ -621,10 +621,9 @@ pub fn read_eyes(state: &mut State, input: &mut Input) {
     let mut out = sentinel::<cg_eye_info>(length);
     let crowd = state.crowd(input);
     let pointer = or_null(out.as_mut_ptr(), input);
-    let status = state.call(
-        "cg_crowd_read_eyes",
-        cg_crowd_read_eyes(crowd, first, count, pointer, length),
-    );
+    let status = state.call("cg_crowd_read_eyes", unsafe {
+        cg_crowd_read_eyes(crowd, first, count, pointer, length)
+    });
     state.outputs("cg_crowd_read_eyes", status, &out, count as usize);
 }
 
@@ -632,10 +631,9 @@ pub fn character_count(state: &mut State, input: &mut Input) {
     let mut count = sentinel::<usize>(1);
     let crowd = state.crowd(input);
     let pointer = or_null(count.as_mut_ptr(), input);
-    let status = state.call(
-        "cg_crowd_character_count",
-        cg_crowd_character_count(crowd, pointer),
-    );
+    let status = state.call("cg_crowd_character_count", unsafe {
+        cg_crowd_character_count(crowd, pointer)
+    });
     state.outputs("cg_crowd_character_count", status, &count, 1);
 }
 
@@ -643,7 +641,9 @@ pub fn get_config(state: &mut State, input: &mut Input) {
     let mut config = sized_sentinel::<cg_crowd_config>();
     let crowd = state.crowd(input);
     let pointer = or_null(config.as_mut_ptr(), input);
-    let status = state.call("cg_crowd_get_config", cg_crowd_get_config(crowd, pointer));
+    let status = state.call("cg_crowd_get_config", unsafe {
+        cg_crowd_get_config(crowd, pointer)
+    });
     state.versioned_output("cg_crowd_get_config", status, &config);
 }
 
@@ -651,9 +651,8 @@ pub fn chain_init(state: &mut State, input: &mut Input) {
     let (up, forward) = (input.below(8), input.below(8));
     let mut chain = sized_sentinel::<cg_chain_desc>();
     let pointer = or_null(chain.as_mut_ptr(), input);
-    let status = state.call(
-        "cg_chain_desc_init_human",
-        cg_chain_desc_init_human(pointer, up, forward),
-    );
+    let status = state.call("cg_chain_desc_init_human", unsafe {
+        cg_chain_desc_init_human(pointer, up, forward)
+    });
     state.versioned_output("cg_chain_desc_init_human", status, &chain);
 }

@@ -15,6 +15,11 @@
 //! pose are read back: all finite, the weights convex, and identical to before if the
 //! operation's calls all failed. Any violation panics, which is how libFuzzer reports.
 
+// The `unsafe { cg_... }` calls below pass pointers to live values of the sizes the header
+// asks for, or deliberately bad ones (NULL, misaligned, wrong struct_size) that the library
+// must refuse: that is their safety comment, once for the file.
+#![allow(clippy::undocumented_unsafe_blocks)]
+
 mod blend_ops;
 mod crowd_ops;
 mod input;
@@ -114,8 +119,8 @@ pub struct State {
 
 impl Drop for State {
     fn drop(&mut self) {
-        cg_crowd_destroy(self.crowd);
-        cg_view_blender_destroy(self.blender);
+        unsafe { cg_crowd_destroy(self.crowd) };
+        unsafe { cg_view_blender_destroy(self.blender) };
     }
 }
 
@@ -213,27 +218,30 @@ impl State {
         {
             let mut gaze = sentinel::<cg_gaze_info>(self.config.max_characters as usize);
             let mut written = 0;
-            let status =
-                cg_crowd_read_gaze(self.crowd, gaze.as_mut_ptr(), gaze.len(), &mut written);
+            let status = unsafe {
+                cg_crowd_read_gaze(self.crowd, gaze.as_mut_ptr(), gaze.len(), &mut written)
+            };
             assert_eq!(self.call("cg_crowd_read_gaze", status), cg_status::Ok);
             self.outputs("cg_crowd_read_gaze", status, &gaze, written);
             seen.extend_from_slice(bytes(&gaze[..written]));
             let characters = written as u32;
             let mut total = 0;
-            let status = cg_crowd_joint_total(self.crowd, 0, characters, &mut total);
+            let status = unsafe { cg_crowd_joint_total(self.crowd, 0, characters, &mut total) };
             assert_eq!(self.call("cg_crowd_joint_total", status), cg_status::Ok);
             for (function, read) in [
                 ("cg_crowd_read_joints", cg_crowd_read_joints as ReadJoints),
                 ("cg_crowd_read_joint_deltas", cg_crowd_read_joint_deltas),
             ] {
                 let mut joints = sentinel::<cg_quat>(total);
-                let status = read(self.crowd, 0, characters, joints.as_mut_ptr(), total);
+                let status = unsafe { read(self.crowd, 0, characters, joints.as_mut_ptr(), total) };
                 assert_eq!(self.call(function, status), cg_status::Ok);
                 self.outputs(function, status, &joints, total);
                 seen.extend_from_slice(bytes(&joints));
             }
             let mut eyes = sentinel::<cg_eye_info>(written);
-            let status = cg_crowd_read_eyes(self.crowd, 0, characters, eyes.as_mut_ptr(), written);
+            let status = unsafe {
+                cg_crowd_read_eyes(self.crowd, 0, characters, eyes.as_mut_ptr(), written)
+            };
             assert_eq!(self.call("cg_crowd_read_eyes", status), cg_status::Ok);
             self.outputs("cg_crowd_read_eyes", status, &eyes, written);
             seen.extend_from_slice(bytes(&eyes));
@@ -260,13 +268,15 @@ impl State {
                 z: 4.0,
             };
             let mut weights = sentinel::<f32>(self.blend_keys);
-            let status = cg_view_blender_weights(
-                self.blender,
-                &character,
-                &viewer,
-                weights.as_mut_ptr(),
-                weights.len(),
-            );
+            let status = unsafe {
+                cg_view_blender_weights(
+                    self.blender,
+                    &character,
+                    &viewer,
+                    weights.as_mut_ptr(),
+                    weights.len(),
+                )
+            };
             self.call("cg_view_blender_weights", status);
             self.outputs("cg_view_blender_weights", status, &weights, weights.len());
             if succeeded(status) {
@@ -280,14 +290,16 @@ impl State {
             seen.extend((status as u32).to_le_bytes());
             seen.extend_from_slice(bytes(&weights));
             let mut pose = sentinel::<cg_dualquat>(self.blend_joints);
-            let status = cg_view_blender_evaluate(
-                self.blender,
-                &character,
-                &viewer,
-                0.4,
-                pose.as_mut_ptr(),
-                pose.len(),
-            );
+            let status = unsafe {
+                cg_view_blender_evaluate(
+                    self.blender,
+                    &character,
+                    &viewer,
+                    0.4,
+                    pose.as_mut_ptr(),
+                    pose.len(),
+                )
+            };
             self.call("cg_view_blender_evaluate", status);
             self.outputs("cg_view_blender_evaluate", status, &pose, pose.len());
             seen.extend((status as u32).to_le_bytes());
@@ -326,7 +338,7 @@ impl State {
     }
 }
 
-type ReadJoints = extern "C" fn(*const cg_crowd, u32, u32, *mut cg_quat, usize) -> cg_status;
+type ReadJoints = unsafe extern "C" fn(*const cg_crowd, u32, u32, *mut cg_quat, usize) -> cg_status;
 
 /// Whether a status means the call did its work (and wrote its outputs).
 fn succeeded(status: cg_status) -> bool {

@@ -68,7 +68,7 @@ fn messages(_state: &mut State, input: &mut Input) {
     } else {
         buffer.as_mut_ptr()
     };
-    let full = cg_last_error_message(pointer, length);
+    let full = unsafe { cg_last_error_message(pointer, length) };
     if !pointer.is_null() && length > 0 {
         let copied = full.min(length - 1);
         assert_eq!(
