@@ -66,6 +66,11 @@ static_assert(!std::is_copy_constructible_v<crowdgaze::Crowd>, "Crowd is move-on
 static_assert(std::is_nothrow_move_constructible_v<crowdgaze::Crowd>, "Crowd moves");
 static_assert(!std::is_copy_assignable_v<crowdgaze::ViewBlender>, "ViewBlender is move-only");
 static_assert(std::is_nothrow_move_assignable_v<crowdgaze::ViewBlender>, "ViewBlender moves");
+static_assert(std::is_base_of_v<crowdgaze::Owner<cg_crowd, cg_crowd_destroy>, crowdgaze::Crowd>,
+              "one owner template for every handle");
+static_assert(std::is_base_of_v<crowdgaze::Owner<cg_view_blender, cg_view_blender_destroy>,
+                                crowdgaze::ViewBlender>,
+              "one owner template for every handle");
 
 // One character turns its gaze 60 degrees to the left; two walkers pass by.
 void crowd_gaze() {
@@ -345,6 +350,14 @@ void view_blender() {
     crowdgaze::ViewBlender other;
     other = std::move(blender);
     CHECK(!blender && other && other.key_count() == 2);  // NOLINT: use after move on purpose
+    CHECK(blender.key_count() == 0 && blender.joint_count() == 0);  // NOLINT: as above
+    crowdgaze::ViewBlender third(std::move(other));
+    CHECK(!other && other.key_count() == 0 && third.key_count() == 2);  // NOLINT: as above
+    CHECK(third.evaluate(character, halfway, 0.25, pose));
+    cg_view_blender* raw = third.release();
+    CHECK(!third && third.joint_count() == 0);
+    other.reset(raw, kJoints, 2);
+    CHECK(other.raw() == raw && other.key_count() == 2);
     CHECK(other.evaluate(character, halfway, 0.25, pose));
 
     bool thrown = false;

@@ -1,8 +1,8 @@
 // crowdgaze.hpp — header-only C++17 wrapper of the crowdgaze C API (include/crowdgaze.h).
 //
-// - `crowdgaze::Crowd` and `crowdgaze::ViewBlender` own a `cg_crowd*` / `cg_view_blender*`:
-//   move-only, the destructor calls the matching `_destroy`; `raw()` lends the handle,
-//   `release()` gives it up.
+// - `crowdgaze::Crowd` and `crowdgaze::ViewBlender` own a `cg_crowd*` / `cg_view_blender*`
+//   through one template, `crowdgaze::Owner`: move-only, the destructor calls the matching
+//   `_destroy`; `raw()` lends the handle, `release()` gives it up.
 // - Every call exists twice: `name(...)` throws `crowdgaze::Error` (the status and the
 //   library's `cg_last_error_message`), `try_name(...)` is `noexcept` and returns the
 //   `cg_status` (`[[nodiscard]]`). The wrapper allocates nothing in either, except where a
@@ -266,17 +266,52 @@ inline cg_chain_desc chain_desc_human(cg_axis up, cg_axis forward) {
 }
 
 // ---------------------------------------------------------------------------------------
+// Handle owners.
+
+// Owns one C handle `T*` and frees it with `Destroy` (which accepts NULL): move-only.
+// `Crowd` and `ViewBlender` are owners of `cg_crowd` and `cg_view_blender`.
+template <class T, void (*Destroy)(T*)>
+class Owner {
+   public:
+    // An empty owner; `operator bool` is false.
+    Owner() noexcept = default;
+    // Takes ownership of `adopted` (NULL gives an empty owner).
+    explicit Owner(T* adopted) noexcept : handle_(adopted) {}
+    ~Owner() { Destroy(handle_); }
+    Owner(const Owner&) = delete;
+    Owner& operator=(const Owner&) = delete;
+    Owner(Owner&& other) noexcept : handle_(other.release()) {}
+    Owner& operator=(Owner&& other) noexcept {
+        if (this != &other) {
+            reset(other.release());
+        }
+        return *this;
+    }
+
+    // The handle, still owned by this object.
+    T* raw() const noexcept { return handle_; }
+    // Gives up ownership: the caller must free the returned handle.
+    [[nodiscard]] T* release() noexcept { return std::exchange(handle_, nullptr); }
+    // Frees the handle held (if any) and takes `adopted`.
+    void reset(T* adopted = nullptr) noexcept { Destroy(std::exchange(handle_, adopted)); }
+    explicit operator bool() const noexcept { return handle_ != nullptr; }
+
+   private:
+    T* handle_ = nullptr;
+};
+
+// ---------------------------------------------------------------------------------------
 // Crowd.
 
 // Owns a `cg_crowd*`: attention and gaze IK for a crowd of characters. Move-only.
-class Crowd {
+class Crowd : public Owner<cg_crowd, cg_crowd_destroy> {
    public:
     // An empty owner (no crowd); `operator bool` is false.
     Crowd() noexcept = default;
     // Creates a crowd from `config` (see `crowd_config()`); throws `Error`.
     explicit Crowd(const cg_crowd_config& config) { check(try_create(config, *this)); }
     // Takes ownership of a crowd created elsewhere (NULL gives an empty owner).
-    explicit Crowd(cg_crowd* adopted) noexcept : crowd_(adopted) {}
+    explicit Crowd(cg_crowd* adopted) noexcept : Owner(adopted) {}
 
     // Creates a crowd into `out` (replacing what it held) without throwing.
     [[nodiscard]] static cg_status try_create(const cg_crowd_config& config, Crowd& out) noexcept {
@@ -288,33 +323,12 @@ class Crowd {
         return status;
     }
 
-    ~Crowd() { cg_crowd_destroy(crowd_); }
-    Crowd(const Crowd&) = delete;
-    Crowd& operator=(const Crowd&) = delete;
-    Crowd(Crowd&& other) noexcept : crowd_(other.release()) {}
-    Crowd& operator=(Crowd&& other) noexcept {
-        if (this != &other) {
-            reset(other.release());
-        }
-        return *this;
-    }
-
-    // The handle, still owned by this object.
-    cg_crowd* raw() const noexcept { return crowd_; }
-    // Gives up ownership: the caller must `cg_crowd_destroy` the returned handle.
-    [[nodiscard]] cg_crowd* release() noexcept { return std::exchange(crowd_, nullptr); }
-    // Destroys the crowd held (if any) and takes `adopted`.
-    void reset(cg_crowd* adopted = nullptr) noexcept {
-        cg_crowd_destroy(std::exchange(crowd_, adopted));
-    }
-    explicit operator bool() const noexcept { return crowd_ != nullptr; }
-
     // --- setup -------------------------------------------------------------------------
 
     // `out` is written (`struct_size` set) only on success.
     [[nodiscard]] cg_status try_config(cg_crowd_config& out) const noexcept {
         cg_crowd_config config = sized<cg_crowd_config>();
-        const cg_status status = cg_crowd_get_config(crowd_, &config);
+        const cg_status status = cg_crowd_get_config(raw(), &config);
         if (status == CG_STATUS_OK) {
             out = config;
         }
@@ -328,7 +342,7 @@ class Crowd {
 
     [[nodiscard]] cg_status try_add_character(const cg_character_desc& desc,
                                               std::uint32_t& out_id) noexcept {
-        return cg_crowd_add_character(crowd_, &desc, &out_id);
+        return cg_crowd_add_character(raw(), &desc, &out_id);
     }
     std::uint32_t add_character(const cg_character_desc& desc) {
         std::uint32_t id = CG_NO_TARGET;
@@ -341,7 +355,7 @@ class Crowd {
 
     [[nodiscard]] cg_status try_add_object(const cg_object_desc& desc,
                                            std::uint32_t& out_id) noexcept {
-        return cg_crowd_add_object(crowd_, &desc, &out_id);
+        return cg_crowd_add_object(raw(), &desc, &out_id);
     }
     std::uint32_t add_object(const cg_object_desc& desc) {
         std::uint32_t id = CG_NO_TARGET;
@@ -350,12 +364,12 @@ class Crowd {
     }
 
     [[nodiscard]] cg_status try_remove_entity(std::uint32_t id) noexcept {
-        return cg_crowd_remove_entity(crowd_, id);
+        return cg_crowd_remove_entity(raw(), id);
     }
     void remove_entity(std::uint32_t id) { check(try_remove_entity(id)); }
 
     [[nodiscard]] cg_status try_character_count(std::size_t& out) const noexcept {
-        return cg_crowd_character_count(crowd_, &out);
+        return cg_crowd_character_count(raw(), &out);
     }
     std::size_t character_count() const {
         std::size_t count = 0;
@@ -367,7 +381,7 @@ class Crowd {
     [[nodiscard]] cg_status try_character_params(std::uint32_t character,
                                                  cg_character_params& out) const noexcept {
         cg_character_params params = sized<cg_character_params>();
-        const cg_status status = cg_crowd_get_character_params(crowd_, character, &params);
+        const cg_status status = cg_crowd_get_character_params(raw(), character, &params);
         if (status == CG_STATUS_OK) {
             out = params;
         }
@@ -380,7 +394,7 @@ class Crowd {
     }
     [[nodiscard]] cg_status try_set_character_params(std::uint32_t character,
                                                      const cg_character_params& params) noexcept {
-        return cg_crowd_set_character_params(crowd_, character, &params);
+        return cg_crowd_set_character_params(raw(), character, &params);
     }
     void set_character_params(std::uint32_t character, const cg_character_params& params) {
         check(try_set_character_params(character, params));
@@ -390,7 +404,7 @@ class Crowd {
     // moves it (later calls).
     [[nodiscard]] cg_status try_set_viewer(const cg_vec3& position, float impact,
                                            std::uint32_t& out_id) noexcept {
-        return cg_crowd_set_viewer(crowd_, &position, impact, &out_id);
+        return cg_crowd_set_viewer(raw(), &position, impact, &out_id);
     }
     std::uint32_t set_viewer(const cg_vec3& position, float impact = 1.0f) {
         std::uint32_t id = CG_NO_TARGET;
@@ -401,14 +415,14 @@ class Crowd {
     // Attention every `period` steps for this character (0: the crowd's level of detail).
     [[nodiscard]] cg_status try_set_attention_period(std::uint32_t character,
                                                      std::uint32_t period) noexcept {
-        return cg_crowd_set_attention_period(crowd_, character, period);
+        return cg_crowd_set_attention_period(raw(), character, period);
     }
     void set_attention_period(std::uint32_t character, std::uint32_t period) {
         check(try_set_attention_period(character, period));
     }
 
     [[nodiscard]] cg_status try_set_impact(std::uint32_t entity, float impact) noexcept {
-        return cg_crowd_set_impact(crowd_, entity, impact);
+        return cg_crowd_set_impact(raw(), entity, impact);
     }
     void set_impact(std::uint32_t entity, float impact) { check(try_set_impact(entity, impact)); }
 
@@ -416,14 +430,14 @@ class Crowd {
 
     // Pushes the states of (some of) the entities at time `t`; see cg_crowd_push_frame.
     [[nodiscard]] cg_status try_push_frame(double t, Span<const cg_entity_state> states) noexcept {
-        return cg_crowd_push_frame(crowd_, t, states.data(), states.size());
+        return cg_crowd_push_frame(raw(), t, states.data(), states.size());
     }
     void push_frame(double t, Span<const cg_entity_state> states) {
         check(try_push_frame(t, states));
     }
 
     // Attention and gaze IK for every character, `dt` seconds after the previous step.
-    [[nodiscard]] cg_status try_step(float dt) noexcept { return cg_crowd_step(crowd_, dt); }
+    [[nodiscard]] cg_status try_step(float dt) noexcept { return cg_crowd_step(raw(), dt); }
     void step(float dt) { check(try_step(dt)); }
 
     // A step split into ranges for your job system: begin_step once, step_range from any
@@ -431,22 +445,22 @@ class Crowd {
     // split 0 .. character_count() any way), end_step after they all returned. See
     // cg_crowd_begin_step, cg_crowd_step_range and cg_crowd_end_step.
     [[nodiscard]] cg_status try_begin_step(float dt) noexcept {
-        return cg_crowd_begin_step(crowd_, dt);
+        return cg_crowd_begin_step(raw(), dt);
     }
     void begin_step(float dt) { check(try_begin_step(dt)); }
     [[nodiscard]] cg_status try_step_range(std::uint32_t first, std::uint32_t count) noexcept {
-        return cg_crowd_step_range(crowd_, first, count);
+        return cg_crowd_step_range(raw(), first, count);
     }
     void step_range(std::uint32_t first, std::uint32_t count) {
         check(try_step_range(first, count));
     }
-    [[nodiscard]] cg_status try_end_step() noexcept { return cg_crowd_end_step(crowd_); }
+    [[nodiscard]] cg_status try_end_step() noexcept { return cg_crowd_end_step(raw()); }
     void end_step() { check(try_end_step()); }
 
     // Where the characters look, in character order; returns how many were written.
     [[nodiscard]] cg_status try_read_gaze(Span<cg_gaze_info> out,
                                           std::size_t& written) const noexcept {
-        return cg_crowd_read_gaze(crowd_, out.data(), out.size(), &written);
+        return cg_crowd_read_gaze(raw(), out.data(), out.size(), &written);
     }
     std::size_t read_gaze(Span<cg_gaze_info> out) const {
         std::size_t written = 0;
@@ -457,7 +471,7 @@ class Crowd {
     // Joints of characters `first .. first + count` together (what read_joints needs).
     [[nodiscard]] cg_status try_joint_total(std::uint32_t first, std::uint32_t count,
                                             std::size_t& out) const noexcept {
-        return cg_crowd_joint_total(crowd_, first, count, &out);
+        return cg_crowd_joint_total(raw(), first, count, &out);
     }
     std::size_t joint_total(std::uint32_t first, std::uint32_t count) const {
         std::size_t total = 0;
@@ -469,7 +483,7 @@ class Crowd {
     // `first .. first + count`, bottom to top, chain after chain.
     [[nodiscard]] cg_status try_read_joints(std::uint32_t first, std::uint32_t count,
                                             Span<cg_quat> out) const noexcept {
-        return cg_crowd_read_joints(crowd_, first, count, out.data(), out.size());
+        return cg_crowd_read_joints(raw(), first, count, out.data(), out.size());
     }
     void read_joints(std::uint32_t first, std::uint32_t count, Span<cg_quat> out) const {
         check(try_read_joints(first, count, out));
@@ -478,7 +492,7 @@ class Crowd {
     // The gaze's delta rotations alone (final = base * delta).
     [[nodiscard]] cg_status try_read_joint_deltas(std::uint32_t first, std::uint32_t count,
                                                   Span<cg_quat> out) const noexcept {
-        return cg_crowd_read_joint_deltas(crowd_, first, count, out.data(), out.size());
+        return cg_crowd_read_joint_deltas(raw(), first, count, out.data(), out.size());
     }
     void read_joint_deltas(std::uint32_t first, std::uint32_t count, Span<cg_quat> out) const {
         check(try_read_joint_deltas(first, count, out));
@@ -487,7 +501,7 @@ class Crowd {
     // Eye positions and directions of characters `first .. first + count` (debug drawing).
     [[nodiscard]] cg_status try_read_eyes(std::uint32_t first, std::uint32_t count,
                                           Span<cg_eye_info> out) const noexcept {
-        return cg_crowd_read_eyes(crowd_, first, count, out.data(), out.size());
+        return cg_crowd_read_eyes(raw(), first, count, out.data(), out.size());
     }
     void read_eyes(std::uint32_t first, std::uint32_t count, Span<cg_eye_info> out) const {
         check(try_read_eyes(first, count, out));
@@ -497,7 +511,7 @@ class Crowd {
     // top), before step.
     [[nodiscard]] cg_status try_set_base_pose(std::uint32_t character,
                                               Span<const cg_quat> local) noexcept {
-        return cg_crowd_set_base_pose(crowd_, character, local.data(), local.size());
+        return cg_crowd_set_base_pose(raw(), character, local.data(), local.size());
     }
     void set_base_pose(std::uint32_t character, Span<const cg_quat> local) {
         check(try_set_base_pose(character, local));
@@ -506,7 +520,7 @@ class Crowd {
     // Base poses of many characters: their joints packed in the order of `characters`.
     [[nodiscard]] cg_status try_set_base_poses(Span<const std::uint32_t> characters,
                                                Span<const cg_quat> local) noexcept {
-        return cg_crowd_set_base_poses(crowd_, characters.data(), characters.size(),
+        return cg_crowd_set_base_poses(raw(), characters.data(), characters.size(),
                                        local.data(), local.size());
     }
     void set_base_poses(Span<const std::uint32_t> characters, Span<const cg_quat> local) {
@@ -516,7 +530,7 @@ class Crowd {
     // Explicit (top-down) gaze targets.
     [[nodiscard]] cg_status try_set_gaze_target(std::uint32_t character,
                                                 const cg_gaze_target& target) noexcept {
-        return cg_crowd_set_gaze_target(crowd_, character, &target);
+        return cg_crowd_set_gaze_target(raw(), character, &target);
     }
     void set_gaze_target(std::uint32_t character, const cg_gaze_target& target) {
         check(try_set_gaze_target(character, target));
@@ -525,7 +539,7 @@ class Crowd {
         set_gaze_target(character, gaze_target_point(point));
     }
     [[nodiscard]] cg_status try_clear_gaze_target(std::uint32_t character) noexcept {
-        return cg_crowd_clear_gaze_target(crowd_, character);
+        return cg_crowd_clear_gaze_target(raw(), character);
     }
     void clear_gaze_target(std::uint32_t character) { check(try_clear_gaze_target(character)); }
 
@@ -533,7 +547,7 @@ class Crowd {
 
     [[nodiscard]] cg_status try_score(std::uint32_t character, std::uint32_t entity,
                                       cg_score_breakdown& out) const noexcept {
-        return cg_crowd_score(crowd_, character, entity, &out);
+        return cg_crowd_score(raw(), character, entity, &out);
     }
     cg_score_breakdown score(std::uint32_t character, std::uint32_t entity) const {
         cg_score_breakdown out{};
@@ -541,16 +555,16 @@ class Crowd {
         return out;
     }
 
-    [[nodiscard]] cg_status try_plan() noexcept { return cg_crowd_plan(crowd_); }
+    [[nodiscard]] cg_status try_plan() noexcept { return cg_crowd_plan(raw()); }
     void plan() { check(try_plan()); }
-    [[nodiscard]] cg_status try_clear_plan() noexcept { return cg_crowd_clear_plan(crowd_); }
+    [[nodiscard]] cg_status try_clear_plan() noexcept { return cg_crowd_clear_plan(raw()); }
     void clear_plan() { check(try_clear_plan()); }
 
     // Fills `out` with the first planned constraints of `character` and writes how many
     // there are in all to `total`.
     [[nodiscard]] cg_status try_read_constraints(std::uint32_t character, Span<cg_constraint> out,
                                                  std::size_t& total) const noexcept {
-        return cg_crowd_read_constraints(crowd_, character, out.data(), out.size(), &total);
+        return cg_crowd_read_constraints(raw(), character, out.data(), out.size(), &total);
     }
     std::size_t read_constraints(std::uint32_t character, Span<cg_constraint> out) const {
         std::size_t total = 0;
@@ -565,8 +579,6 @@ class Crowd {
         return out;
     }
 
-   private:
-    cg_crowd* crowd_ = nullptr;
 };
 
 // ---------------------------------------------------------------------------------------
@@ -716,7 +728,7 @@ inline cg_vec3 camera_center_from_projection(const std::array<float, 12>& projec
 
 // Owns a `cg_view_blender*`: view-adaptive blending of key animations. Move-only. Knows its
 // joint and key counts (from the config, or given when adopting a handle).
-class ViewBlender {
+class ViewBlender : public Owner<cg_view_blender, cg_view_blender_destroy> {
    public:
     ViewBlender() noexcept = default;
     // Creates a blender from `config` (see `view_blender_config(joints, keys)`); throws.
@@ -726,7 +738,7 @@ class ViewBlender {
     // Takes ownership of a blender created elsewhere with these counts.
     ViewBlender(cg_view_blender* adopted, std::uint32_t joint_count,
                 std::uint32_t key_count) noexcept
-        : blender_(adopted), joint_count_(joint_count), key_count_(key_count) {}
+        : Owner(adopted), joint_count_(joint_count), key_count_(key_count) {}
 
     [[nodiscard]] static cg_status try_create(const cg_view_blender_config& config,
                                               ViewBlender& out) noexcept {
@@ -738,13 +750,10 @@ class ViewBlender {
         return status;
     }
 
-    ~ViewBlender() { cg_view_blender_destroy(blender_); }
-    ViewBlender(const ViewBlender&) = delete;
-    ViewBlender& operator=(const ViewBlender&) = delete;
     ViewBlender(ViewBlender&& other) noexcept
-        : joint_count_(other.joint_count_), key_count_(other.key_count_) {
-        blender_ = other.release();
-    }
+        : Owner(std::move(other)),
+          joint_count_(std::exchange(other.joint_count_, 0)),
+          key_count_(std::exchange(other.key_count_, 0)) {}
     ViewBlender& operator=(ViewBlender&& other) noexcept {
         if (this != &other) {
             const std::uint32_t joints = other.joint_count_, keys = other.key_count_;
@@ -752,20 +761,21 @@ class ViewBlender {
         }
         return *this;
     }
+    ~ViewBlender() = default;
 
-    cg_view_blender* raw() const noexcept { return blender_; }
+    // Gives up ownership (and the counts): the caller must `cg_view_blender_destroy` it.
     [[nodiscard]] cg_view_blender* release() noexcept {
         joint_count_ = 0;
         key_count_ = 0;
-        return std::exchange(blender_, nullptr);
+        return Owner::release();
     }
+    // Destroys the blender held (if any) and takes `adopted` with its counts.
     void reset(cg_view_blender* adopted = nullptr, std::uint32_t joint_count = 0,
                std::uint32_t key_count = 0) noexcept {
-        cg_view_blender_destroy(std::exchange(blender_, adopted));
+        Owner::reset(adopted);
         joint_count_ = joint_count;
         key_count_ = key_count;
     }
-    explicit operator bool() const noexcept { return blender_ != nullptr; }
     std::uint32_t joint_count() const noexcept { return joint_count_; }
     std::uint32_t key_count() const noexcept { return key_count_; }
 
@@ -775,7 +785,7 @@ class ViewBlender {
         if (joint_count_ == 0 || frames.size() % joint_count_ != 0) {
             return CG_STATUS_INVALID_ARGUMENT;
         }
-        return cg_view_blender_set_key_clip(blender_, key, frames.data(),
+        return cg_view_blender_set_key_clip(raw(), key, frames.data(),
                                             frames.size() / joint_count_, frames_per_second,
                                             looping);
     }
@@ -790,7 +800,7 @@ class ViewBlender {
     // Key `key` is a static pose of `joint_count()` joints.
     [[nodiscard]] cg_status try_set_key_pose(std::uint32_t key,
                                              Span<const cg_dualquat> pose) noexcept {
-        return cg_view_blender_set_key_pose(blender_, key, pose.data(), pose.size());
+        return cg_view_blender_set_key_pose(raw(), key, pose.data(), pose.size());
     }
     void set_key_pose(std::uint32_t key, Span<const cg_dualquat> pose) {
         check(try_set_key_pose(key, pose));
@@ -798,7 +808,7 @@ class ViewBlender {
 
     // A key camera: a direction in the character's frame, mapped to key `key`.
     [[nodiscard]] cg_status try_add_camera(cg_vec3 direction, std::uint32_t key) noexcept {
-        return cg_view_blender_add_camera(blender_, direction, key);
+        return cg_view_blender_add_camera(raw(), direction, key);
     }
     void add_camera(cg_vec3 direction, std::uint32_t key) {
         check(try_add_camera(direction, key));
@@ -807,7 +817,7 @@ class ViewBlender {
     // The key weights (`key_count()` floats) for a viewer at `viewer`.
     [[nodiscard]] cg_status try_weights(const cg_dualquat& character, const cg_vec3& viewer,
                                         Span<float> out) const noexcept {
-        return cg_view_blender_weights(blender_, &character, &viewer, out.data(), out.size());
+        return cg_view_blender_weights(raw(), &character, &viewer, out.data(), out.size());
     }
     void weights(const cg_dualquat& character, const cg_vec3& viewer, Span<float> out) const {
         check(try_weights(character, viewer, out));
@@ -823,7 +833,7 @@ class ViewBlender {
     // if DIB missed its precision somewhere (the pose is written all the same).
     [[nodiscard]] cg_status try_evaluate(const cg_dualquat& character, const cg_vec3& viewer,
                                          double t, Span<cg_dualquat> out_pose) const noexcept {
-        return cg_view_blender_evaluate(blender_, &character, &viewer, t, out_pose.data(),
+        return cg_view_blender_evaluate(raw(), &character, &viewer, t, out_pose.data(),
                                         out_pose.size());
     }
     bool evaluate(const cg_dualquat& character, const cg_vec3& viewer, double t,
@@ -832,7 +842,6 @@ class ViewBlender {
     }
 
    private:
-    cg_view_blender* blender_ = nullptr;
     std::uint32_t joint_count_ = 0;
     std::uint32_t key_count_ = 0;
 };
