@@ -61,7 +61,7 @@ fn attention(c: &mut Criterion) {
                 group.bench_function(name("all_pairs"), |b| {
                     b.iter(|| {
                         for character in 0..crowd.character_count() {
-                            black_box(crowd.best_all_pairs_dense(character));
+                            black_box(crowd.best_all_pairs_at(character));
                         }
                     })
                 });

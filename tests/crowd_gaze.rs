@@ -26,7 +26,7 @@ fn an_explicit_target_is_reached_within_half_a_degree() {
     for _ in 0..150 {
         crowd.step(DT).unwrap();
     }
-    let eyes = crowd.eyes_dense(0);
+    let eyes = crowd.eyes_at(0);
     for eye in 0..2 {
         let error = angle_to(eyes.origins[eye], eyes.directions[eye], target);
         assert!(error < 0.5, "eye {eye} misses by {error}°");
@@ -63,7 +63,7 @@ fn characters_look_at_their_interest_points() {
             let motion = crowd.gaze_motion(id).unwrap();
             // A target held for a while and reachable by the eyes: they are on it.
             if gaze.attending && motion.elapsed() > 1.0 {
-                let eyes = crowd.eyes_dense(character);
+                let eyes = crowd.eyes_at(character);
                 let error = angle_to(eyes.origins[0], eyes.directions[0], gaze.target_position);
                 if error < 5.0 {
                     checked += 1;
@@ -157,7 +157,7 @@ fn when_idle_targets_yield_to_interest_points() {
         crowd.step(DT).unwrap();
     }
     assert_eq!(crowd.gaze(a).unwrap().target, NO_ENTITY);
-    let eyes = crowd.eyes_dense(0);
+    let eyes = crowd.eyes_at(0);
     assert!(
         angle_to(
             eyes.origins[0],

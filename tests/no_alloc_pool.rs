@@ -73,5 +73,5 @@ fn stepping_on_worker_threads_does_not_allocate() {
         allocations, 0,
         "100 pooled steps allocated {allocations} times"
     );
-    assert!((0..crowd.character_count()).any(|c| crowd.gaze_dense(c).attending));
+    assert!((0..crowd.character_count()).any(|c| crowd.gaze_at(c).attending));
 }

@@ -32,12 +32,12 @@ fn outputs(crowd: &Crowd) -> Vec<u32> {
     let mut offset = 0;
     let mut own = [Quat::IDENTITY; 16];
     for position in 0..count {
-        let id = crowd.gaze_dense(position).character;
-        assert_eq!(crowd.eyes_dense(position).character, id);
+        let id = crowd.gaze_at(position).character;
+        assert_eq!(crowd.eyes_at(position).character, id);
         let written = crowd.read_joints_of(id, false, &mut own).unwrap();
         assert_eq!(own[..written], joints[offset..offset + written]);
         assert_eq!(
-            crowd.best_all_pairs_dense(position),
+            crowd.best_all_pairs_at(position),
             crowd.best_all_pairs(id).unwrap()
         );
         offset += written;
@@ -142,8 +142,8 @@ fn reordering_stores_neighbours_together() {
     // Ids and the reading order are unchanged.
     for position in 0..3000 {
         assert_eq!(
-            created.gaze_dense(position).character,
-            reordered.gaze_dense(position).character
+            created.gaze_at(position).character,
+            reordered.gaze_at(position).character
         );
     }
 }

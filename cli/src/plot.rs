@@ -550,7 +550,7 @@ impl Figure3 {
                 }
             }
             let head = yaw(&world, rotation * chain.eye_forward());
-            let eyes = crowd.eyes_dense(0);
+            let eyes = crowd.eyes_at(0);
             let eyes = yaw(&world, eyes.directions[0] + eyes.directions[1]);
             figure.series.push(Yaws {
                 time: t,

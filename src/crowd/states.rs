@@ -8,7 +8,7 @@
 use crate::ik::GazeMotion;
 use crate::math::random::Random;
 
-use super::models::ModelState;
+use super::model_state::ModelState;
 
 /// A character's level-of-detail state for attention updates.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -92,11 +92,6 @@ macro_rules! define_states {
                 $(reorder.apply(&mut self.$name, order);)*
             }
 
-            /// Every character's state, borrowed mutably.
-            pub fn slices(&mut self) -> CharacterSlices<'_> {
-                CharacterSlices { $($name: &mut self.$name,)* }
-            }
-
             /// The arrays as raw pointers. They stay valid while `self` is neither moved
             /// nor resized nor otherwise accessed.
             pub fn raw(&mut self) -> RawCharacterSlices {
@@ -115,13 +110,6 @@ macro_rules! define_states {
             /// Character `index` (within this range).
             pub fn character(&mut self, index: usize) -> CharacterMut<'_> {
                 CharacterMut { $($one: &mut self.$name[index],)* }
-            }
-        }
-
-        impl<'a> CharacterSlices<'a> {
-            /// Characters `first .. end` of this range.
-            pub fn range(self, first: usize, end: usize) -> CharacterSlices<'a> {
-                CharacterSlices { $($name: &mut self.$name[first..end],)* }
             }
         }
 

@@ -1,6 +1,10 @@
 //! Unit tests of the parent module.
 
+use glam::Vec3;
+
 use super::*;
+use crate::error::Error;
+use crate::ik::GazeChain;
 
 #[test]
 fn capacities_are_checked() {
@@ -96,9 +100,9 @@ fn a_new_chain_that_does_not_fit_adds_nothing() {
     assert!(matches!(result, Err(Error::OutOfMemory(_))), "{result:?}");
     assert_eq!(crowd.character_count(), 1);
     assert_eq!(format!("{:?}", crowd.scene()), before);
-    assert_eq!(crowd.shared.chains.len(), 1);
+    assert_eq!(crowd.shared.chains.all.len(), 1);
     crowd.add_character(&desc).unwrap();
-    assert_eq!(crowd.shared.chains.len(), 2);
+    assert_eq!(crowd.shared.chains.all.len(), 2);
 }
 
 #[test]

@@ -639,7 +639,7 @@ pub unsafe extern "C" fn cg_crowd_read_gaze(
         let units = crowd.config().world.units_per_metre;
         let written = out.len().min(crowd.character_count());
         for (character, slot) in out.iter_mut().enumerate().take(written) {
-            let gaze = crowd.gaze_dense(character);
+            let gaze = crowd.gaze_at(character);
             *slot = cg_gaze_info {
                 character: gaze.character,
                 target: gaze.target,

@@ -353,7 +353,7 @@ pub unsafe extern "C" fn cg_crowd_read_eyes(
         }
         let world = crowd.config().world;
         for (slot, character) in out.iter_mut().zip(first as usize..(first + count) as usize) {
-            let eyes = crowd.eyes_dense(character);
+            let eyes = crowd.eyes_at(character);
             *slot = cg_eye_info {
                 character: eyes.character,
                 left_origin: world.from_metres(eyes.origins[0]).into(),

@@ -268,7 +268,7 @@ pub fn mixed_street(
 pub fn output_bits(crowd: &crowdgaze::Crowd) -> Vec<u32> {
     let mut bits = Vec::new();
     for character in 0..crowd.character_count() {
-        let gaze = crowd.gaze_dense(character);
+        let gaze = crowd.gaze_at(character);
         bits.extend([
             gaze.character,
             gaze.target,
@@ -277,7 +277,7 @@ pub fn output_bits(crowd: &crowdgaze::Crowd) -> Vec<u32> {
         ]);
         bits.extend(gaze.target_position.to_array().map(f32::to_bits));
         bits.extend([gaze.s_max, gaze.threshold, gaze.attentive_fraction].map(f32::to_bits));
-        let eyes = crowd.eyes_dense(character);
+        let eyes = crowd.eyes_at(character);
         for vector in eyes.origins.iter().chain(&eyes.directions) {
             bits.extend(vector.to_array().map(f32::to_bits));
         }

@@ -1,0 +1,219 @@
+//! Reading a step's results back, in the order the engine created its characters: where
+//! each looks ([`GazeInfo`]), its chain's joint rotations, its eyes.
+
+use glam::Quat;
+
+use super::values::{EyeState, GazeInfo};
+use super::Crowd;
+use crate::attention::AttentionModel;
+use crate::error::{Error, Result};
+use crate::ik::{GazeChain, GazeMotion};
+use crate::scene::ids::NO_ENTITY;
+
+impl Crowd {
+    /// The dense index (where its state is stored) of the character at `position` in the
+    /// character order readers see. Panics if `position` is out of range.
+    pub(super) fn dense_index(&self, position: usize) -> usize {
+        self.read_order[position] as usize
+    }
+
+    /// Where the character at `position` in the crowd's character order looks now. That
+    /// order is creation order, except that removing a character moves the last one into
+    /// its place; the crowd's own storage order (spatial, see [`Crowd`]) never shows
+    /// through. Panics if `position` is out of range.
+    pub fn gaze_at(&self, position: usize) -> GazeInfo {
+        self.gaze_of(self.dense_index(position))
+    }
+
+    /// Where a character (by dense index) looks now.
+    fn gaze_of(&self, character: usize) -> GazeInfo {
+        let entity = self.shared.scene.character_entities()[character] as usize;
+        let tracker = self.states.models[character].tracker();
+        let (target, s_max, threshold, attentive_fraction, interest_count) = match &self.shared.plan
+        {
+            Some(plan) => {
+                let (target, s_max, threshold) = plan.current(character);
+                let count = plan.constraints(character).len() as u32;
+                (
+                    target,
+                    s_max,
+                    threshold,
+                    plan.attentive_fraction(character),
+                    count,
+                )
+            }
+            None => match tracker {
+                Some(tracker) => {
+                    let (attentive, observed) = tracker.attentive_seconds();
+                    let fraction = if observed > 0.0 {
+                        attentive / observed
+                    } else {
+                        0.0
+                    };
+                    (
+                        tracker.interest(),
+                        tracker.s_max(),
+                        tracker.threshold(),
+                        fraction,
+                        tracker.interest_count(),
+                    )
+                }
+                // Characters of the saliency and baseline models report what a fresh
+                // tracker would: no interest point, the initial threshold.
+                None => (
+                    NO_ENTITY,
+                    0.0,
+                    self.shared.config.interest.initial_threshold,
+                    0.0,
+                    0,
+                ),
+            },
+        };
+        let view = self.states.view(character);
+        let look = self.shared.look().current_look(character, view);
+        let target_position = match self.shared.look().gaze_request(character, view) {
+            Some(request) => request.eye_target,
+            None => {
+                let ahead = self
+                    .shared
+                    .config
+                    .world
+                    .heading_direction(self.shared.scene.headings()[entity]);
+                self.shared.scene.look_at_point(entity) + ahead * 10.0
+            }
+        };
+        let exists = |id: u32| self.shared.scene.index_of(id).is_some();
+        let known = |id: u32| if exists(id) { id } else { NO_ENTITY };
+        let attending = match self.shared.characters.params[character].model {
+            AttentionModel::Crowd => exists(target),
+            _ => exists(look.eye.entity) || exists(look.head.entity),
+        };
+        GazeInfo {
+            character: self.shared.scene.ids()[entity],
+            target: known(look.eye.entity),
+            target_part: look.eye.part,
+            head_target: known(look.head.entity),
+            target_position,
+            s_max,
+            // The trackers and the plan use +inf for "never"; callers get a finite value.
+            threshold: threshold.min(f32::MAX),
+            attending,
+            attentive_fraction,
+            interest_count,
+        }
+    }
+
+    /// Where a character looks now, by id.
+    pub fn gaze(&self, character_id: u32) -> Result<GazeInfo> {
+        Ok(self.gaze_of(self.shared.scene.character_index(character_id)?))
+    }
+
+    /// A character's gaze chain.
+    pub fn chain(&self, character_id: u32) -> Result<&GazeChain> {
+        Ok(self.chain_of(self.shared.scene.character_index(character_id)?))
+    }
+
+    /// Number of chain joints of the characters `first .. first + count` (in the character
+    /// order, see [`gaze_at`](Self::gaze_at)) together: the length of their packed
+    /// joint outputs.
+    pub fn joint_total(&self, first: usize, count: usize) -> Result<usize> {
+        let range = self.character_range(first, count)?;
+        Ok(self.read_order[range]
+            .iter()
+            .map(|&character| self.chain_of(character as usize).joint_count())
+            .sum())
+    }
+
+    /// The chain of the character at storage index `character`.
+    fn chain_of(&self, character: usize) -> &GazeChain {
+        self.shared.characters.chain(&self.shared.chains, character)
+    }
+
+    fn character_range(&self, first: usize, count: usize) -> Result<std::ops::Range<usize>> {
+        let characters = self.character_count();
+        match first.checked_add(count) {
+            Some(end) if end <= characters => Ok(first..end),
+            _ => Err(Error::InvalidArgument(format!(
+                "characters {first} .. {first} + {count} are out of range: there are {characters}"
+            ))),
+        }
+    }
+
+    /// Writes the chain joints of characters `first .. first + count` (in the character
+    /// order, see [`gaze_at`](Self::gaze_at)) into `out`, packed one chain after
+    /// another, bottom to top: the final local rotations `base * delta`, or the deltas
+    /// alone with `deltas_only`. `out` must hold [`joint_total`](Self::joint_total)
+    /// rotations; returns how many were written.
+    pub fn read_joints(
+        &self,
+        first: usize,
+        count: usize,
+        deltas_only: bool,
+        out: &mut [Quat],
+    ) -> Result<usize> {
+        let total = self.joint_total(first, count)?;
+        if out.len() < total {
+            return Err(Error::InvalidArgument(format!(
+                "the output holds {} rotations, {total} are needed",
+                out.len()
+            )));
+        }
+        let mut written = 0;
+        for &character in &self.read_order[first..first + count] {
+            written += self.write_joints(character as usize, deltas_only, &mut out[written..]);
+        }
+        Ok(written)
+    }
+
+    /// [`read_joints`](Self::read_joints) for one character, by id: `out` must hold its
+    /// chain's joint count of rotations; returns how many were written.
+    pub fn read_joints_of(
+        &self,
+        character_id: u32,
+        deltas_only: bool,
+        out: &mut [Quat],
+    ) -> Result<usize> {
+        let character = self.shared.scene.character_index(character_id)?;
+        let joints = self.chain_of(character).joint_count();
+        if out.len() < joints {
+            return Err(Error::InvalidArgument(format!(
+                "the output holds {} rotations, {joints} are needed",
+                out.len()
+            )));
+        }
+        Ok(self.write_joints(character, deltas_only, out))
+    }
+
+    /// Writes the chain joints of the character at dense index `character` to the start of
+    /// `out` (which holds them all); returns how many.
+    fn write_joints(&self, character: usize, deltas_only: bool, out: &mut [Quat]) -> usize {
+        let deltas = self.states.motions[character].deltas();
+        let base = self
+            .shared
+            .characters
+            .base_pose(&self.shared.chains, character);
+        for ((slot, delta), base) in out.iter_mut().zip(deltas).zip(&base) {
+            *slot = if deltas_only { *delta } else { *base * *delta };
+        }
+        deltas.len()
+    }
+
+    /// Where the eyes of the character at `position` in the character order (see
+    /// [`gaze_at`](Self::gaze_at)) are and look after the last step. Panics if
+    /// `position` is out of range.
+    pub fn eyes_at(&self, position: usize) -> EyeState {
+        let character = self.dense_index(position);
+        let motion = &self.states.motions[character];
+        let entity = self.shared.scene.character_entities()[character] as usize;
+        EyeState {
+            character: self.shared.scene.ids()[entity],
+            origins: motion.eye_origins(),
+            directions: motion.eye_directions(),
+        }
+    }
+
+    /// A character's gaze motion (phase, timing), by id.
+    pub fn gaze_motion(&self, character_id: u32) -> Result<&GazeMotion> {
+        Ok(&self.states.motions[self.shared.scene.character_index(character_id)?])
+    }
+}
