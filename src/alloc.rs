@@ -81,7 +81,6 @@ pub fn try_vec<T: Clone>(len: usize, value: T, what: &dyn Display) -> Result<Vec
 
 /// A copy of `values` with the capacity of `values` (a clone that keeps its room to grow
 /// without allocating).
-#[allow(clippy::ptr_arg)] // the capacity is copied too
 pub fn try_clone<T: Clone>(values: &Vec<T>, what: &dyn Display) -> Result<Vec<T>> {
     let mut vec = try_with_capacity(values.capacity(), what)?;
     vec.extend_from_slice(values);

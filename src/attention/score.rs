@@ -264,7 +264,6 @@ impl<W: Wide> LaneScorer<W> {
     /// `S` for entities at `offset` from the observer (already pruned by distance and
     /// view), at `heading` (in [−π, π)), moving at `velocity`, with impact factor `impact`.
     #[inline(always)]
-    #[allow(clippy::too_many_arguments)]
     pub(crate) fn score(
         &self,
         offset_x: W,

@@ -150,7 +150,6 @@ character_arrays!(define_states);
 
 impl CharacterStates {
     /// Adds a character's state at the end.
-    #[allow(clippy::too_many_arguments)]
     pub fn push(
         &mut self,
         lod: AttentionLod,
