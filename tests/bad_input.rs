@@ -29,6 +29,7 @@ use crowdgaze::ffi::last_error::cg_last_error_message;
 use crowdgaze::ffi::status::{cg_status, cg_status_str};
 use crowdgaze::ffi::types::{cg_axis, cg_dualquat, cg_quat, cg_vec3};
 use crowdgaze::ffi::version::*;
+use crowdgaze::ffi::view_blender::*;
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::ffi::{c_char, CStr};
 use std::mem::{offset_of, size_of, MaybeUninit};

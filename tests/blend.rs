@@ -20,6 +20,7 @@ use crowdgaze::ffi::blend::*;
 use crowdgaze::ffi::cg_status;
 use crowdgaze::ffi::last_error::last_error_message;
 use crowdgaze::ffi::types::{cg_dualquat, cg_quat, cg_vec3};
+use crowdgaze::ffi::view_blender::*;
 use crowdgaze::math::random::Random;
 use crowdgaze::DualQuat;
 

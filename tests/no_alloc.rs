@@ -271,6 +271,7 @@ fn view_blending_does_not_allocate_per_frame() {
     use crowdgaze::ffi::blend::*;
     use crowdgaze::ffi::status::cg_status;
     use crowdgaze::ffi::types::{cg_dualquat, cg_quat, cg_vec3};
+    use crowdgaze::ffi::view_blender::*;
 
     let (joints, keys) = (27usize, 3u32);
     let dq = |angle: f32, y: f32| {

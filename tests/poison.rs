@@ -13,13 +13,13 @@
 #![allow(clippy::undocumented_unsafe_blocks)]
 
 use crowdgaze::ffi::attention::*;
-use crowdgaze::ffi::blend::*;
 use crowdgaze::ffi::crowd::*;
 use crowdgaze::ffi::gaze::*;
 use crowdgaze::ffi::last_error::last_error_message;
 use crowdgaze::ffi::status::cg_status;
 use crowdgaze::ffi::testing::{panic_next, panic_next_change, PanicAt};
 use crowdgaze::ffi::types::{cg_dualquat, cg_quat, cg_vec3};
+use crowdgaze::ffi::view_blender::*;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 use std::mem::{size_of, MaybeUninit};

@@ -12,12 +12,12 @@
 mod support;
 
 use crowdgaze::ffi::attention::*;
-use crowdgaze::ffi::blend::*;
 use crowdgaze::ffi::crowd::*;
 use crowdgaze::ffi::gaze::*;
 use crowdgaze::ffi::last_error::last_error_message;
 use crowdgaze::ffi::status::cg_status;
 use crowdgaze::ffi::types::{cg_dualquat, cg_quat, cg_vec3};
+use crowdgaze::ffi::view_blender::*;
 use crowdgaze::DualQuat;
 use glam::{Quat, Vec3};
 use std::collections::BTreeSet;

@@ -29,6 +29,9 @@
 
 pub mod attention;
 pub mod blend;
+// Right after `blend`: cbindgen writes the header in the order modules are declared.
+pub mod view_blender;
+
 pub(crate) mod boundary;
 pub mod chain;
 pub mod crowd;

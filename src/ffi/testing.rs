@@ -4,8 +4,8 @@
 //!
 //! cbindgen:ignore
 
-use super::blend::{blender_handle, cg_view_blender};
 use super::crowd::{cg_crowd, crowd_handle, Hook};
+use super::view_blender::{blender_handle, cg_view_blender};
 use super::{cg_status, ffi_boundary};
 
 /// The crowd calls that [`panic_next`] can make panic. Each panics after it has changed the

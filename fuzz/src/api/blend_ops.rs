@@ -9,6 +9,7 @@ use super::{array_pointer, or_null, pointer_to, rigid, State};
 use crowdgaze::ffi::blend::*;
 use crowdgaze::ffi::status::cg_status;
 use crowdgaze::ffi::types::{cg_dualquat, cg_quat, cg_vec3};
+use crowdgaze::ffi::view_blender::*;
 use std::mem::size_of;
 use std::ptr::null_mut;
 

@@ -29,9 +29,6 @@ mod statuses;
 mod values;
 
 use crowdgaze::ffi::attention::{cg_crowd_read_gaze, cg_gaze_info};
-use crowdgaze::ffi::blend::{
-    cg_view_blender, cg_view_blender_destroy, cg_view_blender_evaluate, cg_view_blender_weights,
-};
 use crowdgaze::ffi::crowd::{cg_crowd, cg_crowd_config, cg_crowd_destroy};
 use crowdgaze::ffi::gaze::{
     cg_crowd_joint_total, cg_crowd_read_eyes, cg_crowd_read_joint_deltas, cg_crowd_read_joints,
@@ -39,6 +36,9 @@ use crowdgaze::ffi::gaze::{
 };
 use crowdgaze::ffi::status::cg_status;
 use crowdgaze::ffi::types::{cg_dualquat, cg_quat, cg_vec3};
+use crowdgaze::ffi::view_blender::{
+    cg_view_blender, cg_view_blender_destroy, cg_view_blender_evaluate, cg_view_blender_weights,
+};
 use input::Input;
 use outputs::{bytes, non_finite, sentinel, sized_untouched, untouched, Output};
 use std::ptr::null_mut;
