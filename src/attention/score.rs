@@ -17,11 +17,14 @@
 //! within 1e-4 of the exact functions); `β` is the difference of the two headings, taken the
 //! short way round (no arc cosine).
 
-use glam::Vec2;
 use std::f32::consts::{PI, TAU};
 
 use crate::math::fast::{acos_lanes, exp_lanes, fast_acos};
 use crate::math::wide::Wide;
+
+// What the scoring needs of an entity: defined with the scene, which fills it, and named here
+// too, where it is read.
+pub use crate::scene::GroundState;
 
 /// Settings of the scoring function shared by every character.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -99,20 +102,6 @@ impl SubscoreWeights {
             periphery: values[3] / sum,
         })
     }
-}
-
-/// What the scoring needs of an entity: its ground-plane state.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct GroundState {
-    /// Position on the ground plane (metres).
-    pub position: Vec2,
-    /// Unit forward direction on the ground plane.
-    pub forward: Vec2,
-    /// Heading (radians) in [−π, π] (π only by rounding): the angle of `forward` (see
-    /// [`crate::math::wrap_angle`]).
-    pub heading: f32,
-    /// Velocity on the ground plane (m/s).
-    pub velocity: Vec2,
 }
 
 /// Everything the scoring computed for one (character, entity) pair.
@@ -418,6 +407,7 @@ impl Scorer {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::Vec2;
 
     fn close(a: f32, b: f32) -> bool {
         (a - b).abs() < 1e-5

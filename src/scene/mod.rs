@@ -71,6 +71,20 @@ pub struct EntityUpdate {
     pub velocity: Option<Vec3>,
 }
 
+/// One entity's state on the ground plane, gathered by [`Scene::ground_state`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GroundState {
+    /// Position on the ground plane (metres).
+    pub position: Vec2,
+    /// Unit forward direction on the ground plane.
+    pub forward: Vec2,
+    /// Heading (radians) in [−π, π] (π only by rounding): the angle of `forward` (see
+    /// [`crate::math::wrap_angle`]).
+    pub heading: f32,
+    /// Velocity on the ground plane (m/s).
+    pub velocity: Vec2,
+}
+
 /// The entities of a crowd.
 #[derive(Debug, Clone)]
 pub struct Scene {
@@ -476,8 +490,8 @@ impl Scene {
 
     /// The ground-plane state the scoring function needs, of one entity.
     #[inline]
-    pub fn ground_state(&self, index: usize) -> crate::attention::score::GroundState {
-        crate::attention::score::GroundState {
+    pub fn ground_state(&self, index: usize) -> GroundState {
+        GroundState {
             position: self.ground[index],
             forward: self.forward[index],
             heading: self.heading[index],
