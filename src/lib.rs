@@ -51,6 +51,8 @@ pub use world::{Axis, World};
 mod documentation {
     #[doc = include_str!("../README.md")]
     struct Readme;
+    #[doc = include_str!("../docs/architecture.md")]
+    struct Architecture;
     #[doc = include_str!("../docs/attention.md")]
     struct Attention;
     #[doc = include_str!("../docs/blending.md")]
