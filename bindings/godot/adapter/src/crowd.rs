@@ -18,7 +18,9 @@ use crowdgaze::skeleton_map::BoneMap;
 use crowdgaze::{CharacterDesc, Crowd, CrowdConfig, Error, GazeInfo, ObjectDesc, Result};
 use glam::{Quat, Vec3};
 
-use crate::skeleton::{character_frame, BoundSkeleton, PoseConvention, SkeletonAccess};
+use crate::skeleton::{
+    character_frame, prefetch_bytes, BoundSkeleton, PoseConvention, SkeletonAccess,
+};
 use crate::xform::Xform;
 
 /// A node's key: an id that names it for as long as it lives (Godot's instance id).
@@ -42,19 +44,31 @@ impl Default for CharacterSettings {
     }
 }
 
-/// A registered character.
+/// A registered character (its small fields first, then the skeleton: see
+/// [`prefetch`](Self::prefetch)).
 #[derive(Debug)]
+#[repr(C)]
 struct Character<H> {
     key: NodeKey,
-    handle: H,
     id: u32,
-    skeleton: BoundSkeleton,
+    /// Its eyes' target after the last step, to report changes.
+    target: u32,
     /// True while its transforms are not finite: it keeps its last state.
     stalled: bool,
     /// True if it was read this frame (and is pushed and written).
     fresh: bool,
-    /// Its eyes' target after the last step, to report changes.
-    target: u32,
+    handle: H,
+    skeleton: BoundSkeleton,
+}
+
+impl<H> Character<H> {
+    /// Prefetches what reading or writing the character touches (see
+    /// [`BoundSkeleton::prefetch`]).
+    fn prefetch(&self) {
+        let start = self as *const Self as usize;
+        prefetch_bytes(start, &self.skeleton as *const BoundSkeleton as usize);
+        self.skeleton.prefetch();
+    }
 }
 
 /// A registered scene object.
@@ -366,6 +380,10 @@ impl<H> SceneCrowd<H> {
             .get_mut(slot)
             .ok_or_else(|| Error::InvalidArgument(format!("there is no character {slot}")))?;
         character.fresh = false;
+        if let Some(next) = self.characters.get(slot + 1) {
+            next.prefetch();
+        }
+        let character = &mut self.characters[slot];
         match character.skeleton.read(skeleton, node) {
             Ok(read) => {
                 let joints = character.skeleton.joint_count;
@@ -475,6 +493,10 @@ impl<H> SceneCrowd<H> {
         if !character.fresh {
             return Ok(());
         }
+        if let Some(next) = self.characters.get(slot + 1) {
+            next.prefetch();
+        }
+        let character = &mut self.characters[slot];
         let joints = character.skeleton.joint_count;
         self.crowd
             .read_joints_of(character.id, false, &mut self.joints[..joints])?;

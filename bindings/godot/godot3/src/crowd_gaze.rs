@@ -15,6 +15,7 @@ use gdnative::nativescript::init::{Signal, SignalArgument};
 use gdnative::nativescript::{ExportInfo, PropertyUsage};
 use gdnative::prelude::*;
 
+use crate::character::Presence;
 use crate::convert::{boundary, quat, vec3, vector, xform};
 use crate::skeleton::GodotSkeleton;
 
@@ -26,10 +27,47 @@ pub const CHARACTER_GROUP: &str = "crowdgaze_characters";
 pub const TARGET_GROUP: &str = "crowdgaze_targets";
 
 /// A registered node: its instance id, and its skeleton's for a character (0 for a target).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone)]
 pub struct Handle {
     node: i64,
     skeleton: i64,
+    /// A character's node and skeleton as registered.
+    kept: Option<Kept>,
+}
+
+/// A character's node and skeleton, kept at registration to be used each frame without an
+/// object-database lookup while the node's stamp is still the one taken then (see
+/// [`Presence`]).
+#[derive(Debug, Clone)]
+struct Kept {
+    presence: Presence,
+    stamp: u64,
+    node: Ref<Spatial, Shared>,
+    skeleton: Ref<Skeleton, Shared>,
+}
+
+impl Handle {
+    /// The character's node and skeleton if both are alive: the kept ones when they
+    /// certainly are, else looked up by id (`None` if either is gone).
+    ///
+    /// # Safety
+    ///
+    /// The references must be used on the main thread within the current call only.
+    unsafe fn character<'a>(
+        &self,
+    ) -> Option<(TRef<'a, Spatial, Shared>, TRef<'a, Skeleton, Shared>)> {
+        if let Some(kept) = &self.kept {
+            if kept.presence.stamp() == kept.stamp {
+                // SAFETY: the node has stayed alive in the tree under its skeleton since it
+                // was registered, so both live; used on the main thread within this call.
+                return Some(unsafe { (kept.node.assume_safe(), kept.skeleton.assume_safe()) });
+            }
+        }
+        // SAFETY: ids taken from a Spatial and a Skeleton, used within this call.
+        let node = unsafe { live::<Spatial>(self.node) }?;
+        let skeleton = unsafe { live::<Skeleton>(self.skeleton) }?;
+        Some((node, skeleton))
+    }
 }
 
 /// The node that owns a crowd. Its exported fields are the crowd's settings, read when the
@@ -87,6 +125,10 @@ pub struct CrowdGaze {
     config_failed: bool,
     /// The last frame's cost, microseconds: reading the scene, stepping, writing bones.
     frame_usec: [f64; 3],
+    /// This frame's skeleton of each character slot, found while reading and written after
+    /// the step; empty between frames. Capacity for `max_characters`: no allocation per
+    /// frame.
+    skeletons: Vec<Ref<Skeleton, Shared>>,
 }
 
 /// The character or target node behind a variant, by instance id.
@@ -148,6 +190,7 @@ impl CrowdGaze {
             refused: HashSet::new(),
             config_failed: false,
             frame_usec: [0.0; 3],
+            skeletons: Vec::new(),
         }
     }
 
@@ -199,7 +242,11 @@ impl CrowdGaze {
     fn scene(&mut self, owner: &Spatial) -> Option<&mut SceneCrowd<Handle>> {
         if self.scene.is_none() && !self.config_failed {
             match SceneCrowd::new(self.config(), PoseConvention::RestTimesPose) {
-                Ok(scene) => self.scene = Some(scene),
+                Ok(scene) => {
+                    let capacity = self.config().max_characters as usize;
+                    self.skeletons = Vec::with_capacity(capacity);
+                    self.scene = Some(scene);
+                }
                 Err(error) => {
                     self.config_failed = true;
                     godot_error!("crowdgaze: {}: {error}", path_of(owner));
@@ -210,13 +257,15 @@ impl CrowdGaze {
     }
 
     /// Adds a `CrowdGazeCharacter` node (a child of its `Skeleton`) to the crowd, once; a
-    /// skeleton that cannot be mapped is reported once and left out.
+    /// skeleton that cannot be mapped is reported once and left out. `presence` is the
+    /// node's (see [`Presence`]); it must be in the tree.
     pub fn register_character(
         &mut self,
         owner: &Spatial,
         node: TRef<Spatial>,
         bone_map: &str,
         impact: f64,
+        presence: Presence,
     ) {
         let key = node.get_instance_id();
         if self.refused.contains(&key) {
@@ -244,6 +293,12 @@ impl CrowdGaze {
                     let handle = Handle {
                         node: key,
                         skeleton: skeleton.get_instance_id(),
+                        kept: Some(Kept {
+                            stamp: presence.stamp(),
+                            presence,
+                            node: node.claim(),
+                            skeleton: skeleton.claim(),
+                        }),
                     };
                     scene.add_character(
                         key,
@@ -286,6 +341,7 @@ impl CrowdGaze {
         let handle = Handle {
             node: key,
             skeleton: 0,
+            kept: None,
         };
         let placed = xform(&node.global_transform());
         if let Err(error) =
@@ -325,8 +381,8 @@ impl CrowdGaze {
             let settings = node
                 .cast_instance::<crate::character::CrowdGazeCharacter>()
                 .and_then(|instance| instance.map(|c, _| c.settings()).ok());
-            if let Some((bone_map, impact)) = settings {
-                self.register_character(owner, node, &bone_map, impact);
+            if let Some((bone_map, impact, presence)) = settings {
+                self.register_character(owner, node, &bone_map, impact, presence);
             }
         }
         for variant in tree.get_nodes_in_group(TARGET_GROUP).iter() {
@@ -364,16 +420,16 @@ impl CrowdGaze {
             return;
         };
         // Read every character; drop those whose node or skeleton is gone.
+        let skeletons = &mut self.skeletons;
+        skeletons.clear();
         let mut slot = 0;
         while slot < scene.character_count() {
-            let Some(handle) = scene.character_handle(slot).copied() else {
+            let Some(handle) = scene.character_handle(slot) else {
                 break;
             };
-            // SAFETY: ids taken from a Spatial and a Skeleton, used within this call.
-            let node = unsafe { live::<Spatial>(handle.node) };
-            let skeleton = unsafe { live::<Skeleton>(handle.skeleton) };
-            match (node, skeleton) {
-                (Some(node), Some(skeleton)) => {
+            // SAFETY: used within this call, on the main thread.
+            match unsafe { handle.character() } {
+                Some((node, skeleton)) => {
                     let placed = xform(&node.transform());
                     if let Err(error) =
                         scene.read_character(slot, &GodotSkeleton(skeleton), &placed)
@@ -383,16 +439,18 @@ impl CrowdGaze {
                             path_of(&node)
                         );
                     }
+                    skeletons.push(skeleton.claim());
                     slot += 1;
                 }
-                _ => {
-                    scene.remove(handle.node);
+                None => {
+                    let key = handle.node;
+                    scene.remove(key);
                 }
             }
         }
         let mut slot = 0;
         while slot < scene.target_count() {
-            let Some(handle) = scene.target_handle(slot).copied() else {
+            let Some(handle) = scene.target_handle(slot).cloned() else {
                 break;
             };
             // SAFETY: an id taken from a Spatial, used within this call.
@@ -417,19 +475,17 @@ impl CrowdGaze {
         }
         let read = start.elapsed();
         if let Err(error) = scene.step(delta as f32) {
+            skeletons.clear();
             godot_error!("crowdgaze: {}: {error}", path_of(owner));
             return;
         }
         let stepped = start.elapsed();
-        for slot in 0..scene.character_count() {
-            let Some(handle) = scene.character_handle(slot).copied() else {
-                break;
-            };
-            // SAFETY: an id taken from a Skeleton, used within this call.
-            if let Some(skeleton) = unsafe { live::<Skeleton>(handle.skeleton) } {
-                if let Err(error) = scene.write_character(slot, &mut GodotSkeleton(skeleton)) {
-                    godot_error!("crowdgaze: writing the gaze: {error}");
-                }
+        // The skeletons read above (one per slot): nothing that could free them ran since.
+        for (slot, skeleton) in skeletons.drain(..).enumerate() {
+            // SAFETY: alive (above), used on the main thread within this call.
+            let skeleton = unsafe { skeleton.assume_safe() };
+            if let Err(error) = scene.write_character(slot, &mut GodotSkeleton(skeleton)) {
+                godot_error!("crowdgaze: writing the gaze: {error}");
             }
         }
         let written = start.elapsed();
