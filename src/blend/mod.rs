@@ -12,11 +12,13 @@
 //! non-negative, not all zero, and are divided by their sum. Nothing here allocates except
 //! building a [`view::ViewBlender`](crate::blend::view::ViewBlender) and giving it clips and cameras.
 
+mod aligned_sum;
 pub mod clip;
 pub mod iterative;
 mod lanes;
 pub mod linear;
 pub mod projection;
+mod settings;
 pub mod view;
 
 pub use clip::KeyClip;

@@ -21,9 +21,10 @@
 
 use glam::{DVec3, Vec3};
 
+use super::aligned_sum::dlb_by;
 use super::clip::{FramePair, KeyClip};
-use super::iterative::{dib_joints, DibSettings, PoseOutcome};
-use super::linear::dlb_by;
+use super::iterative::dib_joints;
+use super::settings::{DibSettings, PoseOutcome};
 use super::AsDualQuat;
 use crate::alloc::{try_reserve, try_vec, Field};
 use crate::error::{Error, Result};
