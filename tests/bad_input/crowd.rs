@@ -1,0 +1,137 @@
+//! Rows: the crowd handle (create it, read its config, count its characters).
+
+use crate::{
+    corruption::{
+        bad_output_sizes, invalid, non_finite, struct_sizes_from, Corruption, OLDER_CROWD_CONFIG,
+    },
+    table::Table,
+    values::{floats, init, padded, Fields},
+    NULL_ARG,
+};
+use crowdgaze::ffi::attention::*;
+use crowdgaze::ffi::crowd::*;
+use crowdgaze::ffi::types::cg_axis;
+use std::mem::offset_of;
+use std::ptr::{null, null_mut};
+
+fn crowd_config_floats() -> Fields {
+    floats!(cg_crowd_config: units_per_metre, max_distance, field_of_view, speed_weight,
+        periphery_max_angle, min_interest_time, max_interest_time, interest_cooldown,
+        threshold_warmup, initial_threshold, attention_fraction_min, attention_fraction_max,
+        eyes_only_angle, eyes_head_neck_angle, head_speed, max_activation_time,
+        restart_distance, min_deactivation_time, max_deactivation_time, eye_fixation_time,
+        head_fixation_time, random_pick_probability, social_weight, proximity_radius,
+        lod_distance)
+}
+
+/// Values of `cg_crowd_config` outside their documented ranges.
+fn crowd_config_out_of_range() -> Vec<Corruption<cg_crowd_config>> {
+    type C = cg_crowd_config;
+    invalid::<C>(&[
+        ("max_characters 0", |c| c.max_characters = 0),
+        ("max_characters 2^24 + 1", |c| {
+            c.max_characters = (1 << 24) + 1
+        }),
+        ("max_characters UINT32_MAX", |c| c.max_characters = u32::MAX),
+        ("max_objects 2^24 + 1", |c| c.max_objects = (1 << 24) + 1),
+        ("up_axis 6", |c| c.up_axis = 6),
+        ("forward_axis UINT32_MAX", |c| c.forward_axis = u32::MAX),
+        ("forward_axis = up_axis", |c| c.forward_axis = c.up_axis),
+        ("forward_axis = -up_axis", |c| {
+            c.forward_axis = cg_axis::NegativeY as u32
+        }),
+        ("units_per_metre 0", |c| c.units_per_metre = 0.0),
+        ("units_per_metre -100", |c| c.units_per_metre = -100.0),
+        ("max_distance -1", |c| c.max_distance = -1.0),
+        ("field_of_view 0", |c| c.field_of_view = 0.0),
+        ("field_of_view 7 (> 2π)", |c| c.field_of_view = 7.0),
+        ("speed_weight -1", |c| c.speed_weight = -1.0),
+        ("periphery_max_angle 4 (> π)", |c| {
+            c.periphery_max_angle = 4.0
+        }),
+        ("min_interest_time -1", |c| c.min_interest_time = -1.0),
+        ("max_interest_time < min_interest_time", |c| {
+            c.max_interest_time = c.min_interest_time / 2.0
+        }),
+        ("interest_cooldown -1", |c| c.interest_cooldown = -1.0),
+        ("threshold_warmup -1", |c| c.threshold_warmup = -1.0),
+        ("initial_threshold -1", |c| c.initial_threshold = -1.0),
+        ("attention_fraction_min -0.1", |c| {
+            c.attention_fraction_min = -0.1
+        }),
+        ("attention_fraction_max 1.5", |c| {
+            c.attention_fraction_max = 1.5
+        }),
+        ("attention_fraction_min > attention_fraction_max", |c| {
+            c.attention_fraction_min = c.attention_fraction_max + 0.1
+        }),
+        ("eyes_only_angle -0.1", |c| c.eyes_only_angle = -0.1),
+        ("eyes_head_neck_angle < eyes_only_angle", |c| {
+            c.eyes_head_neck_angle = c.eyes_only_angle / 2.0
+        }),
+        ("head_speed 0", |c| c.head_speed = 0.0),
+        ("max_activation_time -1", |c| c.max_activation_time = -1.0),
+        ("restart_distance -1", |c| c.restart_distance = -1.0),
+        ("min_deactivation_time -1", |c| {
+            c.min_deactivation_time = -1.0
+        }),
+        ("max_deactivation_time < min_deactivation_time", |c| {
+            c.max_deactivation_time = c.min_deactivation_time / 2.0
+        }),
+        ("eye_fixation_time 0", |c| c.eye_fixation_time = 0.0),
+        ("head_fixation_time -1", |c| c.head_fixation_time = -1.0),
+        ("random_pick_probability 1.5", |c| {
+            c.random_pick_probability = 1.5
+        }),
+        ("social_weight -1", |c| c.social_weight = -1.0),
+        ("proximity_radius -1", |c| c.proximity_radius = -1.0),
+        ("attention_period 0", |c| c.attention_period = 0),
+        ("attention_period 65", |c| c.attention_period = 65),
+        ("lod_distance -1", |c| c.lod_distance = -1.0),
+        ("far_attention_period 0", |c| c.far_attention_period = 0),
+        ("far_attention_period 65", |c| c.far_attention_period = 65),
+        ("threads 65", |c| c.threads = 65),
+        ("threads UINT32_MAX", |c| c.threads = u32::MAX),
+    ])
+}
+
+pub(crate) fn rows_crowd(t: &mut Table) {
+    let f = "cg_crowd_create";
+    t.case(f, "config NULL", NULL_ARG, |h| unsafe {
+        cg_crowd_create(null(), &mut h.out.crowd)
+    });
+    t.case(f, "out_crowd NULL", NULL_ARG, |_| unsafe {
+        cg_crowd_create(&init(cg_crowd_config_init), null_mut())
+    });
+    // Callers built before `reorder_period` existed pass the size without it, which is
+    // accepted.
+    let mut corruptions = struct_sizes_from::<cg_crowd_config>(OLDER_CROWD_CONFIG);
+    corruptions.extend(non_finite(&crowd_config_floats()));
+    corruptions.extend(crowd_config_out_of_range());
+    t.corrupt_struct(
+        f,
+        "config",
+        corruptions,
+        |_| padded(init(cg_crowd_config_init)),
+        |h, config| unsafe { cg_crowd_create(config, &mut h.out.crowd) },
+    );
+
+    let f = "cg_crowd_get_config";
+    t.case(f, "crowd NULL", NULL_ARG, |h| unsafe {
+        cg_crowd_get_config(null(), &mut h.out.crowd_config)
+    });
+    t.case(f, "out_config NULL", NULL_ARG, |h| unsafe {
+        cg_crowd_get_config(h.crowd, null_mut())
+    });
+    bad_output_sizes(t, f, OLDER_CROWD_CONFIG, |h, out| unsafe {
+        cg_crowd_get_config(h.crowd, out)
+    });
+
+    let f = "cg_crowd_character_count";
+    t.case(f, "crowd NULL", NULL_ARG, |h| unsafe {
+        cg_crowd_character_count(null(), &mut h.out.count)
+    });
+    t.case(f, "out_count NULL", NULL_ARG, |h| unsafe {
+        cg_crowd_character_count(h.crowd, null_mut())
+    });
+}

@@ -1,0 +1,236 @@
+//! Rows: frames and steps (push a frame, step, the ranged step's entry points).
+
+use crate::{
+    corruption::{change, inside, non_finite, struct_sizes, Corrupt, Corruption},
+    fixture::{Harness, Setup},
+    table::Table,
+    values::{bad_sizes, floats},
+    BAD_SIZE, CAPACITY, INVALID, NON_FINITE, NULL_ARG, WRONG_STATE,
+};
+use crowdgaze::ffi::attention::*;
+use crowdgaze::ffi::status::cg_status;
+use std::mem::{offset_of, size_of};
+use std::ptr::{null, null_mut};
+use std::rc::Rc;
+
+/// Entities in a fixture's frame: four characters and two objects.
+pub(crate) const MOVERS: usize = 6;
+
+fn push(h: &mut Harness, states: &mut [cg_entity_state]) -> cg_status {
+    let (t, _) = h.next_frame();
+    unsafe { cg_crowd_push_frame(h.crowd, t, states.as_ptr(), states.len()) }
+}
+
+fn next_states(h: &Harness) -> Vec<cg_entity_state> {
+    h.next_frame().1
+}
+
+/// Corruptions of the states of a frame, element by element.
+fn frame_corruptions() -> Vec<Corruption<Vec<cg_entity_state>>> {
+    type S = cg_entity_state;
+    let mut out = Vec::new();
+    for index in 0..MOVERS {
+        let element = |name: String, expected, apply: Corrupt<S>| {
+            change(
+                format!("states[{index}].{name}"),
+                expected,
+                move |states: &mut Vec<S>| apply(&mut states[index]),
+            )
+        };
+        let plain = floats!(S: heading, position.x, position.y, position.z);
+        for c in non_finite::<S>(&plain) {
+            out.push(element(c.what, c.expected, c.apply));
+        }
+        for c in non_finite::<S>(&floats!(S: velocity.x, velocity.y, velocity.z)) {
+            let apply = c.apply;
+            out.push(element(
+                format!("{} with CG_STATE_HAS_VELOCITY", c.what),
+                c.expected,
+                Rc::new(move |s: &mut S| {
+                    s.flags |= CG_STATE_HAS_VELOCITY;
+                    apply(s)
+                }),
+            ));
+        }
+        out.push(element(
+            "flags 4 (an unknown bit)".into(),
+            INVALID,
+            Rc::new(|s: &mut S| s.flags = 4),
+        ));
+        out.push(element(
+            "flags UINT32_MAX".into(),
+            INVALID,
+            Rc::new(|s: &mut S| s.flags = u32::MAX),
+        ));
+        if index > 0 {
+            for (what, size) in bad_sizes(size_of::<S>()) {
+                out.push(element(
+                    format!("struct_size {what}, unlike states[0]'s"),
+                    BAD_SIZE,
+                    Rc::new(move |s: &mut S| s.struct_size = size),
+                ));
+            }
+        }
+    }
+    out.extend(inside(
+        struct_sizes::<S>(),
+        "states[0].",
+        |s: &mut Vec<S>| &mut s[0],
+    ));
+    out
+}
+
+pub(crate) fn rows_frames(t: &mut Table) {
+    let f = "cg_crowd_push_frame";
+    t.case(f, "crowd NULL", NULL_ARG, |h| {
+        let (time, states) = h.next_frame();
+        unsafe { cg_crowd_push_frame(null_mut(), time, states.as_ptr(), states.len()) }
+    });
+    t.case(f, "(states NULL, count 6)", NULL_ARG, |h| {
+        let (time, _) = h.next_frame();
+        unsafe { cg_crowd_push_frame(h.crowd, time, null(), MOVERS) }
+    });
+    for (label, value) in [
+        ("NaN", f64::NAN),
+        ("+Inf", f64::INFINITY),
+        ("-Inf", f64::NEG_INFINITY),
+    ] {
+        t.case(f, format!("t = {label}"), NON_FINITE, move |h| {
+            let states = next_states(h);
+            unsafe { cg_crowd_push_frame(h.crowd, value, states.as_ptr(), states.len()) }
+        });
+    }
+    t.case(f, "t earlier than the previous frame's", INVALID, |h| {
+        let states = h.frame_at(h.time);
+        unsafe { cg_crowd_push_frame(h.crowd, h.time - 0.5, states.as_ptr(), states.len()) }
+    });
+    t.case(
+        f,
+        "t earlier than the previous frame's, no states",
+        INVALID,
+        |h| unsafe { cg_crowd_push_frame(h.crowd, h.time - 1e-3, null(), 0) },
+    );
+    t.corrupt(
+        Setup::Online,
+        f,
+        frame_corruptions(),
+        next_states,
+        |h, s| push(h, s),
+    );
+    for index in 0..MOVERS {
+        t.entity_ids(
+            Setup::Online,
+            f,
+            &format!("states[{index}].id"),
+            move |h, id| {
+                let mut states = next_states(h);
+                states[index].id = id;
+                push(h, &mut states)
+            },
+        );
+    }
+    for (what, count) in [
+        ("count SIZE_MAX", usize::MAX),
+        ("count × struct_size overflowing", usize::MAX / 8),
+    ] {
+        t.case(f, what, INVALID, move |h| {
+            let (time, states) = h.next_frame();
+            unsafe { cg_crowd_push_frame(h.crowd, time, states.as_ptr(), count) }
+        });
+    }
+    t.case_in(
+        Setup::RecordingFull,
+        f,
+        "the recording is full",
+        CAPACITY,
+        |h| {
+            let mut states = next_states(h);
+            push(h, &mut states)
+        },
+    );
+    t.case_in(Setup::Planned, f, "a plan is active", WRONG_STATE, |h| {
+        let mut states = next_states(h);
+        push(h, &mut states)
+    });
+    t.case_in(
+        Setup::Planned,
+        f,
+        "a plan is active, no states",
+        WRONG_STATE,
+        |h| {
+            let (time, _) = h.next_frame();
+            unsafe { cg_crowd_push_frame(h.crowd, time, null(), 0) }
+        },
+    );
+
+    let f = "cg_crowd_step";
+    t.case(f, "crowd NULL", NULL_ARG, |_| unsafe {
+        cg_crowd_step(null_mut(), 0.1)
+    });
+    t.non_finite_argument(Setup::Online, f, "dt", |h, dt| unsafe {
+        cg_crowd_step(h.crowd, dt)
+    });
+    t.non_finite_argument(Setup::Planned, f, "dt while planned", |h, dt| unsafe {
+        cg_crowd_step(h.crowd, dt)
+    });
+    for (what, dt) in [
+        ("dt -1", -1.0),
+        ("dt -1e-30", -1e-30),
+        ("dt -FLT_MAX", f32::MIN),
+    ] {
+        t.case(f, what, INVALID, move |h| unsafe {
+            cg_crowd_step(h.crowd, dt)
+        });
+    }
+}
+
+/// The ranged step's entry points, on a crowd with no step open. (The misuse that needs an
+/// open step — a second begin, overlapping ranges, every other call meanwhile — is in
+/// `tests/threads.rs`, which compares the crowd with an untouched one afterwards.)
+pub(crate) fn rows_steps(t: &mut Table) {
+    let f = "cg_crowd_begin_step";
+    t.case(f, "crowd NULL", NULL_ARG, |_| unsafe {
+        cg_crowd_begin_step(null_mut(), 0.1)
+    });
+    t.non_finite_argument(Setup::Online, f, "dt", |h, dt| unsafe {
+        cg_crowd_begin_step(h.crowd, dt)
+    });
+    t.non_finite_argument(Setup::Planned, f, "dt while planned", |h, dt| unsafe {
+        cg_crowd_begin_step(h.crowd, dt)
+    });
+    for (what, dt) in [("dt -1", -1.0), ("dt -FLT_MAX", f32::MIN)] {
+        t.case(f, what, INVALID, move |h| unsafe {
+            cg_crowd_begin_step(h.crowd, dt)
+        });
+    }
+
+    let f = "cg_crowd_step_range";
+    t.case(f, "crowd NULL", NULL_ARG, |_| unsafe {
+        cg_crowd_step_range(null_mut(), 0, 1)
+    });
+    for (what, first, count) in [
+        ("no step open", 0, 1),
+        ("no step open, count 0", 0, 0),
+        ("no step open, range past the end", 0, u32::MAX),
+        ("no step open, first UINT32_MAX", u32::MAX, u32::MAX),
+    ] {
+        t.case(f, what, WRONG_STATE, move |h| unsafe {
+            cg_crowd_step_range(h.crowd, first, count)
+        });
+    }
+
+    let f = "cg_crowd_end_step";
+    t.case(f, "crowd NULL", NULL_ARG, |_| unsafe {
+        cg_crowd_end_step(null_mut())
+    });
+    t.case(f, "no step open", WRONG_STATE, |h| unsafe {
+        cg_crowd_end_step(h.crowd)
+    });
+    t.case_in(
+        Setup::Planned,
+        f,
+        "no step open while planned",
+        WRONG_STATE,
+        |h| unsafe { cg_crowd_end_step(h.crowd) },
+    );
+}
