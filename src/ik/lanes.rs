@@ -3,7 +3,7 @@
 //! [`crate::math::lanes`]. Everything here is `#[inline(always)]`: it must be compiled inside
 //! the instruction-set-specific functions that run it.
 
-pub(crate) use crate::math::lanes::{gather, mask, Floats, Mask, MAX_LANES, Q4, V3};
+use crate::math::lanes::{Floats, Q4};
 use crate::math::wide::Wide;
 
 /// `atan2(y, x)` per lane for `y ≥ 0`, in [0, π]; 0 when both are 0. Absolute error
@@ -81,6 +81,7 @@ pub(crate) fn interpolate_or<W: Wide>(a: Q4<W>, at_zero: Q4<W>, b: Q4<W>, t: Flo
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::math::lanes::{gather, MAX_LANES};
     use crate::math::wide::for_every_width;
     use glam::{Quat, Vec3, Vec4};
 
