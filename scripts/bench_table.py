@@ -1,4 +1,5 @@
-"""Prints the README's benchmark table from criterion's results (medians of one run).
+"""Prints the README's benchmark tables from criterion's results (medians of one run):
+the crowd step with its baselines, then an engine's whole frame through the C API.
 
 Usage: python3 scripts/bench_table.py TARGET/criterion
 Every number is a criterion median from the same `scripts/bench` run; ratios compare
@@ -83,6 +84,21 @@ def main():
     if state.exists():
         print(f"- State per character (per-character arrays and its share of the scene "
               f"and grid): {state.read_text().strip()} bytes.")
+
+    print()
+    print("Engine frame through the C API (ns per character-frame, criterion medians)")
+    print()
+    print("| characters | threads | push_frame | step | read_gaze | read_joints | read_eyes "
+          "| whole frame | whole frame, reorder_period = 0 |")
+    print("|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+    parts = ["push", "step", "read_gaze", "read_joints", "read_eyes", "frame",
+             "frame_noreorder"]
+    for characters in ["1000", "10000", "100000"]:
+        for threads in ["1", "2"]:
+            cells = [per_element("frame", f"{part}_{threads}t", characters) for part in parts]
+            ns = [None if cell is None else cell * 1000.0 for cell in cells]
+            print(f"| {int(characters):,} | {threads} | "
+                  + " | ".join(show(cell, 1) for cell in ns) + " |")
 
 
 if __name__ == "__main__":

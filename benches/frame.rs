@@ -1,0 +1,314 @@
+//! What an engine pays per frame, through the C ABI: `cg_crowd_push_frame` (every
+//! character's state), `cg_crowd_step`, then `cg_crowd_read_gaze`, `cg_crowd_read_joints`
+//! and `cg_crowd_read_eyes` for every character, into buffers the caller allocated once.
+//! The crowd is the plaza of random walkers of `benches/attention.rs` (0.25 people/m²,
+//! moved 1/30 s per frame), created and filled through the C API (default config but
+//! `max_characters` and `threads`), at 1 000, 10 000 and 100 000 characters on 1 and 2
+//! threads: the whole frame (`frame_{t}t`), each call alone (`push_`, `step_`,
+//! `read_gaze_`, `read_joints_`, `read_eyes_{t}t`), and, to choose `reorder_period`'s
+//! default by the whole frame, the whole frame with `reorder_period = 0`
+//! (`frame_noreorder_{t}t`) and its push and reads on 1 thread (`push_noreorder_1t`, ...).
+//!
+//! Moving the walkers and writing their `cg_entity_state`s (the engine's own work) happens
+//! before each timed frame and is not timed; nothing is allocated per frame.
+//!
+//! Run: `cargo bench --bench frame`, or `scripts/bench` for the README's tables. Criterion
+//! reports time per crowd frame; throughput in elements = characters. Built as a test
+//! (`cargo test --benches`) it runs each function once at 1 000 characters only.
+
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
+use crowdgaze::ffi::attention::{
+    cg_character_desc, cg_character_desc_init, cg_crowd_add_character, cg_crowd_push_frame,
+    cg_crowd_read_gaze, cg_crowd_step, cg_entity_state, cg_entity_state_init, cg_gaze_info,
+    CG_STATE_HAS_VELOCITY, CG_STATE_HEADING_FROM_MOTION,
+};
+use crowdgaze::ffi::cg_status;
+use crowdgaze::ffi::crowd::{
+    cg_crowd, cg_crowd_config, cg_crowd_config_init, cg_crowd_create, cg_crowd_destroy,
+};
+use crowdgaze::ffi::gaze::{
+    cg_crowd_joint_total, cg_crowd_read_eyes, cg_crowd_read_joints, cg_eye_info,
+};
+use crowdgaze::ffi::types::{cg_quat, cg_vec3};
+use crowdgaze::scenario::Scenario;
+use crowdgaze::{CrowdConfig, World};
+use std::hint::black_box;
+use std::mem::MaybeUninit;
+use std::time::{Duration, Instant};
+
+const DENSITY: f32 = 0.25;
+const DT: f32 = 1.0 / 30.0;
+const WARM_UP_FRAMES: u32 = 40;
+
+/// Fails the benchmark, naming the call, unless it succeeded.
+#[track_caller]
+fn ok(status: cg_status, call: &str) {
+    assert_eq!(status, cg_status::Ok, "{call}");
+}
+
+/// A versioned struct filled by its `_init` function, `struct_size` set first.
+fn init<T>(f: unsafe extern "C" fn(*mut T) -> cg_status) -> T {
+    let mut value = MaybeUninit::<T>::uninit();
+    // SAFETY: every versioned struct starts with its `uint32_t struct_size`, which the
+    // header asks to set to the struct's size before the `_init` call.
+    unsafe {
+        value
+            .as_mut_ptr()
+            .cast::<u32>()
+            .write(std::mem::size_of::<T>() as u32)
+    };
+    // SAFETY: a live pointer to a struct of the size its `struct_size` says.
+    ok(unsafe { f(value.as_mut_ptr()) }, "_init");
+    // SAFETY: written by the `_init` call that just succeeded.
+    unsafe { value.assume_init() }
+}
+
+fn vec3(v: impl Into<[f32; 3]>) -> cg_vec3 {
+    let [x, y, z] = v.into();
+    cg_vec3 { x, y, z }
+}
+
+/// An engine's side of the frame: a crowd created through the C API, the scenario that
+/// moves its characters, and the caller's buffers, all allocated before the first frame.
+struct Engine {
+    crowd: *mut cg_crowd,
+    scenario: Scenario,
+    /// The crowd's default axes and unit (+Y up, +Z forward, metres), to place the walkers.
+    world: World,
+    frame: u32,
+    states: Vec<cg_entity_state>,
+    gaze: Vec<cg_gaze_info>,
+    joints: Vec<cg_quat>,
+    eyes: Vec<cg_eye_info>,
+}
+
+impl Engine {
+    /// A plaza of `characters` walkers in a crowd of `threads` threads, after the warm-up.
+    fn new(characters: usize, threads: u32, reorder: bool) -> Engine {
+        let mut config: cg_crowd_config = init(cg_crowd_config_init);
+        config.max_characters = characters as u32;
+        config.threads = threads;
+        if !reorder {
+            config.reorder_period = 0;
+        }
+        let mut crowd = std::ptr::null_mut();
+        // SAFETY: a filled config and a live output pointer.
+        ok(unsafe { cg_crowd_create(&config, &mut crowd) }, "create");
+        let scenario = Scenario::plaza(characters, DENSITY, 7);
+        let world = CrowdConfig::default().world;
+        let mut desc: cg_character_desc = init(cg_character_desc_init);
+        let mut state: cg_entity_state = init(cg_entity_state_init);
+        state.flags = CG_STATE_HEADING_FROM_MOTION | CG_STATE_HAS_VELOCITY;
+        let mut states = vec![state; characters];
+        for (person, state) in scenario.people.iter().zip(&mut states) {
+            desc.position =
+                vec3(world.forward * person.position.x + world.side * person.position.y);
+            desc.heading = person.heading;
+            // SAFETY: a live crowd, a filled desc and a live output pointer.
+            ok(
+                unsafe { cg_crowd_add_character(crowd, &desc, &mut state.id) },
+                "add_character",
+            );
+        }
+        let mut joint_total = 0;
+        // SAFETY: a live crowd and output pointer.
+        ok(
+            unsafe { cg_crowd_joint_total(crowd, 0, characters as u32, &mut joint_total) },
+            "joint_total",
+        );
+        let mut engine = Engine {
+            crowd,
+            scenario,
+            world,
+            frame: 0,
+            states,
+            gaze: vec![cg_gaze_info::default(); characters],
+            joints: vec![cg_quat::IDENTITY; joint_total],
+            eyes: vec![cg_eye_info::default(); characters],
+        };
+        for _ in 0..WARM_UP_FRAMES {
+            engine.next_states();
+            engine.whole_frame();
+        }
+        engine
+    }
+
+    /// The engine's work before a frame (not timed): moves the walkers 1/30 s and writes
+    /// their states into the preallocated array.
+    fn next_states(&mut self) {
+        self.frame += 1;
+        self.scenario.advance(DT);
+        let (forward, side) = (self.world.forward, self.world.side);
+        for (person, state) in self.scenario.people.iter().zip(&mut self.states) {
+            state.position = vec3(forward * person.position.x + side * person.position.y);
+            state.velocity = vec3(forward * person.velocity.x + side * person.velocity.y);
+            state.heading = person.heading;
+        }
+    }
+
+    fn push(&mut self) {
+        let time = f64::from(self.frame) * f64::from(DT);
+        let (states, count) = (self.states.as_ptr(), self.states.len());
+        // SAFETY: a live crowd; `states` holds `count` initialised states of the header's
+        // size.
+        ok(
+            unsafe { cg_crowd_push_frame(self.crowd, time, states, count) },
+            "push_frame",
+        );
+    }
+
+    fn step(&mut self) {
+        // SAFETY: a live crowd.
+        ok(unsafe { cg_crowd_step(self.crowd, black_box(DT)) }, "step");
+    }
+
+    fn read_gaze(&mut self) {
+        let mut written = 0;
+        let (out, count) = (self.gaze.as_mut_ptr(), self.gaze.len());
+        // SAFETY: a live crowd; `out` is valid for `count` writes.
+        ok(
+            unsafe { cg_crowd_read_gaze(self.crowd, out, count, &mut written) },
+            "read_gaze",
+        );
+        black_box(&self.gaze);
+    }
+
+    fn read_joints(&mut self) {
+        let characters = self.states.len() as u32;
+        let (out, len) = (self.joints.as_mut_ptr(), self.joints.len());
+        // SAFETY: a live crowd; `out` is valid for `len` writes.
+        ok(
+            unsafe { cg_crowd_read_joints(self.crowd, 0, characters, out, len) },
+            "read_joints",
+        );
+        black_box(&self.joints);
+    }
+
+    fn read_eyes(&mut self) {
+        let characters = self.states.len() as u32;
+        let (out, len) = (self.eyes.as_mut_ptr(), self.eyes.len());
+        // SAFETY: a live crowd; `out` is valid for `len` writes.
+        ok(
+            unsafe { cg_crowd_read_eyes(self.crowd, 0, characters, out, len) },
+            "read_eyes",
+        );
+        black_box(&self.eyes);
+    }
+
+    /// The engine's frame: push, step, read everything.
+    fn whole_frame(&mut self) {
+        self.push();
+        self.step();
+        self.read_gaze();
+        self.read_joints();
+        self.read_eyes();
+    }
+
+    /// Total time of `timed` over `iterations` frames, each prepared by `untimed`.
+    fn frames(
+        &mut self,
+        iterations: u64,
+        mut untimed: impl FnMut(&mut Engine),
+        mut timed: impl FnMut(&mut Engine),
+    ) -> Duration {
+        let mut total = Duration::ZERO;
+        for _ in 0..iterations {
+            untimed(self);
+            let start = Instant::now();
+            timed(self);
+            total += start.elapsed();
+        }
+        total
+    }
+}
+
+impl Drop for Engine {
+    fn drop(&mut self) {
+        // SAFETY: created by `cg_crowd_create`, destroyed once, no call running.
+        unsafe { cg_crowd_destroy(self.crowd) };
+    }
+}
+
+/// The crowd sizes: all three for `cargo bench`; 1 000 only when built as a test
+/// (`cargo test --benches`: debug assertions on, criterion runs each function once).
+fn sizes() -> &'static [usize] {
+    let benchmarking = std::env::args().any(|argument| argument == "--bench");
+    if cfg!(debug_assertions) || !benchmarking {
+        &[1_000]
+    } else {
+        &[1_000, 10_000, 100_000]
+    }
+}
+
+fn frame(c: &mut Criterion) {
+    let mut group = c.benchmark_group("frame");
+    for &characters in sizes() {
+        group.throughput(Throughput::Elements(characters as u64));
+        for threads in [1, 2] {
+            let name = |part: &str| BenchmarkId::new(format!("{part}_{threads}t"), characters);
+            let mut engine = Engine::new(characters, threads, true);
+            group.bench_function(name("frame"), |b| {
+                b.iter_custom(|iterations| {
+                    engine.frames(iterations, Engine::next_states, Engine::whole_frame)
+                })
+            });
+            group.bench_function(name("push"), |b| {
+                b.iter_custom(|iterations| {
+                    engine.frames(iterations, Engine::next_states, Engine::push)
+                })
+            });
+            group.bench_function(name("step"), |b| {
+                b.iter_custom(|iterations| {
+                    let untimed = |engine: &mut Engine| {
+                        engine.next_states();
+                        engine.push();
+                    };
+                    engine.frames(iterations, untimed, Engine::step)
+                })
+            });
+            group.bench_function(name("read_gaze"), |b| b.iter(|| engine.read_gaze()));
+            group.bench_function(name("read_joints"), |b| b.iter(|| engine.read_joints()));
+            group.bench_function(name("read_eyes"), |b| b.iter(|| engine.read_eyes()));
+            drop(engine);
+
+            // The same frame with the storage never reordered (`reorder_period = 0`).
+            let mut engine = Engine::new(characters, threads, false);
+            group.bench_function(name("frame_noreorder"), |b| {
+                b.iter_custom(|iterations| {
+                    engine.frames(iterations, Engine::next_states, Engine::whole_frame)
+                })
+            });
+            if threads == 1 {
+                group.bench_function(name("push_noreorder"), |b| {
+                    b.iter_custom(|iterations| {
+                        engine.frames(iterations, Engine::next_states, Engine::push)
+                    })
+                });
+                group.bench_function(name("read_gaze_noreorder"), |b| {
+                    b.iter(|| engine.read_gaze())
+                });
+                group.bench_function(name("read_joints_noreorder"), |b| {
+                    b.iter(|| engine.read_joints())
+                });
+                group.bench_function(name("read_eyes_noreorder"), |b| {
+                    b.iter(|| engine.read_eyes())
+                });
+            }
+        }
+    }
+    group.finish();
+}
+
+criterion_group! {
+    name = benches;
+    // Set here rather than on the group so that `--warm-up-time`, `--measurement-time` and
+    // `--sample-size` on the command line still override them. A frame of 100 000
+    // characters takes tens of milliseconds: criterion then samples flat (as many frames
+    // in each sample).
+    config = Criterion::default()
+        .sample_size(10)
+        .warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_millis(1500));
+    targets = frame
+}
+criterion_main!(benches);
