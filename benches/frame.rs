@@ -10,7 +10,9 @@
 //! (`frame_noreorder_{t}t`) and its push and reads on 1 thread (`push_noreorder_1t`, ...).
 //!
 //! Moving the walkers and writing their `cg_entity_state`s (the engine's own work) happens
-//! before each timed frame and is not timed; nothing is allocated per frame.
+//! before each timed frame and is not timed; nothing is allocated per frame. Each part is
+//! timed as it runs in the engine's frame: the step after a frame whose outputs were read
+//! (so it publishes them for the readers), the reads after such a step.
 //!
 //! Run: `cargo bench --bench frame`, or `scripts/bench` for the README's tables. Criterion
 //! reports time per crowd frame; throughput in elements = characters. Built as a test
@@ -259,13 +261,24 @@ fn frame(c: &mut Criterion) {
             });
             group.bench_function(name("step"), |b| {
                 b.iter_custom(|iterations| {
+                    // As in the engine's frame: the previous step's outputs are read, so
+                    // the step publishes them for the readers.
                     let untimed = |engine: &mut Engine| {
+                        engine.read_gaze();
+                        engine.read_joints();
+                        engine.read_eyes();
                         engine.next_states();
                         engine.push();
                     };
                     engine.frames(iterations, untimed, Engine::step)
                 })
             });
+            // As in the engine's frame: the last step followed frames whose outputs were
+            // read, and published them.
+            engine.next_states();
+            engine.whole_frame();
+            engine.next_states();
+            engine.whole_frame();
             group.bench_function(name("read_gaze"), |b| b.iter(|| engine.read_gaze()));
             group.bench_function(name("read_joints"), |b| b.iter(|| engine.read_joints()));
             group.bench_function(name("read_eyes"), |b| b.iter(|| engine.read_eyes()));
@@ -279,6 +292,8 @@ fn frame(c: &mut Criterion) {
                 })
             });
             if threads == 1 {
+                engine.next_states();
+                engine.whole_frame();
                 group.bench_function(name("push_noreorder"), |b| {
                     b.iter_custom(|iterations| {
                         engine.frames(iterations, Engine::next_states, Engine::push)

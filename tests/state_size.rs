@@ -54,3 +54,11 @@ fn state_per_character_adds_up() {
     // The design's budget.
     assert!(Crowd::state_bytes_per_character() <= 1024);
 }
+
+#[test]
+fn outputs_kept_for_the_readers_add_up() {
+    // 44 gaze info + 4 where the joints start + 4 reader position of each storage index
+    // (the final joint rotations, 16 bytes a joint, are reserved as characters are added).
+    assert_eq!(size_of::<crowdgaze::GazeInfo>(), 44);
+    assert_eq!(Crowd::output_bytes_per_character(), 52);
+}

@@ -3,6 +3,7 @@
 
 use super::states;
 use super::tables::Characters;
+use super::values::GazeInfo;
 use super::Crowd;
 use crate::attention::candidates::{
     all_pairs_candidates, nearby_candidates, CandidateBatch, NeighbourIndex,
@@ -60,7 +61,8 @@ impl Crowd {
 
     /// Rebuilds the spatial grid from the current positions (done by every step).
     pub fn rebuild_grid(&mut self) {
-        self.shared.neighbours.rebuild(&self.shared.scene);
+        let shared = &mut *self.shared;
+        shared.neighbours.rebuild(&shared.scene);
     }
 
     /// Scores one (character, entity) pair on the current state, with every intermediate.
@@ -91,5 +93,14 @@ impl Crowd {
             + 1 // a bit each of the ranged step's claims and the reordering (scratch)
             + states::bytes_per_character();
         per_character + Scene::bytes_per_entity() + NeighbourIndex::bytes_per_entity()
+    }
+
+    /// Bytes the crowd keeps per character for the readers beside its state: the last
+    /// step's outputs laid out in the readers' order (its [`GazeInfo`], where its joints
+    /// start, its reader position), sized at creation; plus 16 bytes per chain joint (the
+    /// final rotations), reserved as characters are added.
+    pub fn output_bytes_per_character() -> usize {
+        use std::mem::size_of;
+        size_of::<GazeInfo>() + 2 * size_of::<u32>()
     }
 }

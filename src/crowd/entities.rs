@@ -67,6 +67,7 @@ impl Crowd {
             // Room for a new distinct chain, before anything changes.
             self.shared.chains.reserve_one()?;
         }
+        self.published.reserve_chain(chain.joint_count())?;
         let id = self.shared.scene.add(
             EntityKind::Character,
             desc.position,
@@ -99,6 +100,7 @@ impl Crowd {
         );
         // The new character is the last both in dense order and in readers' order.
         self.read_order.push(self.read_order.len() as u32);
+        self.published.add_chain(chain.joint_count());
         Ok(id)
     }
 
@@ -133,6 +135,8 @@ impl Crowd {
         self.ensure_online("remove an entity")?;
         if let Some(slot) = self.shared.scene.remove(id)? {
             let slot = slot as usize;
+            let joints = self.chain_of(slot).joint_count();
+            self.published.release_chain(joints);
             self.shared.characters.swap_remove(slot);
             self.states.swap_remove(slot);
             // Readers' order: the last character read takes the removed one's place, and the

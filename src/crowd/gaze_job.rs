@@ -4,13 +4,17 @@
 //!
 //! In: each character's look (its attention model's state, explicit target, the plan),
 //! transform, chain and base pose. Out: each character's gaze motion (joint rotations, eye
-//! origins and directions) and its random stream of timing draws. A character's result
+//! origins and directions) and its random stream of timing draws; then, as its last stage,
+//! what the readers will report for it (its gaze and final joint rotations), published in
+//! the readers' order. A character's result
 //! depends only on its own inputs, not on its batch or range, so ranges may run on several
 //! threads.
 
 use glam::Quat;
 
 use super::look::LookContext;
+use super::outputs::{gaze_info, joint_rotations};
+use super::published::{Outputs, PublishTarget};
 use super::states::{CharacterSlices, CharacterView, RawCharacterSlices};
 use crate::error::{Error, Result};
 use crate::ik::temporal::BATCH_LANES;
@@ -27,6 +31,10 @@ const _: () = assert!(SORT_CHUNK <= 256);
 /// How many characters ahead the gaze step prefetches a character's state.
 const GAZE_PREFETCH_AHEAD: usize = 8;
 
+/// How many characters ahead the publishing stage prefetches where a character's outputs
+/// go (they are written in the readers' order, scattered when storage is in spatial order).
+const PUBLISH_PREFETCH_AHEAD: usize = 8;
+
 /// The gaze job of one step: its inputs, and the per-character arrays it writes.
 #[derive(Debug, Clone, Copy)]
 pub(super) struct GazeJob<'a> {
@@ -38,6 +46,10 @@ pub(super) struct GazeJob<'a> {
     pub look: LookContext<'a>,
     /// The per-character arrays: writes `motions` and `gaze_randoms`, reads `models`.
     pub states: RawCharacterSlices,
+    /// Where each moved character's outputs go, in the readers' order.
+    pub publish: PublishTarget,
+    /// The crowd's initial interest threshold (what the saliency and baseline models report).
+    pub initial_threshold: f32,
 }
 
 impl GazeJob<'_> {
@@ -48,6 +60,7 @@ impl GazeJob<'_> {
         if self.states.len() != characters
             || tables.chain_of.len() != characters
             || tables.posed.len() != characters
+            || self.publish.characters() != characters
         {
             return Err(Error::Internal(format!(
                 "the gaze job has {} states and {} chains for {characters} characters",
@@ -67,6 +80,27 @@ impl GazeJob<'_> {
         // SAFETY: the caller's contract.
         let slices = unsafe { self.states.range(first, count) };
         self.move_gaze(first, slices);
+        if self.publish.outputs() == Outputs::default() {
+            return;
+        }
+        // SAFETY: as above; the borrow of the first slices has ended.
+        let slices = unsafe { self.states.range(first, count) };
+        for local in 0..count {
+            let character = first + local;
+            self.publish.prefetch(character + PUBLISH_PREFETCH_AHEAD);
+            let view = CharacterView {
+                model: &slices.models[local],
+                motion: &slices.motions[local],
+            };
+            // SAFETY: the caller's contract covers this character's published entries too.
+            unsafe {
+                self.publish.write(
+                    character,
+                    || gaze_info(&self.look, self.initial_threshold, character, view),
+                    |out| joint_rotations(&self.look, character, view, false, out),
+                )
+            };
+        }
     }
 
     /// Gaze IK for the characters of `slices` (the first is character `first`), up to

@@ -37,8 +37,10 @@ mod gaze_job;
 mod ingest;
 mod look;
 mod model_state;
+mod outputs;
 mod planning;
 mod pool;
+mod published;
 mod ranges;
 mod readback;
 mod states;
@@ -60,6 +62,7 @@ use crate::scene::order::Reorder;
 use crate::scene::Scene;
 use attention_job::Frame;
 use pool::WorkerPool;
+use published::{Published, Watched};
 use ranges::ClaimSet;
 use states::CharacterStates;
 use tables::{Chains, Characters};
@@ -80,9 +83,12 @@ use tables::{Chains, Characters};
 #[derive(Debug)]
 pub struct Crowd {
     /// What every character's step reads.
-    shared: Shared,
+    shared: Watched<Shared>,
     /// What each character's step writes.
-    states: CharacterStates,
+    states: Watched<CharacterStates>,
+    /// The last step's outputs in the readers' order, while `shared` and `states` have not
+    /// changed since.
+    published: Published,
     /// Which characters a ranged step has taken.
     claims: ClaimSet,
     /// The order in which attention visits characters, refreshed by each step: spatial-grid
@@ -132,7 +138,8 @@ impl Crowd {
     /// Errors: [`Error::InvalidArgument`] and [`Error::NonFinite`] (see
     /// [`CrowdConfig::validate`]), [`Error::OutOfMemory`] when the buffers of the capacities
     /// do not fit in memory (about [`state_bytes_per_character`](Self::state_bytes_per_character)
-    /// per character and object, and [`Recording::bytes_per_state`] per recorded state),
+    /// and [`output_bytes_per_character`](Self::output_bytes_per_character) per character
+    /// and object, and [`Recording::bytes_per_state`] per recorded state),
     /// [`Error::Internal`] if a worker thread cannot be started. Nothing is left behind on
     /// error.
     pub fn new(config: CrowdConfig) -> Result<Crowd> {
@@ -148,7 +155,7 @@ impl Crowd {
         );
         let per_state = &Field("max_recorded_states", config.max_recorded_states.into());
         Ok(Crowd {
-            shared: Shared {
+            shared: Watched::new(Shared {
                 scorer: Scorer::new(config.scoring),
                 // One object slot more than asked for: the viewer's (`capacity` counts it).
                 scene: Scene::new(
@@ -167,8 +174,9 @@ impl Crowd {
                 recording: Recording::new(config.max_recorded_states as usize, per_state)?,
                 plan: None,
                 config,
-            },
-            states: CharacterStates::with_capacity(characters, per_character)?,
+            }),
+            states: Watched::new(CharacterStates::with_capacity(characters, per_character)?),
+            published: Published::with_capacity(characters, per_character)?,
             claims: ClaimSet::new(characters, per_character)?,
             grid_order: try_with_capacity(characters, per_character)?,
             read_order: try_with_capacity(characters, per_character)?,

@@ -18,15 +18,16 @@ impl Crowd {
                 "nothing recorded: set max_recorded_states and push frames before planning".into(),
             ));
         }
+        let shared = &mut *self.shared;
         let plan = Plan::build(
-            &self.shared.recording,
-            &mut self.shared.scene,
-            &mut self.shared.neighbours,
-            &self.shared.scorer,
-            &self.shared.characters.params,
-            &self.shared.config.interest,
+            &shared.recording,
+            &mut shared.scene,
+            &mut shared.neighbours,
+            &shared.scorer,
+            &shared.characters.params,
+            &shared.config.interest,
         )?;
-        self.shared.plan = Some(plan);
+        shared.plan = Some(plan);
         Ok(())
     }
 

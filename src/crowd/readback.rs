@@ -3,12 +3,12 @@
 
 use glam::Quat;
 
+use super::outputs::{gaze_info, joint_rotations};
+use super::published::Published;
 use super::values::{EyeState, GazeInfo};
 use super::Crowd;
-use crate::attention::AttentionModel;
 use crate::error::{Error, Result};
 use crate::ik::{GazeChain, GazeMotion};
-use crate::scene::ids::NO_ENTITY;
 
 impl Crowd {
     /// The dense index (where its state is stored) of the character at `position` in the
@@ -22,85 +22,28 @@ impl Crowd {
     /// its place; the crowd's own storage order (spatial, see [`Crowd`]) never shows
     /// through. Panics if `position` is out of range.
     pub fn gaze_at(&self, position: usize) -> GazeInfo {
+        Published::want(&self.published.gaze_wanted);
+        if self.published.gaze_written && self.unchanged_since_step() {
+            return self.published.gaze[position];
+        }
         self.gaze_of(self.dense_index(position))
     }
 
+    /// True while nothing has changed since the last step: what it published (see
+    /// [`Published`]) is what the readers would compute.
+    pub(super) fn unchanged_since_step(&self) -> bool {
+        !self.shared.changed && !self.states.changed
+    }
+
     /// Where a character (by dense index) looks now.
-    fn gaze_of(&self, character: usize) -> GazeInfo {
-        let entity = self.shared.scene.character_entities()[character] as usize;
-        let tracker = self.states.models[character].tracker();
-        let (target, s_max, threshold, attentive_fraction, interest_count) = match &self.shared.plan
-        {
-            Some(plan) => {
-                let (target, s_max, threshold) = plan.current(character);
-                let count = plan.constraints(character).len() as u32;
-                (
-                    target,
-                    s_max,
-                    threshold,
-                    plan.attentive_fraction(character),
-                    count,
-                )
-            }
-            None => match tracker {
-                Some(tracker) => {
-                    let (attentive, observed) = tracker.attentive_seconds();
-                    let fraction = if observed > 0.0 {
-                        attentive / observed
-                    } else {
-                        0.0
-                    };
-                    (
-                        tracker.interest(),
-                        tracker.s_max(),
-                        tracker.threshold(),
-                        fraction,
-                        tracker.interest_count(),
-                    )
-                }
-                // Characters of the saliency and baseline models report what a fresh
-                // tracker would: no interest point, the initial threshold.
-                None => (
-                    NO_ENTITY,
-                    0.0,
-                    self.shared.config.interest.initial_threshold,
-                    0.0,
-                    0,
-                ),
-            },
-        };
-        let view = self.states.view(character);
-        let look = self.shared.look().current_look(character, view);
-        let target_position = match self.shared.look().gaze_request(character, view) {
-            Some(request) => request.eye_target,
-            None => {
-                let ahead = self
-                    .shared
-                    .config
-                    .world
-                    .heading_direction(self.shared.scene.headings()[entity]);
-                self.shared.scene.look_at_point(entity) + ahead * 10.0
-            }
-        };
-        let exists = |id: u32| self.shared.scene.index_of(id).is_some();
-        let known = |id: u32| if exists(id) { id } else { NO_ENTITY };
-        let attending = match self.shared.characters.params[character].model {
-            AttentionModel::Crowd => exists(target),
-            _ => exists(look.eye.entity) || exists(look.head.entity),
-        };
-        GazeInfo {
-            character: self.shared.scene.ids()[entity],
-            target: known(look.eye.entity),
-            target_part: look.eye.part,
-            head_target: known(look.head.entity),
-            target_position,
-            s_max,
-            // The trackers and the plan use +inf for "never"; callers get a finite value.
-            threshold: threshold.min(f32::MAX),
-            attending,
-            attentive_fraction,
-            interest_count,
-        }
+    pub(super) fn gaze_of(&self, character: usize) -> GazeInfo {
+        let initial_threshold = self.shared.config.interest.initial_threshold;
+        gaze_info(
+            &self.shared.look(),
+            initial_threshold,
+            character,
+            self.states.view(character),
+        )
     }
 
     /// Where a character looks now, by id.
@@ -118,6 +61,10 @@ impl Crowd {
     /// joint outputs.
     pub fn joint_total(&self, first: usize, count: usize) -> Result<usize> {
         let range = self.character_range(first, count)?;
+        if self.published.layout_current && self.unchanged_since_step() {
+            let starts = &self.published.joint_start;
+            return Ok((starts[range.end] - starts[range.start]) as usize);
+        }
         Ok(self.read_order[range]
             .iter()
             .map(|&character| self.chain_of(character as usize).joint_count())
@@ -125,7 +72,7 @@ impl Crowd {
     }
 
     /// The chain of the character at storage index `character`.
-    fn chain_of(&self, character: usize) -> &GazeChain {
+    pub(super) fn chain_of(&self, character: usize) -> &GazeChain {
         self.shared.characters.chain(&self.shared.chains, character)
     }
 
@@ -158,6 +105,14 @@ impl Crowd {
                 out.len()
             )));
         }
+        if !deltas_only {
+            Published::want(&self.published.joints_wanted);
+        }
+        if !deltas_only && self.published.joints_written && self.unchanged_since_step() {
+            let start = self.published.joint_start[first] as usize;
+            out[..total].copy_from_slice(&self.published.joints[start..start + total]);
+            return Ok(total);
+        }
         let mut written = 0;
         for &character in &self.read_order[first..first + count] {
             written += self.write_joints(character as usize, deltas_only, &mut out[written..]);
@@ -186,16 +141,14 @@ impl Crowd {
 
     /// Writes the chain joints of the character at dense index `character` to the start of
     /// `out` (which holds them all); returns how many.
-    fn write_joints(&self, character: usize, deltas_only: bool, out: &mut [Quat]) -> usize {
-        let deltas = self.states.motions[character].deltas();
-        let base = self
-            .shared
-            .characters
-            .base_pose(&self.shared.chains, character);
-        for ((slot, delta), base) in out.iter_mut().zip(deltas).zip(&base) {
-            *slot = if deltas_only { *delta } else { *base * *delta };
-        }
-        deltas.len()
+    pub(super) fn write_joints(
+        &self,
+        character: usize,
+        deltas_only: bool,
+        out: &mut [Quat],
+    ) -> usize {
+        let view = self.states.view(character);
+        joint_rotations(&self.shared.look(), character, view, deltas_only, out)
     }
 
     /// Where the eyes of the character at `position` in the character order (see

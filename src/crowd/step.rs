@@ -8,6 +8,7 @@ use super::attention_job::{AttentionJob, Frame};
 use super::gaze_job::GazeJob;
 use super::look::LookContext;
 use super::pool::WorkerPool;
+use super::published::PublishTarget;
 use super::ranges::StepRanges;
 use super::states::RawCharacterSlices;
 use super::{Crowd, Shared};
@@ -74,6 +75,9 @@ impl Crowd {
         // Every character was stepped: close the step without end_step's sweep.
         self.pool = pool;
         self.open_step = None;
+        if gaze && result.is_ok() {
+            self.published_by_step();
+        }
         result
     }
 
@@ -93,15 +97,16 @@ impl Crowd {
                 "a step is already open: end it first".into(),
             ));
         }
-        if let Some(plan) = &mut self.shared.plan {
-            plan.advance(dt, &mut self.shared.scene);
+        let shared = &mut *self.shared;
+        if let Some(plan) = &mut shared.plan {
+            plan.advance(dt, &mut shared.scene);
         }
-        self.shared.neighbours.rebuild(&self.shared.scene);
+        shared.neighbours.rebuild(&shared.scene);
         let period = self.shared.config.reorder_period;
         if period > 0 && self.shared.steps.is_multiple_of(u64::from(period)) {
             self.store_in_grid_order();
         }
-        let shared = &mut self.shared;
+        let shared = &mut *self.shared;
         let viewer = shared
             .viewer
             .and_then(|id| shared.scene.index_of(id))
@@ -113,6 +118,15 @@ impl Crowd {
             max_score: shared.scene.max_impact(),
         });
         shared.steps += 1;
+        // Where the gaze job publishes each character's outputs, for the readers.
+        let shared = &*self.shared;
+        self.published.begin_step();
+        self.published.lay_out(&self.read_order, |character| {
+            shared
+                .characters
+                .chain(&shared.chains, character)
+                .joint_count()
+        });
         self.claims.clear();
         self.grid_order.clear();
         let scene = &shared.scene;
@@ -147,7 +161,7 @@ impl Crowd {
     /// dense indices). Allocates nothing; results do not change (every choice breaks
     /// ties by id, never by index), nor does the order readers see.
     fn store_in_grid_order(&mut self) {
-        let shared = &mut self.shared;
+        let shared = &mut *self.shared;
         let entities = shared.neighbours.grid().entries();
         let stored_so = entities
             .iter()
@@ -167,6 +181,7 @@ impl Crowd {
         for character in &mut self.read_order {
             *character = order[*character as usize];
         }
+        self.published.storage_moved();
         shared.neighbours.rebuild(&shared.scene);
     }
 
@@ -182,7 +197,9 @@ impl Crowd {
         let frame = self
             .open_step
             .ok_or_else(|| Error::WrongState("no step is open: begin one first".into()))?;
-        let (attention, gaze) = self.shared.jobs(frame, self.states.raw());
+        let (attention, gaze) = self
+            .shared
+            .jobs(frame, self.states.raw(), self.published.target());
         attention.validate()?;
         gaze.validate()?;
         Ok(StepRanges {
@@ -199,6 +216,14 @@ impl Crowd {
         self.step_ranges()?.run_range(first, count)
     }
 
+    /// Marks the outputs the gaze job published during the step just closed as the
+    /// readers': nothing has changed since.
+    fn published_by_step(&mut self) {
+        self.published.end_step();
+        self.shared.changed = false;
+        self.states.changed = false;
+    }
+
     /// Ends the open step, first stepping every character that no range covered, so that
     /// a step always moves the whole crowd. Fails with [`Error::WrongState`] when no step
     /// is open.
@@ -207,7 +232,9 @@ impl Crowd {
             .open_step
             .ok_or_else(|| Error::WrongState("no step is open: begin one first".into()))?;
         let count = self.character_count();
-        let (attention, gaze) = self.shared.jobs(frame, self.states.raw());
+        let (attention, gaze) = self
+            .shared
+            .jobs(frame, self.states.raw(), self.published.target());
         attention.validate()?;
         gaze.validate()?;
         let mut from = 0;
@@ -221,6 +248,7 @@ impl Crowd {
             from = end;
         }
         self.open_step = None;
+        self.published_by_step();
         Ok(())
     }
 }
@@ -238,7 +266,12 @@ impl Shared {
     }
 
     /// The two jobs of a step with `frame`, writing into the arrays of `states`.
-    fn jobs(&self, frame: Frame, states: RawCharacterSlices) -> (AttentionJob<'_>, GazeJob<'_>) {
+    fn jobs(
+        &self,
+        frame: Frame,
+        states: RawCharacterSlices,
+        publish: PublishTarget,
+    ) -> (AttentionJob<'_>, GazeJob<'_>) {
         let look = self.look();
         let attention = AttentionJob {
             frame,
@@ -253,6 +286,8 @@ impl Shared {
             config: &self.config.gaze,
             look,
             states,
+            publish,
+            initial_threshold: self.config.interest.initial_threshold,
         };
         (attention, gaze)
     }

@@ -149,3 +149,150 @@ fn a_plan_that_does_not_fit_changes_nothing() {
         }
     }
 }
+
+/// The readers' published copy (`Published`) is written by a step when the readers were
+/// used since the step before, is used right after it and equals what the readers compute
+/// from the state; after any change it is left alone until the next step, and the readers
+/// compute again.
+#[test]
+fn published_outputs_equal_the_readers_and_go_stale_on_any_change() {
+    let config = CrowdConfig {
+        max_characters: 64,
+        max_objects: 4,
+        ..CrowdConfig::default()
+    };
+    let mut crowd = Crowd::new(config).unwrap();
+    let mut scenario = Scenario::plaza(40, 0.25, 3);
+    scenario.populate(&mut crowd).unwrap();
+    let object = crowd
+        .add_object(&ObjectDesc {
+            position: Vec3::new(1.0, 0.0, 2.0),
+            heading: 0.0,
+            look_at_height: 1.5,
+            impact: 2.0,
+        })
+        .unwrap();
+    let mut time = 0.0;
+    let mut step = |crowd: &mut Crowd, scenario: &mut Scenario| {
+        scenario.advance(1.0 / 30.0);
+        time += 1.0 / 30.0;
+        scenario.push(crowd, time).unwrap();
+        crowd.step(1.0 / 30.0).unwrap();
+    };
+    /// Every reader's result from the state, the slow way.
+    fn computed(crowd: &Crowd) -> (Vec<GazeInfo>, Vec<glam::Quat>) {
+        let gaze = (0..crowd.character_count())
+            .map(|position| crowd.gaze_of(crowd.dense_index(position)))
+            .collect();
+        let mut joints = vec![glam::Quat::NAN; 16 * crowd.character_count()];
+        let mut written = 0;
+        for position in 0..crowd.character_count() {
+            let character = crowd.dense_index(position);
+            written += crowd.write_joints(character, false, &mut joints[written..]);
+        }
+        joints.truncate(written);
+        (gaze, joints)
+    }
+    /// What the readers return.
+    fn read(crowd: &Crowd) -> (Vec<GazeInfo>, Vec<glam::Quat>) {
+        let count = crowd.character_count();
+        let gaze = (0..count).map(|position| crowd.gaze_at(position)).collect();
+        let mut joints = vec![glam::Quat::NAN; crowd.joint_total(0, count).unwrap()];
+        crowd.read_joints(0, count, false, &mut joints).unwrap();
+        (gaze, joints)
+    }
+    type Change = Box<dyn Fn(&mut Crowd)>;
+    let changes: Vec<(&str, Change)> = vec![
+        (
+            "push_frame",
+            Box::new(|crowd: &mut Crowd| {
+                let id = crowd.gaze_at(0).character;
+                let update = crate::scene::EntityUpdate {
+                    id,
+                    position: Vec3::new(3.0, 0.0, -2.0),
+                    heading: 1.0,
+                    heading_from_motion: false,
+                    velocity: None,
+                };
+                crowd.push_frame(crowd.time() + 0.01, &[update]).unwrap();
+            }),
+        ),
+        (
+            "set_gaze_target",
+            Box::new(move |crowd: &mut Crowd| {
+                let id = crowd.gaze_at(1).character;
+                crowd
+                    .set_gaze_target(id, ExplicitTarget::Entity(object), TargetPriority::Override)
+                    .unwrap();
+            }),
+        ),
+        (
+            "remove_entity",
+            Box::new(move |crowd: &mut Crowd| {
+                crowd.remove_entity(object).unwrap();
+            }),
+        ),
+        (
+            "add_character",
+            Box::new(|crowd: &mut Crowd| {
+                crowd
+                    .add_character(&CharacterDesc {
+                        position: Vec3::new(0.5, 0.0, 0.5),
+                        ..CharacterDesc::default()
+                    })
+                    .unwrap();
+            }),
+        ),
+        // The one added above (the scenario keeps pushing its own).
+        (
+            "remove a character",
+            Box::new(|crowd: &mut Crowd| {
+                let id = crowd.gaze_at(crowd.character_count() - 1).character;
+                crowd.remove_entity(id).unwrap();
+            }),
+        ),
+        (
+            "set_base_pose",
+            Box::new(|crowd: &mut Crowd| {
+                let id = crowd.gaze_at(3).character;
+                let joints = crowd.chain(id).unwrap().joint_count();
+                let pose = vec![glam::Quat::from_rotation_y(0.3); joints];
+                crowd.set_base_pose(id, &pose).unwrap();
+            }),
+        ),
+        (
+            "set_viewer",
+            Box::new(|crowd: &mut Crowd| {
+                crowd.set_viewer(Vec3::new(0.0, 1.7, 4.0), 3.0).unwrap();
+            }),
+        ),
+    ];
+    /// True when the readers use what the last step published.
+    fn published(crowd: &Crowd) -> bool {
+        let published = &crowd.published;
+        published.gaze_written && published.joints_written && crowd.unchanged_since_step()
+    }
+    for _ in 0..20 {
+        step(&mut crowd, &mut scenario);
+    }
+    // Nobody read: the steps published nothing.
+    assert!(!crowd.published.gaze_written && !crowd.published.joints_written);
+    read(&crowd);
+    for (name, change) in &changes {
+        step(&mut crowd, &mut scenario);
+        assert!(published(&crowd), "{name}: a step publishes what was read");
+        assert_eq!(read(&crowd), computed(&crowd), "{name}: after a step");
+        change(&mut crowd);
+        assert!(!published(&crowd), "{name} leaves the published outputs");
+        assert_eq!(read(&crowd), computed(&crowd), "{name}: after the change");
+        step(&mut crowd, &mut scenario);
+        assert_eq!(read(&crowd), computed(&crowd), "{name}: the step after");
+    }
+    // A ranged step publishes too.
+    crowd.begin_step(1.0 / 30.0).unwrap();
+    crowd.step_range(0, 5).unwrap();
+    assert!(!published(&crowd));
+    crowd.end_step().unwrap();
+    assert!(published(&crowd));
+    assert_eq!(read(&crowd), computed(&crowd), "after a ranged step");
+}
