@@ -12,7 +12,8 @@
 //! Moving the walkers and writing their `cg_entity_state`s (the engine's own work) happens
 //! before each timed frame and is not timed; nothing is allocated per frame. Each part is
 //! timed as it runs in the engine's frame: the step after a frame whose outputs were read
-//! (so it publishes them for the readers), the reads after such a step.
+//! (so it publishes them for the readers), the reads after such a step; and, on 1 thread,
+//! the step of a crowd whose outputs nobody reads (`step_unread_1t`, publishing nothing).
 //!
 //! Run: `cargo bench --bench frame`, or `scripts/bench` for the README's tables. Criterion
 //! reports time per crowd frame; throughput in elements = characters. Built as a test
@@ -24,56 +25,30 @@ use crowdgaze::ffi::attention::{
     cg_crowd_read_gaze, cg_crowd_step, cg_entity_state, cg_entity_state_init, cg_gaze_info,
     CG_STATE_HAS_VELOCITY, CG_STATE_HEADING_FROM_MOTION,
 };
-use crowdgaze::ffi::cg_status;
-use crowdgaze::ffi::crowd::{
-    cg_crowd, cg_crowd_config, cg_crowd_config_init, cg_crowd_create, cg_crowd_destroy,
-};
+use crowdgaze::ffi::crowd::{cg_crowd_config, cg_crowd_config_init};
 use crowdgaze::ffi::gaze::{
     cg_crowd_joint_total, cg_crowd_read_eyes, cg_crowd_read_joints, cg_eye_info,
 };
-use crowdgaze::ffi::types::{cg_quat, cg_vec3};
+use crowdgaze::ffi::types::cg_quat;
 use crowdgaze::scenario::Scenario;
 use crowdgaze::{CrowdConfig, World};
 use std::hint::black_box;
-use std::mem::MaybeUninit;
 use std::time::{Duration, Instant};
+
+// The integration tests' C API helpers: `init` (a versioned struct through its `_init`),
+// `check` (a status, with the library's message) and `CrowdHandle` (destroyed on drop).
+#[path = "../tests/support/mod.rs"]
+mod c_api;
+use c_api::{check as ok, init, CrowdHandle};
 
 const DENSITY: f32 = 0.25;
 const DT: f32 = 1.0 / 30.0;
 const WARM_UP_FRAMES: u32 = 40;
 
-/// Fails the benchmark, naming the call, unless it succeeded.
-#[track_caller]
-fn ok(status: cg_status, call: &str) {
-    assert_eq!(status, cg_status::Ok, "{call}");
-}
-
-/// A versioned struct filled by its `_init` function, `struct_size` set first.
-fn init<T>(f: unsafe extern "C" fn(*mut T) -> cg_status) -> T {
-    let mut value = MaybeUninit::<T>::uninit();
-    // SAFETY: every versioned struct starts with its `uint32_t struct_size`, which the
-    // header asks to set to the struct's size before the `_init` call.
-    unsafe {
-        value
-            .as_mut_ptr()
-            .cast::<u32>()
-            .write(std::mem::size_of::<T>() as u32)
-    };
-    // SAFETY: a live pointer to a struct of the size its `struct_size` says.
-    ok(unsafe { f(value.as_mut_ptr()) }, "_init");
-    // SAFETY: written by the `_init` call that just succeeded.
-    unsafe { value.assume_init() }
-}
-
-fn vec3(v: impl Into<[f32; 3]>) -> cg_vec3 {
-    let [x, y, z] = v.into();
-    cg_vec3 { x, y, z }
-}
-
 /// An engine's side of the frame: a crowd created through the C API, the scenario that
 /// moves its characters, and the caller's buffers, all allocated before the first frame.
 struct Engine {
-    crowd: *mut cg_crowd,
+    crowd: CrowdHandle,
     scenario: Scenario,
     /// The crowd's default axes and unit (+Y up, +Z forward, metres), to place the walkers.
     world: World,
@@ -93,9 +68,7 @@ impl Engine {
         if !reorder {
             config.reorder_period = 0;
         }
-        let mut crowd = std::ptr::null_mut();
-        // SAFETY: a filled config and a live output pointer.
-        ok(unsafe { cg_crowd_create(&config, &mut crowd) }, "create");
+        let crowd = CrowdHandle::new(&config);
         let scenario = Scenario::plaza(characters, DENSITY, 7);
         let world = CrowdConfig::default().world;
         let mut desc: cg_character_desc = init(cg_character_desc_init);
@@ -104,18 +77,20 @@ impl Engine {
         let mut states = vec![state; characters];
         for (person, state) in scenario.people.iter().zip(&mut states) {
             desc.position =
-                vec3(world.forward * person.position.x + world.side * person.position.y);
+                (world.forward * person.position.x + world.side * person.position.y).into();
             desc.heading = person.heading;
             // SAFETY: a live crowd, a filled desc and a live output pointer.
             ok(
-                unsafe { cg_crowd_add_character(crowd, &desc, &mut state.id) },
+                unsafe { cg_crowd_add_character(crowd.as_mut(), &desc, &mut state.id) },
                 "add_character",
             );
         }
         let mut joint_total = 0;
         // SAFETY: a live crowd and output pointer.
         ok(
-            unsafe { cg_crowd_joint_total(crowd, 0, characters as u32, &mut joint_total) },
+            unsafe {
+                cg_crowd_joint_total(crowd.as_const(), 0, characters as u32, &mut joint_total)
+            },
             "joint_total",
         );
         let mut engine = Engine {
@@ -142,8 +117,8 @@ impl Engine {
         self.scenario.advance(DT);
         let (forward, side) = (self.world.forward, self.world.side);
         for (person, state) in self.scenario.people.iter().zip(&mut self.states) {
-            state.position = vec3(forward * person.position.x + side * person.position.y);
-            state.velocity = vec3(forward * person.velocity.x + side * person.velocity.y);
+            state.position = (forward * person.position.x + side * person.position.y).into();
+            state.velocity = (forward * person.velocity.x + side * person.velocity.y).into();
             state.heading = person.heading;
         }
     }
@@ -154,14 +129,17 @@ impl Engine {
         // SAFETY: a live crowd; `states` holds `count` initialised states of the header's
         // size.
         ok(
-            unsafe { cg_crowd_push_frame(self.crowd, time, states, count) },
+            unsafe { cg_crowd_push_frame(self.crowd.as_mut(), time, states, count) },
             "push_frame",
         );
     }
 
     fn step(&mut self) {
         // SAFETY: a live crowd.
-        ok(unsafe { cg_crowd_step(self.crowd, black_box(DT)) }, "step");
+        ok(
+            unsafe { cg_crowd_step(self.crowd.as_mut(), black_box(DT)) },
+            "step",
+        );
     }
 
     fn read_gaze(&mut self) {
@@ -169,7 +147,7 @@ impl Engine {
         let (out, count) = (self.gaze.as_mut_ptr(), self.gaze.len());
         // SAFETY: a live crowd; `out` is valid for `count` writes.
         ok(
-            unsafe { cg_crowd_read_gaze(self.crowd, out, count, &mut written) },
+            unsafe { cg_crowd_read_gaze(self.crowd.as_const(), out, count, &mut written) },
             "read_gaze",
         );
         black_box(&self.gaze);
@@ -180,7 +158,7 @@ impl Engine {
         let (out, len) = (self.joints.as_mut_ptr(), self.joints.len());
         // SAFETY: a live crowd; `out` is valid for `len` writes.
         ok(
-            unsafe { cg_crowd_read_joints(self.crowd, 0, characters, out, len) },
+            unsafe { cg_crowd_read_joints(self.crowd.as_const(), 0, characters, out, len) },
             "read_joints",
         );
         black_box(&self.joints);
@@ -191,7 +169,7 @@ impl Engine {
         let (out, len) = (self.eyes.as_mut_ptr(), self.eyes.len());
         // SAFETY: a live crowd; `out` is valid for `len` writes.
         ok(
-            unsafe { cg_crowd_read_eyes(self.crowd, 0, characters, out, len) },
+            unsafe { cg_crowd_read_eyes(self.crowd.as_const(), 0, characters, out, len) },
             "read_eyes",
         );
         black_box(&self.eyes);
@@ -221,13 +199,6 @@ impl Engine {
             total += start.elapsed();
         }
         total
-    }
-}
-
-impl Drop for Engine {
-    fn drop(&mut self) {
-        // SAFETY: created by `cg_crowd_create`, destroyed once, no call running.
-        unsafe { cg_crowd_destroy(self.crowd) };
     }
 }
 
@@ -273,6 +244,19 @@ fn frame(c: &mut Criterion) {
                     engine.frames(iterations, untimed, Engine::step)
                 })
             });
+            // The step of a crowd whose outputs nobody reads: it publishes none (the
+            // difference with `step` is what publishing costs).
+            if threads == 1 {
+                group.bench_function(name("step_unread"), |b| {
+                    b.iter_custom(|iterations| {
+                        let untimed = |engine: &mut Engine| {
+                            engine.next_states();
+                            engine.push();
+                        };
+                        engine.frames(iterations, untimed, Engine::step)
+                    })
+                });
+            }
             // As in the engine's frame: the last step followed frames whose outputs were
             // read, and published them.
             engine.next_states();

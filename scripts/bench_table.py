@@ -99,6 +99,15 @@ def main():
             ns = [None if cell is None else cell * 1000.0 for cell in cells]
             print(f"| {int(characters):,} | {threads} | "
                   + " | ".join(show(cell, 1) for cell in ns) + " |")
+    print()
+    for characters in ["1000", "10000", "100000"]:
+        read = per_element("frame", "step_1t", characters)
+        unread = per_element("frame", "step_unread_1t", characters)
+        if read is not None and unread is not None:
+            print(f"- Step, 1 thread, {int(characters):,} characters: "
+                  f"{unread * 1000.0:.1f} ns when nobody reads its outputs, "
+                  f"{read * 1000.0:.1f} ns when they are read and it publishes them "
+                  f"({ratio(read, unread)}).")
 
 
 if __name__ == "__main__":
