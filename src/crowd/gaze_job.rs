@@ -78,21 +78,27 @@ impl GazeJob<'_> {
     /// these characters' entries meanwhile: concurrent calls take disjoint ranges.
     pub unsafe fn run(&self, first: usize, count: usize) {
         // SAFETY: the caller's contract.
-        let slices = unsafe { self.states.range(first, count) };
-        self.move_gaze(first, slices);
+        let mut slices = unsafe { self.states.range(first, count) };
+        self.move_gaze(first, &mut slices);
+        // SAFETY: the caller's contract covers these characters' published entries too.
+        unsafe { self.publish(first, &slices) };
+    }
+
+    /// The last stage: for the characters of `slices` (the first is character `first`),
+    /// what the readers report — gaze and final joint rotations — written in the readers'
+    /// order, when this step publishes them ([`PublishTarget::outputs`]).
+    ///
+    /// # Safety
+    /// As [`run`](Self::run): no other code touches these characters' published entries.
+    unsafe fn publish(&self, first: usize, slices: &CharacterSlices<'_>) {
         if self.publish.outputs() == Outputs::default() {
             return;
         }
-        // SAFETY: as above; the borrow of the first slices has ended.
-        let slices = unsafe { self.states.range(first, count) };
-        for local in 0..count {
+        for (local, (model, motion)) in slices.models.iter().zip(&*slices.motions).enumerate() {
             let character = first + local;
             self.publish.prefetch(character + PUBLISH_PREFETCH_AHEAD);
-            let view = CharacterView {
-                model: &slices.models[local],
-                motion: &slices.motions[local],
-            };
-            // SAFETY: the caller's contract covers this character's published entries too.
+            let view = CharacterView { model, motion };
+            // SAFETY: the caller's contract.
             unsafe {
                 self.publish.write(
                     character,
@@ -110,7 +116,7 @@ impl GazeJob<'_> {
     /// batched apart from the others: a lane group costs the same whichever of its lanes
     /// move, and a group of resting characters only carries their eye rays along. (A
     /// character's result does not depend on its batch.)
-    fn move_gaze(&self, first: usize, slices: CharacterSlices<'_>) {
+    fn move_gaze(&self, first: usize, slices: &mut CharacterSlices<'_>) {
         let CharacterSlices {
             models,
             motions,

@@ -16,6 +16,7 @@ use glam::Quat;
 use super::values::GazeInfo;
 use crate::alloc::{try_reserve, try_with_capacity, Field};
 use crate::error::Result;
+use crate::ik::MAX_CHAIN_JOINTS;
 
 /// A value whose every mutable borrow is noted (`changed`), so that the published outputs
 /// know when the state they were computed from may differ.
@@ -66,18 +67,13 @@ pub(super) struct Published {
     /// The reader position of each character, by storage index (the inverse of the
     /// readers' order).
     pub position_of: Vec<u32>,
-    /// Joints of all the characters' chains together: what `joints` must hold.
-    pub chain_joints: usize,
     /// False when characters were added, removed or stored in another order since
     /// `joint_start` and `position_of` were computed.
     pub layout_current: bool,
-    /// True when `gaze` holds the gaze of the last step: a step publishes it when it was
-    /// read since the step before (see [`wanted`](Self::wanted)).
-    pub gaze_written: bool,
-    /// True when `joints` holds the final rotations of the last step (as `gaze_written`).
-    pub joints_written: bool,
-    /// What this step publishes: decided when it begins, by what was read since the last.
-    pub publishing: Outputs,
+    /// What the step publishes, decided when it begins by what was read since the step
+    /// before. Once the step has ended, and while nothing has changed since, these outputs
+    /// are the readers' (the crowd's [`Watched`] parts say whether anything changed).
+    pub outputs: Outputs,
     /// Set by the readers of each output (they run under `&self`, possibly on several
     /// threads), taken by the next step: a crowd whose outputs nobody reads publishes none.
     pub gaze_wanted: AtomicBool,
@@ -103,11 +99,8 @@ impl Published {
             joints: Vec::new(),
             joint_start: try_with_capacity(characters + 1, what)?,
             position_of: try_with_capacity(characters, what)?,
-            chain_joints: 0,
             layout_current: false,
-            gaze_written: false,
-            joints_written: false,
-            publishing: Outputs::default(),
+            outputs: Outputs::default(),
             gaze_wanted: AtomicBool::new(false),
             joints_wanted: AtomicBool::new(false),
         })
@@ -117,31 +110,25 @@ impl Published {
     /// (fails when memory is short, with nothing observable changed), so that publishing
     /// never allocates. Then [`add_chain`](Self::add_chain) once the character is in.
     pub fn reserve_chain(&mut self, joint_count: usize) -> Result<()> {
-        let needed = self.chain_joints + joint_count;
-        let what = &Field("chain joints of all the characters", needed as u64);
-        let additional = needed.saturating_sub(self.joints.len());
-        try_reserve(&mut self.joints, additional, what)
+        let what = &Field(
+            "chain joints of all the characters",
+            (self.joints.len() + joint_count) as u64,
+        );
+        try_reserve(&mut self.joints, joint_count, what)
     }
 
-    /// Counts a new character's `joint_count` chain joints (room made by
-    /// [`reserve_chain`](Self::reserve_chain)).
+    /// Adds a new character's `joint_count` chain joints to `joints` (room made by
+    /// [`reserve_chain`](Self::reserve_chain)), which holds every chain's joints.
     pub fn add_chain(&mut self, joint_count: usize) {
-        self.chain_joints += joint_count;
+        self.joints
+            .resize(self.joints.len() + joint_count, Quat::IDENTITY);
         self.layout_current = false;
-        self.unwritten();
     }
 
-    /// Forgets a removed character's `joint_count` chain joints.
+    /// Drops a removed character's `joint_count` chain joints from `joints`.
     pub fn release_chain(&mut self, joint_count: usize) {
-        self.chain_joints -= joint_count;
+        self.joints.truncate(self.joints.len() - joint_count);
         self.layout_current = false;
-        self.unwritten();
-    }
-
-    /// Marks nothing published (the state the outputs came from changed).
-    pub fn unwritten(&mut self) {
-        self.gaze_written = false;
-        self.joints_written = false;
     }
 
     /// Notes that a reader asked for `output` (cheap: a load, and a store the first time).
@@ -154,18 +141,10 @@ impl Published {
 
     /// At the beginning of a step: publish this step what was read since the last one.
     pub fn begin_step(&mut self) {
-        self.unwritten();
-        self.publishing = Outputs {
+        self.outputs = Outputs {
             gaze: std::mem::take(self.gaze_wanted.get_mut()),
             joints: std::mem::take(self.joints_wanted.get_mut()),
         };
-    }
-
-    /// At the end of a step whose gaze job ran for every character: what it published is
-    /// the readers'.
-    pub fn end_step(&mut self) {
-        self.gaze_written = self.publishing.gaze;
-        self.joints_written = self.publishing.joints;
     }
 
     /// The buffers for the gaze job to write into, laid out (see [`lay_out`](Self::lay_out)),
@@ -179,14 +158,13 @@ impl Published {
             position_of: self.position_of.as_ptr(),
             characters: self.position_of.len(),
             joint_total: self.joints.len(),
-            outputs: self.publishing,
+            outputs: self.outputs,
         }
     }
 
     /// Marks the layout stale (the storage order changed).
     pub fn storage_moved(&mut self) {
         self.layout_current = false;
-        self.unwritten();
     }
 
     /// Recomputes `position_of` and `joint_start` for `read_order` (the storage index of
@@ -221,7 +199,7 @@ impl Published {
                 interest_count: 0,
             },
         );
-        self.joints.resize(start as usize, Quat::IDENTITY);
+        debug_assert_eq!(start as usize, self.joints.len(), "every chain's joints");
         self.layout_current = true;
     }
 }
@@ -273,8 +251,11 @@ impl PublishTarget {
             (position, *self.joint_start.add(position) as usize)
         };
         crate::math::prefetch(self.gaze.wrapping_add(position));
-        crate::math::prefetch(self.joints.wrapping_add(start).cast::<[Quat; 4]>());
-        crate::math::prefetch(self.joints.wrapping_add(start + 4).cast::<[Quat; 8]>());
+        crate::math::prefetch(
+            self.joints
+                .wrapping_add(start)
+                .cast::<[Quat; MAX_CHAIN_JOINTS]>(),
+        );
     }
 
     /// Writes the outputs of the character at storage index `character` this step publishes

@@ -23,7 +23,7 @@ impl Crowd {
     /// through. Panics if `position` is out of range.
     pub fn gaze_at(&self, position: usize) -> GazeInfo {
         Published::want(&self.published.gaze_wanted);
-        if self.published.gaze_written && self.unchanged_since_step() {
+        if self.published.outputs.gaze && self.unchanged_since_step() {
             return self.published.gaze[position];
         }
         self.gaze_of(self.dense_index(position))
@@ -61,7 +61,7 @@ impl Crowd {
     /// joint outputs.
     pub fn joint_total(&self, first: usize, count: usize) -> Result<usize> {
         let range = self.character_range(first, count)?;
-        if self.published.layout_current && self.unchanged_since_step() {
+        if self.unchanged_since_step() {
             let starts = &self.published.joint_start;
             return Ok((starts[range.end] - starts[range.start]) as usize);
         }
@@ -108,7 +108,7 @@ impl Crowd {
         if !deltas_only {
             Published::want(&self.published.joints_wanted);
         }
-        if !deltas_only && self.published.joints_written && self.unchanged_since_step() {
+        if !deltas_only && self.published.outputs.joints && self.unchanged_since_step() {
             let start = self.published.joint_start[first] as usize;
             out[..total].copy_from_slice(&self.published.joints[start..start + total]);
             return Ok(total);

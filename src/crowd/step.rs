@@ -219,7 +219,6 @@ impl Crowd {
     /// Marks the outputs the gaze job published during the step just closed as the
     /// readers': nothing has changed since.
     fn published_by_step(&mut self) {
-        self.published.end_step();
         self.shared.changed = false;
         self.states.changed = false;
     }
