@@ -21,11 +21,12 @@
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use crowdgaze::ffi::attention::{
-    cg_character_desc, cg_character_desc_init, cg_crowd_add_character, cg_crowd_push_frame,
-    cg_crowd_read_gaze, cg_crowd_step, cg_entity_state, cg_entity_state_init, cg_gaze_info,
-    CG_STATE_HAS_VELOCITY, CG_STATE_HEADING_FROM_MOTION,
+    cg_character_desc, cg_character_desc_init, cg_crowd_add_character, cg_crowd_read_gaze,
+    cg_entity_state, cg_entity_state_init, cg_gaze_info, CG_STATE_HAS_VELOCITY,
+    CG_STATE_HEADING_FROM_MOTION,
 };
 use crowdgaze::ffi::crowd::{cg_crowd_config, cg_crowd_config_init};
+use crowdgaze::ffi::frame::{cg_crowd_push_frame, cg_crowd_step};
 use crowdgaze::ffi::gaze::{
     cg_crowd_joint_total, cg_crowd_read_eyes, cg_crowd_read_joints, cg_eye_info,
 };

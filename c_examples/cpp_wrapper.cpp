@@ -114,7 +114,16 @@ void crowd_gaze() {
         const double t = frame * static_cast<double>(dt);
         states[0].position.z = 6.0f - 1.3f * static_cast<float>(t);
         states[1].position.z = -6.0f + 1.3f * static_cast<float>(t);
-        crowd.push_frame(t, states);
+        if (frame % 3 == 0) {
+            // The ranged push, as a job system would call it (here on one thread).
+            crowd.begin_push(t);
+            crowd.push_range(crowdgaze::Span<const cg_entity_state>(states.data(), 1));
+            CHECK(crowd.try_push_range(states) == CG_STATUS_WRONG_STATE);  // states[0] again
+            crowd.push_range(crowdgaze::Span<const cg_entity_state>(states.data() + 1, 1));
+            crowd.end_push();
+        } else {
+            crowd.push_frame(t, states);
+        }
         if (frame % 2 == 0) {
             crowd.step(dt);
         } else {

@@ -1,9 +1,11 @@
-/* job_ranges.c: stepping a crowd from an engine's own worker threads.
+/* job_ranges.c: pushing and stepping a crowd from an engine's own worker threads.
  *
- * Each frame: cg_crowd_begin_step once, then four POSIX threads (standing in for a job
- * system's workers) take ranges of 64 characters until none is left and call
- * cg_crowd_step_range on them concurrently, then cg_crowd_end_step. A second crowd with
- * the same seed and inputs is stepped with the one-call cg_crowd_step, and a third with
+ * Each frame: cg_crowd_begin_push once, then four POSIX threads (standing in for a job
+ * system's workers) take parts of 64 entity states until none is left and call
+ * cg_crowd_push_range on them concurrently, then cg_crowd_end_push; the same for the step:
+ * cg_crowd_begin_step, ranges of 64 characters through cg_crowd_step_range, then
+ * cg_crowd_end_step. A second crowd with the same seed and inputs is pushed with the
+ * one-call cg_crowd_push_frame and stepped with cg_crowd_step, and a third stepped with
  * cg_crowd_step on two internal threads (config.threads = 2): all three must give
  * bit-identical gaze and joints every frame. Also shows the misuse errors. */
 #include <pthread.h>
@@ -41,30 +43,50 @@ static void ok(cg_status status, const char *what) {
  * engine would use its own queue or an atomic counter). */
 typedef struct {
     cg_crowd *crowd;
+    const cg_entity_state *states; /* the frame's states, for the push's jobs */
     pthread_mutex_t lock;
     uint32_t next;
     uint32_t count;
     int errors;
 } job_queue;
 
+/* Takes the next job's first index, or returns 0 when none is left. */
+static int next_job(job_queue *queue, uint32_t *first, uint32_t *count) {
+    pthread_mutex_lock(&queue->lock);
+    *first = queue->next;
+    queue->next += RANGE;
+    pthread_mutex_unlock(&queue->lock);
+    if (*first >= queue->count) return 0;
+    *count = queue->count - *first < RANGE ? queue->count - *first : RANGE;
+    return 1;
+}
+
+static void count_error(job_queue *queue, cg_status status) {
+    if (status != CG_STATUS_OK) {
+        pthread_mutex_lock(&queue->lock);
+        queue->errors++;
+        pthread_mutex_unlock(&queue->lock);
+    }
+}
+
+/* A push job: a part of the frame's states. */
+static void *push_worker(void *argument) {
+    job_queue *queue = (job_queue *)argument;
+    uint32_t first, count;
+    while (next_job(queue, &first, &count)) {
+        /* May run on several threads at once, each with its own entities. */
+        count_error(queue, cg_crowd_push_range(queue->crowd, queue->states + first, count));
+    }
+    return NULL;
+}
+
+/* A step job: a range of characters. */
 static void *worker(void *argument) {
     job_queue *queue = (job_queue *)argument;
-    for (;;) {
-        uint32_t first, count;
-        cg_status status;
-        pthread_mutex_lock(&queue->lock);
-        first = queue->next;
-        queue->next += RANGE;
-        pthread_mutex_unlock(&queue->lock);
-        if (first >= queue->count) break;
-        count = queue->count - first < RANGE ? queue->count - first : RANGE;
-        /* The only crowd call that may run on several threads at once. */
-        status = cg_crowd_step_range(queue->crowd, first, count);
-        if (status != CG_STATUS_OK) {
-            pthread_mutex_lock(&queue->lock);
-            queue->errors++;
-            pthread_mutex_unlock(&queue->lock);
-        }
+    uint32_t first, count;
+    while (next_job(queue, &first, &count)) {
+        /* May run on several threads at once, on disjoint ranges. */
+        count_error(queue, cg_crowd_step_range(queue->crowd, first, count));
     }
     return NULL;
 }
@@ -137,15 +159,28 @@ int main(void) {
     CHECK(cg_crowd_step_range(crowds[0], 0, 10) == CG_STATUS_WRONG_STATE);
     CHECK(cg_crowd_end_step(crowds[0]) == CG_STATUS_WRONG_STATE);
 
+    CHECK(cg_crowd_push_range(crowds[0], states[0], 10) == CG_STATUS_WRONG_STATE);
+    CHECK(cg_crowd_end_push(crowds[0]) == CG_STATUS_WRONG_STATE);
+
     queue.crowd = crowds[0];
+    queue.states = states[0];
     queue.count = CHARACTERS;
     queue.errors = 0;
     pthread_mutex_init(&queue.lock, NULL);
     for (frame = 1; frame <= FRAMES; frame++) {
         pthread_t threads[WORKERS];
         int w;
-        for (c = 0; c < 3; c++) {
-            move(states[c], frame);
+        for (c = 0; c < 3; c++) move(states[c], frame);
+        /* Crowd 0: the engine's workers push parts of the frame. */
+        ok(cg_crowd_begin_push(crowds[0], frame / FPS), "begin push");
+        CHECK(cg_crowd_step(crowds[0], 1.0f / FPS) == CG_STATUS_WRONG_STATE);
+        queue.next = 0;
+        for (w = 0; w < WORKERS; w++) pthread_create(&threads[w], NULL, push_worker, &queue);
+        for (w = 0; w < WORKERS; w++) pthread_join(threads[w], NULL);
+        /* Each entity once per push: a second state for one is refused. */
+        CHECK(cg_crowd_push_range(crowds[0], states[0], 1) == CG_STATUS_WRONG_STATE);
+        ok(cg_crowd_end_push(crowds[0]), "end push");
+        for (c = 1; c < 3; c++) {
             ok(cg_crowd_push_frame(crowds[c], frame / FPS, states[c], CHARACTERS), "push");
         }
         /* Crowd 0: the engine's workers step ranges. */
@@ -169,7 +204,7 @@ int main(void) {
     CHECK(queue.errors == 0);
     for (c = 0; c < CHARACTERS; c++) attending += gaze[0][c].attending ? 1 : 0;
     CHECK(attending > 0);
-    printf("%d frames of %d characters stepped by %d threads in ranges of %d:\n"
+    printf("%d frames of %d characters pushed and stepped by %d threads in ranges of %d:\n"
            "identical to cg_crowd_step on 1 and 2 threads; %d characters attending.\n",
            FRAMES, CHARACTERS, WORKERS, RANGE, attending);
 

@@ -289,9 +289,10 @@ typedef uint32_t cg_target_part;
 // Created by `cg_crowd_create`, destroyed by `cg_crowd_destroy`. Threading rules: calls
 // taking a `cg_crowd*` must not overlap with any other call on the same crowd, except
 // `cg_crowd_step_range`, which several threads may call at once on disjoint ranges
-// between `cg_crowd_begin_step` and `cg_crowd_end_step`. Calls taking a `const cg_crowd*`
-// may run concurrently with each other. While a ranged step is open, every other call on
-// the crowd fails with `CG_STATUS_WRONG_STATE`.
+// between `cg_crowd_begin_step` and `cg_crowd_end_step`, and `cg_crowd_push_range`,
+// likewise between `cg_crowd_begin_push` and `cg_crowd_end_push`. Calls taking a
+// `const cg_crowd*` may run concurrently with each other. While a ranged step or push is
+// open, every other call on the crowd fails with `CG_STATUS_WRONG_STATE`.
 //
 // If a call that changes the crowd fails with `CG_STATUS_INTERNAL` (a bug, such as a caught
 // panic), the crowd may be half-updated and is poisoned: every later call on it, whatever
@@ -784,68 +785,6 @@ cg_status cg_crowd_remove_entity(struct cg_crowd *crowd, uint32_t id);
 // Safe to call concurrently with other `const` calls.
 cg_status cg_crowd_character_count(const struct cg_crowd *crowd, size_t *out_count);
 
-// Pushes one frame of entity states at time `t` (seconds). Entities not listed keep
-// their last state; velocities come from the previous pushed position unless given.
-// With recording on (`max_recorded_states > 0`) the frame is also recorded for
-// `cg_crowd_plan`. `states` stays yours; nothing is allocated.
-//
-// Errors (and nothing is changed): `CG_STATUS_NULL_ARGUMENT` (crowd, or states NULL with
-// count > 0), `CG_STATUS_BAD_STRUCT_SIZE`, `CG_STATUS_NON_FINITE` (t or any value),
-// `CG_STATUS_NOT_FOUND` (an unknown id), `CG_STATUS_INVALID_ARGUMENT` (t earlier than the
-// previous frame's, unknown flag bits), `CG_STATUS_CAPACITY` (recording full),
-// `CG_STATUS_WRONG_STATE` (a plan is active). Not thread-safe.
-cg_status cg_crowd_push_frame(struct cg_crowd *crowd,
-                              double t,
-                              const struct cg_entity_state *states,
-                              size_t count);
-
-// Steps every character `dt` seconds (>= 0) after the previous step: attention (scores
-// the entities near each character, updates its threshold and interest point; after
-// `cg_crowd_plan`, follows the plan instead), then gaze IK. With `threads > 1` in the
-// config, the crowd's worker threads share the work; results are the same. Allocates
-// nothing. The same as `cg_crowd_begin_step`, one range over all characters, and
-// `cg_crowd_end_step`.
-//
-// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE` (dt), `CG_STATUS_INVALID_ARGUMENT`
-// (dt < 0), `CG_STATUS_WRONG_STATE` (a ranged step is open). Not thread-safe: no other
-// call on this crowd may run at the same time.
-cg_status cg_crowd_step(struct cg_crowd *crowd, float dt);
-
-// Begins a step split into ranges, `dt` seconds (>= 0) after the previous one: advances
-// the plan's clock, rebuilds the spatial grid and fixes what all characters share this
-// frame. Then call `cg_crowd_step_range` on ranges of characters (from as many threads as
-// you like, e.g. your job system's workers), and `cg_crowd_end_step` once they have all
-// returned. The outputs are identical to `cg_crowd_step`'s, however the crowd is split.
-// Until `cg_crowd_end_step`, every other call on this crowd fails with
-// `CG_STATUS_WRONG_STATE`. Allocates nothing.
-//
-// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE` (dt), `CG_STATUS_INVALID_ARGUMENT`
-// (dt < 0), `CG_STATUS_WRONG_STATE` (a ranged step is already open). Not thread-safe: no
-// other call on this crowd may run at the same time.
-cg_status cg_crowd_begin_step(struct cg_crowd *crowd, float dt);
-
-// Steps characters `first .. first + count` of the step opened by `cg_crowd_begin_step`:
-// attention, then gaze IK. The range indexes the crowd's storage order, which keeps
-// neighbours in space together (see `reorder_period` in `cg_crowd_config`) and is not the
-// order of `cg_crowd_read_gaze`: split `0 .. character count` into disjoint ranges any way
-// you like; every character is stepped once, and the outputs do not depend on the split.
-// Thread-safe for disjoint ranges: several threads may call it at once on the same crowd.
-// `count` 0 does nothing. Allocates nothing.
-//
-// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_INVALID_ARGUMENT` (the range goes past the
-// last character), `CG_STATUS_WRONG_STATE` (no ranged step is open, or the range overlaps
-// one already stepped in this step; then nothing in it is stepped).
-cg_status cg_crowd_step_range(struct cg_crowd *crowd, uint32_t first, uint32_t count);
-
-// Ends the step opened by `cg_crowd_begin_step`. Characters that no range covered are
-// stepped now, so a step always moves the whole crowd. Call it after every
-// `cg_crowd_step_range` call of this step has returned. Allocates nothing.
-//
-// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_WRONG_STATE` (no ranged step is open, or
-// `cg_crowd_step_range` calls are still running: the step stays open). Not thread-safe
-// with anything but `cg_crowd_step_range`.
-cg_status cg_crowd_end_step(struct cg_crowd *crowd);
-
 // Reads where characters look: fills `out[i]` for the first `min(count, characters)`
 // characters, in the crowd's character order (creation order, except that removing a
 // character moves the last one into its place), and writes how many it filled to
@@ -1092,6 +1031,110 @@ cg_status cg_blend_pose_dib(const struct cg_dualquat *keys,
 // `CG_STATUS_INVALID_ARGUMENT` (a degenerate P: singular left 3×3 block, as for an affine
 // camera, rank below 3, or a centre too far away for a float).
 cg_status cg_camera_center_from_projection(const float *projection, struct cg_vec3 *out);
+
+// Pushes one frame of entity states at time `t` (seconds). Entities not listed keep
+// their last state; velocities come from the previous pushed position unless given.
+// An entity listed twice takes both states in turn. With recording on
+// (`max_recorded_states > 0`) the frame is also recorded for `cg_crowd_plan`. `states`
+// stays yours; nothing is allocated. To push from several threads, see
+// `cg_crowd_begin_push`.
+//
+// Errors (and nothing is changed): `CG_STATUS_NULL_ARGUMENT` (crowd, or states NULL with
+// count > 0), `CG_STATUS_BAD_STRUCT_SIZE`, `CG_STATUS_NON_FINITE` (t or any value),
+// `CG_STATUS_NOT_FOUND` (an unknown id), `CG_STATUS_INVALID_ARGUMENT` (t earlier than the
+// previous frame's, unknown flag bits), `CG_STATUS_CAPACITY` (recording full),
+// `CG_STATUS_WRONG_STATE` (a plan is active, or a ranged step or push is open). Not
+// thread-safe.
+cg_status cg_crowd_push_frame(struct cg_crowd *crowd,
+                              double t,
+                              const struct cg_entity_state *states,
+                              size_t count);
+
+// Begins a frame pushed in parts from several threads, at time `t` (seconds, not
+// earlier than the previous frame): then call `cg_crowd_push_range` with parts of the
+// frame's states (from as many threads as you like, e.g. one part per worker of your job
+// system), and `cg_crowd_end_push` once they have all returned. The result is the same as
+// one `cg_crowd_push_frame` of all the parts, bit for bit, however the frame is split.
+// Until `cg_crowd_end_push`, every other call on this crowd fails with
+// `CG_STATUS_WRONG_STATE`. Allocates nothing.
+//
+// Errors (and nothing is changed): `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE` (t),
+// `CG_STATUS_INVALID_ARGUMENT` (t earlier than the previous frame's),
+// `CG_STATUS_WRONG_STATE` (a ranged step or push is open, a plan is active, or recording
+// is on: record with `cg_crowd_push_frame`). Not thread-safe: no other call on this crowd
+// may run at the same time.
+cg_status cg_crowd_begin_push(struct cg_crowd *crowd, double t);
+
+// Pushes `count` entity states into the push opened by `cg_crowd_begin_push`, as
+// `cg_crowd_push_frame` would. Each entity may be pushed once per push: a state for an
+// entity that this or another call already pushed in this push is an error. Entities no
+// call pushes keep their last state. `states` stays yours. Thread-safe: several threads
+// may call it at once on the same crowd, each with its own entities. `count` 0 does
+// nothing. Allocates nothing.
+//
+// Errors (and nothing in this call's states is pushed): `CG_STATUS_NULL_ARGUMENT`
+// (crowd, or states NULL with count > 0), `CG_STATUS_BAD_STRUCT_SIZE`,
+// `CG_STATUS_NON_FINITE` (any value), `CG_STATUS_NOT_FOUND` (an unknown id),
+// `CG_STATUS_INVALID_ARGUMENT` (unknown flag bits), `CG_STATUS_WRONG_STATE` (no ranged
+// push is open, or an entity was pushed already in this push).
+cg_status cg_crowd_push_range(struct cg_crowd *crowd,
+                              const struct cg_entity_state *states,
+                              size_t count);
+
+// Ends the push opened by `cg_crowd_begin_push`: the frame's time becomes the crowd's.
+// Entities that no `cg_crowd_push_range` call pushed keep their last state.
+//
+// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_WRONG_STATE` (no ranged push is open, or
+// `cg_crowd_push_range` calls are still running: then the push stays open). Not
+// thread-safe: call it after every `cg_crowd_push_range` call has returned.
+cg_status cg_crowd_end_push(struct cg_crowd *crowd);
+
+// Steps every character `dt` seconds (>= 0) after the previous step: attention (scores
+// the entities near each character, updates its threshold and interest point; after
+// `cg_crowd_plan`, follows the plan instead), then gaze IK. With `threads > 1` in the
+// config, the crowd's worker threads share the work; results are the same. Allocates
+// nothing. The same as `cg_crowd_begin_step`, one range over all characters, and
+// `cg_crowd_end_step`.
+//
+// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE` (dt), `CG_STATUS_INVALID_ARGUMENT`
+// (dt < 0), `CG_STATUS_WRONG_STATE` (a ranged step is open). Not thread-safe: no other
+// call on this crowd may run at the same time.
+cg_status cg_crowd_step(struct cg_crowd *crowd, float dt);
+
+// Begins a step split into ranges, `dt` seconds (>= 0) after the previous one: advances
+// the plan's clock, rebuilds the spatial grid and fixes what all characters share this
+// frame. Then call `cg_crowd_step_range` on ranges of characters (from as many threads as
+// you like, e.g. your job system's workers), and `cg_crowd_end_step` once they have all
+// returned. The outputs are identical to `cg_crowd_step`'s, however the crowd is split.
+// Until `cg_crowd_end_step`, every other call on this crowd fails with
+// `CG_STATUS_WRONG_STATE`. Allocates nothing.
+//
+// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE` (dt), `CG_STATUS_INVALID_ARGUMENT`
+// (dt < 0), `CG_STATUS_WRONG_STATE` (a ranged step is already open). Not thread-safe: no
+// other call on this crowd may run at the same time.
+cg_status cg_crowd_begin_step(struct cg_crowd *crowd, float dt);
+
+// Steps characters `first .. first + count` of the step opened by `cg_crowd_begin_step`:
+// attention, then gaze IK. The range indexes the crowd's storage order, which keeps
+// neighbours in space together (see `reorder_period` in `cg_crowd_config`) and is not the
+// order of `cg_crowd_read_gaze`: split `0 .. character count` into disjoint ranges any way
+// you like; every character is stepped once, and the outputs do not depend on the split.
+// Thread-safe for disjoint ranges: several threads may call it at once on the same crowd.
+// `count` 0 does nothing. Allocates nothing.
+//
+// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_INVALID_ARGUMENT` (the range goes past the
+// last character), `CG_STATUS_WRONG_STATE` (no ranged step is open, or the range overlaps
+// one already stepped in this step; then nothing in it is stepped).
+cg_status cg_crowd_step_range(struct cg_crowd *crowd, uint32_t first, uint32_t count);
+
+// Ends the step opened by `cg_crowd_begin_step`. Characters that no range covered are
+// stepped now, so a step always moves the whole crowd. Call it after every
+// `cg_crowd_step_range` call of this step has returned. Allocates nothing.
+//
+// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_WRONG_STATE` (no ranged step is open, or
+// `cg_crowd_step_range` calls are still running: the step stays open). Not thread-safe
+// with anything but `cg_crowd_step_range`.
+cg_status cg_crowd_end_step(struct cg_crowd *crowd);
 
 // Fills `config` with the defaults documented on each field. Set `config->struct_size =
 // sizeof(cg_view_blender_config)` first: only that many bytes are written, and

@@ -8,7 +8,9 @@
 #![allow(clippy::undocumented_unsafe_blocks)]
 
 use crowdgaze::ffi::attention::*;
+
 use crowdgaze::ffi::crowd::*;
+use crowdgaze::ffi::frame::*;
 use crowdgaze::ffi::gaze::*;
 use crowdgaze::ffi::status::cg_status;
 use crowdgaze::ffi::types::{cg_quat, cg_vec3};

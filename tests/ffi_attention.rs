@@ -7,7 +7,9 @@
 #![allow(clippy::undocumented_unsafe_blocks)]
 
 use crowdgaze::ffi::attention::*;
+
 use crowdgaze::ffi::crowd::*;
+use crowdgaze::ffi::frame::*;
 use crowdgaze::ffi::last_error::last_error_message;
 use crowdgaze::ffi::status::cg_status;
 use crowdgaze::ffi::types::cg_vec3;

@@ -108,6 +108,7 @@ fn status_and_version_queries_do_not_allocate() {
 fn push_frame_step_and_read_gaze_do_not_allocate() {
     use crowdgaze::ffi::attention::*;
     use crowdgaze::ffi::crowd::*;
+    use crowdgaze::ffi::frame::*;
     use crowdgaze::ffi::status::cg_status;
     use crowdgaze::ffi::types::cg_vec3;
 
@@ -181,10 +182,22 @@ fn push_frame_step_and_read_gaze_do_not_allocate() {
         for (i, state) in states.iter_mut().enumerate() {
             state.position.x += if i % 2 == 0 { 0.04 } else { -0.04 };
         }
-        assert_eq!(
-            unsafe { cg_crowd_push_frame(handle, t, states.as_ptr(), states.len()) },
-            cg_status::Ok
-        );
+        if t * 30.0 % 3.0 < 2.0 {
+            assert_eq!(
+                unsafe { cg_crowd_push_frame(handle, t, states.as_ptr(), states.len()) },
+                cg_status::Ok
+            );
+        } else {
+            // The ranged push: three parts.
+            assert_eq!(unsafe { cg_crowd_begin_push(handle, t) }, cg_status::Ok);
+            for part in [&states[..70], &states[70..150], &states[150..]] {
+                assert_eq!(
+                    unsafe { cg_crowd_push_range(handle, part.as_ptr(), part.len()) },
+                    cg_status::Ok
+                );
+            }
+            assert_eq!(unsafe { cg_crowd_end_push(handle) }, cg_status::Ok);
+        }
         if t * 30.0 % 2.0 < 1.0 {
             assert_eq!(unsafe { cg_crowd_step(handle, 1.0 / 30.0) }, cg_status::Ok);
         } else {
@@ -212,7 +225,8 @@ fn push_frame_step_and_read_gaze_do_not_allocate() {
         frame(f64::from(i) / 30.0);
     }
     assert_no_alloc(
-        "push_frame + step (and begin/range/end, and storage reorders) + read_gaze",
+        "push_frame (and begin/range/end) + step (and begin/range/end, and storage \
+         reorders) + read_gaze",
         || {
             for i in 10..100 {
                 frame(f64::from(i) / 30.0);

@@ -13,7 +13,9 @@
 #![allow(clippy::undocumented_unsafe_blocks)]
 
 use crowdgaze::ffi::attention::*;
+
 use crowdgaze::ffi::crowd::*;
+use crowdgaze::ffi::frame::*;
 use crowdgaze::ffi::gaze::*;
 use crowdgaze::ffi::last_error::last_error_message;
 use crowdgaze::ffi::status::cg_status;
@@ -223,7 +225,7 @@ fn every_crowd_call(crowd: *mut cg_crowd, ids: &[u32], expected: &str) {
     let config_out: *mut cg_crowd_config = &mut config;
     let (gaze_out, eyes_out) = (gaze.as_mut_ptr(), eyes.as_mut_ptr());
     let (constraints_out, quats_out) = (constraints.as_mut_ptr(), quats.as_mut_ptr());
-    let calls: [(&str, &dyn Fn() -> cg_status); 28] = [
+    let calls: [(&str, &dyn Fn() -> cg_status); 31] = [
         ("cg_crowd_begin_step", &|| unsafe {
             cg_crowd_begin_step(crowd, 0.05)
         }),
@@ -232,6 +234,13 @@ fn every_crowd_call(crowd: *mut cg_crowd, ids: &[u32], expected: &str) {
         }),
         ("cg_crowd_end_step", &|| unsafe { cg_crowd_end_step(crowd) }),
         ("cg_crowd_step", &|| unsafe { cg_crowd_step(crowd, 0.05) }),
+        ("cg_crowd_begin_push", &|| unsafe {
+            cg_crowd_begin_push(crowd, 1.0)
+        }),
+        ("cg_crowd_push_range", &|| unsafe {
+            cg_crowd_push_range(crowd, &state, 1)
+        }),
+        ("cg_crowd_end_push", &|| unsafe { cg_crowd_end_push(crowd) }),
         ("cg_crowd_push_frame", &|| unsafe {
             cg_crowd_push_frame(crowd, 1.0, &state, 1)
         }),

@@ -16,6 +16,7 @@
 mod support;
 
 use crowdgaze::ffi::attention::*;
+
 use crowdgaze::ffi::crowd::*;
 use crowdgaze::ffi::gaze::*;
 use crowdgaze::ffi::types::{cg_axis, cg_quat};

@@ -12,7 +12,9 @@
 mod support;
 
 use crowdgaze::ffi::attention::*;
+
 use crowdgaze::ffi::crowd::*;
+use crowdgaze::ffi::frame::*;
 use crowdgaze::ffi::gaze::*;
 use crowdgaze::ffi::last_error::last_error_message;
 use crowdgaze::ffi::status::cg_status;

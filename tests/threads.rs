@@ -177,6 +177,7 @@ fn ranged_step_misuse_is_an_error_that_changes_nothing() {
 mod c_api {
     use crowdgaze::ffi::attention::*;
     use crowdgaze::ffi::crowd::*;
+    use crowdgaze::ffi::frame::*;
     use crowdgaze::ffi::status::cg_status;
     use crowdgaze::ffi::types::cg_vec3;
 

@@ -436,6 +436,21 @@ class Crowd : public Owner<cg_crowd, cg_crowd_destroy> {
         check(try_push_frame(t, states));
     }
 
+    // A frame pushed in parts from several threads: begin_push once, push_range from any
+    // number of threads (each entity in one part only), end_push after they all returned.
+    // The same as one push_frame of all the parts. See cg_crowd_begin_push,
+    // cg_crowd_push_range and cg_crowd_end_push.
+    [[nodiscard]] cg_status try_begin_push(double t) noexcept {
+        return cg_crowd_begin_push(raw(), t);
+    }
+    void begin_push(double t) { check(try_begin_push(t)); }
+    [[nodiscard]] cg_status try_push_range(Span<const cg_entity_state> states) noexcept {
+        return cg_crowd_push_range(raw(), states.data(), states.size());
+    }
+    void push_range(Span<const cg_entity_state> states) { check(try_push_range(states)); }
+    [[nodiscard]] cg_status try_end_push() noexcept { return cg_crowd_end_push(raw()); }
+    void end_push() { check(try_end_push()); }
+
     // Attention and gaze IK for every character, `dt` seconds after the previous step.
     [[nodiscard]] cg_status try_step(float dt) noexcept { return cg_crowd_step(raw(), dt); }
     void step(float dt) { check(try_step(dt)); }

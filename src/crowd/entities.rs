@@ -219,6 +219,11 @@ impl Crowd {
                 "cannot {what} while a step is open (end it first)"
             )));
         }
+        if self.open_push.is_some() {
+            return Err(Error::WrongState(format!(
+                "cannot {what} while a push is open (end it first)"
+            )));
+        }
         if self.shared.plan.is_some() {
             return Err(Error::WrongState(format!(
                 "cannot {what} while a plan is active (clear it first)"

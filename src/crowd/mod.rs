@@ -3,7 +3,8 @@
 //! A frame, as an engine runs it:
 //!
 //! 1. **Ingest** ([`Crowd::push_frame`], `ingest.rs`): positions and headings of the
-//!    entities (velocities by finite difference), checked, into the scene.
+//!    entities (velocities by finite difference), checked, into the scene; or in ranges
+//!    from several threads ([`Crowd::begin_push`], [`PushRanges::push`], [`Crowd::end_push`]).
 //! 2. **Begin the step** ([`Crowd::begin_step`], `step.rs`): the plan's clock, the spatial
 //!    grid, every `reorder_period` steps the storage order, the frame's shared values.
 //! 3. **The attention job** (`attention_job.rs`, with `attention_models.rs`): each
@@ -30,6 +31,7 @@
 
 mod attention_job;
 mod attention_models;
+mod claims;
 mod config;
 mod diagnostics;
 mod entities;
@@ -49,6 +51,7 @@ mod tables;
 mod values;
 
 pub use config::{CrowdConfig, MAX_CAPACITY, MAX_THREADS};
+pub use ingest::PushRanges;
 pub use model_state::{GlanceState, Look, LookTarget, ModelState, SaliencyState};
 pub use ranges::StepRanges;
 pub use values::{CharacterDesc, ExplicitTarget, EyeState, GazeInfo, ObjectDesc, TargetPriority};
@@ -61,9 +64,9 @@ use crate::error::Result;
 use crate::scene::order::Reorder;
 use crate::scene::Scene;
 use attention_job::Frame;
+use claims::ClaimSet;
 use pool::WorkerPool;
 use published::{Published, Watched};
-use ranges::ClaimSet;
 use states::CharacterStates;
 use tables::{Chains, Characters};
 
@@ -91,9 +94,13 @@ pub struct Crowd {
     published: Published,
     /// Which characters a ranged step has taken.
     claims: ClaimSet,
+    /// Which entities the open ranged push has taken.
+    pushed: ClaimSet,
     /// The order in which attention visits characters, refreshed by each step: spatial-grid
     /// order in large crowds (neighbours' data stays in cache), dense order otherwise.
     /// Before that, on a step that reorders storage, the reordering's character permutation.
+    /// Between steps, a push's scratch: the entity index of each pushed state. Room for
+    /// every entity.
     grid_order: Vec<u32>,
     /// The characters in the order readers see (creation order, a removed character's place
     /// taken by the last one): the dense index of each.
@@ -102,6 +109,8 @@ pub struct Crowd {
     reorder: Reorder,
     /// The step begun by [`begin_step`](Self::begin_step) and not yet ended.
     open_step: Option<Frame>,
+    /// The time of the push begun by [`begin_push`](Self::begin_push) and not yet ended.
+    open_push: Option<f64>,
     /// Worker threads of [`step`](Self::step), when `threads > 1`.
     pool: Option<WorkerPool>,
 }
@@ -178,10 +187,12 @@ impl Crowd {
             states: Watched::new(CharacterStates::with_capacity(characters, per_character)?),
             published: Published::with_capacity(characters, per_character)?,
             claims: ClaimSet::new(characters, per_character)?,
-            grid_order: try_with_capacity(characters, per_character)?,
+            pushed: ClaimSet::new(capacity, per_entity)?,
+            grid_order: try_with_capacity(capacity, per_entity)?,
             read_order: try_with_capacity(characters, per_character)?,
             reorder: Reorder::new(capacity, per_entity)?,
             open_step: None,
+            open_push: None,
             pool: (workers > 0)
                 .then(|| WorkerPool::new(workers))
                 .transpose()?,

@@ -86,7 +86,7 @@ impl Crowd {
     /// run ranges of characters with [`step_ranges`](Self::step_ranges) (from any number of
     /// threads) or [`step_range`](Self::step_range), and finish with
     /// [`end_step`](Self::end_step). Fails without changing anything on a negative or
-    /// non-finite `dt`, or if a step is already open ([`Error::WrongState`]).
+    /// non-finite `dt`, or if a step or a push is already open ([`Error::WrongState`]).
     pub fn begin_step(&mut self, dt: f32) -> Result<()> {
         ensure_finite(dt, "dt")?;
         if dt < 0.0 {
@@ -95,6 +95,11 @@ impl Crowd {
         if self.open_step.is_some() {
             return Err(Error::WrongState(
                 "a step is already open: end it first".into(),
+            ));
+        }
+        if self.open_push.is_some() {
+            return Err(Error::WrongState(
+                "a push is open: end it before stepping".into(),
             ));
         }
         let shared = &mut *self.shared;

@@ -1,11 +1,12 @@
-//! C entry points of crowd attention: adding and removing entities, pushing frames,
-//! stepping, reading where characters look, scoring a pair, and offline planning.
+//! C entry points of crowd attention: adding and removing entities, reading where
+//! characters look, scoring a pair, and offline planning. (Pushing frames and stepping are
+//! in `frame`.)
 
 use glam::Vec3;
 
 use super::chain::cg_chain_desc;
-use super::crowd::{cg_crowd, crowd_handle, crowd_mut, crowd_ref, test_hook, Hook};
-use super::error::{FfiError, Result};
+use super::crowd::{cg_crowd, crowd_mut, crowd_ref};
+use super::error::Result;
 use super::types::cg_vec3;
 use super::{
     cg_status, ffi_boundary, read_versioned, write_optional, write_versioned, Out, Versioned,
@@ -14,7 +15,6 @@ use crate::attention::score::SubscoreWeights;
 use crate::attention::{AttentionModel, CharacterParams};
 use crate::crowd::{CharacterDesc, ObjectDesc};
 use crate::error::{ensure_finite, Error};
-use crate::scene::EntityUpdate;
 use crate::world::World;
 
 /// The id meaning "no entity": the target of a character that looks ahead.
@@ -339,7 +339,7 @@ pub unsafe extern "C" fn cg_entity_state_init(state: *mut cg_entity_state) -> cg
     ffi_boundary!({ init(state, "state") })
 }
 
-fn metres(world: &World, value: cg_vec3, what: &str) -> Result<Vec3> {
+pub(super) fn metres(world: &World, value: cg_vec3, what: &str) -> Result<Vec3> {
     Ok(world.to_metres(value.to_finite(what)?))
 }
 
@@ -450,167 +450,6 @@ pub unsafe extern "C" fn cg_crowd_character_count(
         let out_count = unsafe { Out::new(out_count, "out_count") }?;
         out_count.write(crowd.character_count());
         Ok(())
-    })
-}
-
-/// Converts the `index`-th element of a C state array with element size `stride`.
-///
-/// # Safety
-/// `states` must point to `count` elements of `stride` bytes each, `index < count`.
-unsafe fn entity_update(
-    world: &World,
-    states: *const cg_entity_state,
-    stride: usize,
-    index: usize,
-) -> Result<EntityUpdate> {
-    // SAFETY: index < count and each element is `stride` bytes (caller contract).
-    let element = unsafe { states.cast::<u8>().add(index * stride) }.cast::<cg_entity_state>();
-    // SAFETY: as above; read_versioned checks struct_size against this library's layout.
-    let state = unsafe { read_versioned(element) }?;
-    if state.struct_size as usize != stride {
-        return Err(FfiError::BadStructSize(format!(
-            "states[{index}].struct_size is {}, but states[0]'s is {stride}",
-            state.struct_size
-        )));
-    }
-    ensure_finite(state.heading, "heading")?;
-    if state.flags & !(CG_STATE_HEADING_FROM_MOTION | CG_STATE_HAS_VELOCITY) != 0 {
-        return Err(Error::InvalidArgument(format!(
-            "states[{index}].flags has unknown bits 0x{:x}",
-            state.flags
-        ))
-        .into());
-    }
-    let velocity = if state.flags & CG_STATE_HAS_VELOCITY != 0 {
-        Some(metres(world, state.velocity, "velocity")?)
-    } else {
-        None
-    };
-    Ok(EntityUpdate {
-        id: state.id,
-        position: metres(world, state.position, "position")?,
-        heading: state.heading,
-        heading_from_motion: state.flags & CG_STATE_HEADING_FROM_MOTION != 0,
-        velocity,
-    })
-}
-
-/// Pushes one frame of entity states at time `t` (seconds). Entities not listed keep
-/// their last state; velocities come from the previous pushed position unless given.
-/// With recording on (`max_recorded_states > 0`) the frame is also recorded for
-/// `cg_crowd_plan`. `states` stays yours; nothing is allocated.
-///
-/// Errors (and nothing is changed): `CG_STATUS_NULL_ARGUMENT` (crowd, or states NULL with
-/// count > 0), `CG_STATUS_BAD_STRUCT_SIZE`, `CG_STATUS_NON_FINITE` (t or any value),
-/// `CG_STATUS_NOT_FOUND` (an unknown id), `CG_STATUS_INVALID_ARGUMENT` (t earlier than the
-/// previous frame's, unknown flag bits), `CG_STATUS_CAPACITY` (recording full),
-/// `CG_STATUS_WRONG_STATE` (a plan is active). Not thread-safe.
-#[no_mangle]
-pub unsafe extern "C" fn cg_crowd_push_frame(
-    crowd: *mut cg_crowd,
-    t: f64,
-    states: *const cg_entity_state,
-    count: usize,
-) -> cg_status {
-    ffi_boundary!({
-        // SAFETY: handle contract of cg_crowd.
-        let crowd = unsafe { crowd_mut(crowd) }?;
-        let stride = if count == 0 {
-            std::mem::size_of::<cg_entity_state>()
-        } else {
-            // SAFETY: a non-empty array's first element starts with its struct_size.
-            unsafe { read_versioned(states) }?.struct_size as usize
-        };
-        // SAFETY: checks the (pointer, count) pair; elements are `stride` bytes apart.
-        unsafe { super::slice(states.cast::<u8>(), count.saturating_mul(stride), "states") }?;
-        let world = crowd.config().world;
-        crowd.push_frame_with(t, count, |index| {
-            // SAFETY: index < count, stride-sized elements checked above.
-            unsafe { entity_update(&world, states, stride, index) }
-        })
-    })
-}
-
-/// Steps every character `dt` seconds (>= 0) after the previous step: attention (scores
-/// the entities near each character, updates its threshold and interest point; after
-/// `cg_crowd_plan`, follows the plan instead), then gaze IK. With `threads > 1` in the
-/// config, the crowd's worker threads share the work; results are the same. Allocates
-/// nothing. The same as `cg_crowd_begin_step`, one range over all characters, and
-/// `cg_crowd_end_step`.
-///
-/// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE` (dt), `CG_STATUS_INVALID_ARGUMENT`
-/// (dt < 0), `CG_STATUS_WRONG_STATE` (a ranged step is open). Not thread-safe: no other
-/// call on this crowd may run at the same time.
-#[no_mangle]
-pub unsafe extern "C" fn cg_crowd_step(crowd: *mut cg_crowd, dt: f32) -> cg_status {
-    ffi_boundary!({
-        // SAFETY: handle contract of cg_crowd.
-        unsafe { crowd_mut(crowd) }?.step(dt)?;
-        // SAFETY: as above; the crowd's mutable borrow has ended.
-        unsafe { test_hook(crowd, Hook::Step) };
-        Ok(())
-    })
-}
-
-/// Begins a step split into ranges, `dt` seconds (>= 0) after the previous one: advances
-/// the plan's clock, rebuilds the spatial grid and fixes what all characters share this
-/// frame. Then call `cg_crowd_step_range` on ranges of characters (from as many threads as
-/// you like, e.g. your job system's workers), and `cg_crowd_end_step` once they have all
-/// returned. The outputs are identical to `cg_crowd_step`'s, however the crowd is split.
-/// Until `cg_crowd_end_step`, every other call on this crowd fails with
-/// `CG_STATUS_WRONG_STATE`. Allocates nothing.
-///
-/// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE` (dt), `CG_STATUS_INVALID_ARGUMENT`
-/// (dt < 0), `CG_STATUS_WRONG_STATE` (a ranged step is already open). Not thread-safe: no
-/// other call on this crowd may run at the same time.
-#[no_mangle]
-pub unsafe extern "C" fn cg_crowd_begin_step(crowd: *mut cg_crowd, dt: f32) -> cg_status {
-    ffi_boundary!({
-        // SAFETY: handle contract of cg_crowd.
-        let handle = unsafe { crowd_handle(crowd) }?;
-        // SAFETY: by the C contract no other call runs on this crowd now.
-        unsafe { handle.begin_step(dt) }
-    })
-}
-
-/// Steps characters `first .. first + count` of the step opened by `cg_crowd_begin_step`:
-/// attention, then gaze IK. The range indexes the crowd's storage order, which keeps
-/// neighbours in space together (see `reorder_period` in `cg_crowd_config`) and is not the
-/// order of `cg_crowd_read_gaze`: split `0 .. character count` into disjoint ranges any way
-/// you like; every character is stepped once, and the outputs do not depend on the split.
-/// Thread-safe for disjoint ranges: several threads may call it at once on the same crowd.
-/// `count` 0 does nothing. Allocates nothing.
-///
-/// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_INVALID_ARGUMENT` (the range goes past the
-/// last character), `CG_STATUS_WRONG_STATE` (no ranged step is open, or the range overlaps
-/// one already stepped in this step; then nothing in it is stepped).
-#[no_mangle]
-pub unsafe extern "C" fn cg_crowd_step_range(
-    crowd: *mut cg_crowd,
-    first: u32,
-    count: u32,
-) -> cg_status {
-    ffi_boundary!({
-        // SAFETY: handle contract of cg_crowd; this call only needs shared access.
-        let handle = unsafe { crowd_handle(crowd) }?;
-        handle.step_range(first as usize, count as usize)
-    })
-}
-
-/// Ends the step opened by `cg_crowd_begin_step`. Characters that no range covered are
-/// stepped now, so a step always moves the whole crowd. Call it after every
-/// `cg_crowd_step_range` call of this step has returned. Allocates nothing.
-///
-/// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_WRONG_STATE` (no ranged step is open, or
-/// `cg_crowd_step_range` calls are still running: the step stays open). Not thread-safe
-/// with anything but `cg_crowd_step_range`.
-#[no_mangle]
-pub unsafe extern "C" fn cg_crowd_end_step(crowd: *mut cg_crowd) -> cg_status {
-    ffi_boundary!({
-        // SAFETY: handle contract of cg_crowd.
-        let handle = unsafe { crowd_handle(crowd) }?;
-        // SAFETY: by the C contract only ranges may run on this crowd now.
-        unsafe { handle.end_step() }
     })
 }
 

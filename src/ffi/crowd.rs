@@ -14,7 +14,7 @@ use crate::attention::baseline::BaselineConfig;
 use crate::attention::interest::InterestConfig;
 use crate::attention::saliency::SaliencyConfig;
 use crate::attention::score::ScoringConfig;
-use crate::crowd::{Crowd, CrowdConfig, StepRanges};
+use crate::crowd::{Crowd, CrowdConfig, PushRanges, StepRanges};
 use crate::error::Error;
 use crate::ik::GazeConfig;
 use crate::world::World;
@@ -24,9 +24,10 @@ use crate::world::World;
 /// Created by `cg_crowd_create`, destroyed by `cg_crowd_destroy`. Threading rules: calls
 /// taking a `cg_crowd*` must not overlap with any other call on the same crowd, except
 /// `cg_crowd_step_range`, which several threads may call at once on disjoint ranges
-/// between `cg_crowd_begin_step` and `cg_crowd_end_step`. Calls taking a `const cg_crowd*`
-/// may run concurrently with each other. While a ranged step is open, every other call on
-/// the crowd fails with `CG_STATUS_WRONG_STATE`.
+/// between `cg_crowd_begin_step` and `cg_crowd_end_step`, and `cg_crowd_push_range`,
+/// likewise between `cg_crowd_begin_push` and `cg_crowd_end_push`. Calls taking a
+/// `const cg_crowd*` may run concurrently with each other. While a ranged step or push is
+/// open, every other call on the crowd fails with `CG_STATUS_WRONG_STATE`.
 ///
 /// If a call that changes the crowd fails with `CG_STATUS_INTERNAL` (a bug, such as a caught
 /// panic), the crowd may be half-updated and is poisoned: every later call on it, whatever
@@ -36,15 +37,20 @@ pub struct cg_crowd {
     _private: [u8; 0],
 }
 
-/// Phases of a crowd handle's ranged step.
+/// Phases of a crowd handle's ranged step and ranged push.
 const IDLE: u8 = 0;
-/// Between `cg_crowd_begin_step` and `cg_crowd_end_step`: only ranges may run.
+/// Between `cg_crowd_begin_step` and `cg_crowd_end_step`: only step ranges may run.
 const OPEN: u8 = 1;
-/// Inside `cg_crowd_begin_step` or `cg_crowd_end_step`.
+/// Inside `cg_crowd_begin_step`, `cg_crowd_end_step`, `cg_crowd_begin_push` or
+/// `cg_crowd_end_push`.
 const CHANGING: u8 = 2;
+/// Between `cg_crowd_begin_push` and `cg_crowd_end_push`: only push ranges may run.
+const PUSHING: u8 = 3;
 
 /// What a range or end call says when no ranged step is open.
 const NO_STEP_OPEN: &str = "no ranged step is open: call cg_crowd_begin_step first";
+/// What a push range or end call says when no ranged push is open.
+const NO_PUSH_OPEN: &str = "no ranged push is open: call cg_crowd_begin_push first";
 
 /// The calls of a crowd that a test build can make panic once they have changed the crowd
 /// (`testing::panic_next`).
@@ -62,13 +68,15 @@ pub(crate) enum Hook {
 /// step it through a shared reference to the handle (disjoint characters, see
 /// [`StepRanges`]); every other call first checks that no ranged step is open.
 pub(crate) struct CrowdHandle {
-    /// `IDLE`, `OPEN` or `CHANGING`.
+    /// `IDLE`, `OPEN`, `CHANGING` or `PUSHING`.
     phase: AtomicU8,
-    /// `cg_crowd_step_range` calls in progress.
+    /// `cg_crowd_step_range` and `cg_crowd_push_range` calls in progress.
     ranges_running: AtomicU32,
     /// The open step's ranges (`Some` exactly while `OPEN`). Declared before `crowd`, which
     /// it borrows, so that it is dropped first.
     ranges: UnsafeCell<Option<StepRanges<'static>>>,
+    /// The open push's ranges (`Some` exactly while `PUSHING`); dropped before `crowd`, too.
+    push_ranges: UnsafeCell<Option<PushRanges<'static>>>,
     crowd: UnsafeCell<Crowd>,
     /// Set by the first call that changed the crowd and failed inside the library.
     poison: Poison,
@@ -89,7 +97,7 @@ unsafe impl Handle for CrowdHandle {
 // SAFETY: the cells are accessed as the phase protocol allows: `crowd` mutably only by the
 // single thread that moved the phase out of OPEN (or by a caller with exclusive use of the
 // handle, per the C contract), `ranges` written only while not OPEN and read only while
-// OPEN; `StepRanges` is itself `Sync`.
+// OPEN, `push_ranges` likewise with PUSHING; `StepRanges` and `PushRanges` are `Sync`.
 unsafe impl Sync for CrowdHandle {}
 
 impl CrowdHandle {
@@ -98,6 +106,7 @@ impl CrowdHandle {
             phase: AtomicU8::new(IDLE),
             ranges_running: AtomicU32::new(0),
             ranges: UnsafeCell::new(None),
+            push_ranges: UnsafeCell::new(None),
             crowd: UnsafeCell::new(crowd),
             poison: Poison::default(),
             #[cfg(feature = "test-hooks")]
@@ -134,13 +143,12 @@ impl CrowdHandle {
     }
 
     fn ensure_idle(&self) -> Result<()> {
-        match self.phase.load(Ordering::SeqCst) {
-            IDLE => Ok(()),
-            _ => Err(Error::WrongState(
-                "a ranged step is open: finish it with cg_crowd_end_step first".into(),
-            )
-            .into()),
-        }
+        let open = match self.phase.load(Ordering::SeqCst) {
+            IDLE => return Ok(()),
+            PUSHING => "a ranged push is open: finish it with cg_crowd_end_push first",
+            _ => "a ranged step is open: finish it with cg_crowd_end_step first",
+        };
+        Err(Error::WrongState(open.into()).into())
     }
 
     /// Moves the phase from `from` to CHANGING, or fails with `refusal` (the phase was not
@@ -186,25 +194,49 @@ impl CrowdHandle {
         }
     }
 
-    /// Steps a range of the open step (`cg_crowd_step_range`); any number of threads.
-    pub(crate) fn step_range(&self, first: usize, count: usize) -> Result<()> {
+    /// Runs `range` as one range of the ranged step or push open in phase `open`, counted
+    /// in `ranges_running` so that the call closing it waits; fails with `not_open` in any
+    /// other phase.
+    fn in_range(&self, open: u8, not_open: &str, range: impl FnOnce() -> Result<()>) -> Result<()> {
         self.ranges_running.fetch_add(1, Ordering::SeqCst);
-        let result = match self.phase.load(Ordering::SeqCst) {
-            // SAFETY: OPEN, and `end_step` cannot leave OPEN while this call is counted
-            // in `ranges_running` (it checks after its own SeqCst swap).
-            OPEN => match unsafe { &*self.ranges.get() } {
-                Some(ranges) => {
-                    self.arm();
-                    let result = ranges.run_range(first, count).map_err(FfiError::from);
-                    self.test_hook(Hook::StepRange);
-                    result
-                }
-                None => Err(Error::Internal("an open step has no ranges".into()).into()),
-            },
-            _ => Err(Error::WrongState(NO_STEP_OPEN.into()).into()),
+        let result = if self.phase.load(Ordering::SeqCst) == open {
+            self.arm();
+            range()
+        } else {
+            Err(Error::WrongState(not_open.into()).into())
         };
         self.ranges_running.fetch_sub(1, Ordering::SeqCst);
         result
+    }
+
+    /// Moves the phase from `open` to CHANGING to close a ranged step or push: fails with
+    /// `not_open` in another phase, or, leaving it open, while `calls` (its ranges) are
+    /// still running.
+    fn enter_closing(&self, open: u8, not_open: &str, calls: &str) -> Result<()> {
+        self.enter_changing(open, not_open)?;
+        self.arm();
+        if self.ranges_running.load(Ordering::SeqCst) != 0 {
+            self.phase.store(open, Ordering::SeqCst);
+            return Err(Error::WrongState(format!(
+                "{calls} calls are still running on this crowd"
+            ))
+            .into());
+        }
+        Ok(())
+    }
+
+    /// Steps a range of the open step (`cg_crowd_step_range`); any number of threads.
+    pub(crate) fn step_range(&self, first: usize, count: usize) -> Result<()> {
+        self.in_range(OPEN, NO_STEP_OPEN, || {
+            // SAFETY: OPEN, and `end_step` cannot leave OPEN while this call is counted in
+            // `ranges_running` (it checks after its own SeqCst swap).
+            let ranges = unsafe { &*self.ranges.get() }
+                .as_ref()
+                .ok_or_else(|| Error::Internal("an open step has no ranges".into()))?;
+            let result = ranges.run_range(first, count).map_err(FfiError::from);
+            self.test_hook(Hook::StepRange);
+            result
+        })
     }
 
     /// Ends the open step (`cg_crowd_end_step`).
@@ -213,15 +245,7 @@ impl CrowdHandle {
     /// No other call on this handle may run, but `step_range` (which then fails or, when
     /// it got in first, makes this call fail).
     pub(crate) unsafe fn end_step(&self) -> Result<()> {
-        self.enter_changing(OPEN, NO_STEP_OPEN)?;
-        self.arm();
-        if self.ranges_running.load(Ordering::SeqCst) != 0 {
-            self.phase.store(OPEN, Ordering::SeqCst);
-            return Err(Error::WrongState(
-                "cg_crowd_step_range calls are still running on this crowd".into(),
-            )
-            .into());
-        }
+        self.enter_closing(OPEN, NO_STEP_OPEN, "cg_crowd_step_range")?;
         // SAFETY: CHANGING, and no range runs (ranges seen running above would have kept
         // the phase OPEN; later ones see CHANGING and leave).
         unsafe { *self.ranges.get() = None };
@@ -230,6 +254,69 @@ impl CrowdHandle {
             .end_step()
             .map_err(FfiError::from);
         self.test_hook(Hook::EndStep);
+        self.phase.store(IDLE, Ordering::SeqCst);
+        result
+    }
+
+    /// Opens a ranged push (`cg_crowd_begin_push`).
+    ///
+    /// # Safety
+    /// No other call on this handle may run, but `push_range` (which then fails).
+    pub(crate) unsafe fn begin_push(&self, time: f64) -> Result<()> {
+        self.enter_changing(IDLE, "a ranged step or push is already open: end it first")?;
+        self.arm();
+        // SAFETY: the phase is CHANGING, set by this thread: no range runs and, by the
+        // caller's contract, no other call uses the crowd.
+        let crowd = unsafe { &mut *self.crowd.get() };
+        match crowd.begin_push(time).and_then(|()| crowd.push_ranges()) {
+            Ok(ranges) => {
+                // SAFETY: only the lifetime is erased: `ranges` borrows the crowd in this
+                // handle, which stays in place and is not otherwise used until `end_push`
+                // (or the handle's drop) clears `push_ranges` first.
+                let ranges =
+                    unsafe { std::mem::transmute::<PushRanges<'_>, PushRanges<'static>>(ranges) };
+                // SAFETY: not PUSHING, so no range reads the cell.
+                unsafe { *self.push_ranges.get() = Some(ranges) };
+                self.phase.store(PUSHING, Ordering::SeqCst);
+                Ok(())
+            }
+            Err(error) => {
+                self.phase.store(IDLE, Ordering::SeqCst);
+                Err(error.into())
+            }
+        }
+    }
+
+    /// Pushes states into the open push (`cg_crowd_push_range`); any number of threads.
+    /// `push` runs the push on the open push's ranges.
+    pub(crate) fn push_range(
+        &self,
+        push: impl FnOnce(&PushRanges<'static>) -> Result<()>,
+    ) -> Result<()> {
+        self.in_range(PUSHING, NO_PUSH_OPEN, || {
+            // SAFETY: PUSHING, and `end_push` cannot leave PUSHING while this call is
+            // counted in `ranges_running` (it checks after its own SeqCst swap).
+            let ranges = unsafe { &*self.push_ranges.get() }
+                .as_ref()
+                .ok_or_else(|| Error::Internal("an open push has no ranges".into()))?;
+            push(ranges)
+        })
+    }
+
+    /// Ends the open push (`cg_crowd_end_push`).
+    ///
+    /// # Safety
+    /// No other call on this handle may run, but `push_range` (which then fails or, when
+    /// it got in first, makes this call fail).
+    pub(crate) unsafe fn end_push(&self) -> Result<()> {
+        self.enter_closing(PUSHING, NO_PUSH_OPEN, "cg_crowd_push_range")?;
+        // SAFETY: CHANGING, and no range runs (ranges seen running above would have kept
+        // the phase PUSHING; later ones see CHANGING and leave).
+        unsafe { *self.push_ranges.get() = None };
+        // SAFETY: as above; the ranges' borrow of the crowd is gone.
+        let result = unsafe { &mut *self.crowd.get() }
+            .end_push()
+            .map_err(FfiError::from);
         self.phase.store(IDLE, Ordering::SeqCst);
         result
     }

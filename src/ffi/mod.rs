@@ -29,6 +29,7 @@
 
 pub mod attention;
 pub mod blend;
+pub mod frame;
 // Right after `blend`: cbindgen writes the header in the order modules are declared.
 pub mod view_blender;
 
@@ -53,4 +54,6 @@ pub use status::cg_status;
 pub(crate) use boundary::ffi_boundary;
 pub(crate) use handle::{handle_mut, handle_ref, into_c, Handle};
 pub(crate) use pointers::{borrow, non_null, slice, slice_mut, write_optional, Out};
-pub(crate) use versioned::{layout_size, read_versioned, write_versioned, Versioned};
+pub(crate) use versioned::{
+    borrow_current, layout_size, read_versioned, write_versioned, Versioned,
+};

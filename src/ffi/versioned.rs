@@ -55,7 +55,49 @@ unsafe fn stated_size<T: Versioned>(pointer: *const T) -> Result<usize> {
 /// # Safety
 /// If not NULL and aligned, `pointer` must point to at least `struct_size` readable bytes,
 /// where `struct_size` is the struct's first field.
+#[inline]
 pub(crate) unsafe fn read_versioned<T: Versioned>(pointer: *const T) -> Result<T> {
+    // The common case inline (arrays of states are read element by element): a struct of
+    // this library's own layout.
+    if !pointer.is_null() && pointer.is_aligned() {
+        // SAFETY: non-null and aligned; the struct starts with its u32 size (contract).
+        let declared = unsafe { pointer.cast::<u32>().read() } as usize;
+        if declared == std::mem::size_of::<T>() {
+            // SAFETY: the caller's struct is this library's layout, all of it readable
+            // (contract); every field is plain old data.
+            return Ok(unsafe { pointer.read() });
+        }
+    }
+    // SAFETY: forwarded contract.
+    unsafe { read_older_versioned(pointer) }
+}
+
+/// Borrows a versioned struct from C in place if it has this library's own layout
+/// (non-null, aligned, `struct_size` this library's); `None` otherwise (then read it with
+/// [`read_versioned`], which reports what is wrong). For hot loops over arrays: no copy.
+///
+/// # Safety
+/// If not NULL and aligned, `pointer` must point to at least `struct_size` readable bytes,
+/// where `struct_size` is the struct's first field, valid and unchanged for `'a`.
+#[inline]
+pub(crate) unsafe fn borrow_current<'a, T: Versioned>(pointer: *const T) -> Option<&'a T> {
+    if pointer.is_null() || !pointer.is_aligned() {
+        return None;
+    }
+    // SAFETY: non-null and aligned; the struct starts with its u32 size (contract).
+    let declared = unsafe { pointer.cast::<u32>().read() } as usize;
+    // SAFETY: of this library's layout, all of it readable and valid for 'a (contract);
+    // every field is plain old data.
+    (declared == std::mem::size_of::<T>()).then(|| unsafe { &*pointer })
+}
+
+/// [`read_versioned`] for every other case: an older layout, or a bad pointer or size.
+///
+/// # Safety
+/// As [`read_versioned`].
+#[cold]
+#[inline(never)]
+unsafe fn read_older_versioned<T: Versioned>(pointer: *const T) -> Result<T> {
     check_pointer(pointer, T::NAME)?;
     // SAFETY: checked non-null and aligned; the struct starts with its size (contract).
     let declared = unsafe { stated_size(pointer) }?;

@@ -8,7 +8,10 @@
 
 pub mod grid;
 pub mod ids;
+mod ingest;
 pub mod order;
+
+pub use ingest::{EntityUpdate, SceneWriter, MAX_SPEED, MIN_SPEED_FOR_HEADING};
 
 use glam::{Vec2, Vec3};
 
@@ -32,43 +35,6 @@ macro_rules! each_entity_array {
             $body;
         })*
     }};
-}
-
-/// Below this ground speed (m/s) a heading derived from motion keeps its last value, so
-/// standing people do not spin.
-pub const MIN_SPEED_FOR_HEADING: f32 = 0.1;
-
-/// Fastest ground speed (m/s) an entity is taken to move at: a faster velocity, given or
-/// derived from a jump between two frames, keeps its direction at this speed, so that speeds
-/// and relative speeds stay finite. Far beyond what the speed subscore tells apart.
-pub const MAX_SPEED: f32 = 1e9;
-
-/// `displacement / elapsed` (elapsed > 0), its length limited to [`MAX_SPEED`]; in `f64`,
-/// where a jump across the whole `f32` range in a tiny time cannot overflow.
-fn limited_velocity(displacement: glam::DVec2, elapsed: f64) -> Vec2 {
-    let distance = displacement.length();
-    let most = f64::from(MAX_SPEED) * elapsed;
-    if distance > most {
-        (displacement * (f64::from(MAX_SPEED) / distance)).as_vec2()
-    } else {
-        (displacement / elapsed).as_vec2()
-    }
-}
-
-/// One entity's state for a frame, in metres and radians (converted from the caller's units).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct EntityUpdate {
-    /// Entity id.
-    pub id: u32,
-    /// Root (ground) position, world axes, metres.
-    pub position: Vec3,
-    /// Heading (radians, counter-clockwise about up, 0 along forward); ignored when
-    /// `heading_from_motion`.
-    pub heading: f32,
-    /// Derive the heading from the velocity's direction.
-    pub heading_from_motion: bool,
-    /// The velocity (world, m/s) if the caller knows it; else a finite difference is used.
-    pub velocity: Option<Vec3>,
 }
 
 /// One entity's state on the ground plane, gathered by [`Scene::ground_state`].
@@ -357,67 +323,55 @@ impl Scene {
         Ok(self.character[index] as usize)
     }
 
-    /// Checks one update without changing anything: the id exists and values are finite.
-    pub fn check_update(&self, update: &EntityUpdate) -> Result<()> {
-        self.find(update.id)?;
-        crate::error::ensure_all_finite(&update.position.to_array(), "position")?;
-        crate::error::ensure_finite(update.heading, "heading")?;
-        if let Some(velocity) = update.velocity {
-            crate::error::ensure_all_finite(&velocity.to_array(), "velocity")?;
-        }
-        Ok(())
+    /// Checks one update without changing anything (the id exists and the values are
+    /// finite) and returns its entity's index, for [`apply_at`](Self::apply_at).
+    pub fn check_update(&self, update: &EntityUpdate) -> Result<usize> {
+        ingest::check(&self.ids, update)
+    }
+
+    /// A writer of pushed states into this scene's entities, for several threads at once.
+    pub fn writer(&mut self) -> SceneWriter<'_> {
+        SceneWriter::new(
+            self.world,
+            &self.ids,
+            ingest::PushedArrays {
+                position: &mut self.position,
+                ground: &mut self.ground,
+                heading: &mut self.heading,
+                forward: &mut self.forward,
+                velocity: &mut self.velocity,
+                turn_rate: &mut self.turn_rate,
+                last_time: &mut self.last_time,
+            },
+        )
     }
 
     /// Applies one frame of updates at time `time` (seconds). Velocities come from the
     /// caller or from the difference with the entity's previous sample; entities not in
-    /// `updates` keep their last state. Check each with [`check_update`](Self::check_update) first:
-    /// unknown ids are skipped here.
+    /// `updates` keep their last state. Check each with [`check_update`](Self::check_update)
+    /// first: unknown ids are skipped here.
     pub fn apply(&mut self, time: f64, updates: &[EntityUpdate]) {
         for update in updates {
             self.apply_one(time, update);
         }
     }
 
-    /// Applies one update at time `time` (see [`apply`](Self::apply)).
+    /// Applies one update at time `time` (see [`apply`](Self::apply)); an unknown id is
+    /// skipped.
     pub fn apply_one(&mut self, time: f64, update: &EntityUpdate) {
-        {
-            let Some(index) = self.index_of(update.id) else {
-                return;
-            };
-            let ground = self.world.ground(update.position);
-            let elapsed = time - self.last_time[index];
-            let velocity = match update.velocity {
-                Some(velocity) => limited_velocity(self.world.ground(velocity).as_dvec2(), 1.0),
-                None if elapsed > 0.0 && elapsed.is_finite() => {
-                    limited_velocity(ground.as_dvec2() - self.ground[index].as_dvec2(), elapsed)
-                }
-                None => self.velocity[index],
-            };
-            let heading = if update.heading_from_motion {
-                if velocity.length() >= MIN_SPEED_FOR_HEADING {
-                    velocity.y.atan2(velocity.x)
-                } else {
-                    self.heading[index]
-                }
-            } else {
-                update.heading
-            };
-            // Stored headings are wrapped: the turn is taken between wrapped ones (an
-            // in-range heading is its own wrap, bit for bit).
-            let wrapped = wrap_angle(heading);
-            if elapsed > 0.0 && elapsed.is_finite() {
-                let turn = (wrapped - self.heading[index] + std::f32::consts::PI)
-                    .rem_euclid(std::f32::consts::TAU)
-                    - std::f32::consts::PI;
-                self.turn_rate[index] = turn / elapsed as f32;
-            }
-            self.position[index] = update.position;
-            self.ground[index] = ground;
-            self.velocity[index] = velocity;
-            self.heading[index] = wrapped;
-            self.forward[index] = Vec2::from_angle(heading);
-            self.last_time[index] = time;
+        if let Some(index) = self.index_of(update.id) {
+            self.apply_at(index, time, update);
         }
+    }
+
+    /// Applies one update at time `time` to entity `index`, which
+    /// [`check_update`](Self::check_update) returned for it (see
+    /// [`SceneWriter::apply_at`]). Panics if `index` is out of range.
+    pub fn apply_at(&mut self, index: usize, time: f64, update: &EntityUpdate) {
+        assert!(index < self.len(), "entity index {index} out of range");
+        debug_assert_eq!(self.index_of(update.id), Some(index));
+        // SAFETY: index < len; `&mut self` keeps every other access out.
+        unsafe { self.writer().apply_at(index, time, update) };
     }
 
     /// Sets an entity's impact factor, keeping `S_MAX` current: the maximum is scanned again

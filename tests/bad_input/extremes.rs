@@ -10,6 +10,7 @@ use crate::{
 };
 use crowdgaze::ffi::attention::*;
 use crowdgaze::ffi::crowd::*;
+use crowdgaze::ffi::frame::*;
 use crowdgaze::ffi::gaze::*;
 use crowdgaze::ffi::status::cg_status;
 use crowdgaze::ffi::types::{cg_dualquat, cg_quat};

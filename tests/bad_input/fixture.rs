@@ -9,6 +9,7 @@ use crate::{
 use crowdgaze::ffi::attention::*;
 use crowdgaze::ffi::chain::*;
 use crowdgaze::ffi::crowd::*;
+use crowdgaze::ffi::frame::*;
 use crowdgaze::ffi::gaze::*;
 use crowdgaze::ffi::types::{cg_axis, cg_dualquat, cg_quat, cg_vec3};
 use crowdgaze::ffi::view_blender::*;

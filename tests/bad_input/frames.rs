@@ -8,6 +8,7 @@ use crate::{
     BAD_SIZE, CAPACITY, INVALID, NON_FINITE, NULL_ARG, WRONG_STATE,
 };
 use crowdgaze::ffi::attention::*;
+use crowdgaze::ffi::frame::*;
 use crowdgaze::ffi::status::cg_status;
 use std::mem::{offset_of, size_of};
 use std::ptr::{null, null_mut};
@@ -233,4 +234,130 @@ pub(crate) fn rows_steps(t: &mut Table) {
         WRONG_STATE,
         |h| unsafe { cg_crowd_end_step(h.crowd) },
     );
+}
+
+/// Pushes `states` as one range of a push opened at the fixture's last frame time (so a
+/// refused range, then `cg_crowd_end_push`, leaves the crowd as it was), and returns the
+/// range's status.
+fn push_in_range(h: &mut Harness, states: &mut [cg_entity_state]) -> cg_status {
+    let begun = unsafe { cg_crowd_begin_push(h.crowd, h.time) };
+    assert_eq!(begun, cg_status::Ok, "cg_crowd_begin_push");
+    let status = unsafe { cg_crowd_push_range(h.crowd, states.as_ptr(), states.len()) };
+    let ended = unsafe { cg_crowd_end_push(h.crowd) };
+    assert_eq!(ended, cg_status::Ok, "cg_crowd_end_push");
+    status
+}
+
+/// The ranged push's entry points. A range's states are checked as `cg_crowd_push_frame`'s
+/// (the same corruptions and ids, each in a push of its own); concurrent misuse is in
+/// `tests/threads.rs`.
+pub(crate) fn rows_pushes(t: &mut Table) {
+    let f = "cg_crowd_begin_push";
+    t.case(f, "crowd NULL", NULL_ARG, |h| unsafe {
+        cg_crowd_begin_push(null_mut(), h.next_frame().0)
+    });
+    for (label, value) in [
+        ("NaN", f64::NAN),
+        ("+Inf", f64::INFINITY),
+        ("-Inf", f64::NEG_INFINITY),
+    ] {
+        t.case_in(
+            Setup::Unrecorded,
+            f,
+            format!("t = {label}"),
+            NON_FINITE,
+            move |h| unsafe { cg_crowd_begin_push(h.crowd, value) },
+        );
+    }
+    t.case_in(
+        Setup::Unrecorded,
+        f,
+        "t earlier than the previous frame's",
+        INVALID,
+        |h| unsafe { cg_crowd_begin_push(h.crowd, h.time - 0.5) },
+    );
+    t.case(f, "recording is on", WRONG_STATE, |h| unsafe {
+        cg_crowd_begin_push(h.crowd, h.next_frame().0)
+    });
+    t.case_in(
+        Setup::Planned,
+        f,
+        "a plan is active",
+        WRONG_STATE,
+        |h| unsafe { cg_crowd_begin_push(h.crowd, h.next_frame().0) },
+    );
+
+    let f = "cg_crowd_push_range";
+    t.case(f, "crowd NULL", NULL_ARG, |h| {
+        let states = next_states(h);
+        unsafe { cg_crowd_push_range(null_mut(), states.as_ptr(), states.len()) }
+    });
+    t.case(f, "no push open", WRONG_STATE, |h| {
+        let states = next_states(h);
+        unsafe { cg_crowd_push_range(h.crowd, states.as_ptr(), states.len()) }
+    });
+    t.case(f, "no push open, no states", WRONG_STATE, |h| unsafe {
+        cg_crowd_push_range(h.crowd, null(), 0)
+    });
+    t.case_in(
+        Setup::Unrecorded,
+        f,
+        "(states NULL, count 6)",
+        NULL_ARG,
+        |h| {
+            let begun = unsafe { cg_crowd_begin_push(h.crowd, h.time) };
+            assert_eq!(begun, cg_status::Ok);
+            let status = unsafe { cg_crowd_push_range(h.crowd, null(), MOVERS) };
+            assert_eq!(unsafe { cg_crowd_end_push(h.crowd) }, cg_status::Ok);
+            status
+        },
+    );
+    t.corrupt(
+        Setup::Unrecorded,
+        f,
+        frame_corruptions(),
+        |h| h.frame_at(h.time),
+        |h, states| push_in_range(h, states),
+    );
+    for index in 0..MOVERS {
+        t.entity_ids(
+            Setup::Unrecorded,
+            f,
+            &format!("states[{index}].id"),
+            move |h, id| {
+                let mut states = h.frame_at(h.time);
+                states[index].id = id;
+                push_in_range(h, &mut states)
+            },
+        );
+    }
+    for index in 1..MOVERS {
+        t.case_in(
+            Setup::Unrecorded,
+            f,
+            format!("states[{index}] the same entity as states[0]"),
+            WRONG_STATE,
+            move |h| {
+                let mut states = h.frame_at(h.time);
+                states[index] = states[0];
+                push_in_range(h, &mut states)
+            },
+        );
+    }
+    t.case_in(Setup::Unrecorded, f, "count SIZE_MAX", INVALID, |h| {
+        let states = h.frame_at(h.time);
+        let begun = unsafe { cg_crowd_begin_push(h.crowd, h.time) };
+        assert_eq!(begun, cg_status::Ok);
+        let status = unsafe { cg_crowd_push_range(h.crowd, states.as_ptr(), usize::MAX) };
+        assert_eq!(unsafe { cg_crowd_end_push(h.crowd) }, cg_status::Ok);
+        status
+    });
+
+    let f = "cg_crowd_end_push";
+    t.case(f, "crowd NULL", NULL_ARG, |_| unsafe {
+        cg_crowd_end_push(null_mut())
+    });
+    t.case(f, "no push open", WRONG_STATE, |h| unsafe {
+        cg_crowd_end_push(h.crowd)
+    });
 }

@@ -58,6 +58,7 @@ use crate::{
 };
 use crowdgaze::ffi::attention::*;
 use crowdgaze::ffi::chain::*;
+use crowdgaze::ffi::frame::*;
 use crowdgaze::ffi::gaze::*;
 use crowdgaze::ffi::status::{cg_status, cg_status_str};
 use crowdgaze::ffi::view_blender::*;

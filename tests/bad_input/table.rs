@@ -8,7 +8,7 @@ use crate::{
     dual_quaternions::rows_dual_quaternions,
     entities::rows_entities,
     fixture::{Harness, Setup, UNKNOWN_ID},
-    frames::{rows_frames, rows_steps},
+    frames::{rows_frames, rows_pushes, rows_steps},
     gaze::rows_gaze,
     infallible::rows_infallible,
     init::rows_init,
@@ -311,6 +311,7 @@ pub(crate) fn table() -> Table {
     rows_frames(&mut t);
     rows_attention(&mut t);
     rows_steps(&mut t);
+    rows_pushes(&mut t);
     rows_plan(&mut t);
     rows_gaze(&mut t);
     rows_joints(&mut t);

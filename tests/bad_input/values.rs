@@ -3,6 +3,7 @@
 //! the `struct_size` values no library accepts.
 
 use crowdgaze::ffi::attention::*;
+
 use crowdgaze::ffi::blend::*;
 use crowdgaze::ffi::gaze::*;
 use crowdgaze::ffi::last_error::cg_last_error_message;

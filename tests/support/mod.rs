@@ -8,7 +8,9 @@
 #![allow(clippy::undocumented_unsafe_blocks)]
 
 use crowdgaze::ffi::attention::*;
+
 use crowdgaze::ffi::crowd::*;
+use crowdgaze::ffi::frame::*;
 use crowdgaze::ffi::last_error::last_error_message;
 use crowdgaze::ffi::status::cg_status;
 use crowdgaze::scenario::{Activity, Scenario};

@@ -9,8 +9,9 @@ Calls in flight: every method first converts and checks all its arguments (this 
 user code such as an argument's ``__float__`` or ``__index__`` runs), and only then takes
 the handle through the owner's guard, a readers-writer lock:
 
-- calls the C header declares on a ``const`` handle (reads, and ``Crowd.step_range``, which
-  C allows on several threads at once) hold it *shared*, so they still run concurrently;
+- calls the C header declares on a ``const`` handle (reads), and ``Crowd.step_range`` and
+  ``Crowd.push_range``, which C allows on several threads at once, hold it *shared*, so they
+  still run concurrently;
 - calls that change the object hold it *exclusively*, so two Python threads can no longer
   mutate one object at the same time (the C library does not allow it: they now take
   turns);

@@ -125,10 +125,10 @@ class Crowd(HandleOwner):
     ``close()`` or a ``with`` block (or let it be collected). Every method raises
     ``crowdgaze.Error`` on failure; a failed call changes nothing.
 
-    Threads: reads (``read_*``, ``score``, ``character_count``, ...) and ``step_range``
-    may run on several threads at once; calls that change the crowd take turns. ``close()``
-    from another thread waits for the calls in flight. A crowd cannot be copied or pickled,
-    and ``__init__`` runs once (see ``crowdgaze._owner``).
+    Threads: reads (``read_*``, ``score``, ``character_count``, ...), ``step_range`` and
+    ``push_range`` may run on several threads at once; calls that change the crowd take
+    turns. ``close()`` from another thread waits for the calls in flight. A crowd cannot be
+    copied or pickled, and ``__init__`` runs once (see ``crowdgaze._owner``).
     """
 
     _kind = "crowd"
@@ -301,6 +301,31 @@ class Crowd(HandleOwner):
         with self._call(where, exclusive=True) as handle:
             check(lib.cg_crowd_push_frame(handle, t, pointer, count), "cg_crowd_push_frame")
         del keep
+
+    def begin_push(self, t: float) -> None:
+        """Begins a frame pushed in parts (``push_range``) at time ``t``, not earlier than the
+        last frame. The parts together give the same crowd as one ``push_frame``."""
+        where = "Crowd.begin_push"
+        t = c.real(t, where, "t", single=False)
+        with self._call(where, exclusive=True) as handle:
+            check(lib.cg_crowd_begin_push(handle, t), "cg_crowd_begin_push")
+
+    def push_range(self, states) -> None:
+        """Pushes a part of the open push's states (as ``push_frame`` takes them); each
+        entity once per push. ctypes releases the GIL during the call, so Python threads may
+        push their own entities in parallel."""
+        where = "Crowd.push_range"
+        keep, pointer, count = a.records_in(states, n.EntityState, where, "states")
+        with self._call(where) as handle:  # shared: C allows concurrent ranges
+            check(lib.cg_crowd_push_range(handle, pointer, count), "cg_crowd_push_range")
+        del keep
+
+    def end_push(self) -> None:
+        """Ends the open push (after the ``push_range`` calls in flight have returned):
+        entities no part pushed keep their last state."""
+        where = "Crowd.end_push"
+        with self._call(where, exclusive=True) as handle:
+            check(lib.cg_crowd_end_push(handle), "cg_crowd_end_push")
 
     def step(self, dt: float) -> None:
         """Attention and gaze IK for every character, ``dt`` seconds after the last step."""

@@ -198,6 +198,37 @@ def test_ranged_steps_from_python_threads_match_one_call_steps():
         ranged.step_range(0, 1)  # no step open
 
 
+def test_ranged_pushes_from_python_threads_match_one_push():
+    import threading
+
+    one_push, ids, _ = street(seed=5)
+    run_street(one_push, ids, 3)
+    ranged, ids, _ = street(seed=5)
+    states = cg.entity_states(ids, START)
+    for frame in range(1, 3 * FPS + 1):
+        t = frame / FPS
+        states["position"] = START + VELOCITY * t
+        ranged.begin_push(t)
+        with pytest.raises(cg.Error):
+            ranged.step(1 / FPS)  # a push is open
+        parts = [states[0:1], states[1:3], states[3:]]
+        workers = [threading.Thread(target=ranged.push_range, args=(part,)) for part in parts]
+        for worker in workers:
+            worker.start()
+        for worker in workers:
+            worker.join()
+        with pytest.raises(cg.Error):
+            ranged.push_range(states[2:3])  # pushed already in this push
+        ranged.end_push()
+        ranged.step(1 / FPS)
+    assert ranged.read_joints().tobytes() == one_push.read_joints().tobytes()
+    assert ranged.read_gaze().tobytes() == one_push.read_gaze().tobytes()
+    with pytest.raises(cg.Error):
+        ranged.push_range(states)  # no push open
+    with pytest.raises(cg.Error):
+        ranged.end_push()
+
+
 def test_numpy_arrays_pass_without_copies():
     crowd, ids, _ = street()
     states = cg.entity_states(ids, START)

@@ -414,6 +414,7 @@ REAL_ARGUMENTS = {
     "step.dt": ("crowd.step({v})", "dt", True, True),
     "begin_step.dt": ("crowd.begin_step({v})", "dt", True, True),
     "push_frame.t": ("crowd.push_frame({v}, states)", "t", False, True),
+    "begin_push.t": ("crowd.begin_push({v})", "t", False, True),
     "set_impact.impact": ("crowd.set_impact(lamp, {v})", "impact", True, True),
     "set_viewer.impact": ("crowd.set_viewer((0, 1, 5), {v})", "impact", True, True),
     "add_character.heading": ("crowd.add_character((0, 0, 0), {v})", "heading", True, True),
@@ -658,6 +659,9 @@ def test_push_frame_refuses_what_is_not_states():
         batch.add(f"states={value}", f"crowd.push_frame(1.0, {value})", TYPE, "states")
     batch.add("states=gaze records", "crowd.push_frame(1.0, np.zeros(2, cg.GAZE_INFO_DTYPE))",
               (TYPE, VALUE), "states")
+    # push_range converts its states as push_frame does.
+    for value in ("None", "5", "'abc'", "[cg.GazeInfo()]", "np.zeros(3)"):
+        batch.add(f"push_range states={value}", f"crowd.push_range({value})", TYPE, "states")
     # Record arrays of another dtype are converted field by field, checked.
     records = {
         "id -1": ("'id', 'i8', -1", OVERFLOW),

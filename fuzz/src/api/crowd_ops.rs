@@ -11,6 +11,7 @@ use crowdgaze::ffi::crowd::{
     cg_crowd, cg_crowd_config, cg_crowd_config_init, cg_crowd_create, cg_crowd_destroy,
     cg_crowd_get_config,
 };
+use crowdgaze::ffi::frame::*;
 use crowdgaze::ffi::gaze::*;
 use crowdgaze::ffi::status::cg_status;
 use crowdgaze::ffi::types::cg_quat;

@@ -1,0 +1,253 @@
+//! Ingesting pushed entity states: checking one, and writing it into its entity's slots
+//! (velocity by finite difference, heading from motion, turn rate), from one thread or,
+//! through a [`SceneWriter`], from several at once.
+
+use std::marker::PhantomData;
+
+use glam::{DVec2, Vec2, Vec3};
+
+use super::ids::IdTable;
+use crate::error::{ensure_all_finite, ensure_finite, Result};
+use crate::math::{prefetch, wrap_angle};
+use crate::world::World;
+
+/// Below this ground speed (m/s) a heading derived from motion keeps its last value, so
+/// standing people do not spin.
+pub const MIN_SPEED_FOR_HEADING: f32 = 0.1;
+
+/// Fastest ground speed (m/s) an entity is taken to move at: a faster velocity, given or
+/// derived from a jump between two frames, keeps its direction at this speed, so that speeds
+/// and relative speeds stay finite. Far beyond what the speed subscore tells apart.
+pub const MAX_SPEED: f32 = 1e9;
+
+/// One entity's state for a frame, in metres and radians (converted from the caller's units).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EntityUpdate {
+    /// Entity id.
+    pub id: u32,
+    /// Root (ground) position, world axes, metres.
+    pub position: Vec3,
+    /// Heading (radians, counter-clockwise about up, 0 along forward); ignored when
+    /// `heading_from_motion`.
+    pub heading: f32,
+    /// Derive the heading from the velocity's direction.
+    pub heading_from_motion: bool,
+    /// The velocity (world, m/s) if the caller knows it; else a finite difference is used.
+    pub velocity: Option<Vec3>,
+}
+
+/// `displacement / elapsed` (elapsed > 0), its length limited to [`MAX_SPEED`]; in `f64`,
+/// where a jump across the whole `f32` range in a tiny time cannot overflow.
+#[inline]
+fn limited_velocity(displacement: DVec2, elapsed: f64) -> Vec2 {
+    // Common case first, exactly as below: a displacement with both components under
+    // MAX_SPEED · elapsed / 2 is shorter than MAX_SPEED · elapsed.
+    let half_most = 0.5 * f64::from(MAX_SPEED) * elapsed;
+    if displacement.x.abs() < half_most && displacement.y.abs() < half_most {
+        return (displacement / elapsed).as_vec2();
+    }
+    let distance = displacement.length();
+    let most = f64::from(MAX_SPEED) * elapsed;
+    if distance > most {
+        (displacement * (f64::from(MAX_SPEED) / distance)).as_vec2()
+    } else {
+        (displacement / elapsed).as_vec2()
+    }
+}
+
+/// The turn from heading `from` to heading `to` (both wrapped), in [−π, π).
+#[inline]
+fn turn(from: f32, to: f32) -> f32 {
+    use std::f32::consts::{PI, TAU};
+    let shifted = to - from + PI;
+    // `rem_euclid` returns an operand in [0, 2π) unchanged: skip its `fmod` for the usual
+    // turn, with the same bits.
+    let within = if (0.0..TAU).contains(&shifted) {
+        shifted
+    } else {
+        shifted.rem_euclid(TAU)
+    };
+    within - PI
+}
+
+/// Checks one update against `ids` without changing anything (the id is live, the values
+/// finite) and returns its entity's index.
+pub(super) fn check(ids: &IdTable, update: &EntityUpdate) -> Result<usize> {
+    let (_, index) = ids.find(update.id)?;
+    ensure_all_finite(&update.position.to_array(), "position")?;
+    ensure_finite(update.heading, "heading")?;
+    if let Some(velocity) = update.velocity {
+        ensure_all_finite(&velocity.to_array(), "velocity")?;
+    }
+    Ok(index as usize)
+}
+
+/// Writes pushed states into a scene's entities, from any number of threads at once as
+/// long as no two write the same entity (the crowd's ranged push claims each entity
+/// first). Holds the scene's per-entity arrays for its lifetime; reads only the slots it
+/// writes and the id table.
+#[derive(Debug, Clone, Copy)]
+pub struct SceneWriter<'a> {
+    world: World,
+    ids: &'a IdTable,
+    len: usize,
+    position: *mut Vec3,
+    ground: *mut Vec2,
+    heading: *mut f32,
+    forward: *mut Vec2,
+    velocity: *mut Vec2,
+    turn_rate: *mut f32,
+    last_time: *mut f64,
+    _arrays: PhantomData<&'a mut [Vec3]>,
+}
+
+// SAFETY: the pointers are the scene's arrays, borrowed mutably for 'a; `apply_at`'s
+// contract keeps two threads from touching one entity's slots.
+unsafe impl Send for SceneWriter<'_> {}
+// SAFETY: as above.
+unsafe impl Sync for SceneWriter<'_> {}
+
+/// The per-entity arrays a pushed state writes, for [`SceneWriter::new`].
+pub(super) struct PushedArrays<'a> {
+    pub position: &'a mut [Vec3],
+    pub ground: &'a mut [Vec2],
+    pub heading: &'a mut [f32],
+    pub forward: &'a mut [Vec2],
+    pub velocity: &'a mut [Vec2],
+    pub turn_rate: &'a mut [f32],
+    pub last_time: &'a mut [f64],
+}
+
+impl<'a> SceneWriter<'a> {
+    /// A writer into a scene's arrays (all as long as its entities) with its id table.
+    pub(super) fn new(world: World, ids: &'a IdTable, arrays: PushedArrays<'a>) -> Self {
+        let len = arrays.position.len();
+        assert!(
+            [
+                arrays.ground.len(),
+                arrays.heading.len(),
+                arrays.forward.len(),
+                arrays.velocity.len(),
+                arrays.turn_rate.len(),
+                arrays.last_time.len()
+            ]
+            .iter()
+            .all(|&other| other == len),
+            "a scene's entity arrays differ in length"
+        );
+        SceneWriter {
+            world,
+            ids,
+            len,
+            position: arrays.position.as_mut_ptr(),
+            ground: arrays.ground.as_mut_ptr(),
+            heading: arrays.heading.as_mut_ptr(),
+            forward: arrays.forward.as_mut_ptr(),
+            velocity: arrays.velocity.as_mut_ptr(),
+            turn_rate: arrays.turn_rate.as_mut_ptr(),
+            last_time: arrays.last_time.as_mut_ptr(),
+            _arrays: PhantomData,
+        }
+    }
+}
+
+impl SceneWriter<'_> {
+    /// The scene's world conventions.
+    pub fn world(&self) -> World {
+        self.world
+    }
+
+    /// Number of entities.
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    /// True if the scene has no entities.
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// Checks one update without changing anything (the id is live, the values finite)
+    /// and returns its entity's index, for [`apply_at`](Self::apply_at).
+    pub fn check(&self, update: &EntityUpdate) -> Result<usize> {
+        check(self.ids, update)
+    }
+
+    /// The entity index of a live id, if any.
+    pub fn index_of(&self, id: u32) -> Option<usize> {
+        self.ids.lookup(id).map(|(_, index)| index as usize)
+    }
+
+    /// Asks the processor for the slots that [`apply_at`](Self::apply_at) on entity
+    /// `index` reads and writes. Only a hint: any `index` is harmless.
+    #[inline(always)]
+    pub fn prefetch(&self, index: usize) {
+        if index < self.len {
+            prefetch(self.position.wrapping_add(index));
+            prefetch(self.ground.wrapping_add(index));
+            prefetch(self.heading.wrapping_add(index));
+            prefetch(self.forward.wrapping_add(index));
+            prefetch(self.velocity.wrapping_add(index));
+            prefetch(self.turn_rate.wrapping_add(index));
+            prefetch(self.last_time.wrapping_add(index));
+        }
+    }
+
+    /// Writes `update`, taken at `time` (seconds), into entity `index`: its position and
+    /// ground position; its velocity as given or from the difference with its previous
+    /// sample (limited to [`MAX_SPEED`]); its heading as given or from the velocity's
+    /// direction (kept below [`MIN_SPEED_FOR_HEADING`]), wrapped; its turn rate from the
+    /// previous heading.
+    ///
+    /// # Safety
+    /// `index` must be below [`len`](Self::len), the index of `update.id` (from
+    /// [`check`](Self::check)), and no other thread may read or write entity `index`'s
+    /// slots during the call.
+    #[inline]
+    pub unsafe fn apply_at(&self, index: usize, time: f64, update: &EntityUpdate) {
+        debug_assert!(index < self.len);
+        // SAFETY: index < len (contract): every pointer below is in bounds, and no other
+        // thread touches these slots meanwhile.
+        let (position, ground_slot, heading_slot, forward, velocity_slot, turn_rate, last_time) = unsafe {
+            (
+                &mut *self.position.add(index),
+                &mut *self.ground.add(index),
+                &mut *self.heading.add(index),
+                &mut *self.forward.add(index),
+                &mut *self.velocity.add(index),
+                &mut *self.turn_rate.add(index),
+                &mut *self.last_time.add(index),
+            )
+        };
+        let ground = self.world.ground(update.position);
+        let elapsed = time - *last_time;
+        let velocity = match update.velocity {
+            Some(velocity) => limited_velocity(self.world.ground(velocity).as_dvec2(), 1.0),
+            None if elapsed > 0.0 && elapsed.is_finite() => {
+                limited_velocity(ground.as_dvec2() - ground_slot.as_dvec2(), elapsed)
+            }
+            None => *velocity_slot,
+        };
+        let heading = if update.heading_from_motion {
+            if velocity.length() >= MIN_SPEED_FOR_HEADING {
+                velocity.y.atan2(velocity.x)
+            } else {
+                *heading_slot
+            }
+        } else {
+            update.heading
+        };
+        // Stored headings are wrapped: the turn is taken between wrapped ones (an in-range
+        // heading is its own wrap, bit for bit).
+        let wrapped = wrap_angle(heading);
+        if elapsed > 0.0 && elapsed.is_finite() {
+            *turn_rate = turn(*heading_slot, wrapped) / elapsed as f32;
+        }
+        *position = update.position;
+        *ground_slot = ground;
+        *velocity_slot = velocity;
+        *heading_slot = wrapped;
+        *forward = Vec2::from_angle(heading);
+        *last_time = time;
+    }
+}
