@@ -6,8 +6,10 @@
 //! `max_characters` and `threads`), at 1 000, 10 000 and 100 000 characters on 1 and 2
 //! threads: the whole frame (`frame_{t}t`), each call alone (`push_`, `step_`,
 //! `read_gaze_`, `read_joints_`, `read_eyes_{t}t`), and, to choose `reorder_period`'s
-//! default by the whole frame, the whole frame with `reorder_period = 0`
-//! (`frame_noreorder_{t}t`) and its push and reads on 1 thread (`push_noreorder_1t`, ...).
+//! default by the whole frame, the whole frame with the storage reordered every 32 steps
+//! (`frame_reorder32_{t}t`) and its push and reads on 1 thread (`push_reorder32_1t`, ...).
+//! On 2 threads it also times the push split in two parts pushed from two threads
+//! (`cg_crowd_begin_push`, `cg_crowd_push_range`, `cg_crowd_end_push`: `push_ranged_2t`).
 //!
 //! Moving the walkers and writing their `cg_entity_state`s (the engine's own work) happens
 //! before each timed frame and is not timed; nothing is allocated per frame. Each part is
@@ -25,15 +27,21 @@ use crowdgaze::ffi::attention::{
     cg_entity_state, cg_entity_state_init, cg_gaze_info, CG_STATE_HAS_VELOCITY,
     CG_STATE_HEADING_FROM_MOTION,
 };
+use crowdgaze::ffi::crowd::cg_crowd;
 use crowdgaze::ffi::crowd::{cg_crowd_config, cg_crowd_config_init};
-use crowdgaze::ffi::frame::{cg_crowd_push_frame, cg_crowd_step};
+use crowdgaze::ffi::frame::{
+    cg_crowd_begin_push, cg_crowd_end_push, cg_crowd_push_frame, cg_crowd_push_range, cg_crowd_step,
+};
 use crowdgaze::ffi::gaze::{
     cg_crowd_joint_total, cg_crowd_read_eyes, cg_crowd_read_joints, cg_eye_info,
 };
+use crowdgaze::ffi::status::cg_status;
 use crowdgaze::ffi::types::cg_quat;
 use crowdgaze::scenario::Scenario;
 use crowdgaze::{CrowdConfig, World};
 use std::hint::black_box;
+use std::sync::mpsc;
+use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 // The integration tests' C API helpers: `init` (a versioned struct through its `_init`),
@@ -45,6 +53,51 @@ use c_api::{check as ok, init, CrowdHandle};
 const DENSITY: f32 = 0.25;
 const DT: f32 = 1.0 / 30.0;
 const WARM_UP_FRAMES: u32 = 40;
+
+/// A second engine thread (as a job system's worker) that pushes a part of a frame on
+/// request: a crowd, its states and their count, as addresses.
+struct Helper {
+    jobs: Option<mpsc::Sender<(usize, usize, usize)>>,
+    done: mpsc::Receiver<cg_status>,
+    thread: Option<JoinHandle<()>>,
+}
+
+impl Helper {
+    fn new() -> Helper {
+        let (jobs, requests) = mpsc::channel::<(usize, usize, usize)>();
+        let (report, done) = mpsc::channel();
+        let thread = std::thread::spawn(move || {
+            for (crowd, states, count) in requests {
+                // SAFETY: the requester keeps the crowd and the states alive, unmoved, and
+                // only pushes ranges of the open push until this range is reported done.
+                let status = unsafe {
+                    cg_crowd_push_range(
+                        crowd as *mut cg_crowd,
+                        states as *const cg_entity_state,
+                        count,
+                    )
+                };
+                if report.send(status).is_err() {
+                    break;
+                }
+            }
+        });
+        Helper {
+            jobs: Some(jobs),
+            done,
+            thread: Some(thread),
+        }
+    }
+}
+
+impl Drop for Helper {
+    fn drop(&mut self) {
+        self.jobs = None;
+        if let Some(thread) = self.thread.take() {
+            thread.join().expect("the helper thread ends");
+        }
+    }
+}
 
 /// An engine's side of the frame: a crowd created through the C API, the scenario that
 /// moves its characters, and the caller's buffers, all allocated before the first frame.
@@ -58,16 +111,19 @@ struct Engine {
     gaze: Vec<cg_gaze_info>,
     joints: Vec<cg_quat>,
     eyes: Vec<cg_eye_info>,
+    /// The second thread of the ranged push, once started.
+    helper: Option<Helper>,
 }
 
 impl Engine {
-    /// A plaza of `characters` walkers in a crowd of `threads` threads, after the warm-up.
+    /// A plaza of `characters` walkers in a crowd of `threads` threads (its storage
+    /// reordered every 32 steps if `reorder`), after the warm-up.
     fn new(characters: usize, threads: u32, reorder: bool) -> Engine {
         let mut config: cg_crowd_config = init(cg_crowd_config_init);
         config.max_characters = characters as u32;
         config.threads = threads;
-        if !reorder {
-            config.reorder_period = 0;
+        if reorder {
+            config.reorder_period = 32;
         }
         let crowd = CrowdHandle::new(&config);
         let scenario = Scenario::plaza(characters, DENSITY, 7);
@@ -103,6 +159,7 @@ impl Engine {
             gaze: vec![cg_gaze_info::default(); characters],
             joints: vec![cg_quat::IDENTITY; joint_total],
             eyes: vec![cg_eye_info::default(); characters],
+            helper: None,
         };
         for _ in 0..WARM_UP_FRAMES {
             engine.next_states();
@@ -133,6 +190,35 @@ impl Engine {
             unsafe { cg_crowd_push_frame(self.crowd.as_mut(), time, states, count) },
             "push_frame",
         );
+    }
+
+    /// The push in two parts: the second on the helper thread, the first on this one.
+    fn push_ranged(&mut self) {
+        let time = f64::from(self.frame) * f64::from(DT);
+        let helper = self.helper.get_or_insert_with(Helper::new);
+        let crowd = self.crowd.as_mut();
+        let half = self.states.len() / 2;
+        // SAFETY: a live crowd, no other call on it meanwhile.
+        ok(unsafe { cg_crowd_begin_push(crowd, time) }, "begin_push");
+        let second = &self.states[half..];
+        let job = (crowd as usize, second.as_ptr() as usize, second.len());
+        helper
+            .jobs
+            .as_ref()
+            .expect("jobs")
+            .send(job)
+            .expect("helper");
+        // SAFETY: a live crowd with a push open; `states` holds `half` initialised states.
+        ok(
+            unsafe { cg_crowd_push_range(crowd, self.states.as_ptr(), half) },
+            "push_range",
+        );
+        ok(
+            helper.done.recv().expect("helper"),
+            "push_range on the helper",
+        );
+        // SAFETY: a live crowd; both ranges have returned.
+        ok(unsafe { cg_crowd_end_push(crowd) }, "end_push");
     }
 
     fn step(&mut self) {
@@ -220,7 +306,7 @@ fn frame(c: &mut Criterion) {
         group.throughput(Throughput::Elements(characters as u64));
         for threads in [1, 2] {
             let name = |part: &str| BenchmarkId::new(format!("{part}_{threads}t"), characters);
-            let mut engine = Engine::new(characters, threads, true);
+            let mut engine = Engine::new(characters, threads, false);
             group.bench_function(name("frame"), |b| {
                 b.iter_custom(|iterations| {
                     engine.frames(iterations, Engine::next_states, Engine::whole_frame)
@@ -231,6 +317,13 @@ fn frame(c: &mut Criterion) {
                     engine.frames(iterations, Engine::next_states, Engine::push)
                 })
             });
+            if threads == 2 {
+                group.bench_function(name("push_ranged"), |b| {
+                    b.iter_custom(|iterations| {
+                        engine.frames(iterations, Engine::next_states, Engine::push_ranged)
+                    })
+                });
+            }
             group.bench_function(name("step"), |b| {
                 b.iter_custom(|iterations| {
                     // As in the engine's frame: the previous step's outputs are read, so
@@ -269,9 +362,9 @@ fn frame(c: &mut Criterion) {
             group.bench_function(name("read_eyes"), |b| b.iter(|| engine.read_eyes()));
             drop(engine);
 
-            // The same frame with the storage never reordered (`reorder_period = 0`).
-            let mut engine = Engine::new(characters, threads, false);
-            group.bench_function(name("frame_noreorder"), |b| {
+            // The same frame with the storage reordered every 32 steps.
+            let mut engine = Engine::new(characters, threads, true);
+            group.bench_function(name("frame_reorder32"), |b| {
                 b.iter_custom(|iterations| {
                     engine.frames(iterations, Engine::next_states, Engine::whole_frame)
                 })
@@ -279,18 +372,18 @@ fn frame(c: &mut Criterion) {
             if threads == 1 {
                 engine.next_states();
                 engine.whole_frame();
-                group.bench_function(name("push_noreorder"), |b| {
+                group.bench_function(name("push_reorder32"), |b| {
                     b.iter_custom(|iterations| {
                         engine.frames(iterations, Engine::next_states, Engine::push)
                     })
                 });
-                group.bench_function(name("read_gaze_noreorder"), |b| {
+                group.bench_function(name("read_gaze_reorder32"), |b| {
                     b.iter(|| engine.read_gaze())
                 });
-                group.bench_function(name("read_joints_noreorder"), |b| {
+                group.bench_function(name("read_joints_reorder32"), |b| {
                     b.iter(|| engine.read_joints())
                 });
-                group.bench_function(name("read_eyes_noreorder"), |b| {
+                group.bench_function(name("read_eyes_reorder32"), |b| {
                     b.iter(|| engine.read_eyes())
                 });
             }

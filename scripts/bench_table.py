@@ -89,10 +89,10 @@ def main():
     print("Engine frame through the C API (ns per character-frame, criterion medians)")
     print()
     print("| characters | threads | push_frame | step | read_gaze | read_joints | read_eyes "
-          "| whole frame | whole frame, reorder_period = 0 |")
+          "| whole frame | whole frame, reorder_period = 32 |")
     print("|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
     parts = ["push", "step", "read_gaze", "read_joints", "read_eyes", "frame",
-             "frame_noreorder"]
+             "frame_reorder32"]
     for characters in ["1000", "10000", "100000"]:
         for threads in ["1", "2"]:
             cells = [per_element("frame", f"{part}_{threads}t", characters) for part in parts]
@@ -100,15 +100,22 @@ def main():
             print(f"| {int(characters):,} | {threads} | "
                   + " | ".join(show(cell, 1) for cell in ns) + " |")
     print()
-    for characters in ["1000", "10000", "100000"]:
-        read = per_element("frame", "step_1t", characters)
-        unread = per_element("frame", "step_unread_1t", characters)
-        if read is not None and unread is not None:
-            print(f"- Step, 1 thread, {int(characters):,} characters: "
-                  f"{unread * 1000.0:.1f} ns when nobody reads its outputs, "
-                  f"{read * 1000.0:.1f} ns when they are read and it publishes them "
-                  f"({ratio(read, unread)}).")
-
+    # Two benchmarks of the same frame compared, one line per crowd size.
+    pairs = [
+        ("push_1t", "push_ranged_2t", "Push, {n} characters: {a:.1f} ns in one "
+         "cg_crowd_push_frame, {b:.1f} ns in two parts pushed from two threads ({r})."),
+        ("step_unread_1t", "step_1t", "Step, 1 thread, {n} characters: {a:.1f} ns when "
+         "nobody reads its outputs, {b:.1f} ns when they are read and it publishes them "
+         "({r})."),
+    ]
+    for first, second, line in pairs:
+        for characters in ["1000", "10000", "100000"]:
+            a = per_element("frame", first, characters)
+            b = per_element("frame", second, characters)
+            if a is not None and b is not None:
+                r = ratio(a, b) if first == "push_1t" else ratio(b, a)
+                print("- " + line.format(n=f"{int(characters):,}", a=a * 1000.0,
+                                         b=b * 1000.0, r=r))
 
 if __name__ == "__main__":
     main()

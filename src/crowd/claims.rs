@@ -82,6 +82,23 @@ impl ClaimSet {
         self.words[index / 64].fetch_and(!(1 << (index % 64)), Ordering::AcqRel);
     }
 
+    /// [`claim_one`](Self::claim_one) for a caller with the set to itself: no atomic
+    /// operation.
+    #[inline]
+    pub fn claim_one_alone(&mut self, index: usize) -> bool {
+        let bit = 1 << (index % 64);
+        let word = self.words[index / 64].get_mut();
+        let free = *word & bit == 0;
+        *word |= bit;
+        free
+    }
+
+    /// [`release_one`](Self::release_one) for a caller with the set to itself.
+    #[inline]
+    pub fn release_one_alone(&mut self, index: usize) {
+        *self.words[index / 64].get_mut() &= !(1 << (index % 64));
+    }
+
     /// The first run of unclaimed characters at or after `from`, below `count`.
     pub fn next_unclaimed(&mut self, from: usize, count: usize) -> Option<(usize, usize)> {
         let taken = |index: usize, words: &mut [AtomicU64]| {
@@ -131,6 +148,10 @@ mod tests {
         assert_eq!(claims.next_unclaimed(65, 130), Some((65, 129)));
         claims.release_one(64);
         assert!(claims.claim_one(64), "released");
+        assert!(!claims.claim_one_alone(129), "taken");
+        assert!(claims.claim_one_alone(3));
+        claims.release_one_alone(3);
+        assert!(claims.claim_one(3), "released alone");
     }
 
     #[test]

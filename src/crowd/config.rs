@@ -63,10 +63,13 @@ pub struct CrowdConfig {
     /// starts `n - 1` worker threads with the crowd, which share each step with the
     /// caller; 0 picks one per available core. At most 64. Results do not depend on it.
     pub threads: u32,
-    /// Every `reorder_period` steps (default 32; 0: never) the crowd stores its entities and
+    /// Every `reorder_period` steps (default 0: never) the crowd stores its entities and
     /// characters again in the spatial grid's order, so that neighbours in space are
-    /// neighbours in memory and a step reads its state in order (see [`Crowd`](super::Crowd)). Results
-    /// and the character order readers see do not depend on it.
+    /// neighbours in memory and a step reads its state in order (see
+    /// [`Crowd`](super::Crowd)). That speeds the step of a large crowd created in random
+    /// places, but pushes and reads in the engine's order then scatter: the engine's whole
+    /// frame is faster without it (docs/performance.md), hence the default. Results and the
+    /// character order readers see do not depend on it.
     pub reorder_period: u32,
 }
 
@@ -88,7 +91,7 @@ impl Default for CrowdConfig {
             lod_distance: 0.0,
             far_attention_period: 4,
             threads: 1,
-            reorder_period: 32,
+            reorder_period: 0,
         }
     }
 }

@@ -9,6 +9,10 @@ use crate::scene::{EntityUpdate, SceneWriter};
 /// How many states ahead a push asks the processor for the entity slots it will write.
 const PREFETCH_AHEAD: usize = 8;
 
+/// How far past the previous state's entity a state's may be stored and still be left to
+/// the processor's prefetcher (a few cache lines of the widest slot array).
+const NEARBY: u32 = 16;
+
 impl Crowd {
     /// Time of the last pushed frame (−∞ before the first).
     pub fn time(&self) -> f64 {
@@ -38,38 +42,62 @@ impl Crowd {
         self.check_frame_time(time)?;
         self.ensure_online("push a frame")?;
         // Check every state first, noting its entity's index while there is room (between
-        // steps the grid order's buffer is free, and holds an index per entity).
+        // steps the grid order's buffer is free, and holds an index per entity), and
+        // whether an entity comes twice (flagged in the push claims, free outside a ranged
+        // push).
         let staged = &mut self.grid_order;
         staged.clear();
         let stage = count <= staged.capacity();
+        let mut distinct = stage;
+        let mut checked = Ok(());
         for i in 0..count {
-            let index = self.shared.scene.check_update(&state(i)?)?;
-            if stage {
-                staged.push(index as u32);
+            match state(i).and_then(|update| Ok(self.shared.scene.check_update(&update)?)) {
+                Ok(index) if stage => {
+                    staged.push(index as u32);
+                    distinct &= self.pushed.claim_one_alone(index);
+                }
+                Ok(_) => {}
+                Err(error) => {
+                    checked = Err(error);
+                    break;
+                }
             }
         }
+        for &index in staged.iter() {
+            self.pushed.release_one_alone(index as usize);
+        }
+        checked?;
         if self.shared.recording.is_enabled() {
             self.shared
                 .recording
                 .record_with(time, count, |i| state(i).ok())?;
         }
         let shared = &mut *self.shared;
-        if stage {
-            let writer = shared.scene.writer();
-            for (i, &index) in staged.iter().enumerate() {
-                if let Some(&ahead) = staged.get(i + PREFETCH_AHEAD) {
-                    writer.prefetch(ahead as usize);
+        let writer = shared.scene.writer();
+        if distinct {
+            let update = |i: usize| {
+                // Ask for the slots of an entity ahead unless it follows the one before
+                // (then the processor's own prefetcher streams them, and asking slows it).
+                let ahead = i + PREFETCH_AHEAD;
+                if let (Some(&before), Some(&next)) = (staged.get(ahead - 1), staged.get(ahead)) {
+                    if next.wrapping_sub(before) > NEARBY {
+                        writer.prefetch(next as usize);
+                    }
                 }
-                if let Ok(update) = state(i) {
-                    // SAFETY: `check_update` returned `index` for this state's id, so it is
-                    // in range; `&mut self` keeps every other access out.
-                    unsafe { writer.apply_at(index as usize, time, &update) };
-                }
-            }
+                Some((staged[i] as usize, state(i).ok()?))
+            };
+            // SAFETY: `check_update` returned each index for its state's id, so they are
+            // in range, and no two alike; `&mut self` keeps every other access out.
+            unsafe { writer.apply_distinct(time, count, update) };
         } else {
+            // In order, one after the other: an entity listed twice takes both states.
             for i in 0..count {
                 if let Ok(update) = state(i) {
-                    shared.scene.apply_one(time, &update);
+                    if let Some(index) = writer.index_of(update.id) {
+                        // SAFETY: the index of a live id is in range; `&mut self` keeps
+                        // every other access out.
+                        unsafe { writer.apply_at(index, time, &update) };
+                    }
                 }
             }
         }
@@ -221,16 +249,13 @@ impl PushRanges<'_> {
             }
             return Err(error);
         }
-        for i in 0..count {
-            if let Some((index, update)) = state(i)
-                .ok()
-                .and_then(|update| Some((self.writer.index_of(update.id)?, update)))
-            {
-                // SAFETY: the index of a live id is in range, and this call claimed the
-                // entity above: no other thread writes it in this push.
-                unsafe { self.writer.apply_at(index, self.time, &update) };
-            }
-        }
+        let update = |i: usize| {
+            let update = state(i).ok()?;
+            Some((self.writer.index_of(update.id)?, update))
+        };
+        // SAFETY: the index of a live id is in range, and this call claimed each entity
+        // above: they are distinct, and no other thread writes them in this push.
+        unsafe { self.writer.apply_distinct(self.time, count, update) };
         Ok(())
     }
 }

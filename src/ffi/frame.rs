@@ -155,10 +155,15 @@ pub unsafe extern "C" fn cg_crowd_push_frame(
         // SAFETY: the caller's array (contract of this function).
         let stride = unsafe { state_stride(states, count) }?;
         let world = crowd.config().world;
-        crowd.push_frame_with(t, count, |index| {
-            // SAFETY: index < count, stride-sized elements checked above.
-            unsafe { entity_update(&world, states, stride, index) }
-        })
+        crowd.push_frame_with(
+            t,
+            count,
+            #[inline(always)]
+            |index| {
+                // SAFETY: index < count, stride-sized elements checked above.
+                unsafe { entity_update(&world, states, stride, index) }
+            },
+        )
     })
 }
 

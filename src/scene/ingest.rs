@@ -70,6 +70,17 @@ fn turn(from: f32, to: f32) -> f32 {
     within - PI
 }
 
+/// An entity's motion from a pushed state and its previous sample, before it is written.
+#[derive(Debug, Clone, Copy)]
+struct Motion {
+    ground: Vec2,
+    velocity: Vec2,
+    /// The heading as given or from the velocity, not yet wrapped.
+    heading: f32,
+    /// Seconds since the entity's previous sample.
+    elapsed: f64,
+}
+
 /// Checks one update against `ids` without changing anything (the id is live, the values
 /// finite) and returns its entity's index.
 pub(super) fn check(ids: &IdTable, update: &EntityUpdate) -> Result<usize> {
@@ -205,10 +216,101 @@ impl SceneWriter<'_> {
     /// slots during the call.
     #[inline]
     pub unsafe fn apply_at(&self, index: usize, time: f64, update: &EntityUpdate) {
+        // SAFETY: forwarded contract.
+        unsafe {
+            let motion = self.motion_at(index, time, update);
+            self.write_at(index, time, update, &motion);
+        }
+    }
+
+    /// [`apply_at`](Self::apply_at) for `count` updates of distinct entities, `update(k)`
+    /// giving the k-th one's entity index and state (or `None` to skip it). The same
+    /// writes, in blocks: each block's motions first, then its writes, so that the
+    /// processor overlaps one entity's trigonometry with the next one's.
+    ///
+    /// # Safety
+    /// Every index must be below [`len`](Self::len) and the index of its update's id, no
+    /// two alike, and no other thread may read or write these entities' slots meanwhile.
+    #[inline]
+    pub unsafe fn apply_distinct(
+        &self,
+        time: f64,
+        count: usize,
+        update: impl Fn(usize) -> Option<(usize, EntityUpdate)>,
+    ) {
+        const BLOCK: usize = 16;
+        let mut block = [None; BLOCK];
+        for first in (0..count).step_by(BLOCK) {
+            let end = (first + BLOCK).min(count);
+            for (slot, k) in block.iter_mut().zip(first..end) {
+                *slot = update(k).map(|(index, update)| {
+                    // SAFETY: the caller's contract; nothing is written yet, and the
+                    // entities are distinct, so no write of this block precedes its read.
+                    let motion = unsafe { self.motion_at(index, time, &update) };
+                    (index, update, motion)
+                });
+            }
+            for (index, update, motion) in block[..end - first].iter().flatten() {
+                // SAFETY: the caller's contract.
+                unsafe { self.write_at(*index, time, update, motion) };
+            }
+        }
+    }
+
+    /// What `update` makes of entity `index`'s motion, from its previous sample: the
+    /// first half of [`apply_at`](Self::apply_at). Reads the entity's slots only.
+    ///
+    /// # Safety
+    /// As [`apply_at`](Self::apply_at).
+    #[inline(always)]
+    unsafe fn motion_at(&self, index: usize, time: f64, update: &EntityUpdate) -> Motion {
         debug_assert!(index < self.len);
+        // SAFETY: index < len (contract): the pointers are in bounds, and no other thread
+        // writes these slots meanwhile.
+        let (previous_ground, previous_velocity, previous_heading, last_time) = unsafe {
+            (
+                *self.ground.add(index),
+                *self.velocity.add(index),
+                *self.heading.add(index),
+                *self.last_time.add(index),
+            )
+        };
+        let ground = self.world.ground(update.position);
+        let elapsed = time - last_time;
+        let velocity = match update.velocity {
+            Some(velocity) => limited_velocity(self.world.ground(velocity).as_dvec2(), 1.0),
+            None if elapsed > 0.0 && elapsed.is_finite() => {
+                limited_velocity(ground.as_dvec2() - previous_ground.as_dvec2(), elapsed)
+            }
+            None => previous_velocity,
+        };
+        let heading = if update.heading_from_motion {
+            if velocity.length() >= MIN_SPEED_FOR_HEADING {
+                velocity.y.atan2(velocity.x)
+            } else {
+                previous_heading
+            }
+        } else {
+            update.heading
+        };
+        Motion {
+            ground,
+            velocity,
+            heading,
+            elapsed,
+        }
+    }
+
+    /// Writes `update` and its `motion` into entity `index`: the second half of
+    /// [`apply_at`](Self::apply_at).
+    ///
+    /// # Safety
+    /// As [`apply_at`](Self::apply_at).
+    #[inline(always)]
+    unsafe fn write_at(&self, index: usize, time: f64, update: &EntityUpdate, motion: &Motion) {
         // SAFETY: index < len (contract): every pointer below is in bounds, and no other
         // thread touches these slots meanwhile.
-        let (position, ground_slot, heading_slot, forward, velocity_slot, turn_rate, last_time) = unsafe {
+        let (position, ground, heading, forward, velocity, turn_rate, last_time) = unsafe {
             (
                 &mut *self.position.add(index),
                 &mut *self.ground.add(index),
@@ -219,35 +321,17 @@ impl SceneWriter<'_> {
                 &mut *self.last_time.add(index),
             )
         };
-        let ground = self.world.ground(update.position);
-        let elapsed = time - *last_time;
-        let velocity = match update.velocity {
-            Some(velocity) => limited_velocity(self.world.ground(velocity).as_dvec2(), 1.0),
-            None if elapsed > 0.0 && elapsed.is_finite() => {
-                limited_velocity(ground.as_dvec2() - ground_slot.as_dvec2(), elapsed)
-            }
-            None => *velocity_slot,
-        };
-        let heading = if update.heading_from_motion {
-            if velocity.length() >= MIN_SPEED_FOR_HEADING {
-                velocity.y.atan2(velocity.x)
-            } else {
-                *heading_slot
-            }
-        } else {
-            update.heading
-        };
         // Stored headings are wrapped: the turn is taken between wrapped ones (an in-range
         // heading is its own wrap, bit for bit).
-        let wrapped = wrap_angle(heading);
-        if elapsed > 0.0 && elapsed.is_finite() {
-            *turn_rate = turn(*heading_slot, wrapped) / elapsed as f32;
+        let wrapped = wrap_angle(motion.heading);
+        if motion.elapsed > 0.0 && motion.elapsed.is_finite() {
+            *turn_rate = turn(*heading, wrapped) / motion.elapsed as f32;
         }
         *position = update.position;
-        *ground_slot = ground;
-        *velocity_slot = velocity;
-        *heading_slot = wrapped;
-        *forward = Vec2::from_angle(heading);
+        *ground = motion.ground;
+        *velocity = motion.velocity;
+        *heading = wrapped;
+        *forward = Vec2::from_angle(motion.heading);
         *last_time = time;
     }
 }
