@@ -84,6 +84,17 @@ def ranged():
     return crowd(6) + walk(5) + steps + reads()
 
 
+def pushes():
+    # Frames pushed in parts into a crowd without recording (the first crowd records),
+    # between ordinary frames: two parts of up to three states, ids picked by the bytes.
+    create = op("crowd_create", 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 3, 0)
+    parts = b"".join(
+        op("ranged_push", 0, 2, 3, 0, n % 6, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 3, 0, (n + 1) % 6) + walk(1)
+        for n in range(20)
+    )
+    return create + crowd(6) + walk(3) + parts + reads()
+
+
 def blender(dib):
     config = op("blender_create", 0, 1, 2, 0, 0, 0, dib, 0, 0)
     # A rigid transform: (ordinary, angle, x, y, z).
@@ -138,6 +149,7 @@ def main():
         "poses": poses(),
         "parameters": parameters(),
         "lod": lod(),
+        "pushes": pushes(),
         "ranged": ranged(),
         "blender-dlb": blender(0),
         "blender-dib": blender(1),

@@ -99,6 +99,18 @@ impl ClaimSet {
         *self.words[index / 64].get_mut() &= !(1 << (index % 64));
     }
 
+    /// Clears the flags `indices` took with [`claim_one_alone`](Self::claim_one_alone):
+    /// one by one when they are few, else every flag at once.
+    pub fn release_alone(&mut self, indices: &[u32]) {
+        if indices.len() > self.words.len() / 4 {
+            self.clear();
+        } else {
+            for &index in indices {
+                self.release_one_alone(index as usize);
+            }
+        }
+    }
+
     /// The first run of unclaimed characters at or after `from`, below `count`.
     pub fn next_unclaimed(&mut self, from: usize, count: usize) -> Option<(usize, usize)> {
         let taken = |index: usize, words: &mut [AtomicU64]| {
@@ -152,6 +164,22 @@ mod tests {
         assert!(claims.claim_one_alone(3));
         claims.release_one_alone(3);
         assert!(claims.claim_one(3), "released alone");
+        let mut many = ClaimSet::new(1000, &"test").unwrap();
+        for index in [3, 64, 999] {
+            assert!(many.claim_one_alone(index));
+        }
+        many.release_alone(&[3, 64]);
+        assert_eq!(
+            many.next_unclaimed(0, 1000),
+            Some((0, 999)),
+            "only 999 is left"
+        );
+        many.release_alone(&[1; 5]);
+        assert_eq!(
+            many.next_unclaimed(0, 1000),
+            Some((0, 1000)),
+            "cleared at once"
+        );
     }
 
     #[test]

@@ -63,9 +63,7 @@ impl Crowd {
                 }
             }
         }
-        for &index in staged.iter() {
-            self.pushed.release_one_alone(index as usize);
-        }
+        self.pushed.release_alone(staged);
         checked?;
         if self.shared.recording.is_enabled() {
             self.shared

@@ -55,6 +55,21 @@ fn limited_velocity(displacement: DVec2, elapsed: f64) -> Vec2 {
     }
 }
 
+/// `velocity.length() >= MIN_SPEED_FOR_HEADING`, with the same result, skipping the square
+/// root unless the squared speed is within 1 % of the threshold's square.
+#[inline(always)]
+fn fast_enough_for_heading(velocity: Vec2) -> bool {
+    const SQUARE: f32 = MIN_SPEED_FOR_HEADING * MIN_SPEED_FOR_HEADING;
+    let squared = velocity.length_squared();
+    if squared > SQUARE * 1.01 {
+        true
+    } else if squared < SQUARE * 0.99 {
+        false
+    } else {
+        velocity.length() >= MIN_SPEED_FOR_HEADING
+    }
+}
+
 /// The turn from heading `from` to heading `to` (both wrapped), in [−π, π).
 #[inline]
 fn turn(from: f32, to: f32) -> f32 {
@@ -285,7 +300,7 @@ impl SceneWriter<'_> {
             None => previous_velocity,
         };
         let heading = if update.heading_from_motion {
-            if velocity.length() >= MIN_SPEED_FOR_HEADING {
+            if fast_enough_for_heading(velocity) {
                 velocity.y.atan2(velocity.x)
             } else {
                 previous_heading
@@ -333,5 +348,47 @@ impl SceneWriter<'_> {
         *heading = wrapped;
         *forward = Vec2::from_angle(motion.heading);
         *last_time = time;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shortcuts_give_the_bits_of_the_full_formulas() {
+        use std::f32::consts::{PI, TAU};
+        // The speed test around its threshold, and far from it.
+        let mut speed = 0.09f32;
+        while speed < 0.11 {
+            for angle in [0.0f32, 0.7, 2.0, -1.3] {
+                let velocity = Vec2::from_angle(angle) * speed;
+                assert_eq!(
+                    fast_enough_for_heading(velocity),
+                    velocity.length() >= MIN_SPEED_FOR_HEADING,
+                    "{velocity}"
+                );
+            }
+            speed = speed.next_up();
+        }
+        for velocity in [Vec2::ZERO, Vec2::new(3.0, -4.0), Vec2::new(1e-20, 0.0)] {
+            assert_eq!(
+                fast_enough_for_heading(velocity),
+                velocity.length() >= MIN_SPEED_FOR_HEADING
+            );
+        }
+        // The turn between wrapped headings, against rem_euclid itself.
+        let headings = [-PI, -3.0, -1.0, -1e-7, 0.0, 1e-7, 0.5, 3.0, PI.next_down()];
+        for from in headings {
+            for to in headings {
+                let full = (to - from + PI).rem_euclid(TAU) - PI;
+                assert_eq!(turn(from, to).to_bits(), full.to_bits(), "{from} -> {to}");
+            }
+        }
+        // A displacement over the speed limit keeps its direction; under it, it divides.
+        let fast = limited_velocity(DVec2::new(3e9, 4e9), 1.0);
+        assert!((fast.length() - MAX_SPEED).abs() < 1e3 && fast.x > 0.0);
+        let slow = DVec2::new(0.3, -0.4);
+        assert_eq!(limited_velocity(slow, 0.5), (slow / 0.5).as_vec2());
     }
 }

@@ -256,10 +256,11 @@ pub fn remove_entity(state: &mut State, input: &mut Input) {
     }
 }
 
-pub fn push_frame(state: &mut State, input: &mut Input) {
+/// Up to six fuzzed entity states: ids, flags, struct sizes and values, any of them bad.
+fn fuzzed_states(state: &mut State, input: &mut Input) -> Vec<cg_entity_state> {
     let count = input.count(6);
     let size = input.struct_size(size_of::<cg_entity_state>());
-    let states: Vec<cg_entity_state> = (0..count)
+    (0..count)
         .map(|_| {
             let mut entity: cg_entity_state =
                 init(state, "cg_entity_state_init", cg_entity_state_init);
@@ -271,20 +272,59 @@ pub fn push_frame(state: &mut State, input: &mut Input) {
             entity.velocity = vec3(input);
             entity
         })
-        .collect();
-    let t = match input.below(16) {
+        .collect()
+}
+
+/// A frame time: the next frame's mostly; the same, earlier, later or not finite.
+fn fuzzed_time(state: &State, input: &mut Input) -> f64 {
+    match input.below(16) {
         12 => state.time,
         13 => state.time - 1.0,
         14 => state.time + f64::from(input.float()),
         15 => [f64::NAN, f64::INFINITY, 1.0e300][input.below(3) as usize],
         _ => state.time + 1.0 / 30.0,
-    };
+    }
+}
+
+pub fn push_frame(state: &mut State, input: &mut Input) {
+    let states = fuzzed_states(state, input);
+    let count = states.len();
+    let t = fuzzed_time(state, input);
     let crowd = state.crowd(input);
     let pointer = array_pointer(&states, input);
     let status = state.change("cg_crowd_push_frame", unsafe {
         cg_crowd_push_frame(crowd, t, pointer, count)
     });
     if status == cg_status::Ok {
+        state.time = t;
+    }
+}
+
+/// A push in parts: `cg_crowd_begin_push`, up to four `cg_crowd_push_range` calls with
+/// fuzzed states (entities pushed twice, bad values, before a begin that failed), then
+/// `cg_crowd_end_push` (on a fuzzed handle, then on the real one, so that the push is
+/// closed whatever happened). Nothing else runs while the push is open.
+pub fn ranged_push(state: &mut State, input: &mut Input) {
+    let t = fuzzed_time(state, input);
+    let crowd = state.crowd(input);
+    let begun = state.change("cg_crowd_begin_push", unsafe {
+        cg_crowd_begin_push(crowd, t)
+    });
+    for _ in 0..input.below(5) {
+        let states = fuzzed_states(state, input);
+        let count = states.len();
+        let crowd = state.crowd(input);
+        let pointer = array_pointer(&states, input);
+        state.change("cg_crowd_push_range", unsafe {
+            cg_crowd_push_range(crowd, pointer, count)
+        });
+    }
+    let crowd = state.crowd(input);
+    state.change("cg_crowd_end_push", unsafe { cg_crowd_end_push(crowd) });
+    state.change("cg_crowd_end_push", unsafe {
+        cg_crowd_end_push(state.crowd)
+    });
+    if begun == cg_status::Ok {
         state.time = t;
     }
 }

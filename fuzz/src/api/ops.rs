@@ -56,6 +56,7 @@ pub const OPS: &[Op] = &[
     ("camera_center", blend_ops::camera_center),
     ("messages", messages),
     ("ranged_step", crowd_ops::ranged_step),
+    ("ranged_push", crowd_ops::ranged_push),
 ];
 
 /// The functions that return no status: the last error message into a buffer of any
