@@ -74,7 +74,8 @@ use tables::{Chains, Characters};
 ///
 /// Not safe for concurrent mutation; shared (`&Crowd`) reads may run concurrently. A step
 /// may be split into ranges of characters run on several threads: see
-/// [`begin_step`](Self::begin_step).
+/// [`begin_step`](Self::begin_step); a frame's push into parts pushed from several threads:
+/// see [`begin_push`](Self::begin_push).
 ///
 /// Storage order: every [`CrowdConfig::reorder_period`] steps the crowd stores its entities
 /// and characters again in the spatial grid's order, so that neighbours in space are
