@@ -30,9 +30,9 @@ impl Crowd {
     }
 
     /// [`push_frame`](Self::push_frame) for states produced on the fly: `state(i)` for
-    /// `i < count` converts the caller's i-th state (it is called twice per state: once to
-    /// check them all, once to apply). Lets a caller hand over its own layout without a
-    /// buffer.
+    /// `i < count` converts the caller's i-th state (it is called more than once per state:
+    /// to check them all, to record them with recording on, to apply). Lets a caller hand
+    /// over its own layout without a buffer.
     pub fn push_frame_with<E: From<Error>>(
         &mut self,
         time: f64,
