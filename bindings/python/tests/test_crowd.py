@@ -212,6 +212,9 @@ def test_ranged_pushes_from_python_threads_match_one_push():
         with pytest.raises(cg.Error):
             ranged.step(1 / FPS)  # a push is open
         parts = [states[0:1], states[1:3], states[3:]]
+        # A part is a view of the frame's array, passed without a copy.
+        _keep, pointer, _ = cg._arrays.records_in(parts[1], cg.EntityState, "test", "states")
+        assert ctypes.cast(pointer, ctypes.c_void_p).value == states[1:].ctypes.data
         workers = [threading.Thread(target=ranged.push_range, args=(part,)) for part in parts]
         for worker in workers:
             worker.start()
