@@ -10,6 +10,8 @@
 //! - [`temporal`](crate::ik::temporal): [`GazeMotion`](crate::ik::GazeMotion), a character's
 //!   gaze state from frame to frame: activation time, eyes → head → spine desynchronisation,
 //!   the ease `f_P`, moving targets, restarts and deactivation.
+//! - [`eyelids`](crate::ik::eyelids): [`BlinkState`](crate::ik::BlinkState), a character's
+//!   spontaneous and gaze-evoked blinks, and upper lids that follow the eyes' pitch.
 //!
 //! Every output is a *delta* (displacement) local rotation per chain joint: the joint's final
 //! local rotation is `base * delta` (glam's product: the delta acts in the joint's own frame,
@@ -66,6 +68,7 @@
 //! ```
 
 pub mod chain;
+pub mod eyelids;
 mod lanes;
 mod rotation;
 pub mod spatial;
@@ -77,6 +80,7 @@ pub use chain::{
     ChainJoint, GazeChain, JointGroup, JointLimits, JointRole, MAX_CERVICAL_JOINTS,
     MAX_CHAIN_JOINTS, MAX_SPINE_JOINTS,
 };
+pub use eyelids::{BlinkSettings, BlinkState};
 pub use spatial::{RecruitmentBands, SpatialConfig, SpatialSolution, TurnSide};
 pub use temporal::{
     GazeConfig, GazeInput, GazeMotion, GazePhase, GazeRequest, GazeTiming, MotionStyle,

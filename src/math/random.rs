@@ -26,6 +26,8 @@ pub enum Purpose {
     Scene = 4,
     /// The stock baseline's random glances.
     Baseline = 5,
+    /// A character's blinks (rate, intervals, durations, gaze-evoked draws).
+    Blinks = 6,
 }
 
 /// The generator for `(seed, purpose, index)`.
