@@ -71,8 +71,8 @@ impl Crowd {
                 .record_with(time, count, |i| state(i).ok())?;
         }
         let shared = &mut *self.shared;
-        let writer = shared.scene.writer();
         if distinct {
+            let writer = shared.scene.writer();
             let update = |i: usize| {
                 // Ask for the slots of an entity ahead unless it follows the one before
                 // (then the processor's own prefetcher streams them, and asking slows it).
@@ -91,11 +91,7 @@ impl Crowd {
             // In order, one after the other: an entity listed twice takes both states.
             for i in 0..count {
                 if let Ok(update) = state(i) {
-                    if let Some(index) = writer.index_of(update.id) {
-                        // SAFETY: the index of a live id is in range; `&mut self` keeps
-                        // every other access out.
-                        unsafe { writer.apply_at(index, time, &update) };
-                    }
+                    shared.scene.apply_one(time, &update);
                 }
             }
         }
@@ -189,11 +185,6 @@ pub struct PushRanges<'a> {
 }
 
 impl PushRanges<'_> {
-    /// The open push's time (seconds).
-    pub fn time(&self) -> f64 {
-        self.time
-    }
-
     /// The crowd's world conventions (units, axes).
     pub fn world(&self) -> crate::world::World {
         self.writer.world()

@@ -131,7 +131,8 @@ impl Published {
         self.layout_current = false;
     }
 
-    /// Notes that a reader asked for `output` (cheap: a load, and a store the first time).
+    /// Notes that a reader asked for the output `flag` stands for (cheap: a load, and a
+    /// store the first time).
     #[inline]
     pub fn want(flag: &AtomicBool) {
         if !flag.load(Ordering::Relaxed) {

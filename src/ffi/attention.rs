@@ -339,7 +339,7 @@ pub unsafe extern "C" fn cg_entity_state_init(state: *mut cg_entity_state) -> cg
     ffi_boundary!({ init(state, "state") })
 }
 
-pub(super) fn metres(world: &World, value: cg_vec3, what: &str) -> Result<Vec3> {
+fn metres(world: &World, value: cg_vec3, what: &str) -> Result<Vec3> {
     Ok(world.to_metres(value.to_finite(what)?))
 }
 

@@ -5,11 +5,10 @@
 
 use glam::Vec3;
 
-use super::attention::{
-    cg_entity_state, metres, CG_STATE_HAS_VELOCITY, CG_STATE_HEADING_FROM_MOTION,
-};
+use super::attention::{cg_entity_state, CG_STATE_HAS_VELOCITY, CG_STATE_HEADING_FROM_MOTION};
 use super::crowd::{cg_crowd, crowd_handle, crowd_mut, test_hook, Hook};
 use super::error::{FfiError, Result};
+use super::types::cg_vec3;
 use super::{borrow_current, cg_status, ffi_boundary, read_versioned};
 use crate::error::{ensure_finite, Error};
 use crate::scene::EntityUpdate;
@@ -19,7 +18,7 @@ use crate::world::World;
 ///
 /// # Safety
 /// `states` must point to `count` elements of `stride` bytes each, `index < count`.
-#[inline]
+#[inline(always)]
 unsafe fn entity_update(
     world: &World,
     states: *const cg_entity_state,
@@ -28,84 +27,75 @@ unsafe fn entity_update(
 ) -> Result<EntityUpdate> {
     // SAFETY: index < count and each element is `stride` bytes (caller contract).
     let element = unsafe { states.cast::<u8>().add(index * stride) }.cast::<cg_entity_state>();
-    // The common case, small enough to inline into the push's loops: a state of this
-    // library's layout, known flags, finite values.
-    // SAFETY: as above; checks struct_size against this library's layout.
-    if let Some(state) = unsafe { borrow_current(element) } {
-        let velocity = state.velocity;
-        let values = [
-            state.heading,
-            state.position.x,
-            state.position.y,
-            state.position.z,
-        ];
-        let velocity_values = [velocity.x, velocity.y, velocity.z];
-        let has_velocity = state.flags & CG_STATE_HAS_VELOCITY != 0;
-        if state.struct_size as usize == stride
-            && state.flags & !KNOWN_STATE_FLAGS == 0
-            && values.iter().all(|value| value.is_finite())
-            && (!has_velocity || velocity_values.iter().all(|value| value.is_finite()))
-        {
-            return Ok(EntityUpdate {
-                id: state.id,
-                position: world.to_metres(Vec3::new(
-                    state.position.x,
-                    state.position.y,
-                    state.position.z,
-                )),
-                heading: state.heading,
-                heading_from_motion: state.flags & CG_STATE_HEADING_FROM_MOTION != 0,
-                velocity: has_velocity
-                    .then(|| world.to_metres(Vec3::new(velocity.x, velocity.y, velocity.z))),
-            });
+    let older;
+    // SAFETY: as above; both check struct_size against this library's layouts. A state of
+    // this library's layout is read in place (the push's loops read every state).
+    let state = match unsafe { borrow_current(element) } {
+        Some(state) => state,
+        None => {
+            // SAFETY: as above; an older layout is copied over the defaults.
+            older = unsafe { read_versioned(element) }?;
+            &older
         }
-    }
-    // SAFETY: forwarded contract.
-    unsafe { checked_entity_update(world, element, stride, index) }
-}
-
-/// [`entity_update`] for every other state: of an older layout, or wrong (the error says
-/// what is wrong).
-///
-/// # Safety
-/// `element` must point to the `index`-th of elements of `stride` bytes each.
-#[cold]
-#[inline(never)]
-unsafe fn checked_entity_update(
-    world: &World,
-    element: *const cg_entity_state,
-    stride: usize,
-    index: usize,
-) -> Result<EntityUpdate> {
-    // SAFETY: caller contract; read_versioned checks struct_size against this library's
-    // layouts.
-    let state = unsafe { read_versioned(element) }?;
-    if state.struct_size as usize != stride {
-        return Err(FfiError::BadStructSize(format!(
-            "states[{index}].struct_size is {}, but states[0]'s is {stride}",
-            state.struct_size
-        )));
-    }
-    ensure_finite(state.heading, "heading")?;
-    if state.flags & !KNOWN_STATE_FLAGS != 0 {
-        return Err(Error::InvalidArgument(format!(
-            "states[{index}].flags has unknown bits 0x{:x}",
-            state.flags
-        ))
-        .into());
-    }
-    let velocity = if state.flags & CG_STATE_HAS_VELOCITY != 0 {
-        Some(metres(world, state.velocity, "velocity")?)
-    } else {
-        None
     };
+    let velocity = state.velocity;
+    let has_velocity = state.flags & CG_STATE_HAS_VELOCITY != 0;
+    let values = [
+        state.heading,
+        state.position.x,
+        state.position.y,
+        state.position.z,
+    ];
+    if state.struct_size as usize != stride
+        || state.flags & !KNOWN_STATE_FLAGS != 0
+        || !values.iter().all(|value| value.is_finite())
+        || has_velocity
+            && ![velocity.x, velocity.y, velocity.z]
+                .iter()
+                .all(|v| v.is_finite())
+    {
+        return Err(state_error(state, stride, index));
+    }
+    let metres = |v: cg_vec3| world.to_metres(Vec3::new(v.x, v.y, v.z));
     Ok(EntityUpdate {
         id: state.id,
-        position: metres(world, state.position, "position")?,
+        position: metres(state.position),
         heading: state.heading,
         heading_from_motion: state.flags & CG_STATE_HEADING_FROM_MOTION != 0,
-        velocity,
+        velocity: has_velocity.then(|| metres(velocity)),
     })
+}
+
+/// What is wrong with a state [`entity_update`] refused, checked in this order: its
+/// `struct_size`, its heading, its flags, its velocity (when flagged), its position.
+#[cold]
+#[inline(never)]
+fn state_error(state: &cg_entity_state, stride: usize, index: usize) -> FfiError {
+    if state.struct_size as usize != stride {
+        return FfiError::BadStructSize(format!(
+            "states[{index}].struct_size is {}, but states[0]'s is {stride}",
+            state.struct_size
+        ));
+    }
+    let checks = || -> Result<()> {
+        ensure_finite(state.heading, "heading")?;
+        if state.flags & !KNOWN_STATE_FLAGS != 0 {
+            return Err(Error::InvalidArgument(format!(
+                "states[{index}].flags has unknown bits 0x{:x}",
+                state.flags
+            ))
+            .into());
+        }
+        if state.flags & CG_STATE_HAS_VELOCITY != 0 {
+            state.velocity.to_finite("velocity")?;
+        }
+        state.position.to_finite("position")?;
+        Ok(())
+    };
+    match checks() {
+        Err(error) => error,
+        Ok(()) => Error::Internal(format!("states[{index}] was refused, but is valid")).into(),
+    }
 }
 
 /// Every `CG_STATE_*` bit.

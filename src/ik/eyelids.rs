@@ -140,14 +140,15 @@ impl BlinkSettings {
     pub fn lid_pitch(&self, eye_pitch: f32) -> f32 {
         self.lid_gain * eye_pitch
     }
+}
 
-    /// A blink's duration and the interval to the next one (from its end), seconds, from
-    /// the character's `draws`-th blink stream.
-    fn blink_draws(&self, seed: u64, draws: u32, rate: f32) -> (f32, f32) {
-        let mut random = stream(seed, Purpose::Blinks, u64::from(draws));
-        let duration = random.range(BLINK_DURATION.0, BLINK_DURATION.1);
-        (duration, interval(&mut random, rate))
-    }
+/// The character's `draws`-th blink stream and its first draw, the blink's duration
+/// (seconds). The stream then draws the interval to the next blink (from this one's end),
+/// then the gaze-evoked decision.
+fn blink_stream(seed: u64, draws: u32) -> (Random, f32) {
+    let mut random = stream(seed, Purpose::Blinks, u64::from(draws));
+    let duration = random.range(BLINK_DURATION.0, BLINK_DURATION.1);
+    (random, duration)
 }
 
 /// A gamma-distributed interval with mean `60 / rate` seconds (infinite for a rate of 0).
@@ -207,15 +208,13 @@ impl BlinkState {
     /// (radians) of a gaze shift that starts in this frame, if one does: it may start a
     /// blink ([`BlinkSettings::evoked_probability_at`]) unless one is under way.
     pub fn advance(&mut self, settings: &BlinkSettings, seed: u64, dt: f32, shift: Option<f32>) {
-        let rate = settings.rate_of(seed);
         if let (Some(amplitude), false) = (shift, self.is_blinking()) {
             let chance = settings.evoked_probability_at(amplitude);
             if chance > 0.0 {
-                let mut random = stream(seed, Purpose::Blinks, u64::from(self.draws));
-                random.next_u64(); // the duration's draw
-                random.next_u64(); // and the interval's three
-                random.next_u64();
-                random.next_u64();
+                let (mut random, _) = blink_stream(seed, self.draws);
+                for _ in 0..INTERVAL_SHAPE {
+                    random.next_u64(); // past the interval's draws
+                }
                 let evoked = random.next_f32() < chance;
                 self.draws = self.draws.wrapping_add(1);
                 if evoked {
@@ -226,22 +225,23 @@ impl BlinkState {
         self.clock -= dt;
         // A blink that ended this frame: the next interval runs from its end.
         while self.is_blinking() {
-            let (duration, next) = settings.blink_draws(seed, self.draws, rate);
+            let (mut random, duration) = blink_stream(seed, self.draws);
             let elapsed = -self.clock;
             if elapsed < duration {
                 break;
             }
+            let next = interval(&mut random, settings.rate_of(seed));
             self.draws = self.draws.wrapping_add(1);
             self.clock = next - (elapsed - duration);
         }
     }
 
     /// How closed the lids are: 0 open, 1 closed.
-    pub fn closure(&self, settings: &BlinkSettings, seed: u64) -> f32 {
+    pub fn closure(&self, seed: u64) -> f32 {
         if !self.is_blinking() {
             return 0.0;
         }
-        let (duration, _) = settings.blink_draws(seed, self.draws, settings.rate_of(seed));
+        let (_, duration) = blink_stream(seed, self.draws);
         let elapsed = -self.clock;
         let closing = CLOSING_SHARE * duration;
         if elapsed < closing {
@@ -252,12 +252,8 @@ impl BlinkState {
     }
 
     /// The current blink's duration, seconds, while one is under way.
-    pub fn blink_duration(&self, settings: &BlinkSettings, seed: u64) -> Option<f32> {
-        self.is_blinking().then(|| {
-            settings
-                .blink_draws(seed, self.draws, settings.rate_of(seed))
-                .0
-        })
+    pub fn blink_duration(&self, seed: u64) -> Option<f32> {
+        self.is_blinking().then(|| blink_stream(seed, self.draws).1)
     }
 }
 

@@ -197,16 +197,6 @@ impl SceneWriter<'_> {
         self.world
     }
 
-    /// Number of entities.
-    pub fn len(&self) -> usize {
-        self.len
-    }
-
-    /// True if the scene has no entities.
-    pub fn is_empty(&self) -> bool {
-        self.len == 0
-    }
-
     /// Checks one update without changing anything (the id is live, the values finite)
     /// and returns its entity's index, for [`apply_at`](Self::apply_at).
     pub fn check(&self, update: &EntityUpdate) -> Result<usize> {
@@ -240,7 +230,7 @@ impl SceneWriter<'_> {
     /// previous heading.
     ///
     /// # Safety
-    /// `index` must be below [`len`](Self::len), the index of `update.id` (from
+    /// `index` must be below the scene's entity count, the index of `update.id` (from
     /// [`check`](Self::check)), and no other thread may read or write entity `index`'s
     /// slots during the call.
     #[inline]
@@ -258,7 +248,7 @@ impl SceneWriter<'_> {
     /// processor overlaps one entity's trigonometry with the next one's.
     ///
     /// # Safety
-    /// Every index must be below [`len`](Self::len) and the index of its update's id, no
+    /// Every index must be below the scene's entity count and the index of its update's id, no
     /// two alike, and no other thread may read or write these entities' slots meanwhile.
     #[inline]
     pub unsafe fn apply_distinct(

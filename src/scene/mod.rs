@@ -324,7 +324,7 @@ impl Scene {
     }
 
     /// Checks one update without changing anything (the id exists and the values are
-    /// finite) and returns its entity's index, for [`apply_at`](Self::apply_at).
+    /// finite) and returns its entity's index, for [`SceneWriter::apply_at`].
     pub fn check_update(&self, update: &EntityUpdate) -> Result<usize> {
         ingest::check(&self.ids, update)
     }
@@ -360,18 +360,10 @@ impl Scene {
     /// skipped.
     pub fn apply_one(&mut self, time: f64, update: &EntityUpdate) {
         if let Some(index) = self.index_of(update.id) {
-            self.apply_at(index, time, update);
+            // SAFETY: the index of a live id is in range; `&mut self` keeps every other
+            // access out.
+            unsafe { self.writer().apply_at(index, time, update) };
         }
-    }
-
-    /// Applies one update at time `time` to entity `index`, which
-    /// [`check_update`](Self::check_update) returned for it (see
-    /// [`SceneWriter::apply_at`]). Panics if `index` is out of range.
-    pub fn apply_at(&mut self, index: usize, time: f64, update: &EntityUpdate) {
-        assert!(index < self.len(), "entity index {index} out of range");
-        debug_assert_eq!(self.index_of(update.id), Some(index));
-        // SAFETY: index < len; `&mut self` keeps every other access out.
-        unsafe { self.writer().apply_at(index, time, update) };
     }
 
     /// Sets an entity's impact factor, keeping `S_MAX` current: the maximum is scanned again

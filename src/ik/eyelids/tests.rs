@@ -41,7 +41,7 @@ fn run(
         let shift = shifts.and_then(|(every, amplitude)| (frame % every == 0).then_some(amplitude));
         let before = state.draws();
         state.advance(settings, seed, DT, shift);
-        let closure = state.closure(settings, seed);
+        let closure = state.closure(seed);
         assert!((0.0..=1.0).contains(&closure), "closure {closure}");
         let blinking = state.is_blinking();
         let new_blink = blinking && (!was_blinking || state.draws() != before);
@@ -50,7 +50,7 @@ fn run(
                 start: frame,
                 frames: 0,
                 peak: frame,
-                duration: state.blink_duration(settings, seed).unwrap(),
+                duration: state.blink_duration(seed).unwrap(),
             });
             peak_closure = 0.0;
         }
@@ -132,17 +132,17 @@ fn blinks_last_100_to_500_ms_and_close_faster_than_they_open() {
     while !state.is_blinking() {
         state.advance(&settings, seed, 1e-3, None);
     }
-    let duration = state.blink_duration(&settings, seed).unwrap();
+    let duration = state.blink_duration(seed).unwrap();
     let start = -state.clock;
     state.advance(&settings, seed, CLOSING_SHARE * duration - start, None);
-    assert!((state.closure(&settings, seed) - 1.0).abs() < 1e-3);
+    assert!((state.closure(seed) - 1.0).abs() < 1e-3);
     state.advance(
         &settings,
         seed,
         (1.0 - CLOSING_SHARE) * duration / 2.0,
         None,
     );
-    assert!((state.closure(&settings, seed) - 0.5).abs() < 1e-3);
+    assert!((state.closure(seed) - 0.5).abs() < 1e-3);
 }
 
 #[test]
