@@ -68,6 +68,15 @@
 // Most joints a `cg_chain_desc` holds: 8 spine + 4 cervical + 1 head + 2 eyes.
 #define CG_MAX_CHAIN_JOINTS 15
 
+// `cg_crowd_config.eye_motion`: the paper's timing (Grillon & Thalmann 2009): the eyes
+// arrive at half the activation time.
+#define CG_EYE_MOTION_PAPER 0
+
+// `cg_crowd_config.eye_motion`: the eyes' shift lasts as long as a human saccade of its
+// amplitude A, about 2.2 ms/° · A + 21 ms (the main sequence), at most 500°/s; the head,
+// neck and spine keep the paper's timing.
+#define CG_EYE_MOTION_MAIN_SEQUENCE 1
+
 // `cg_gaze_target.kind`: look at `point`.
 #define CG_GAZE_TARGET_POINT 0
 
@@ -687,7 +696,46 @@ typedef struct cg_crowd_config {
     // Results, ids and the order of `cg_crowd_read_gaze` do not depend on it; the ranges
     // of `cg_crowd_step_range` index the storage order.
     uint32_t reorder_period;
+    // Blinks: the crowd's mean spontaneous blink rate, blinks per minute, 0 to 120 (0: no
+    // spontaneous blinks). Each character draws its own rate once in
+    // `blink_rate · [1 − blink_rate_spread, 1 + blink_rate_spread]`. Default 17 (adults
+    // at rest, Bentivoglio et al. 1997). Read the lids with `cg_crowd_read_eyelids`.
+    float blink_rate;
+    // See `blink_rate`; in [0, 1). Default 0.5.
+    float blink_rate_spread;
+    // Gaze-evoked blinks: shifts of the gaze up to this amplitude (radians) start no
+    // blink. Default 10°.
+    float evoked_blink_min_amplitude;
+    // Gaze-evoked blinks: shifts from this amplitude (radians, above the minimum, at most
+    // π) start a blink with `evoked_blink_probability`; between the two the probability
+    // rises linearly. Default 33° (Evinger et al. 1994).
+    float evoked_blink_full_amplitude;
+    // Gaze-evoked blinks: the probability that a large shift starts a blink, in [0, 1]
+    // (0: none). Default 0.97 (Evinger et al. 1994).
+    float evoked_blink_probability;
+    // Upper lid pitch per radian of eye pitch, in [0, 2]. Default 1 (Becker & Fuchs 1988).
+    float lid_gain;
+    // How the eyes of crowd-model and baseline characters time a gaze shift: a
+    // `CG_EYE_MOTION_*`. Default `CG_EYE_MOTION_PAPER`.
+    uint32_t eye_motion;
 } cg_crowd_config;
+
+// A character's eyelids after a step, as read by `cg_crowd_read_eyelids`. Not versioned:
+// an array element, like `cg_eye_info`.
+typedef struct cg_eyelids {
+    // The character's id.
+    uint32_t character;
+    // How closed the left eye's lids are: 0 open, 1 closed (a blink).
+    float left_closure;
+    // How closed the right eye's lids are (both eyes blink together).
+    float right_closure;
+    // The left upper lid's pitch in the head's frame, radians, positive towards the head's
+    // up: `lid_gain` times the eye's pitch. The closure comes on top: blend from this
+    // pitch towards your closed lid by the closure.
+    float left_lid_pitch;
+    // The right upper lid's pitch, radians.
+    float right_lid_pitch;
+} cg_eyelids;
 
 // A target set by game logic for one character (top-down attention). Set `struct_size`,
 // then fill it with `cg_gaze_target_init`.
@@ -1327,6 +1375,21 @@ void cg_crowd_destroy(struct cg_crowd *crowd);
 // `CG_STATUS_BAD_STRUCT_SIZE` (`out_config->struct_size` not a size the library knows).
 // Safe to call concurrently with other `const` calls on the same crowd.
 cg_status cg_crowd_get_config(const struct cg_crowd *crowd, struct cg_crowd_config *out_config);
+
+// Reads the eyelids of characters `first .. first + count` (in the order of
+// `cg_crowd_read_gaze`) after the last step, one `cg_eyelids` each in `out`
+// (`out_len >= count`): the blink's closure and each upper lid's pitch following its
+// eye. Blinks are drawn from the crowd's seed and each character's id: the same in every
+// run and at every thread count.
+//
+// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_INVALID_ARGUMENT` (range past the last
+// character, `out_len` too small, `out` misaligned). Safe to call concurrently with other
+// `const` calls.
+cg_status cg_crowd_read_eyelids(const struct cg_crowd *crowd,
+                                uint32_t first,
+                                uint32_t count,
+                                struct cg_eyelids *out,
+                                size_t out_len);
 
 // Fills `target` with defaults (a point target at the origin, overriding). Set
 // `target->struct_size = sizeof(cg_gaze_target)` first: only that many bytes are written,

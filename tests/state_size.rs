@@ -11,7 +11,7 @@ use crowdgaze::attention::quantile::ScoreHistogram;
 use crowdgaze::attention::saliency::FixationChannel;
 use crowdgaze::attention::CharacterParams;
 use crowdgaze::crowd::{ExplicitTarget, GlanceState, Look, ModelState, TargetPriority};
-use crowdgaze::ik::{GazeMotion, MAX_CHAIN_JOINTS};
+use crowdgaze::ik::{BlinkState, GazeMotion, MAX_CHAIN_JOINTS};
 use crowdgaze::math::packed::PackedQuat;
 use crowdgaze::math::random::Random;
 use crowdgaze::scene::Scene;
@@ -30,7 +30,11 @@ fn every_per_character_type_has_its_recorded_size() {
     // (8), four times (16), four one-byte fields, 4 bytes of padding.
     assert_eq!(size_of::<GazeMotion>(), 464);
     assert_eq!(size_of::<Random>(), 8);
+    // An explicit target and its priority are stored in 16 bytes (the tag's word holds
+    // the priority), not as this pair.
     assert_eq!(size_of::<Option<(ExplicitTarget, TargetPriority)>>(), 20);
+    // Blinks: a clock and the count of draws.
+    assert_eq!(size_of::<BlinkState>(), 8);
     assert_eq!(size_of::<Look>(), 16);
     // The crowd's saliency state: one channel for the eyes, one for the head.
     assert_eq!(size_of::<FixationChannel>(), 20);
@@ -46,10 +50,10 @@ fn every_per_character_type_has_its_recorded_size() {
 
 #[test]
 fn state_per_character_adds_up() {
-    // 24 parameters + 4 chain index + 120 packed base pose + 1 posed flag + 20 explicit
+    // 24 parameters + 4 chain index + 120 packed base pose + 1 posed flag + 16 explicit
     // target + 4 place in the readers' order + 224 attention model state + 464 gaze motion
-    // + 2 × 8 random streams + 12 level of detail, + 77 scene + 52 neighbour index, + 4
-    // visiting order + 1 (two bits of scratch, rounded up).
+    // + 2 × 8 random streams + 8 level of detail + 8 blinks, + 77 scene + 52 neighbour
+    // index, + 4 visiting order + 1 (three bits of scratch, rounded up).
     assert_eq!(Crowd::state_bytes_per_character(), 1023);
     // The design's budget.
     assert!(Crowd::state_bytes_per_character() <= 1024);

@@ -128,7 +128,7 @@ impl AttentionJob<'_> {
     /// replaces them), or the saliency and baseline models' eye and head targets.
     fn attend_one(&self, character: usize, state: CharacterMut<'_>, batch: &mut CandidateBatch) {
         let config = self.config;
-        let period = match state.lod.period {
+        let period = match u32::from(state.lod.period) {
             0 => {
                 let entity = self.look.scene.character_entities()[character] as usize;
                 let far = config.lod_distance > 0.0

@@ -6,7 +6,7 @@ use crate::attention::interest::InterestConfig;
 use crate::attention::saliency::SaliencyConfig;
 use crate::attention::score::ScoringConfig;
 use crate::error::{ensure_finite, Error, Result};
-use crate::ik::GazeConfig;
+use crate::ik::{BlinkSettings, GazeConfig, MotionStyle};
 use crate::world::World;
 
 /// Most threads a crowd's step may use.
@@ -71,6 +71,36 @@ pub struct CrowdConfig {
     /// frame is faster without it (docs/performance.md), hence the default. Results and the
     /// character order readers see do not depend on it.
     pub reorder_period: u32,
+    /// How the characters blink and how their upper lids follow the eyes
+    /// ([`BlinkSettings`]; read them with [`Crowd::eyelids_at`](super::Crowd::eyelids_at)).
+    pub blinks: BlinkSettings,
+    /// How the eyes of the crowd model's and the baseline's characters time a shift:
+    /// the paper's (default) or the human main sequence.
+    pub eye_motion: EyeMotion,
+}
+
+/// How the eyes of the crowd model's and the baseline's characters time a gaze shift (the
+/// saliency model keeps its paper's six-frame saccade).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum EyeMotion {
+    /// Grillon & Thalmann 2009: the eyes arrive at half the activation time `t_a`
+    /// ([`MotionStyle::Eased`]).
+    #[default]
+    Paper,
+    /// The eyes' shift lasts as long as a human saccade of its amplitude, about
+    /// 2.2 ms/° · A + 21 ms ([`MotionStyle::MainSequence`]); the head, neck and spine keep
+    /// the paper's timing.
+    MainSequence,
+}
+
+impl EyeMotion {
+    /// The motion style of the shifts it times.
+    pub fn eased_style(self) -> MotionStyle {
+        match self {
+            EyeMotion::Paper => MotionStyle::Eased,
+            EyeMotion::MainSequence => MotionStyle::MainSequence,
+        }
+    }
 }
 
 impl Default for CrowdConfig {
@@ -92,6 +122,8 @@ impl Default for CrowdConfig {
             far_attention_period: 4,
             threads: 1,
             reorder_period: 0,
+            blinks: BlinkSettings::default(),
+            eye_motion: EyeMotion::Paper,
         }
     }
 }
@@ -196,6 +228,7 @@ impl CrowdConfig {
         )?;
         check_range(low, 0.0, 1.0, "attention_fraction_min")?;
         check_range(high, low, 1.0, "attention_fraction_max")?;
+        self.blinks.validate()?;
         self.gaze.validate()
     }
 }

@@ -90,7 +90,7 @@ impl Crowd {
         let per_character = Characters::bytes_per_character()
             + size_of::<u32>() // place in the readers' order
             + size_of::<u32>() // attention's visiting order (scratch)
-            + 1 // a bit each of the ranged step's claims and the reordering (scratch)
+            + 1 // claim bits of the ranged step and push, a reordering bit (scratch)
             + states::bytes_per_character();
         per_character + Scene::bytes_per_entity() + NeighbourIndex::bytes_per_entity()
     }

@@ -7,11 +7,13 @@ use glam::{Quat, Vec3};
 use super::config::{check_count, check_range};
 use super::model_state::ModelState;
 use super::states::AttentionLod;
+use super::tables::StoredTarget;
 use super::values::{CharacterDesc, ExplicitTarget, ObjectDesc, TargetPriority};
 use super::Crowd;
 use crate::attention::CharacterParams;
 use crate::error::{ensure_all_finite, ensure_finite, Error, Result};
-use crate::ik::{GazeChain, GazeMotion, MAX_CHAIN_JOINTS};
+use crate::ik::eyelids::character_seed;
+use crate::ik::{BlinkState, GazeChain, GazeMotion, MAX_CHAIN_JOINTS};
 use crate::math::packed::PackedQuat;
 use crate::math::random::{stream, Purpose};
 use crate::scene::ids::EntityKind;
@@ -85,7 +87,7 @@ impl Crowd {
         self.shared.characters_created += 1;
         self.states.push(
             AttentionLod {
-                stagger: (created % 64) as u32,
+                stagger: (created % 64) as u8,
                 period: 0,
                 pending: 0.0,
             },
@@ -97,6 +99,7 @@ impl Crowd {
             GazeMotion::new(&chain),
             stream(seed, Purpose::Saliency, created),
             stream(seed, Purpose::GazeTiming, created),
+            BlinkState::new(&self.shared.config.blinks, character_seed(seed, id)),
         );
         // The new character is the last both in dense order and in readers' order.
         self.read_order.push(self.read_order.len() as u32);
@@ -156,8 +159,8 @@ impl Crowd {
             model.forget(id);
         }
         for explicit in &mut self.shared.characters.explicit {
-            if matches!(explicit, Some((ExplicitTarget::Entity(target), _)) if *target == id) {
-                *explicit = None;
+            if matches!(explicit, StoredTarget::Entity(_, target) if *target == id) {
+                *explicit = StoredTarget::None;
             }
         }
         Ok(())
@@ -321,14 +324,14 @@ impl Crowd {
                 }
             }
         }
-        self.shared.characters.explicit[character] = Some((target, priority));
+        self.shared.characters.explicit[character] = StoredTarget::new(Some((target, priority)));
         Ok(())
     }
 
     /// Removes a character's explicit target; its automatic attention takes over again.
     pub fn clear_gaze_target(&mut self, character_id: u32) -> Result<()> {
         let character = self.shared.scene.character_index(character_id)?;
-        self.shared.characters.explicit[character] = None;
+        self.shared.characters.explicit[character] = StoredTarget::None;
         Ok(())
     }
 
@@ -338,7 +341,7 @@ impl Crowd {
     pub fn set_attention_period(&mut self, character_id: u32, period: u32) -> Result<()> {
         let character = self.shared.scene.character_index(character_id)?;
         check_count(period, 0, 64, "period")?;
-        self.states.lod[character].period = period;
+        self.states.lod[character].period = period as u8; // at most 64: checked
         Ok(())
     }
 }

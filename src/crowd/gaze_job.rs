@@ -17,9 +17,11 @@ use super::outputs::{gaze_info, joint_rotations};
 use super::published::{Outputs, PublishTarget};
 use super::states::{CharacterSlices, CharacterView, RawCharacterSlices};
 use crate::error::{Error, Result};
+use crate::ik::eyelids::character_seed;
 use crate::ik::temporal::BATCH_LANES;
 use crate::ik::{
-    CharacterTransform, GazeChain, GazeConfig, GazeInput, GazeMotion, GazeRequest, MAX_CHAIN_JOINTS,
+    BlinkSettings, BlinkState, CharacterTransform, GazeChain, GazeConfig, GazeInput, GazeMotion,
+    GazeRequest, MAX_CHAIN_JOINTS,
 };
 use crate::math::random::Random;
 
@@ -50,6 +52,10 @@ pub(super) struct GazeJob<'a> {
     pub publish: PublishTarget,
     /// The crowd's initial interest threshold (what the saliency and baseline models report).
     pub initial_threshold: f32,
+    /// How the characters blink.
+    pub blinks: &'a BlinkSettings,
+    /// The crowd's seed (each character's blinks draw from it and the character's id).
+    pub seed: u64,
 }
 
 impl GazeJob<'_> {
@@ -121,6 +127,7 @@ impl GazeJob<'_> {
             models,
             motions,
             gaze_randoms,
+            blinks,
             ..
         } = slices;
         let count = motions.len();
@@ -128,7 +135,7 @@ impl GazeJob<'_> {
         while chunk < count {
             let len = (count - chunk).min(SORT_CHUNK);
             let ahead_motions = motions.as_ptr();
-            let motions = &mut motions[chunk..chunk + len];
+            let chunk_motions = &mut motions[chunk..chunk + len];
             let randoms = &mut gaze_randoms[chunk..chunk + len];
             let requests: [Option<GazeRequest>; SORT_CHUNK] = std::array::from_fn(|local| {
                 if local >= len {
@@ -145,11 +152,11 @@ impl GazeJob<'_> {
                 }
                 let view = CharacterView {
                     model: &models[chunk + local],
-                    motion: &motions[local],
+                    motion: &chunk_motions[local],
                 };
                 self.look.gaze_request(first + chunk + local, view)
             });
-            let resting = |local: usize| motions[local].is_resting(requests[local].as_ref());
+            let resting = |local: usize| chunk_motions[local].is_resting(requests[local].as_ref());
             // The moving characters first, then the resting ones (backwards). Each is
             // written at both ends and only one end moves on: no branch to mispredict.
             let mut order = [0u8; SORT_CHUNK];
@@ -162,7 +169,7 @@ impl GazeJob<'_> {
                 back -= usize::from(rests);
             }
             let mut motions: [Option<&mut GazeMotion>; SORT_CHUNK] = {
-                let mut each = motions.iter_mut();
+                let mut each = chunk_motions.iter_mut();
                 std::array::from_fn(|_| each.next())
             };
             let mut randoms: [Option<&mut Random>; SORT_CHUNK] = {
@@ -178,7 +185,28 @@ impl GazeJob<'_> {
                     start += lanes;
                 }
             }
+            self.blink(
+                first + chunk,
+                chunk_motions,
+                &mut blinks[chunk..chunk + len],
+            );
             chunk += len;
+        }
+    }
+
+    /// The blinks of characters `first ..` (one per entry of `motions`, already moved this
+    /// step): a gaze shift that started may start a blink; the
+    /// spontaneous blinks go on. Most characters' frames are quiet
+    /// ([`BlinkState::advance_quietly`]) and need neither their id nor a draw.
+    fn blink(&self, first: usize, motions: &[GazeMotion], blinks: &mut [BlinkState]) {
+        for (local, (motion, blink)) in motions.iter().zip(blinks).enumerate() {
+            let shift = motion.shift_start_amplitude();
+            if !blink.advance_quietly(self.dt, shift) {
+                let scene = self.look.scene;
+                let entity = scene.character_entities()[first + local] as usize;
+                let seed = character_seed(self.seed, scene.ids()[entity]);
+                blink.advance(self.blinks, seed, self.dt, shift);
+            }
         }
     }
 

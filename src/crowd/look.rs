@@ -29,6 +29,9 @@ pub(super) struct LookContext<'a> {
     pub chains: &'a Chains,
     /// The offline plan, when attention follows one.
     pub plan: Option<&'a Plan>,
+    /// The style of the crowd model's and the baseline's shifts: [`MotionStyle::Eased`],
+    /// or [`MotionStyle::MainSequence`] ([`EyeMotion`](super::EyeMotion)).
+    pub eased_style: MotionStyle,
 }
 
 impl LookContext<'_> {
@@ -113,7 +116,7 @@ impl LookContext<'_> {
             _ => self.model_request(character, view),
         };
         let idle = automatic.is_none() && model_request.is_none();
-        let explicit = match self.characters.explicit[character] {
+        let explicit = match self.characters.explicit[character].get() {
             Some((target, TargetPriority::Override)) => Some(target),
             Some((target, TargetPriority::WhenIdle)) if idle => Some(target),
             _ => None,
@@ -144,7 +147,7 @@ impl LookContext<'_> {
             head_target: point,
             eye_target: point,
             interest_ratio,
-            style: MotionStyle::Eased,
+            style: self.eased_style,
         })
     }
 
@@ -190,7 +193,7 @@ impl LookContext<'_> {
             interest_ratio: 1.0,
             style: match self.characters.params[character].model {
                 AttentionModel::Saliency => MotionStyle::Saccadic,
-                _ => MotionStyle::Eased,
+                _ => self.eased_style,
             },
         })
     }
@@ -198,7 +201,7 @@ impl LookContext<'_> {
     /// The targets a character's eyes and head fixate (dense index), resolving explicit
     /// targets and the crowd model's interest point.
     pub fn current_look(&self, character: usize, view: CharacterView<'_>) -> Look {
-        let explicit = match self.characters.explicit[character] {
+        let explicit = match self.characters.explicit[character].get() {
             Some((ExplicitTarget::Entity(id), priority)) => Some((id, priority)),
             _ => None,
         };

@@ -50,11 +50,13 @@ mod step;
 mod tables;
 mod values;
 
-pub use config::{CrowdConfig, MAX_CAPACITY, MAX_THREADS};
+pub use config::{CrowdConfig, EyeMotion, MAX_CAPACITY, MAX_THREADS};
 pub use ingest::PushRanges;
 pub use model_state::{GlanceState, Look, LookTarget, ModelState, SaliencyState};
 pub use ranges::StepRanges;
-pub use values::{CharacterDesc, ExplicitTarget, EyeState, GazeInfo, ObjectDesc, TargetPriority};
+pub use values::{
+    CharacterDesc, ExplicitTarget, EyeState, EyelidState, GazeInfo, ObjectDesc, TargetPriority,
+};
 
 use crate::alloc::{try_with_capacity, Field};
 use crate::attention::candidates::NeighbourIndex;

@@ -5,9 +5,10 @@ use glam::Quat;
 
 use super::outputs::{gaze_info, joint_rotations};
 use super::published::Published;
-use super::values::{EyeState, GazeInfo};
+use super::values::{EyeState, EyelidState, GazeInfo};
 use super::Crowd;
 use crate::error::{Error, Result};
+use crate::ik::eyelids::{character_seed, eye_pitches};
 use crate::ik::{GazeChain, GazeMotion};
 
 impl Crowd {
@@ -168,5 +169,41 @@ impl Crowd {
     /// A character's gaze motion (phase, timing), by id.
     pub fn gaze_motion(&self, character_id: u32) -> Result<&GazeMotion> {
         Ok(&self.states.motions[self.shared.scene.character_index(character_id)?])
+    }
+
+    /// The eyelids of the character at `position` in the character order (see
+    /// [`gaze_at`](Self::gaze_at)) after the last step: how closed they are (the blink)
+    /// and each upper lid's pitch following its eye ([`crate::ik::eyelids`]). Panics if
+    /// `position` is out of range.
+    pub fn eyelids_at(&self, position: usize) -> EyelidState {
+        self.eyelids_of(self.dense_index(position))
+    }
+
+    /// A character's eyelids after the last step, by id.
+    pub fn eyelids(&self, character_id: u32) -> Result<EyelidState> {
+        Ok(self.eyelids_of(self.shared.scene.character_index(character_id)?))
+    }
+
+    /// The eyelids of the character at dense index `character`.
+    fn eyelids_of(&self, character: usize) -> EyelidState {
+        let scene = &self.shared.scene;
+        let id = scene.ids()[scene.character_entities()[character] as usize];
+        let settings = &self.shared.config.blinks;
+        let closure =
+            self.states.blinks[character].closure(character_seed(self.shared.config.seed, id));
+        let chain = self.chain_of(character);
+        let base = self
+            .shared
+            .characters
+            .base_pose(&self.shared.chains, character);
+        let deltas = self.states.motions[character].deltas();
+        let [left, right] = eye_pitches(chain, &base[..deltas.len()], deltas);
+        EyelidState {
+            character: id,
+            left_closure: closure,
+            right_closure: closure,
+            left_lid_pitch: settings.lid_pitch(left),
+            right_lid_pitch: settings.lid_pitch(right),
+        }
     }
 }

@@ -5,7 +5,7 @@
 //! lets disjoint ranges of characters be stepped at the same time: [`CharacterSlices`]
 //! borrows a range of every array, and [`RawCharacterSlices`] hands ranges out to threads.
 
-use crate::ik::GazeMotion;
+use crate::ik::{BlinkState, GazeMotion};
 use crate::math::random::Random;
 
 use super::model_state::ModelState;
@@ -13,12 +13,12 @@ use super::model_state::ModelState;
 /// A character's level-of-detail state for attention updates.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) struct AttentionLod {
-    /// Offset of this character's updates within the period.
-    pub stagger: u32,
-    /// Its own period (0: the crowd's, by distance to the viewer).
-    pub period: u32,
     /// Seconds since its last attention update.
     pub pending: f32,
+    /// Offset of this character's updates within the period (below 64).
+    pub stagger: u8,
+    /// Its own period, 1 to 64 (0: the crowd's, by distance to the viewer).
+    pub period: u8,
 }
 
 /// Applies one macro body to every per-character array, so that adding an array is one
@@ -36,6 +36,8 @@ macro_rules! character_arrays {
             motions / motion: GazeMotion,
             /// Random stream of the gaze timing draws.
             gaze_randoms / gaze_random: Random,
+            /// Blinks (the eyelids' state).
+            blinks / blink: BlinkState,
         }
     };
 }
@@ -157,12 +159,14 @@ impl CharacterStates {
         motion: GazeMotion,
         model_random: Random,
         gaze_random: Random,
+        blink: BlinkState,
     ) {
         self.lod.push(lod);
         self.models.push(model);
         self.model_randoms.push(model_random);
         self.motions.push(motion);
         self.gaze_randoms.push(gaze_random);
+        self.blinks.push(blink);
         debug_assert!(self.check_lengths());
     }
 }

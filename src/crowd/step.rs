@@ -266,6 +266,7 @@ impl Shared {
             characters: &self.characters,
             chains: &self.chains,
             plan: self.plan.as_ref(),
+            eased_style: self.config.eye_motion.eased_style(),
         }
     }
 
@@ -292,6 +293,8 @@ impl Shared {
             states,
             publish,
             initial_threshold: self.config.interest.initial_threshold,
+            blinks: &self.config.blinks,
+            seed: self.config.seed,
         };
         (attention, gaze)
     }

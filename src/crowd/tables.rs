@@ -26,7 +26,39 @@ pub(super) struct Characters {
     /// bytes each (within 6e−6 rad, see [`PackedQuat`]).
     pub bases: Vec<[PackedQuat; MAX_CHAIN_JOINTS]>,
     /// Explicit target from game logic.
-    pub explicit: Vec<Option<(ExplicitTarget, TargetPriority)>>,
+    pub explicit: Vec<StoredTarget>,
+}
+
+/// An explicit target and its priority in 16 bytes (the pair in an `Option` takes 20):
+/// the priority shares the tag's word.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) enum StoredTarget {
+    /// No explicit target.
+    None,
+    /// A world point (metres).
+    Point(TargetPriority, Vec3),
+    /// An entity's look-at point.
+    Entity(TargetPriority, u32),
+}
+
+impl StoredTarget {
+    /// Stores `target`.
+    pub fn new(target: Option<(ExplicitTarget, TargetPriority)>) -> StoredTarget {
+        match target {
+            None => StoredTarget::None,
+            Some((ExplicitTarget::Point(point), priority)) => StoredTarget::Point(priority, point),
+            Some((ExplicitTarget::Entity(id), priority)) => StoredTarget::Entity(priority, id),
+        }
+    }
+
+    /// The target stored.
+    pub fn get(self) -> Option<(ExplicitTarget, TargetPriority)> {
+        match self {
+            StoredTarget::None => None,
+            StoredTarget::Point(priority, point) => Some((ExplicitTarget::Point(point), priority)),
+            StoredTarget::Entity(priority, id) => Some((ExplicitTarget::Entity(id), priority)),
+        }
+    }
 }
 
 impl Characters {
@@ -47,7 +79,7 @@ impl Characters {
         self.chain_of.push(chain);
         self.bases.push([PackedQuat::IDENTITY; MAX_CHAIN_JOINTS]);
         self.posed.push(false);
-        self.explicit.push(None);
+        self.explicit.push(StoredTarget::None);
         self.params.push(params);
     }
 
@@ -76,7 +108,7 @@ impl Characters {
             + size_of::<u32>()
             + size_of::<[PackedQuat; MAX_CHAIN_JOINTS]>()
             + size_of::<bool>()
-            + size_of::<Option<(ExplicitTarget, TargetPriority)>>()
+            + size_of::<StoredTarget>()
     }
 
     /// A character's chain, in `chains`.

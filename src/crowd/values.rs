@@ -90,6 +90,23 @@ pub enum TargetPriority {
     WhenIdle,
 }
 
+/// A character's eyelids after a step ([`Crowd::eyelids_at`](super::Crowd::eyelids_at)).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct EyelidState {
+    /// The character's id.
+    pub character: u32,
+    /// How closed the left eye's lids are: 0 open, 1 closed (a blink).
+    pub left_closure: f32,
+    /// How closed the right eye's lids are (both eyes blink together).
+    pub right_closure: f32,
+    /// The left upper lid's pitch in the head's frame, radians, positive up: it follows
+    /// the eye's pitch ([`BlinkSettings::lid_gain`](crate::ik::BlinkSettings::lid_gain)),
+    /// before the closure (which the engine blends towards its closed lid).
+    pub left_lid_pitch: f32,
+    /// The right upper lid's pitch, radians.
+    pub right_lid_pitch: f32,
+}
+
 /// Where a character's eyes are and where they look, after a step (world, metres).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct EyeState {

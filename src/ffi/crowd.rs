@@ -14,9 +14,9 @@ use crate::attention::baseline::BaselineConfig;
 use crate::attention::interest::InterestConfig;
 use crate::attention::saliency::SaliencyConfig;
 use crate::attention::score::ScoringConfig;
-use crate::crowd::{Crowd, CrowdConfig, PushRanges, StepRanges};
+use crate::crowd::{Crowd, CrowdConfig, EyeMotion, PushRanges, StepRanges};
 use crate::error::Error;
-use crate::ik::GazeConfig;
+use crate::ik::{BlinkSettings, GazeConfig};
 use crate::world::World;
 
 /// A crowd of characters and the objects they may look at (opaque).
@@ -436,13 +436,44 @@ pub struct cg_crowd_config {
     /// Results, ids and the order of `cg_crowd_read_gaze` do not depend on it; the ranges
     /// of `cg_crowd_step_range` index the storage order.
     pub reorder_period: u32,
+    /// Blinks: the crowd's mean spontaneous blink rate, blinks per minute, 0 to 120 (0: no
+    /// spontaneous blinks). Each character draws its own rate once in
+    /// `blink_rate · [1 − blink_rate_spread, 1 + blink_rate_spread]`. Default 17 (adults
+    /// at rest, Bentivoglio et al. 1997). Read the lids with `cg_crowd_read_eyelids`.
+    pub blink_rate: f32,
+    /// See `blink_rate`; in [0, 1). Default 0.5.
+    pub blink_rate_spread: f32,
+    /// Gaze-evoked blinks: shifts of the gaze up to this amplitude (radians) start no
+    /// blink. Default 10°.
+    pub evoked_blink_min_amplitude: f32,
+    /// Gaze-evoked blinks: shifts from this amplitude (radians, above the minimum, at most
+    /// π) start a blink with `evoked_blink_probability`; between the two the probability
+    /// rises linearly. Default 33° (Evinger et al. 1994).
+    pub evoked_blink_full_amplitude: f32,
+    /// Gaze-evoked blinks: the probability that a large shift starts a blink, in [0, 1]
+    /// (0: none). Default 0.97 (Evinger et al. 1994).
+    pub evoked_blink_probability: f32,
+    /// Upper lid pitch per radian of eye pitch, in [0, 2]. Default 1 (Becker & Fuchs 1988).
+    pub lid_gain: f32,
+    /// How the eyes of crowd-model and baseline characters time a gaze shift: a
+    /// `CG_EYE_MOTION_*`. Default `CG_EYE_MOTION_PAPER`.
+    pub eye_motion: u32,
 }
 
+/// `cg_crowd_config.eye_motion`: the paper's timing (Grillon & Thalmann 2009): the eyes
+/// arrive at half the activation time.
+pub const CG_EYE_MOTION_PAPER: u32 = 0;
+/// `cg_crowd_config.eye_motion`: the eyes' shift lasts as long as a human saccade of its
+/// amplitude A, about 2.2 ms/° · A + 21 ms (the main sequence), at most 500°/s; the head,
+/// neck and spine keep the paper's timing.
+pub const CG_EYE_MOTION_MAIN_SEQUENCE: u32 = 1;
+
 impl Versioned for cg_crowd_config {
-    // Callers built against a header from before `reorder_period` (144 bytes) get its
-    // default.
+    // Callers built against a header from before `reorder_period` (144 bytes) or before the
+    // blink fields (148 bytes) get the defaults of the fields they lack.
     const SIZES: &'static [usize] = &[
         layout_size::<cg_crowd_config>(std::mem::offset_of!(cg_crowd_config, reorder_period)),
+        layout_size::<cg_crowd_config>(std::mem::offset_of!(cg_crowd_config, blink_rate)),
         std::mem::size_of::<cg_crowd_config>(),
     ];
     const NAME: &'static str = "cg_crowd_config";
@@ -493,6 +524,16 @@ impl cg_crowd_config {
             far_attention_period: core.far_attention_period,
             threads: core.threads,
             reorder_period: core.reorder_period,
+            blink_rate: core.blinks.mean_rate,
+            blink_rate_spread: core.blinks.rate_spread,
+            evoked_blink_min_amplitude: core.blinks.evoked_min_amplitude,
+            evoked_blink_full_amplitude: core.blinks.evoked_full_amplitude,
+            evoked_blink_probability: core.blinks.evoked_probability,
+            lid_gain: core.blinks.lid_gain,
+            eye_motion: match core.eye_motion {
+                EyeMotion::Paper => CG_EYE_MOTION_PAPER,
+                EyeMotion::MainSequence => CG_EYE_MOTION_MAIN_SEQUENCE,
+            },
         }
     }
 
@@ -567,6 +608,23 @@ impl cg_crowd_config {
             far_attention_period: self.far_attention_period,
             threads: self.threads,
             reorder_period: self.reorder_period,
+            blinks: BlinkSettings {
+                mean_rate: self.blink_rate,
+                rate_spread: self.blink_rate_spread,
+                evoked_min_amplitude: self.evoked_blink_min_amplitude,
+                evoked_full_amplitude: self.evoked_blink_full_amplitude,
+                evoked_probability: self.evoked_blink_probability,
+                lid_gain: self.lid_gain,
+            },
+            eye_motion: match self.eye_motion {
+                CG_EYE_MOTION_PAPER => EyeMotion::Paper,
+                CG_EYE_MOTION_MAIN_SEQUENCE => EyeMotion::MainSequence,
+                other => {
+                    return Err(Error::InvalidArgument(format!(
+                        "cg_crowd_config.eye_motion is {other}, not a CG_EYE_MOTION_*"
+                    )))
+                }
+            },
         };
         config.validate()?;
         Ok(config)
@@ -617,7 +675,7 @@ impl cg_crowd_config {
     }
 
     /// The real-valued fields but `units_per_metre`, by name.
-    fn real_fields(&mut self) -> [(&'static str, &mut f32); 24] {
+    fn real_fields(&mut self) -> [(&'static str, &mut f32); 30] {
         macro_rules! named {
             ($($field:ident),* $(,)?) => {
                 [$((stringify!($field), &mut self.$field)),*]
@@ -648,6 +706,12 @@ impl cg_crowd_config {
             social_weight,
             proximity_radius,
             lod_distance,
+            blink_rate,
+            blink_rate_spread,
+            evoked_blink_min_amplitude,
+            evoked_blink_full_amplitude,
+            evoked_blink_probability,
+            lid_gain,
         )
     }
 }

@@ -37,6 +37,7 @@ pub(crate) mod boundary;
 pub mod chain;
 pub mod crowd;
 pub(crate) mod error;
+pub mod eyelids;
 pub mod gaze;
 mod handle;
 pub mod last_error;

@@ -8,8 +8,9 @@
 //! large differences between people. Each character draws its own rate once, uniformly in
 //! `mean_rate · [1 − rate_spread, 1 + rate_spread]` ([`BlinkSettings`]).
 //!
-//! **Intervals.** Blinks are not regular: the time from one blink to the next is drawn from
-//! a gamma distribution of shape 3 with the character's mean interval `60 / rate` seconds.
+//! **Intervals.** Blinks are not regular: the time from one blink's start to the next's is
+//! drawn from a gamma distribution of shape 3 with the character's mean interval
+//! `60 / rate` seconds (at least [`MIN_OPEN`] after the blink's end).
 //! Our choice, for three properties of blinking we want and an exponential (Poisson)
 //! process lacks: intervals are right-skewed (a long pause now and then), very short ones
 //! are rare (a blink is seldom followed at once by another), and their spread is
@@ -33,11 +34,18 @@
 //! so the lid pitches `lid_gain` (1) times the eye's, looking down lowers the lids; the
 //! blink's closure comes on top of it.
 
+use glam::Quat;
+
 use crate::error::{ensure_all_finite, Error, Result};
+use crate::ik::GazeChain;
 use crate::math::random::{stream, Purpose, Random};
 
 /// The shortest and longest blink, seconds.
 pub const BLINK_DURATION: (f32, f32) = (0.15, 0.35);
+
+/// The shortest time the eyes stay open between two blinks, seconds (a drawn interval
+/// shorter than the blink and this is stretched to them).
+pub const MIN_OPEN: f32 = 0.1;
 
 /// The share of a blink during which the lid closes (the rest it opens).
 pub const CLOSING_SHARE: f32 = 1.0 / 3.0;
@@ -142,9 +150,35 @@ impl BlinkSettings {
     }
 }
 
+/// The seed of a character's blinks (the `seed` of [`BlinkState`]'s calls): from the
+/// crowd's seed and the character's id, so that it survives removals and reorders.
+pub fn character_seed(crowd_seed: u64, character_id: u32) -> u64 {
+    stream(crowd_seed, Purpose::Blinks, u64::from(character_id)).next_u64()
+}
+
+/// Each eye's pitch in the head's frame, radians, positive towards the head's up
+/// ([`GazeChain::eye_up`]): the direction the eye's local rotation `base · delta` gives its
+/// rest gaze ([`GazeChain::eye_forward`]), as the gaze IK turns it. `[0, 0]` for a chain
+/// without eyes. `base` and `deltas` hold the chain's joints.
+pub fn eye_pitches(chain: &GazeChain, base: &[Quat], deltas: &[Quat]) -> [f32; 2] {
+    let Some(eyes) = chain.eye_indices() else {
+        return [0.0; 2];
+    };
+    eyes.map(|index| {
+        let rest = chain.joints()[index].rest;
+        let local_forward = rest.conjugate() * chain.eye_forward();
+        let direction = (base[index] * deltas[index]) * local_forward;
+        direction
+            .normalize_or_zero()
+            .dot(chain.eye_up())
+            .clamp(-1.0, 1.0)
+            .asin()
+    })
+}
+
 /// The character's `draws`-th blink stream and its first draw, the blink's duration
-/// (seconds). The stream then draws the interval to the next blink (from this one's end),
-/// then the gaze-evoked decision.
+/// (seconds). The stream then draws the interval to the next blink (from this one's
+/// start), then the gaze-evoked decision.
 fn blink_stream(seed: u64, draws: u32) -> (Random, f32) {
     let mut random = stream(seed, Purpose::Blinks, u64::from(draws));
     let duration = random.range(BLINK_DURATION.0, BLINK_DURATION.1);
@@ -204,6 +238,20 @@ impl BlinkState {
         self.draws
     }
 
+    /// [`advance`](Self::advance) for a frame in which nothing happens — no gaze shift
+    /// starts and no blink starts or ends — which is most frames; returns false (and
+    /// changes nothing) for any other, which then needs `advance`. The same result as
+    /// `advance` without its seed.
+    #[inline]
+    pub fn advance_quietly(&mut self, dt: f32, shift: Option<f32>) -> bool {
+        let clock = self.clock - dt;
+        if shift.is_some() || clock <= 0.0 {
+            return false;
+        }
+        self.clock = clock;
+        true
+    }
+
     /// Moves the character's blinking on by `dt` seconds (≥ 0). `shift` is the amplitude
     /// (radians) of a gaze shift that starts in this frame, if one does: it may start a
     /// blink ([`BlinkSettings::evoked_probability_at`]) unless one is under way.
@@ -223,7 +271,7 @@ impl BlinkState {
             }
         }
         self.clock -= dt;
-        // A blink that ended this frame: the next interval runs from its end.
+        // A blink that ended this frame: the next interval runs from its start.
         while self.is_blinking() {
             let (mut random, duration) = blink_stream(seed, self.draws);
             let elapsed = -self.clock;
@@ -232,7 +280,7 @@ impl BlinkState {
             }
             let next = interval(&mut random, settings.rate_of(seed));
             self.draws = self.draws.wrapping_add(1);
-            self.clock = next - (elapsed - duration);
+            self.clock = next.max(duration + MIN_OPEN) - elapsed;
         }
     }
 

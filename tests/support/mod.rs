@@ -266,7 +266,7 @@ pub fn mixed_street(
 }
 
 /// Every output of every character in the crowd's character order, as bits: gaze info,
-/// eyes, and the final joints read by range.
+/// eyes, eyelids, and the final joints read by range.
 pub fn output_bits(crowd: &crowdgaze::Crowd) -> Vec<u32> {
     let mut bits = Vec::new();
     for character in 0..crowd.character_count() {
@@ -283,6 +283,17 @@ pub fn output_bits(crowd: &crowdgaze::Crowd) -> Vec<u32> {
         for vector in eyes.origins.iter().chain(&eyes.directions) {
             bits.extend(vector.to_array().map(f32::to_bits));
         }
+        let lids = crowd.eyelids_at(character);
+        bits.push(lids.character);
+        bits.extend(
+            [
+                lids.left_closure,
+                lids.right_closure,
+                lids.left_lid_pitch,
+                lids.right_lid_pitch,
+            ]
+            .map(f32::to_bits),
+        );
     }
     let count = crowd.character_count();
     let mut joints = vec![glam::Quat::IDENTITY; crowd.joint_total(0, count).unwrap()];

@@ -1,7 +1,7 @@
 //! The settings of the temporal resolution: [`GazeTiming`] (`v_m` and the bounds of the
 //! activation time `t_a`, the deactivation time `t_d`, the restart distance, the speed caps,
-//! the ease `f_P` and the saccadic durations), the [`MotionStyle`] of a shift, and
-//! [`GazeConfig`], the spatial and timing settings together.
+//! the ease `f_P`, the saccadic durations and the main sequence), the [`MotionStyle`] of a
+//! shift, and [`GazeConfig`], the spatial and timing settings together.
 
 use crate::error::{ensure_all_finite, Error, Result};
 use crate::ik::spatial::SpatialConfig;
@@ -43,7 +43,27 @@ pub struct GazeTiming {
     /// See `head_base_duration`, s per radian of head turn. Default 0.45 (a 60° head turn
     /// takes about 0.72 s).
     pub head_duration_per_radian: f32,
+    /// [`MotionStyle::MainSequence`]: an eye shift of amplitude `A` lasts
+    /// `main_sequence_base + main_sequence_per_radian · A`, s. Default 0.021 (21 ms; the
+    /// human main sequence, about 2.2 ms/° · A + 21 ms: Carpenter 1988, *Movements of the
+    /// Eyes*; Baloh et al. 1975; Bahill, Clark & Stark 1975).
+    pub main_sequence_base: f32,
+    /// See `main_sequence_base`, s per radian. Default 2.2 ms/° (0.126 s/rad).
+    pub main_sequence_per_radian: f32,
+    /// [`MotionStyle::MainSequence`]: the eyes turn at most this fast during the saccade,
+    /// rad/s. Default 500°/s, where the peak velocity of large human saccades saturates
+    /// (Baloh et al. 1975; Bahill, Clark & Stark 1975).
+    pub main_sequence_peak_velocity: f32,
+    /// [`MotionStyle::MainSequence`]: the saccade's progress curve. Default `f_P` with
+    /// steepness 2.68, whose velocity peaks at 1.6 times its mean (our choice: a bell like
+    /// the body's, flatter, so that the main sequence's durations keep the peak velocity
+    /// of a 20° saccade under the 500°/s saturation).
+    pub saccade_ease: Ease,
 }
+
+/// The steepness of [`GazeTiming::saccade_ease`]'s default: a velocity peak 1.6 times the
+/// mean.
+pub const SACCADE_STEEPNESS: f32 = 2.68;
 
 impl Default for GazeTiming {
     fn default() -> Self {
@@ -63,6 +83,10 @@ impl Default for GazeTiming {
             saccade_duration: 0.2,
             head_base_duration: 0.25,
             head_duration_per_radian: 0.45,
+            main_sequence_base: 0.021,
+            main_sequence_per_radian: 0.0022 * (180.0 / std::f32::consts::PI),
+            main_sequence_peak_velocity: 500f32.to_radians(),
+            saccade_ease: Ease::new(SACCADE_STEEPNESS),
         }
     }
 }
@@ -92,6 +116,24 @@ impl GazeTiming {
             ],
             "saccadic timing",
         )?;
+        ensure_all_finite(
+            &[
+                self.main_sequence_base,
+                self.main_sequence_per_radian,
+                self.main_sequence_peak_velocity,
+            ],
+            "main sequence",
+        )?;
+        if self.main_sequence_base <= 0.0
+            || self.main_sequence_per_radian < 0.0
+            || self.main_sequence_peak_velocity <= 0.0
+        {
+            return Err(Error::InvalidArgument(
+                "gaze timing: main_sequence_base and main_sequence_peak_velocity must be > 0, \
+                 main_sequence_per_radian ≥ 0"
+                    .into(),
+            ));
+        }
         if self.saccade_duration <= 0.0
             || self.head_base_duration <= 0.0
             || self.head_duration_per_radian < 0.0
@@ -136,6 +178,14 @@ impl GazeTiming {
     }
 }
 
+impl GazeTiming {
+    /// How long an eye shift of `amplitude` radians lasts on the main sequence, s
+    /// ([`MotionStyle::MainSequence`]).
+    pub fn main_sequence_duration(&self, amplitude: f32) -> f32 {
+        self.main_sequence_base + self.main_sequence_per_radian * amplitude
+    }
+}
+
 /// Everything a [`GazeMotion`] needs to know besides the frame: spatial and timing settings.
 ///
 /// [`GazeMotion`]: crate::ik::GazeMotion
@@ -167,4 +217,12 @@ pub enum MotionStyle {
     /// follows `θ_h(u) = e^(0.027u)(sin(πu/2))^1.90` over a duration that grows with the
     /// head's turn ([`GazeTiming::head_base_duration`]).
     Saccadic,
+    /// As [`Eased`](Self::Eased) for the head, neck and spine, but the eyes' shift lasts as
+    /// long as a human saccade of its amplitude `A` (the main sequence,
+    /// [`GazeTiming::main_sequence_duration`]: about 2.2 ms/° · A + 21 ms), along
+    /// [`GazeTiming::saccade_ease`] and no faster than
+    /// [`GazeTiming::main_sequence_peak_velocity`]; `A` is the angle between the eyes'
+    /// direction when the shift starts and the target (before the character's first frame,
+    /// when the eyes have no direction yet, the eyes take the eased `t_a / 2`).
+    MainSequence,
 }

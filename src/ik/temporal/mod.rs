@@ -201,6 +201,29 @@ impl GazeMotion {
         )
     }
 
+    /// The angle (radians) between where the eyes look now ([`gaze_ray`](Self::gaze_ray))
+    /// and the direction from them to `target`; `None` before the first update (the eyes
+    /// have no direction yet) or for a target at the eyes.
+    pub fn eye_angle_to(&self, target: Vec3) -> Option<f32> {
+        let (origin, direction) = self.gaze_ray();
+        let to_target = (target - origin).normalize_or_zero();
+        if direction == Vec3::ZERO || to_target == Vec3::ZERO {
+            return None;
+        }
+        Some(direction.dot(to_target).clamp(-1.0, 1.0).acos())
+    }
+
+    /// The amplitude (radians) of the gaze shift that started in the last update, if one
+    /// did: the angle the eyes have to turn to its eye target ([`eye_angle_to`]
+    /// (Self::eye_angle_to)); `None` when no shift started (or the eyes have no direction
+    /// yet).
+    pub fn shift_start_amplitude(&self) -> Option<f32> {
+        if self.phase != GazePhase::Shifting || self.elapsed != 0.0 {
+            return None;
+        }
+        self.eye_angle_to(self.last_eye_target)
+    }
+
     /// How long each group's current shift (or return) lasts, indexed by
     /// [`JointGroup::index`](crate::ik::JointGroup::index).
     pub fn group_durations(&self) -> [f32; 3] {
@@ -213,6 +236,8 @@ impl GazeMotion {
                 let t = self.activation_time;
                 match self.style {
                     MotionStyle::Eased => [0.5 * t, t, 2.0 * t],
+                    // The eyes' main-sequence duration is kept apart.
+                    MotionStyle::MainSequence => [self.saccade_duration, t, 2.0 * t],
                     // t_a holds the head's duration; the eyes' saccade is kept apart.
                     MotionStyle::Saccadic => [self.saccade_duration, t, 1.5 * t],
                 }
@@ -221,12 +246,21 @@ impl GazeMotion {
     }
 
     /// The fraction of its motion each group has done (eyes, head and neck, spine): `f_P`,
-    /// or for a saccadic shift the saccade and head curves.
-    fn group_fractions(&self, ease: &Ease) -> [f32; 3] {
+    /// for a main-sequence shift the eyes' along the saccade's ease, for a saccadic shift
+    /// the saccade and head curves.
+    fn group_fractions(&self, timing: &GazeTiming) -> [f32; 3] {
+        let ease = &timing.ease;
         let durations = self.group_durations();
         let elapsed = self.elapsed;
         if self.phase == GazePhase::Returning || self.style == MotionStyle::Eased {
             return durations.map(|duration| eased(ease, elapsed, duration));
+        }
+        if self.style == MotionStyle::MainSequence {
+            return [
+                eased(&timing.saccade_ease, elapsed, durations[0]),
+                eased(ease, elapsed, durations[1]),
+                eased(ease, elapsed, durations[2]),
+            ];
         }
         let progress = |duration: f32| {
             if duration > 0.0 {

@@ -316,6 +316,16 @@ fn advance_phases<W: Wide>(
                         MotionStyle::Eased => {
                             timing.activation_time(head_angle, request.interest_ratio)
                         }
+                        MotionStyle::MainSequence => {
+                            let activation =
+                                timing.activation_time(head_angle, request.interest_ratio);
+                            motion.saccade_duration = match motion.eye_angle_to(request.eye_target)
+                            {
+                                Some(amplitude) => timing.main_sequence_duration(amplitude),
+                                None => 0.5 * activation,
+                            };
+                            activation
+                        }
                         MotionStyle::Saccadic => {
                             timing.head_base_duration + timing.head_duration_per_radian * head_angle
                         }
@@ -340,8 +350,15 @@ fn advance_phases<W: Wide>(
                 GazePhase::Idle => {}
             },
         }
-        fractions[lane] = motion.group_fractions(&timing.ease);
+        fractions[lane] = motion.group_fractions(timing);
         max_steps[lane] = timing.max_joint_speed.map(|speed| speed * input.dt);
+        if motion.style == MotionStyle::MainSequence
+            && motion.phase == GazePhase::Shifting
+            && motion.elapsed < motion.saccade_duration
+        {
+            let eyes = &mut max_steps[lane][JointGroup::Eyes.index()];
+            *eyes = eyes.min(timing.main_sequence_peak_velocity * input.dt);
+        }
         moving[lane] = matches!(motion.phase, GazePhase::Shifting | GazePhase::Holding);
         returning[lane] = motion.phase == GazePhase::Returning;
     }
