@@ -1,8 +1,9 @@
 /* old_struct_sizes.c: the library reads and writes no more of a versioned struct than its
  * struct_size says. Each struct lives in a heap block of exactly its size followed by guard
  * bytes: every call that fills, reads or returns the struct must leave the guard intact.
- * cg_crowd_config is also passed in its older, 144-byte layout (everything before
- * reorder_period), as a program built against an older header has it. */
+ * cg_crowd_config is also passed in its two older layouts, of 144 bytes (everything
+ * before reorder_period) and 152 bytes (everything before the blink fields, padded), as programs
+ * built against older headers have it. */
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -14,8 +15,10 @@
 #define GUARD_BYTES 64
 #define GUARD 0xA5
 
-/* The size of cg_crowd_config before reorder_period was added (C pads it to 8 bytes). */
-#define OLD_CROWD_CONFIG_SIZE offsetof(cg_crowd_config, reorder_period)
+/* The sizes of cg_crowd_config before reorder_period and before blink_rate were added (C
+ * pads the struct to 8 bytes, for its uint64_t seed). */
+#define OLDEST_CROWD_CONFIG_SIZE offsetof(cg_crowd_config, reorder_period)
+#define OLDER_CROWD_CONFIG_SIZE ((offsetof(cg_crowd_config, blink_rate) + 7) / 8 * 8)
 
 static int failures = 0;
 
@@ -61,13 +64,12 @@ static int guard_intact(const void *block, size_t size) {
                intact_ ? "intact" : "OVERWRITTEN");                                      \
     } while (0)
 
-/* The older cg_crowd_config: init, create, get, each within its 144 bytes. */
-static void old_crowd_config(void) {
-    const size_t size = OLD_CROWD_CONFIG_SIZE;
+/* An older cg_crowd_config of `size` bytes: init, create, get, each within its size. */
+static void old_crowd_config(size_t size) {
     cg_crowd_config *config = guarded(size);
     cg_crowd *crowd = NULL;
 
-    CHECK(size == 144 && size < sizeof(cg_crowd_config));
+    CHECK(size < sizeof(cg_crowd_config));
     CHECK(cg_crowd_config_init(config) == CG_STATUS_OK);
     CHECK_GUARD(config, size, "older cg_crowd_config, cg_crowd_config_init");
     CHECK(config->struct_size == size);
@@ -92,6 +94,8 @@ static void old_crowd_config(void) {
         current.struct_size = sizeof current;
         CHECK(cg_crowd_get_config(crowd, &current) == CG_STATUS_OK);
         CHECK(current.threads == 2 && current.reorder_period == 0); /* its default */
+        CHECK(current.blink_rate == 17.0f && current.lid_gain == 1.0f);
+        CHECK(current.eye_motion == CG_EYE_MOTION_PAPER);
     }
 
     /* A struct_size that is no layout's: refused, nothing written. */
@@ -178,7 +182,9 @@ static void current_sizes(void) {
 }
 
 int main(void) {
-    old_crowd_config();
+    CHECK(OLDEST_CROWD_CONFIG_SIZE == 144 && OLDER_CROWD_CONFIG_SIZE == 152);
+    old_crowd_config(OLDEST_CROWD_CONFIG_SIZE);
+    old_crowd_config(OLDER_CROWD_CONFIG_SIZE);
     current_sizes();
     if (failures != 0) {
         return 1;

@@ -108,6 +108,7 @@ fn status_and_version_queries_do_not_allocate() {
 fn push_frame_step_and_read_gaze_do_not_allocate() {
     use crowdgaze::ffi::attention::*;
     use crowdgaze::ffi::crowd::*;
+    use crowdgaze::ffi::eyelids::*;
     use crowdgaze::ffi::frame::*;
     use crowdgaze::ffi::status::cg_status;
     use crowdgaze::ffi::types::cg_vec3;
@@ -178,6 +179,7 @@ fn push_frame_step_and_read_gaze_do_not_allocate() {
         states.push(state);
     }
     let mut gaze = vec![cg_gaze_info::default(); 200];
+    let mut eyelids = vec![cg_eyelids::default(); 200];
     let mut frame = |t: f64| {
         for (i, state) in states.iter_mut().enumerate() {
             state.position.x += if i % 2 == 0 { 0.04 } else { -0.04 };
@@ -220,13 +222,17 @@ fn push_frame_step_and_read_gaze_do_not_allocate() {
             cg_status::Ok
         );
         assert_eq!(written, 200);
+        assert_eq!(
+            unsafe { cg_crowd_read_eyelids(handle, 0, 200, eyelids.as_mut_ptr(), eyelids.len()) },
+            cg_status::Ok
+        );
     };
     for i in 0..10 {
         frame(f64::from(i) / 30.0);
     }
     assert_no_alloc(
         "push_frame (and begin/range/end) + step (and begin/range/end, and storage \
-         reorders) + read_gaze",
+         reorders) + read_gaze + read_eyelids",
         || {
             for i in 10..100 {
                 frame(f64::from(i) / 30.0);
@@ -445,13 +451,21 @@ fn every_attention_model_and_gaze_ik_step_without_allocating() {
         crowd.step(1.0 / 30.0).unwrap();
         let mut joints = [glam::Quat::IDENTITY; 900];
         crowd.read_joints(0, 90, false, &mut joints).unwrap();
+        (0..90)
+            .map(|character| crowd.eyelids_at(character).left_closure)
+            .fold(0.0f32, f32::max)
     };
     for _ in 0..30 {
         advance(&mut crowd, &mut scenario);
     }
-    assert_no_alloc("crowd, saliency and baseline models with gaze IK", || {
-        for _ in 0..120 {
-            advance(&mut crowd, &mut scenario);
-        }
-    });
+    // The steps blink (at 17 a minute, 90 characters blink a few times a second).
+    let closed = assert_no_alloc(
+        "crowd, saliency and baseline models with gaze IK, blinks and their eyelids read",
+        || {
+            (0..120)
+                .map(|_| advance(&mut crowd, &mut scenario))
+                .fold(0.0f32, f32::max)
+        },
+    );
+    assert!(closed > 0.5, "no one blinked: {closed}");
 }

@@ -15,6 +15,7 @@
 use crowdgaze::ffi::attention::*;
 
 use crowdgaze::ffi::crowd::*;
+use crowdgaze::ffi::eyelids::*;
 use crowdgaze::ffi::frame::*;
 use crowdgaze::ffi::gaze::*;
 use crowdgaze::ffi::last_error::last_error_message;
@@ -214,6 +215,7 @@ fn every_crowd_call(crowd: *mut cg_crowd, ids: &[u32], expected: &str) {
     let mut quats = [cg_quat::IDENTITY; 30];
     let mut gaze = [cg_gaze_info::default(); 3];
     let mut eyes = [cg_eye_info::default(); 3];
+    let mut eyelids = [cg_eyelids::default(); 3];
     let mut constraints = [cg_constraint::default(); 4];
     let mut score = cg_score_breakdown::default();
     let (mut id, mut count) = (u32::MAX, usize::MAX);
@@ -224,8 +226,9 @@ fn every_crowd_call(crowd: *mut cg_crowd, ids: &[u32], expected: &str) {
         (&mut score, &mut params);
     let config_out: *mut cg_crowd_config = &mut config;
     let (gaze_out, eyes_out) = (gaze.as_mut_ptr(), eyes.as_mut_ptr());
+    let eyelids_out = eyelids.as_mut_ptr();
     let (constraints_out, quats_out) = (constraints.as_mut_ptr(), quats.as_mut_ptr());
-    let calls: [(&str, &dyn Fn() -> cg_status); 31] = [
+    let calls: [(&str, &dyn Fn() -> cg_status); 32] = [
         ("cg_crowd_begin_step", &|| unsafe {
             cg_crowd_begin_step(crowd, 0.05)
         }),
@@ -311,12 +314,16 @@ fn every_crowd_call(crowd: *mut cg_crowd, ids: &[u32], expected: &str) {
         ("cg_crowd_read_eyes", &|| unsafe {
             cg_crowd_read_eyes(crowd, 0, 3, eyes_out, 3)
         }),
+        ("cg_crowd_read_eyelids", &|| unsafe {
+            cg_crowd_read_eyelids(crowd, 0, 3, eyelids_out, 3)
+        }),
     ];
     all_poisoned("cg_crowd", &calls, expected);
     // Nothing was written.
     assert_eq!((id, count), (u32::MAX, usize::MAX));
     assert!(gaze.iter().all(|g| g.character == 0 && g.target == 0));
     assert!(eyes.iter().all(|e| e.character == 0));
+    assert!(eyelids.iter().all(|e| *e == cg_eyelids::default()));
     assert!(constraints.iter().all(|c| c.entity == 0));
     assert!(quats.iter().all(|q| *q == cg_quat::IDENTITY));
     assert_eq!((score.total, params.attention_fraction), (0.0, 0.5));

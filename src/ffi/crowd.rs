@@ -470,7 +470,7 @@ pub const CG_EYE_MOTION_MAIN_SEQUENCE: u32 = 1;
 
 impl Versioned for cg_crowd_config {
     // Callers built against a header from before `reorder_period` (144 bytes) or before the
-    // blink fields (148 bytes) get the defaults of the fields they lack.
+    // blink fields (152 bytes) get the defaults of the fields they lack.
     const SIZES: &'static [usize] = &[
         layout_size::<cg_crowd_config>(std::mem::offset_of!(cg_crowd_config, reorder_period)),
         layout_size::<cg_crowd_config>(std::mem::offset_of!(cg_crowd_config, blink_rate)),

@@ -2,11 +2,12 @@
 
 use crate::{
     corruption::{
-        bad_output_sizes, invalid, non_finite, struct_sizes_from, Corruption, OLDER_CROWD_CONFIG,
+        bad_output_sizes, change, invalid, non_finite, struct_sizes_from, Corruption,
+        OLDER_CROWD_CONFIG,
     },
     table::Table,
     values::{floats, init, padded, Fields},
-    NULL_ARG,
+    BAD_SIZE, NULL_ARG,
 };
 use crowdgaze::ffi::attention::*;
 use crowdgaze::ffi::crowd::*;
@@ -21,7 +22,8 @@ fn crowd_config_floats() -> Fields {
         eyes_only_angle, eyes_head_neck_angle, head_speed, max_activation_time,
         restart_distance, min_deactivation_time, max_deactivation_time, eye_fixation_time,
         head_fixation_time, random_pick_probability, social_weight, proximity_radius,
-        lod_distance)
+        lod_distance, blink_rate, blink_rate_spread, evoked_blink_min_amplitude,
+        evoked_blink_full_amplitude, evoked_blink_probability, lid_gain)
 }
 
 /// Values of `cg_crowd_config` outside their documented ranges.
@@ -92,6 +94,27 @@ fn crowd_config_out_of_range() -> Vec<Corruption<cg_crowd_config>> {
         ("far_attention_period 65", |c| c.far_attention_period = 65),
         ("threads 65", |c| c.threads = 65),
         ("threads UINT32_MAX", |c| c.threads = u32::MAX),
+        ("blink_rate -1", |c| c.blink_rate = -1.0),
+        ("blink_rate 121", |c| c.blink_rate = 121.0),
+        ("blink_rate_spread 1", |c| c.blink_rate_spread = 1.0),
+        ("blink_rate_spread -0.1", |c| c.blink_rate_spread = -0.1),
+        ("evoked_blink_min_amplitude -0.1", |c| {
+            c.evoked_blink_min_amplitude = -0.1
+        }),
+        (
+            "evoked_blink_full_amplitude = evoked_blink_min_amplitude",
+            |c| c.evoked_blink_full_amplitude = c.evoked_blink_min_amplitude,
+        ),
+        ("evoked_blink_full_amplitude 4 (> π)", |c| {
+            c.evoked_blink_full_amplitude = 4.0
+        }),
+        ("evoked_blink_probability 1.5", |c| {
+            c.evoked_blink_probability = 1.5
+        }),
+        ("lid_gain -1", |c| c.lid_gain = -1.0),
+        ("lid_gain 3", |c| c.lid_gain = 3.0),
+        ("eye_motion 2", |c| c.eye_motion = 2),
+        ("eye_motion UINT32_MAX", |c| c.eye_motion = u32::MAX),
     ])
 }
 
@@ -106,6 +129,14 @@ pub(crate) fn rows_crowd(t: &mut Table) {
     // Callers built before `reorder_period` existed pass the size without it, which is
     // accepted.
     let mut corruptions = struct_sizes_from::<cg_crowd_config>(OLDER_CROWD_CONFIG);
+    // Between the two older layouts' sizes and the current one: no layout's.
+    for size in [148u32, 156] {
+        corruptions.push(change(
+            format!("struct_size {size} (between two layouts)"),
+            BAD_SIZE,
+            move |c: &mut cg_crowd_config| c.struct_size = size,
+        ));
+    }
     corruptions.extend(non_finite(&crowd_config_floats()));
     corruptions.extend(crowd_config_out_of_range());
     t.corrupt_struct(

@@ -9,6 +9,7 @@ use crate::{
 use crowdgaze::ffi::attention::*;
 use crowdgaze::ffi::chain::*;
 use crowdgaze::ffi::crowd::*;
+use crowdgaze::ffi::eyelids::cg_eyelids;
 use crowdgaze::ffi::frame::*;
 use crowdgaze::ffi::gaze::*;
 use crowdgaze::ffi::types::{cg_axis, cg_dualquat, cg_quat, cg_vec3};
@@ -71,6 +72,7 @@ pub(crate) struct Outputs {
     pub(crate) constraints: [cg_constraint; 8],
     pub(crate) quats: [cg_quat; 64],
     pub(crate) eyes: [cg_eye_info; 8],
+    pub(crate) eyelids: [cg_eyelids; 8],
     pub(crate) matrix: [f32; 16],
     pub(crate) weights: [f32; 8],
     pub(crate) pose: [cg_dualquat; 8],

@@ -1,7 +1,8 @@
-//! Rows: reading joints and eyes.
+//! Rows: reading joints, eyes and eyelids.
 
 use crate::{table::Table, INVALID, NULL_ARG};
 use crowdgaze::ffi::crowd::*;
+use crowdgaze::ffi::eyelids::*;
 use crowdgaze::ffi::gaze::*;
 use crowdgaze::ffi::status::cg_status;
 use crowdgaze::ffi::types::cg_quat;
@@ -71,6 +72,36 @@ pub(crate) fn rows_joints(t: &mut Table) {
     ] {
         t.case(f, what, INVALID, move |h| unsafe {
             cg_crowd_read_eyes(h.crowd, first, count, h.out.eyes.as_mut_ptr(), out_len)
+        });
+    }
+
+    let f = "cg_crowd_read_eyelids";
+    t.case(f, "crowd NULL", NULL_ARG, |h| unsafe {
+        cg_crowd_read_eyelids(null(), 0, 4, h.out.eyelids.as_mut_ptr(), 8)
+    });
+    t.case(f, "(out NULL, out_len 4)", NULL_ARG, |h| unsafe {
+        cg_crowd_read_eyelids(h.crowd, 0, 4, null_mut(), 4)
+    });
+    t.case(f, "out misaligned", INVALID, |h| unsafe {
+        let misaligned = h
+            .out
+            .eyelids
+            .as_mut_ptr()
+            .cast::<u8>()
+            .add(1)
+            .cast::<cg_eyelids>();
+        cg_crowd_read_eyelids(h.crowd, 0, 4, misaligned, 4)
+    });
+    for (what, first, count, out_len) in [
+        ("first 5 past the last character", 5, 0, 8),
+        ("count 5 of 4 characters", 0, 5, 8),
+        ("first UINT32_MAX, count 2 (overflowing)", u32::MAX, 2, 8),
+        ("first 1, count UINT32_MAX (overflowing)", 1, u32::MAX, 8),
+        ("out_len 3 for 4 characters", 0, 4, 3),
+        ("out_len SIZE_MAX", 0, 4, usize::MAX),
+    ] {
+        t.case(f, what, INVALID, move |h| unsafe {
+            cg_crowd_read_eyelids(h.crowd, first, count, h.out.eyelids.as_mut_ptr(), out_len)
         });
     }
 }
