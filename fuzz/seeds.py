@@ -32,7 +32,7 @@ def walk(frames):
 def reads():
     return op("read_gaze", 0, 16) + op("read_joints", 0, 12) + op("read_eyes", 0, 12) + op(
         "read_joint_deltas", 3, 2
-    )
+    ) + op("read_eyelids", 0, 12)
 
 
 def crowd(count, model=0):

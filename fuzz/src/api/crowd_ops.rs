@@ -9,8 +9,9 @@ use crowdgaze::ffi::attention::*;
 use crowdgaze::ffi::chain::{cg_chain_desc, cg_chain_desc_init_human};
 use crowdgaze::ffi::crowd::{
     cg_crowd, cg_crowd_config, cg_crowd_config_init, cg_crowd_create, cg_crowd_destroy,
-    cg_crowd_get_config,
+    cg_crowd_get_config, CG_EYE_MOTION_MAIN_SEQUENCE,
 };
+use crowdgaze::ffi::eyelids::{cg_crowd_read_eyelids, cg_eyelids};
 use crowdgaze::ffi::frame::*;
 use crowdgaze::ffi::gaze::*;
 use crowdgaze::ffi::status::cg_status;
@@ -133,6 +134,23 @@ pub fn create(state: &mut State, input: &mut Input) {
     // CG_STATUS_OUT_OF_MEMORY, never aborting.
     if input.rare() {
         config.max_recorded_states = u32::MAX;
+    }
+    // The living eyes' settings (read last too): any values, or blinking as fast as allowed
+    // with every large shift blinking and the eyes on the main sequence.
+    match input.below(8) {
+        7 => {
+            config.blink_rate = input.float();
+            config.blink_rate_spread = input.float();
+            config.evoked_blink_full_amplitude = input.float();
+            config.lid_gain = input.float();
+            config.eye_motion = input.below(4);
+        }
+        6 => {
+            config.blink_rate = 120.0;
+            config.evoked_blink_probability = 1.0;
+            config.eye_motion = CG_EYE_MOTION_MAIN_SEQUENCE;
+        }
+        _ => {}
     }
     let pointer: *const cg_crowd_config = if pointer.is_null() { pointer } else { &config };
     let status = state.change("cg_crowd_create", unsafe { cg_crowd_create(pointer, out) });
@@ -666,6 +684,18 @@ pub fn read_eyes(state: &mut State, input: &mut Input) {
         cg_crowd_read_eyes(crowd, first, count, pointer, length)
     });
     state.outputs("cg_crowd_read_eyes", status, &out, count as usize);
+}
+
+pub fn read_eyelids(state: &mut State, input: &mut Input) {
+    let (first, count) = range(input);
+    let length = input.count_or((count as usize).min(16), 20);
+    let mut out = sentinel::<cg_eyelids>(length);
+    let crowd = state.crowd(input);
+    let pointer = or_null(out.as_mut_ptr(), input);
+    let status = state.call("cg_crowd_read_eyelids", unsafe {
+        cg_crowd_read_eyelids(crowd, first, count, pointer, length)
+    });
+    state.outputs("cg_crowd_read_eyelids", status, &out, count as usize);
 }
 
 pub fn character_count(state: &mut State, input: &mut Input) {

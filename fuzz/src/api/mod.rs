@@ -30,6 +30,7 @@ mod values;
 
 use crowdgaze::ffi::attention::{cg_crowd_read_gaze, cg_gaze_info};
 use crowdgaze::ffi::crowd::{cg_crowd, cg_crowd_config, cg_crowd_destroy};
+use crowdgaze::ffi::eyelids::{cg_crowd_read_eyelids, cg_eyelids};
 use crowdgaze::ffi::gaze::{
     cg_crowd_joint_total, cg_crowd_read_eyes, cg_crowd_read_joint_deltas, cg_crowd_read_joints,
     cg_eye_info,
@@ -245,6 +246,13 @@ impl State {
             assert_eq!(self.call("cg_crowd_read_eyes", status), cg_status::Ok);
             self.outputs("cg_crowd_read_eyes", status, &eyes, written);
             seen.extend_from_slice(bytes(&eyes));
+            let mut eyelids = sentinel::<cg_eyelids>(written);
+            let status = unsafe {
+                cg_crowd_read_eyelids(self.crowd, 0, characters, eyelids.as_mut_ptr(), written)
+            };
+            assert_eq!(self.call("cg_crowd_read_eyelids", status), cg_status::Ok);
+            self.outputs("cg_crowd_read_eyelids", status, &eyelids, written);
+            seen.extend_from_slice(bytes(&eyelids));
         }
         seen
     }

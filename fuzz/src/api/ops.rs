@@ -57,6 +57,7 @@ pub const OPS: &[Op] = &[
     ("messages", messages),
     ("ranged_step", crowd_ops::ranged_step),
     ("ranged_push", crowd_ops::ranged_push),
+    ("read_eyelids", crowd_ops::read_eyelids),
 ];
 
 /// The functions that return no status: the last error message into a buffer of any

@@ -6,6 +6,7 @@ use crowdgaze::ffi::attention::{
 };
 use crowdgaze::ffi::chain::cg_chain_desc;
 use crowdgaze::ffi::crowd::cg_crowd_config;
+use crowdgaze::ffi::eyelids::cg_eyelids;
 use crowdgaze::ffi::gaze::cg_eye_info;
 use crowdgaze::ffi::types::{cg_dualquat, cg_quat, cg_vec3};
 
@@ -119,6 +120,12 @@ output!(cg_eye_info, |v| [
     v.right_direction.x,
     v.right_direction.y,
     v.right_direction.z,
+]);
+output!(cg_eyelids, |v| [
+    v.left_closure,
+    v.right_closure,
+    v.left_lid_pitch,
+    v.right_lid_pitch,
 ]);
 output!(cg_score_breakdown, |v| [
     v.distance,
