@@ -2,12 +2,14 @@
 //! random walkers in a square plaza, d_m = 10 m), at 1 000, 10 000 and 100 000 characters
 //! on 1 and 2 threads (`CrowdConfig::threads`): attention alone, gaze IK alone (10-joint
 //! human chain), and the whole step; in the same run the naive all-pairs scoring at 1 000
-//! and 10 000 (the baseline), and attention every 4th frame (level of detail) at 10 000.
+//! and 10 000 (the baseline), attention every 4th frame (level of detail) at 10 000, and
+//! at 10 000 the step and the gaze IK with blinks off, to show what blinks and lids cost.
 //!
 //! Run: `cargo bench --bench attention`, or `scripts/bench` for the README's table.
 //! Criterion reports time per crowd frame; throughput in elements = characters.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
+use crowdgaze::ik::BlinkSettings;
 use crowdgaze::scenario::Scenario;
 use crowdgaze::{Crowd, CrowdConfig};
 use std::hint::black_box;
@@ -18,7 +20,13 @@ const DT: f32 = 1.0 / 30.0;
 /// A plaza whose characters update attention every `period` steps (level of detail),
 /// stepped on `threads` threads.
 fn plaza_with(characters: usize, period: u32, threads: u32) -> Crowd {
+    plaza_configured(characters, period, threads, BlinkSettings::default())
+}
+
+/// [`plaza_with`] with `blinks`.
+fn plaza_configured(characters: usize, period: u32, threads: u32, blinks: BlinkSettings) -> Crowd {
     let mut crowd = Crowd::new(CrowdConfig {
+        blinks,
         max_characters: characters as u32,
         max_objects: 0,
         attention_period: period,
@@ -78,6 +86,30 @@ fn attention(c: &mut Criterion) {
     group.bench_function(BenchmarkId::new("attention_lod4_1t", 10_000), |b| {
         b.iter(|| crowd.step_attention(black_box(DT)).expect("attention"))
     });
+    // Blinks and lids: the same plaza with blinks on (the default) and off, interleaved.
+    let never = BlinkSettings {
+        mean_rate: 0.0,
+        evoked_probability: 0.0,
+        ..BlinkSettings::default()
+    };
+    let mut blinking = plaza_with(10_000, 1, 1);
+    let mut still = plaza_configured(10_000, 1, 1, never);
+    for (name, crowd) in [
+        ("step_blinks_on_1t", &mut blinking),
+        ("step_blinks_off_1t", &mut still),
+    ] {
+        group.bench_function(BenchmarkId::new(name, 10_000), |b| {
+            b.iter(|| crowd.step(black_box(DT)).expect("step"))
+        });
+    }
+    for (name, crowd) in [
+        ("gaze_ik_blinks_on_1t", &mut blinking),
+        ("gaze_ik_blinks_off_1t", &mut still),
+    ] {
+        group.bench_function(BenchmarkId::new(name, 10_000), |b| {
+            b.iter(|| crowd.step_gaze(black_box(DT)).expect("gaze"))
+        });
+    }
     group.finish();
 }
 

@@ -61,6 +61,13 @@ def main():
     lod = per_element("attention", "attention_lod4_1t", "10000")
     print(f"- Attention every 4th frame (level of detail), 10,000 characters, 1 thread: "
           f"{show(lod)} µs per character-frame.")
+    for part, what in [("step", "Whole step"), ("gaze_ik", "Gaze IK")]:
+        on = per_element("attention", f"{part}_blinks_on_1t", "10000")
+        off = per_element("attention", f"{part}_blinks_off_1t", "10000")
+        if on is not None and off is not None:
+            print(f"- {what} with blinks and lids against without, 10,000 characters, "
+                  f"1 thread: {on * 1000.0:.1f} against {off * 1000.0:.1f} ns per "
+                  f"character-frame ({(on - off) * 1000.0:+.1f} ns).")
     for characters in ["1000", "10000", "100000"]:
         print(f"- 2 threads vs 1, attention + gaze IK, {int(characters):,} characters: "
               f"{ratio(step[(characters, '1')], step[(characters, '2')])} faster.")

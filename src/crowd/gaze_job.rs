@@ -199,6 +199,9 @@ impl GazeJob<'_> {
     /// spontaneous blinks go on. Most characters' frames are quiet
     /// ([`BlinkState::advance_quietly`]) and need neither their id nor a draw.
     fn blink(&self, first: usize, motions: &[GazeMotion], blinks: &mut [BlinkState]) {
+        if self.blinks.never_blink() {
+            return;
+        }
         for (local, (motion, blink)) in motions.iter().zip(blinks).enumerate() {
             let shift = motion.shift_start_amplitude();
             if !blink.advance_quietly(self.dt, shift) {

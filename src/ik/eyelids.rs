@@ -130,6 +130,12 @@ impl BlinkSettings {
         Ok(())
     }
 
+    /// True if these settings blink never: no spontaneous blinks (`mean_rate` 0) and no
+    /// gaze-evoked ones (`evoked_probability` 0). A crowd then skips blinking altogether.
+    pub fn never_blink(&self) -> bool {
+        self.mean_rate == 0.0 && self.evoked_probability == 0.0
+    }
+
     /// The probability that a gaze shift of `amplitude` radians starts a blink.
     pub fn evoked_probability_at(&self, amplitude: f32) -> f32 {
         let ramp = (amplitude - self.evoked_min_amplitude)
