@@ -6,7 +6,8 @@
 //! transform, chain and base pose. Out: each character's gaze motion (joint rotations, eye
 //! origins and directions) and its random stream of timing draws; then, as its last stage,
 //! what the readers will report for it (its gaze and final joint rotations), published in
-//! the readers' order. A character's result
+//! the readers' order. Each chunk of characters blinks as soon as it has moved
+//! (`blinks.rs`). A character's result
 //! depends only on its own inputs, not on its batch or range, so ranges may run on several
 //! threads.
 
@@ -17,11 +18,10 @@ use super::outputs::{gaze_info, joint_rotations};
 use super::published::{Outputs, PublishTarget};
 use super::states::{CharacterSlices, CharacterView, RawCharacterSlices};
 use crate::error::{Error, Result};
-use crate::ik::eyelids::character_seed;
 use crate::ik::temporal::BATCH_LANES;
 use crate::ik::{
-    BlinkSettings, BlinkState, CharacterTransform, GazeChain, GazeConfig, GazeInput, GazeMotion,
-    GazeRequest, MAX_CHAIN_JOINTS,
+    BlinkSettings, CharacterTransform, GazeChain, GazeConfig, GazeInput, GazeMotion, GazeRequest,
+    MAX_CHAIN_JOINTS,
 };
 use crate::math::random::Random;
 
@@ -191,25 +191,6 @@ impl GazeJob<'_> {
                 &mut blinks[chunk..chunk + len],
             );
             chunk += len;
-        }
-    }
-
-    /// The blinks of characters `first ..` (one per entry of `motions`, already moved this
-    /// step): a gaze shift that started may start a blink; the
-    /// spontaneous blinks go on. Most characters' frames are quiet
-    /// ([`BlinkState::advance_quietly`]) and need neither their id nor a draw.
-    fn blink(&self, first: usize, motions: &[GazeMotion], blinks: &mut [BlinkState]) {
-        if self.blinks.never_blink() {
-            return;
-        }
-        for (local, (motion, blink)) in motions.iter().zip(blinks).enumerate() {
-            let shift = motion.shift_start_amplitude();
-            if !blink.advance_quietly(self.dt, shift) {
-                let scene = self.look.scene;
-                let entity = scene.character_entities()[first + local] as usize;
-                let seed = character_seed(self.seed, scene.ids()[entity]);
-                blink.advance(self.blinks, seed, self.dt, shift);
-            }
         }
     }
 

@@ -10,9 +10,11 @@
 //! 3. **The attention job** (`attention_job.rs`, with `attention_models.rs`): each
 //!    character's attention model picks what it attends to.
 //! 4. **The gaze job** (`gaze_job.rs`): each character's spine, neck, head and eyes turn
-//!    towards that target (what it looks at is resolved in `look.rs`).
-//! 5. **Read back** ([`Crowd::gaze_at`], [`Crowd::read_joints`], `readback.rs`): where
-//!    characters look, their joint rotations and eyes, in the order the engine created them.
+//!    towards that target (what it looks at is resolved in `look.rs`), and it blinks
+//!    (`blinks.rs`).
+//! 5. **Read back** ([`Crowd::gaze_at`], [`Crowd::read_joints`], [`Crowd::eyelids_at`],
+//!    `readback.rs`): where characters look, their joint rotations, eyes and eyelids, in
+//!    the order the engine created them.
 //!
 //! [`Crowd::step`] runs 2 to 4 on the crowd's worker threads; an engine with its own job
 //! system runs the same jobs in ranges ([`Crowd::begin_step`], [`StepRanges::run_range`],
@@ -31,6 +33,7 @@
 
 mod attention_job;
 mod attention_models;
+mod blinks;
 mod claims;
 mod config;
 mod diagnostics;

@@ -192,12 +192,10 @@ impl Crowd {
         let closure =
             self.states.blinks[character].closure(character_seed(self.shared.config.seed, id));
         let chain = self.chain_of(character);
-        let base = self
-            .shared
-            .characters
-            .base_pose(&self.shared.chains, character);
+        let tables = &self.shared.characters;
+        let base = |joint| tables.base_rotation(&self.shared.chains, character, joint);
         let deltas = self.states.motions[character].deltas();
-        let [left, right] = eye_pitches(chain, &base[..deltas.len()], deltas);
+        let [left, right] = eye_pitches(chain, base, deltas);
         EyelidState {
             character: id,
             left_closure: closure,

@@ -116,6 +116,16 @@ impl Characters {
         &chains.all[self.chain_of[character] as usize]
     }
 
+    /// The base rotation of one chain joint of a character (see
+    /// [`base_pose`](Self::base_pose)), without unpacking the others.
+    pub fn base_rotation(&self, chains: &Chains, character: usize, joint: usize) -> Quat {
+        if self.posed[character] {
+            self.bases[character][joint].unpack()
+        } else {
+            chains.rests[self.chain_of[character] as usize][joint]
+        }
+    }
+
     /// A character's base pose (local rotations of its chain joints, the first
     /// `joint_count` used): its chain's rest pose, or the pose the engine set, unpacked.
     pub fn base_pose(&self, chains: &Chains, character: usize) -> [Quat; MAX_CHAIN_JOINTS] {

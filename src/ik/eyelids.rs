@@ -165,15 +165,16 @@ pub fn character_seed(crowd_seed: u64, character_id: u32) -> u64 {
 /// Each eye's pitch in the head's frame, radians, positive towards the head's up
 /// ([`GazeChain::eye_up`]): the direction the eye's local rotation `base · delta` gives its
 /// rest gaze ([`GazeChain::eye_forward`]), as the gaze IK turns it. `[0, 0]` for a chain
-/// without eyes. `base` and `deltas` hold the chain's joints.
-pub fn eye_pitches(chain: &GazeChain, base: &[Quat], deltas: &[Quat]) -> [f32; 2] {
+/// without eyes. `base(joint)` is the base rotation of chain joint `joint`, `deltas` the
+/// chain's deltas.
+pub fn eye_pitches(chain: &GazeChain, base: impl Fn(usize) -> Quat, deltas: &[Quat]) -> [f32; 2] {
     let Some(eyes) = chain.eye_indices() else {
         return [0.0; 2];
     };
     eyes.map(|index| {
         let rest = chain.joints()[index].rest;
         let local_forward = rest.conjugate() * chain.eye_forward();
-        let direction = (base[index] * deltas[index]) * local_forward;
+        let direction = (base(index) * deltas[index]) * local_forward;
         direction
             .normalize_or_zero()
             .dot(chain.eye_up())

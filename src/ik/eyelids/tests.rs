@@ -253,3 +253,31 @@ fn settings_out_of_range_are_refused() {
     };
     assert!(matches!(nan.validate(), Err(Error::NonFinite(_))));
 }
+
+#[test]
+fn eye_pitches_measure_each_eye_against_the_heads_up() {
+    use crate::ik::{GazeChain, MAX_CHAIN_JOINTS};
+    use glam::{Quat, Vec3};
+    let chain = GazeChain::human(Vec3::Y, Vec3::Z);
+    let rest = |joint: usize| chain.joints()[joint].rest;
+    let [left, right] = chain.eye_indices().unwrap();
+    let mut deltas = [Quat::IDENTITY; MAX_CHAIN_JOINTS];
+    let deltas = &mut deltas[..chain.joint_count()];
+    assert_eq!(eye_pitches(&chain, rest, deltas), [0.0, 0.0]);
+    // Turning an eye about the head's side axis (+x: forward +z goes down) pitches it down;
+    // turning it about the head's up leaves its pitch alone.
+    deltas[left] = Quat::from_rotation_x(0.3);
+    deltas[right] = Quat::from_rotation_y(0.5);
+    let [left_pitch, right_pitch] = eye_pitches(&chain, rest, deltas);
+    assert!((left_pitch + 0.3).abs() < 1e-5, "{left_pitch}");
+    assert!(right_pitch.abs() < 1e-5, "{right_pitch}");
+    // A chain without eyes: no pitch.
+    let eyeless = GazeChain::new(
+        &chain.joints()[..chain.body_count()],
+        chain.eye_forward(),
+        chain.eye_up(),
+        chain.root_offset(),
+    )
+    .unwrap();
+    assert_eq!(eye_pitches(&eyeless, rest, deltas), [0.0, 0.0]);
+}
