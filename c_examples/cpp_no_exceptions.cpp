@@ -57,17 +57,23 @@ int main() {
     if (!ok(crowd.try_joint_total(0, 2, total), "joint total")) return 1;
     std::vector<cg_quat> joints(total);
     std::array<cg_eye_info, 2> eyes{};
+    std::array<cg_eyelids, 2> lids{};
     for (int frame = 1; frame <= 30; frame++) {
         if (!ok(crowd.try_push_frame(frame / 30.0, states), "push") ||
             !ok(crowd.try_step(1.0f / 30.0f), "step") ||
             !ok(crowd.try_read_joints(0, 2, joints), "joints") ||
-            !ok(crowd.try_read_eyes(0, 2, eyes), "eyes")) {
+            !ok(crowd.try_read_eyes(0, 2, eyes), "eyes") ||
+            !ok(crowd.try_read_eyelids(0, 2, lids), "eyelids")) {
             return 1;
         }
     }
     std::printf("joints %zu, eye directions x %+.2f and %+.2f\n", joints.size(),
                 static_cast<double>(eyes[0].left_direction.x),
                 static_cast<double>(eyes[1].left_direction.x));
+    if (lids[0].character != eyes[0].character || lids[0].left_closure < 0.0f ||
+        lids[0].left_closure > 1.0f) {
+        return 1;
+    }
     if (joints.size() != 20 || eyes[0].left_direction.x < 0.99f || eyes[1].left_direction.x > -0.99f) {
         return 1;
     }

@@ -1,8 +1,9 @@
 // cpp_wrapper.cpp: the C++17 wrapper (bindings/cpp/crowdgaze.hpp) as an engine uses it —
 // a crowd created from its config, characters and an object added, frames pushed, steps,
-// gaze, joints, deltas and eyes read, a base pose, explicit gaze targets, an offline plan
-// and its constraints, a view blender (keys, cameras, weights, evaluate), the dual
-// quaternion helpers, errors as exceptions and as statuses, and the owners' move semantics.
+// gaze, joints, deltas and eyes read, a base pose, explicit gaze targets, blinks and
+// eyelids, an offline plan and its constraints, a view blender (keys, cameras, weights,
+// evaluate), the dual quaternion helpers, errors as exceptions and as statuses, and the
+// owners' move semantics.
 #include "crowdgaze.hpp"
 
 #include <array>
@@ -223,6 +224,71 @@ void crowd_gaze() {
     CHECK(adopted.raw() == handle);
 }
 
+// Blinks and eyelids: the blink settings of the config, one cg_eyelids per character in
+// read_gaze's order, closures in [0, 1] with blinks seen over 20 s, and refused outputs.
+void eyelids() {
+    cg_crowd_config config = crowdgaze::crowd_config();
+    config.seed = 11;
+    config.max_characters = 3;
+    config.max_objects = 0;
+    config.blink_rate = 20.0f;
+    config.eye_motion = CG_EYE_MOTION_MAIN_SEQUENCE;
+    crowdgaze::Crowd crowd(config);
+    const cg_crowd_config stored = crowd.config();
+    CHECK(stored.blink_rate == 20.0f && stored.eye_motion == CG_EYE_MOTION_MAIN_SEQUENCE);
+    CHECK(stored.blink_rate_spread == 0.5f && stored.lid_gain == 1.0f);
+
+    std::array<std::uint32_t, 3> ids{};
+    for (std::size_t i = 0; i < ids.size(); i++) {
+        ids[i] = crowd.add_character_at({2.0f * static_cast<float>(i), 0.0f, 0.0f},
+                                        kPi * static_cast<float>(i) / 3.0f);
+    }
+    std::array<cg_eyelids, 3> lids{};
+    float most_closed = 0.0f;
+    bool in_range = true;
+    for (int frame = 0; frame < 600; frame++) {  // 20 s at 30 Hz
+        crowd.step(1.0f / 30.0f);
+        crowd.read_eyelids(0, 3, lids);
+        for (const cg_eyelids& lid : lids) {
+            in_range = in_range && lid.left_closure >= 0.0f && lid.left_closure <= 1.0f &&
+                       lid.right_closure >= 0.0f && lid.right_closure <= 1.0f &&
+                       std::isfinite(lid.left_lid_pitch) && std::isfinite(lid.right_lid_pitch);
+            most_closed = lid.left_closure > most_closed ? lid.left_closure : most_closed;
+        }
+    }
+    std::printf("eyelids over 20 s: most closed %.2f\n", static_cast<double>(most_closed));
+    CHECK(in_range);
+    CHECK(most_closed > 0.5f);
+    CHECK(lids[0].character == ids[0] && lids[1].character == ids[1] &&
+          lids[2].character == ids[2]);
+    std::array<cg_eyelids, 1> last{};
+    crowd.read_eyelids(2, 1, last);
+    CHECK(last[0].character == ids[2]);
+
+    // Too small an output, or a range past the last character: refused, nothing written.
+    std::array<cg_eyelids, 2> too_small{};
+    too_small[0].character = CG_NO_TARGET;
+    CHECK(crowd.try_read_eyelids(0, 3, too_small) == CG_STATUS_INVALID_ARGUMENT);
+    CHECK(crowd.try_read_eyelids(2, 2, too_small) == CG_STATUS_INVALID_ARGUMENT);
+    CHECK(too_small[0].character == CG_NO_TARGET);
+    bool thrown = false;
+    try {
+        crowd.read_eyelids(0, 3, too_small);
+    } catch (const crowdgaze::Error& error) {
+        thrown = error.status() == CG_STATUS_INVALID_ARGUMENT && !error.message().empty();
+    }
+    CHECK(thrown);
+
+    // Blink settings out of range are refused at creation.
+    cg_crowd_config bad = crowdgaze::crowd_config();
+    bad.eye_motion = 7;
+    crowdgaze::Crowd refused;
+    CHECK(crowdgaze::Crowd::try_create(bad, refused) == CG_STATUS_INVALID_ARGUMENT && !refused);
+    bad = crowdgaze::crowd_config();
+    bad.blink_rate = std::nanf("");
+    CHECK(crowdgaze::Crowd::try_create(bad, refused) == CG_STATUS_NON_FINITE && !refused);
+}
+
 // An offline plan of two walkers crossing, and its constraints.
 void offline_plan() {
     cg_crowd_config config = crowdgaze::crowd_config();
@@ -385,6 +451,7 @@ int main() {
     CHECK(crowdgaze::version_matches_header());
     try {
         crowd_gaze();
+        eyelids();
         offline_plan();
         dual_quaternions();
         view_blender();

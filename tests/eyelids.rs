@@ -348,3 +348,49 @@ fn bad_blink_settings_are_refused_and_change_nothing() {
         }
     }
 }
+
+#[test]
+fn the_c_config_names_a_bad_blink_field() {
+    use crowdgaze::ffi::crowd::{cg_crowd, cg_crowd_config_init, cg_crowd_create};
+    use crowdgaze::ffi::last_error::last_error_message;
+    use crowdgaze::ffi::status::cg_status;
+    let cases: [(
+        fn(&mut crowdgaze::ffi::crowd::cg_crowd_config),
+        cg_status,
+        &str,
+    ); 4] = [
+        (
+            |c| c.blink_rate = f32::NAN,
+            cg_status::NonFinite,
+            "blink_rate",
+        ),
+        (
+            |c| c.lid_gain = f32::INFINITY,
+            cg_status::NonFinite,
+            "lid_gain",
+        ),
+        (
+            |c| c.blink_rate_spread = 1.0,
+            cg_status::InvalidArgument,
+            "blink_rate_spread",
+        ),
+        (
+            |c| c.eye_motion = 9,
+            cg_status::InvalidArgument,
+            "eye_motion",
+        ),
+    ];
+    for (spoil, status, field) in cases {
+        let mut config = support::init(cg_crowd_config_init);
+        spoil(&mut config);
+        let mut crowd: *mut cg_crowd = std::ptr::null_mut();
+        // SAFETY: a config of its own size and a writable handle.
+        assert_eq!(unsafe { cg_crowd_create(&config, &mut crowd) }, status);
+        assert!(crowd.is_null());
+        let message = last_error_message();
+        assert!(
+            message.contains(&format!("cg_crowd_config.{field}")),
+            "{field}: {message}"
+        );
+    }
+}

@@ -522,6 +522,16 @@ class Crowd : public Owner<cg_crowd, cg_crowd_destroy> {
         check(try_read_eyes(first, count, out));
     }
 
+    // Eyelids of characters `first .. first + count`: each eye's blink closure (0 open,
+    // 1 closed) and upper lid pitch following the eye. `out.size()` must be at least `count`.
+    [[nodiscard]] cg_status try_read_eyelids(std::uint32_t first, std::uint32_t count,
+                                             Span<cg_eyelids> out) const noexcept {
+        return cg_crowd_read_eyelids(raw(), first, count, out.data(), out.size());
+    }
+    void read_eyelids(std::uint32_t first, std::uint32_t count, Span<cg_eyelids> out) const {
+        check(try_read_eyelids(first, count, out));
+    }
+
     // The animated base pose of one character's chain joints (local rotations, bottom to
     // top), before step.
     [[nodiscard]] cg_status try_set_base_pose(std::uint32_t character,

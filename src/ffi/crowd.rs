@@ -632,13 +632,17 @@ impl cg_crowd_config {
 
     /// Names the field of this struct that a core error comes from: the core's names
     /// (`min_hold`) and units (metres) are not the caller's (`min_interest_time`, their
-    /// units). Finds the first real-valued field that alone, over the defaults in the
-    /// caller's units and axes, fails the same way; an error only a combination of fields
-    /// makes (or one of the integer fields, whose names are the same) keeps the core's
-    /// words, after the struct's name. Runs only on a failed create.
+    /// units), and a NaN among grouped settings ("blink settings contains NaN") names none.
+    /// Finds the first real-valued field that alone, over the defaults in the caller's
+    /// units and axes, fails the same way; an error only a combination of fields makes (or
+    /// one of the integer fields, whose names are the same) keeps the core's words, after
+    /// the struct's name. Runs only on a failed create.
     fn name_the_field(mut self, error: Error) -> Error {
-        let Error::InvalidArgument(detail) = &error else {
-            return error;
+        // The same kind of error with other words.
+        let (detail, remake): (&String, fn(String) -> Error) = match &error {
+            Error::InvalidArgument(detail) => (detail, Error::InvalidArgument),
+            Error::NonFinite(detail) => (detail, Error::NonFinite),
+            _ => return error,
         };
         let world = World {
             units_per_metre: self.units_per_metre,
@@ -658,20 +662,29 @@ impl cg_crowd_config {
             };
             let mut alone = defaults;
             *alone.real_fields()[index].1 = value;
-            let same =
-                matches!(alone.convert(), Err(Error::InvalidArgument(again)) if again == *detail);
+            let same = match (alone.convert(), &error) {
+                (Err(Error::InvalidArgument(again)), Error::InvalidArgument(_))
+                | (Err(Error::NonFinite(again)), Error::NonFinite(_)) => again == *detail,
+                _ => false,
+            };
             if same {
+                if matches!(error, Error::NonFinite(_)) && detail.starts_with(name) {
+                    return error; // the core's words name it already
+                }
                 let units = if LENGTH_FIELDS.contains(&name) {
                     format!(" (your units; units_per_metre is {})", self.units_per_metre)
                 } else {
                     String::new()
                 };
-                return Error::InvalidArgument(format!(
+                return remake(format!(
                     "cg_crowd_config.{name} is {value}{units}: {detail}"
                 ));
             }
         }
-        Error::InvalidArgument(format!("cg_crowd_config: {detail}"))
+        match error {
+            Error::InvalidArgument(_) => remake(format!("cg_crowd_config: {detail}")),
+            _ => error,
+        }
     }
 
     /// The real-valued fields but `units_per_metre`, by name.

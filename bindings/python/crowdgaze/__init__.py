@@ -31,6 +31,7 @@ from ._arrays import (
     CONSTRAINT_DTYPE,
     ENTITY_STATE_DTYPE,
     EYE_INFO_DTYPE,
+    EYELIDS_DTYPE,
     GAZE_INFO_DTYPE,
     RECORD_DTYPES,
 )
@@ -52,6 +53,8 @@ from ._native import (
     DualQuat,
     EntityState,
     EyeInfo,
+    Eyelids,
+    EyeMotion,
     GazeInfo,
     GazeTarget,
     JointRole,

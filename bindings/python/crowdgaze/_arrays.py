@@ -70,6 +70,19 @@ EYE_INFO_DTYPE = np.dtype(
     align=True,
 )
 
+#: ``cg_eyelids`` as a numpy record: ``left_closure`` and ``right_closure`` from 0 (open)
+#: to 1 (closed), ``left_lid_pitch`` and ``right_lid_pitch`` in radians.
+EYELIDS_DTYPE = np.dtype(
+    [
+        ("character", "<u4"),
+        ("left_closure", "<f4"),
+        ("right_closure", "<f4"),
+        ("left_lid_pitch", "<f4"),
+        ("right_lid_pitch", "<f4"),
+    ],
+    align=True,
+)
+
 #: ``cg_constraint`` as a numpy record.
 CONSTRAINT_DTYPE = np.dtype(
     [("entity", "<u4"), ("s_max", "<f4"), ("begin", "<f8"), ("end", "<f8")], align=True
@@ -80,6 +93,7 @@ RECORD_DTYPES = {
     n.EntityState: ENTITY_STATE_DTYPE,
     n.GazeInfo: GAZE_INFO_DTYPE,
     n.EyeInfo: EYE_INFO_DTYPE,
+    n.Eyelids: EYELIDS_DTYPE,
     n.Constraint: CONSTRAINT_DTYPE,
 }
 
@@ -94,6 +108,7 @@ _DTYPE_NAMES = {
     ENTITY_STATE_DTYPE: "crowdgaze.ENTITY_STATE_DTYPE",
     GAZE_INFO_DTYPE: "crowdgaze.GAZE_INFO_DTYPE",
     EYE_INFO_DTYPE: "crowdgaze.EYE_INFO_DTYPE",
+    EYELIDS_DTYPE: "crowdgaze.EYELIDS_DTYPE",
     CONSTRAINT_DTYPE: "crowdgaze.CONSTRAINT_DTYPE",
 }
 

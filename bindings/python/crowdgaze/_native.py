@@ -30,6 +30,8 @@ CG_NO_TARGET = 0xFFFFFFFF
 CG_STATE_HEADING_FROM_MOTION = 1
 CG_STATE_HAS_VELOCITY = 2
 CG_MAX_CHAIN_JOINTS = 15
+CG_EYE_MOTION_PAPER = 0
+CG_EYE_MOTION_MAIN_SEQUENCE = 1
 CG_GAZE_TARGET_POINT = 0
 CG_GAZE_TARGET_ENTITY = 1
 CG_GAZE_PRIORITY_OVERRIDE = 0
@@ -113,6 +115,18 @@ class TargetPart(enum.IntEnum):
     RIGHT_EYE = 3
     CHEST = 4
     TORSO = 5
+
+
+class EyeMotion(enum.IntEnum):
+    """``cg_crowd_config.eye_motion``: how the eyes time a gaze shift (the header's
+    ``CG_EYE_MOTION_*`` constants, which are not a C enum)."""
+
+    #: The paper's timing (Grillon & Thalmann 2009): the eyes arrive at half the activation
+    #: time. The default.
+    PAPER = CG_EYE_MOTION_PAPER
+    #: The eyes' shift lasts as long as a human saccade of its amplitude (the main
+    #: sequence); the head, neck and spine keep the paper's timing.
+    MAIN_SEQUENCE = CG_EYE_MOTION_MAIN_SEQUENCE
 
 
 #: C enum name -> Python enum, for the declaration test and for users who read the header.
@@ -345,6 +359,13 @@ class CrowdConfig(Structure):
         ("far_attention_period", c_uint32),
         ("threads", c_uint32),
         ("reorder_period", c_uint32),
+        ("blink_rate", c_float),
+        ("blink_rate_spread", c_float),
+        ("evoked_blink_min_amplitude", c_float),
+        ("evoked_blink_full_amplitude", c_float),
+        ("evoked_blink_probability", c_float),
+        ("lid_gain", c_float),
+        ("eye_motion", c_uint32),
     ]
 
 
@@ -369,6 +390,19 @@ class EyeInfo(Structure):
         ("right_origin", Vec3),
         ("left_direction", Vec3),
         ("right_direction", Vec3),
+    ]
+
+
+class Eyelids(Structure):
+    """``cg_eyelids``: a character's blink closures (0 open, 1 closed) and upper lid
+    pitches (radians)."""
+
+    _fields_ = [
+        ("character", c_uint32),
+        ("left_closure", c_float),
+        ("right_closure", c_float),
+        ("left_lid_pitch", c_float),
+        ("right_lid_pitch", c_float),
     ]
 
 
@@ -398,6 +432,7 @@ STRUCTS = {
     "cg_crowd_config": CrowdConfig,
     "cg_gaze_target": GazeTarget,
     "cg_eye_info": EyeInfo,
+    "cg_eyelids": Eyelids,
     "cg_crowd": CrowdHandle,
     "cg_view_blender": ViewBlenderHandle,
 }
@@ -487,6 +522,10 @@ FUNCTIONS = {
     "cg_crowd_create": (_status, [_P(CrowdConfig), _P(_P(CrowdHandle))]),
     "cg_crowd_destroy": (None, [_P(CrowdHandle)]),
     "cg_crowd_get_config": (_status, [_P(CrowdHandle), _P(CrowdConfig)]),
+    "cg_crowd_read_eyelids": (
+        _status,
+        [_P(CrowdHandle), c_uint32, c_uint32, _P(Eyelids), c_size_t],
+    ),
     "cg_gaze_target_init": (_status, [_P(GazeTarget)]),
     "cg_crowd_set_gaze_target": (_status, [_P(CrowdHandle), c_uint32, _P(GazeTarget)]),
     "cg_crowd_clear_gaze_target": (_status, [_P(CrowdHandle), c_uint32]),

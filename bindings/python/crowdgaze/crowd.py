@@ -31,7 +31,11 @@ def _new(ctype, init, init_name: str, fields: dict, where: str):
 
 def crowd_config(**fields) -> n.CrowdConfig:
     """A ``CrowdConfig`` with the library's defaults (``cg_crowd_config_init``), then
-    ``fields`` set (``crowd_config(max_characters=100, seed=7)``)."""
+    ``fields`` set (``crowd_config(max_characters=100, seed=7)``). The fields are the
+    header's, documented there: blinks, for instance, are ``blink_rate`` (per minute),
+    ``blink_rate_spread``, ``evoked_blink_min_amplitude``, ``evoked_blink_full_amplitude``
+    (radians), ``evoked_blink_probability`` and ``lid_gain``, and ``eye_motion`` is an
+    ``EyeMotion``. Values out of range are refused by ``Crowd``, naming the field."""
     return _new(n.CrowdConfig, lib.cg_crowd_config_init, "cg_crowd_config_init", fields,
                 "crowd_config")
 
@@ -415,22 +419,42 @@ class Crowd(HandleOwner):
             "Crowd.read_joint_deltas", first, count, out,
         )
 
-    def read_eyes(self, first: int = 0, count: int | None = None, out=None) -> np.ndarray:
-        """Eye origins and directions (world, your units): a record array of
-        ``EYE_INFO_DTYPE``, one per character; or ``out`` (exactly ``(count,)`` of it)."""
-        where = "Crowd.read_eyes"
+    def _read_records(self, function, name, where, ctype, first, count, out):
+        """One ``ctype`` record per character of ``first .. first + count`` (all from
+        ``first`` by default), read by ``function`` into a new array or into ``out``
+        (exactly ``(count,)`` of the record dtype)."""
+        dtype = a.RECORD_DTYPES[ctype]
         first = c.integer(first, where, "first")
         count = _optional_count(count, where)
         if out is not None:
-            a.check_out(out, a.EYE_INFO_DTYPE, where, ndim=1)
+            a.check_out(out, dtype, where, ndim=1)
         with self._call(where) as handle:
             first, count = _range(handle, first, count)
-            out = a.shaped(out, a.EYE_INFO_DTYPE, (count,), where)
-            check(
-                lib.cg_crowd_read_eyes(handle, first, count, a.pointer(out, n.EyeInfo), count),
-                "cg_crowd_read_eyes",
-            )
+            out = a.shaped(out, dtype, (count,), where)
+            check(function(handle, first, count, a.pointer(out, ctype), count), name)
         return out
+
+    def read_eyes(self, first: int = 0, count: int | None = None, out=None) -> np.ndarray:
+        """Eye origins and directions (world, your units): a record array of
+        ``EYE_INFO_DTYPE``, one per character; or ``out`` (exactly ``(count,)`` of it)."""
+        return self._read_records(
+            lib.cg_crowd_read_eyes, "cg_crowd_read_eyes", "Crowd.read_eyes", n.EyeInfo, first,
+            count, out,
+        )
+
+    def read_eyelids(self, first: int = 0, count: int | None = None, out=None) -> np.ndarray:
+        """The eyelids of characters ``first .. first + count`` (all from ``first`` by
+        default) after the last step, in ``read_gaze``'s order: a record array of
+        ``EYELIDS_DTYPE``, one per character, or ``out`` (exactly ``(count,)`` of it) written
+        in place. ``left_closure`` and ``right_closure`` go from 0 (open) to 1 (closed, a
+        blink; both eyes blink together); ``left_lid_pitch`` and ``right_lid_pitch`` are the
+        upper lids' pitches in the head's frame (radians, positive up: ``lid_gain`` times the
+        eye's pitch), the closure coming on top. Blinks follow the config's ``blink_rate``
+        and ``evoked_blink_*`` fields and are the same in every run."""
+        return self._read_records(
+            lib.cg_crowd_read_eyelids, "cg_crowd_read_eyelids", "Crowd.read_eyelids",
+            n.Eyelids, first, count, out,
+        )
 
     def set_base_pose(self, character: int, local) -> None:
         """The animated local rotations of a character's chain joints (``(joints, 4)``, x y z

@@ -1,5 +1,5 @@
 """A real crowd through the Python binding: walkers and bystanders pushed frame by frame,
-stepped, and their gaze, joints and eyes read back and checked against geometry."""
+stepped, and their gaze, joints, eyes and eyelids read back and checked against geometry."""
 
 import ctypes
 
@@ -377,3 +377,115 @@ def test_attention_models_and_periods():
     gaze = crowd.read_gaze()
     assert set(gaze["target_part"]) <= {int(p) for p in cg.TargetPart}
     assert np.all(np.isfinite(crowd.read_joints()))
+
+
+def blinking_crowd(**fields):
+    """Three bystanders facing different ways (no objects), created with ``fields``."""
+    crowd = cg.Crowd(max_characters=3, max_objects=0, seed=9, **fields)
+    ids = [crowd.add_character((2.0 * k, 0, 0), heading=k * np.pi / 3) for k in range(3)]
+    return crowd, ids
+
+
+def test_read_eyelids_gives_one_record_per_character_and_blinks():
+    crowd, ids = blinking_crowd()
+    crowd.step(1 / FPS)
+    lids = crowd.read_eyelids()
+    assert lids.dtype == cg.EYELIDS_DTYPE and lids.shape == (3,)
+    assert list(lids["character"]) == ids == list(crowd.read_gaze()["character"])
+    assert list(crowd.read_eyelids(1)["character"]) == ids[1:]
+    assert list(crowd.read_eyelids(2, 1)["character"]) == ids[2:]
+    assert crowd.read_eyelids(3).shape == (0,)
+    # 20 s at the default rate (17 blinks a minute each): closures stay in [0, 1], the lids
+    # follow the eyes (finite pitches), and some blink closes the eyes more than half-way.
+    out = np.zeros(3, cg.EYELIDS_DTYPE)
+    most_closed = 0.0
+    for _ in range(20 * FPS):
+        crowd.step(1 / FPS)
+        assert crowd.read_eyelids(out=out) is out
+        for side in ("left", "right"):
+            closure = out[f"{side}_closure"]
+            assert np.all((closure >= 0) & (closure <= 1)), closure
+            assert np.all(np.isfinite(out[f"{side}_lid_pitch"]))
+        np.testing.assert_array_equal(out["left_closure"], out["right_closure"])
+        most_closed = max(most_closed, float(out["left_closure"].max()))
+    assert most_closed > 0.5
+    assert list(out["character"]) == ids
+
+
+def test_blinks_follow_the_config():
+    config = cg.crowd_config(blink_rate=30, blink_rate_spread=0.2, lid_gain=0.5,
+                             evoked_blink_min_amplitude=0.1, evoked_blink_full_amplitude=0.4,
+                             evoked_blink_probability=0.5,
+                             eye_motion=cg.EyeMotion.MAIN_SEQUENCE)
+    crowd = cg.Crowd(config, max_characters=2)
+    stored = crowd.config
+    assert stored.blink_rate == 30 and stored.lid_gain == 0.5
+    assert stored.blink_rate_spread == pytest.approx(0.2)
+    assert stored.evoked_blink_min_amplitude == pytest.approx(0.1)
+    assert stored.evoked_blink_full_amplitude == pytest.approx(0.4)
+    assert stored.evoked_blink_probability == pytest.approx(0.5)
+    assert stored.eye_motion == cg.EyeMotion.MAIN_SEQUENCE == cg.CG_EYE_MOTION_MAIN_SEQUENCE
+    defaults = cg.crowd_config()
+    assert defaults.blink_rate == 17 and defaults.eye_motion == cg.EyeMotion.PAPER
+    assert defaults.evoked_blink_probability == pytest.approx(0.97)
+    # No spontaneous and no gaze-evoked blinks: the lids never close, even as the gaze
+    # turns to a point far to the side.
+    crowd, ids = blinking_crowd(blink_rate=0, evoked_blink_probability=0)
+    for frame in range(20 * FPS):
+        if frame % (2 * FPS) == 0:
+            side = 1 if frame % (4 * FPS) == 0 else -1
+            crowd.set_gaze_target(ids[0], point=(6.0 * side, 1.6, 1.0))
+        crowd.step(1 / FPS)
+        lids = crowd.read_eyelids()
+        assert not lids["left_closure"].any() and not lids["right_closure"].any()
+
+
+@pytest.mark.parametrize(
+    ("field", "value", "status"),
+    [
+        ("blink_rate", -1, cg.Status.INVALID_ARGUMENT),
+        ("blink_rate", 121, cg.Status.INVALID_ARGUMENT),
+        ("blink_rate_spread", 1, cg.Status.INVALID_ARGUMENT),
+        ("evoked_blink_full_amplitude", 0.1, cg.Status.INVALID_ARGUMENT),
+        ("evoked_blink_probability", 1.5, cg.Status.INVALID_ARGUMENT),
+        ("lid_gain", 2.5, cg.Status.INVALID_ARGUMENT),
+        ("eye_motion", 7, cg.Status.INVALID_ARGUMENT),
+        ("blink_rate", float("nan"), cg.Status.NON_FINITE),
+        ("lid_gain", float("inf"), cg.Status.NON_FINITE),
+    ],
+)
+def test_bad_blink_settings_are_refused(field, value, status):
+    with pytest.raises(cg.Error) as error:
+        cg.Crowd(max_characters=1, **{field: value})
+    assert error.value.status == status
+    assert error.value.function == "cg_crowd_create"
+    if status == cg.Status.INVALID_ARGUMENT:
+        assert field in error.value.message
+
+
+def test_read_eyelids_refuses_a_wrong_out_or_range():
+    crowd, ids = blinking_crowd()
+    crowd.step(1 / FPS)
+    out = np.zeros(3, cg.EYELIDS_DTYPE)
+    out["character"] = cg.NO_TARGET
+    with pytest.raises(ValueError, match=r"out must have the shape \(3,\)"):
+        crowd.read_eyelids(out=np.zeros(2, cg.EYELIDS_DTYPE))
+    with pytest.raises(ValueError, match=r"out must have the shape \(1,\)"):
+        crowd.read_eyelids(1, 1, out=out)
+    with pytest.raises(TypeError, match="out must have the dtype crowdgaze.EYELIDS_DTYPE"):
+        crowd.read_eyelids(out=np.zeros(3, cg.EYE_INFO_DTYPE))
+    with pytest.raises(TypeError, match="out must be a numpy array"):
+        crowd.read_eyelids(out=(cg.Eyelids * 3)())
+    with pytest.raises(ValueError, match="out must be C-contiguous"):
+        crowd.read_eyelids(out=np.zeros(6, cg.EYELIDS_DTYPE)[::2])
+    with pytest.raises(cg.Error) as error:
+        crowd.read_eyelids(2, 2)
+    assert error.value.status == cg.Status.INVALID_ARGUMENT
+    with pytest.raises(OverflowError, match="first"):
+        crowd.read_eyelids(-1)
+    assert (out["character"] == cg.NO_TARGET).all()  # nothing written by the failed calls
+    # The C function itself refuses too small an output.
+    lids = (cg.Eyelids * 2)()
+    status = cg.lib.cg_crowd_read_eyelids(crowd.handle, 0, 3, lids, len(lids))
+    assert status == cg.CG_STATUS_INVALID_ARGUMENT
+    assert lids[0].character == 0

@@ -257,6 +257,8 @@ INTEGER_ARGUMENTS = {
     "read_joint_deltas.count": ("crowd.read_joint_deltas(0, {v})", "count", NOT_NONE),
     "read_eyes.first": ("crowd.read_eyes({v})", "first", BAD_UINT32),
     "read_eyes.count": ("crowd.read_eyes(0, {v})", "count", NOT_NONE),
+    "read_eyelids.first": ("crowd.read_eyelids({v})", "first", BAD_UINT32),
+    "read_eyelids.count": ("crowd.read_eyelids(0, {v})", "count", NOT_NONE),
     "set_base_pose.character": ("crowd.set_base_pose({v}, q)", "character", BAD_UINT32),
     "set_gaze_target.character": (
         "crowd.set_gaze_target({v}, point=(0, 1, 1))",
@@ -699,6 +701,8 @@ OUTPUTS = {
     "read_joints range": ("crowd.read_joints(1, 1, out={o})", (10, 4), "np.float32"),
     "read_gaze": ("crowd.read_gaze(out={o})", (3,), "cg.GAZE_INFO_DTYPE"),
     "read_eyes": ("crowd.read_eyes(out={o})", (3,), "cg.EYE_INFO_DTYPE"),
+    "read_eyelids": ("crowd.read_eyelids(out={o})", (3,), "cg.EYELIDS_DTYPE"),
+    "read_eyelids range": ("crowd.read_eyelids(1, 2, out={o})", (2,), "cg.EYELIDS_DTYPE"),
     "weights": ("blender.weights(dq, (0, 0, 5), out={o})", (2,), "np.float32"),
     "evaluate": ("blender.evaluate(dq, (0, 0, 5), 0.0, out={o})", (1, 8), "np.float32"),
     "blend_pose_dlb": ("cg.blend_pose_dlb([dq, dq], [0.5, 0.5], out={o})", (1, 8),
@@ -893,6 +897,7 @@ REENTRANT = {
     "remove_entity __index__": ("crowd", "crowd.remove_entity(Closer(crowd))"),
     "read_joints first __index__": ("crowd", "crowd.read_joints(Closer(crowd))"),
     "read_eyes count __index__": ("crowd", "crowd.read_eyes(0, Closer(crowd))"),
+    "read_eyelids first __index__": ("crowd", "crowd.read_eyelids(Closer(crowd))"),
     "set_viewer position element": ("crowd", "crowd.set_viewer((Closer(crowd), 1, 2))"),
     "set_base_pose local element": (
         "crowd", "crowd.set_base_pose(0, [[0, 0, 0, Closer(crowd)]] + [[0, 0, 0, 1]] * 9)"),
@@ -1144,6 +1149,7 @@ def test_close_from_another_thread_waits_for_running_blender_evaluations():
 READ_ONLY_OUTPUTS = {
     "read_gaze": ("crowd.read_gaze(out=out)", "cg.GAZE_INFO_DTYPE", (3,)),
     "read_eyes": ("crowd.read_eyes(out=out)", "cg.EYE_INFO_DTYPE", (3,)),
+    "read_eyelids": ("crowd.read_eyelids(out=out)", "cg.EYELIDS_DTYPE", (3,)),
     "read_joints": ("crowd.read_joints(out=out)", "np.float32", (30, 4)),
     "read_joint_deltas": ("crowd.read_joint_deltas(out=out)", "np.float32", (30, 4)),
     "weights": ("blender.weights(dq, (0, 0, 5), out=out)", "np.float32", (2,)),
@@ -1192,7 +1198,7 @@ def test_read_only_memory_is_never_written(target, memory):
     assert result["unchanged"], result
 
 
-@pytest.mark.parametrize("target", ["read_gaze", "read_eyes", "read_joints"])
+@pytest.mark.parametrize("target", ["read_gaze", "read_eyes", "read_eyelids", "read_joints"])
 def test_bytearray_backed_outputs_only_of_the_exact_dtype(target):
     call, dtype, shape = READ_ONLY_OUTPUTS[target]
     result = run_alone(
