@@ -67,6 +67,8 @@ mod documentation {
     struct Development;
     #[doc = include_str!("../docs/engines.md")]
     struct Engines;
+    #[doc = include_str!("../docs/eyes.md")]
+    struct Eyes;
     #[doc = include_str!("../docs/gaze-ik.md")]
     struct GazeIk;
     #[doc = include_str!("../docs/install.md")]
