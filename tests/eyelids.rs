@@ -354,11 +354,8 @@ fn the_c_config_names_a_bad_blink_field() {
     use crowdgaze::ffi::crowd::{cg_crowd, cg_crowd_config_init, cg_crowd_create};
     use crowdgaze::ffi::last_error::last_error_message;
     use crowdgaze::ffi::status::cg_status;
-    let cases: [(
-        fn(&mut crowdgaze::ffi::crowd::cg_crowd_config),
-        cg_status,
-        &str,
-    ); 4] = [
+    type Spoil = fn(&mut crowdgaze::ffi::crowd::cg_crowd_config);
+    let cases: [(Spoil, cg_status, &str); 4] = [
         (
             |c| c.blink_rate = f32::NAN,
             cg_status::NonFinite,
