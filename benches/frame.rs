@@ -5,7 +5,8 @@
 //! moved 1/30 s per frame), created and filled through the C API (default config but
 //! `max_characters` and `threads`), at 1 000, 10 000 and 100 000 characters on 1 and 2
 //! threads: the whole frame (`frame_{t}t`), each call alone (`push_`, `step_`,
-//! `read_gaze_`, `read_joints_`, `read_eyes_{t}t`), and, to choose `reorder_period`'s
+//! `read_gaze_`, `read_joints_`, `read_eyes_{t}t`; and `cg_crowd_read_eyelids`, which the
+//! whole frame leaves out so that its figures stay comparable: `read_eyelids_{t}t`), and, to choose `reorder_period`'s
 //! default by the whole frame, the whole frame with the storage reordered every 32 steps
 //! (`frame_reorder32_{t}t`) and its push and reads on 1 thread (`push_reorder32_1t`, ...).
 //! On 2 threads it also times the push split in two parts pushed from two threads
@@ -29,6 +30,7 @@ use crowdgaze::ffi::attention::{
 };
 use crowdgaze::ffi::crowd::cg_crowd;
 use crowdgaze::ffi::crowd::{cg_crowd_config, cg_crowd_config_init};
+use crowdgaze::ffi::eyelids::{cg_crowd_read_eyelids, cg_eyelids};
 use crowdgaze::ffi::frame::{
     cg_crowd_begin_push, cg_crowd_end_push, cg_crowd_push_frame, cg_crowd_push_range, cg_crowd_step,
 };
@@ -111,6 +113,7 @@ struct Engine {
     gaze: Vec<cg_gaze_info>,
     joints: Vec<cg_quat>,
     eyes: Vec<cg_eye_info>,
+    eyelids: Vec<cg_eyelids>,
     /// The second thread of the ranged push, once started.
     helper: Option<Helper>,
 }
@@ -159,6 +162,7 @@ impl Engine {
             gaze: vec![cg_gaze_info::default(); characters],
             joints: vec![cg_quat::IDENTITY; joint_total],
             eyes: vec![cg_eye_info::default(); characters],
+            eyelids: vec![cg_eyelids::default(); characters],
             helper: None,
         };
         for _ in 0..WARM_UP_FRAMES {
@@ -262,6 +266,17 @@ impl Engine {
         black_box(&self.eyes);
     }
 
+    fn read_eyelids(&mut self) {
+        let characters = self.states.len() as u32;
+        let (out, len) = (self.eyelids.as_mut_ptr(), self.eyelids.len());
+        // SAFETY: a live crowd; `out` is valid for `len` writes.
+        ok(
+            unsafe { cg_crowd_read_eyelids(self.crowd.as_const(), 0, characters, out, len) },
+            "read_eyelids",
+        );
+        black_box(&self.eyelids);
+    }
+
     /// The engine's frame: push, step, read everything.
     fn whole_frame(&mut self) {
         self.push();
@@ -360,6 +375,7 @@ fn frame(c: &mut Criterion) {
             group.bench_function(name("read_gaze"), |b| b.iter(|| engine.read_gaze()));
             group.bench_function(name("read_joints"), |b| b.iter(|| engine.read_joints()));
             group.bench_function(name("read_eyes"), |b| b.iter(|| engine.read_eyes()));
+            group.bench_function(name("read_eyelids"), |b| b.iter(|| engine.read_eyelids()));
             drop(engine);
 
             // The same frame with the storage reordered every 32 steps.

@@ -96,9 +96,9 @@ def main():
     print("Engine frame through the C API (ns per character-frame, criterion medians)")
     print()
     print("| characters | threads | push_frame | step | read_gaze | read_joints | read_eyes "
-          "| whole frame | whole frame, reorder_period = 32 |")
-    print("|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
-    parts = ["push", "step", "read_gaze", "read_joints", "read_eyes", "frame",
+          "| read_eyelids | whole frame | whole frame, reorder_period = 32 |")
+    print("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+    parts = ["push", "step", "read_gaze", "read_joints", "read_eyes", "read_eyelids", "frame",
              "frame_reorder32"]
     for characters in ["1000", "10000", "100000"]:
         for threads in ["1", "2"]:
