@@ -3,22 +3,29 @@
 // A pedestrian street (Z up, the street along +Y): walkers go up and down, three bystanders
 // stand by, lamps and shop windows line it. Every character is a small articulated figure:
 // legs and arms, and the gaze chain of `cg_chain_desc_init_human` — five spine joints, two
-// neck joints and the head as nested osg::MatrixTransforms, and two eyes under the head.
+// neck joints and the head as nested osg::MatrixTransforms, and two eyes under the head,
+// each with an upper eyelid (a skin-coloured half shell over the eye ball, also under the
+// head) that follows the eye's pitch and closes when the character blinks.
 //
-// Each frame the root node's update callback moves the walkers, pushes their states and
-// steps the crowd once (`cg_crowd_push_frame`, `cg_crowd_step`); then one update callback
-// per character (an osg::NodeCallback on its root transform) reads that character's chain
-// (`cg_crowd_read_joints`) and writes the quaternions into its MatrixTransforms. The scene
-// is rendered offscreen — into a window of a virtual X server (run it under xvfb-run, with
-// Mesa's software OpenGL), or a pbuffer — and frames are written as PNG files.
+// Each frame the root node's update callback moves the walkers, pushes their states, steps
+// the crowd once (`cg_crowd_push_frame`, `cg_crowd_step`) and reads every character's
+// eyelids with one call (`cg_crowd_read_eyelids`); then one update callback per character
+// (an osg::NodeCallback on its root transform) reads that character's chain
+// (`cg_crowd_read_joints`), writes the quaternions into its MatrixTransforms and turns its
+// lids. The scene is rendered offscreen — into a window of a virtual X server (run it under
+// xvfb-run, with Mesa's software OpenGL), or a pbuffer — and frames are written as PNG files.
 //
 // Usage: osg_street OUTDIR [WIDTHxHEIGHT] [SECONDS]
+// Env:   OSG_STREET_BLINK_RATE=N: the crowd's mean blink rate, blinks per minute (default
+//        the library's, 17), e.g. 120 to catch closed lids in the frames.
+//        OSG_STREET_SURFACE=pbuffer: render into a GLX pbuffer instead of a window.
 // Prints, for every written frame, its file, each character's head rotation in its body
-// frame (x y z w) and yaw, and where the red-nosed bystander's nose is on the image; "ok"
-// last.
+// frame (x y z w) and yaw, each character's lid closure and pitch, and where the red-nosed
+// bystander's nose is on the image; "ok" last.
 #include "crowdgaze.hpp"
 
 #include <osg/Geode>
+#include <osg/Geometry>
 #include <osg/Group>
 #include <osg/Image>
 #include <osg/Material>
@@ -41,9 +48,17 @@ namespace {
 
 constexpr int kJoints = 10;  // 5 spine, 2 cervical, head, left eye, right eye
 constexpr int kHead = 7;
+constexpr int kLeftEye = 8;
+constexpr int kRightEye = 9;
 constexpr double kFps = 24.0;
 constexpr float kPi = 3.14159265358979f;
 const osg::Vec3 kNose(0.0f, 0.1f, 0.03f);  // the red nose's centre in the head's frame
+// The upper eyelids: half shells round the eye balls (radius 0.022; the pupils stand out to
+// 0.027), turned about the head's x axis (the character's right). At 0 the lid's edge runs
+// level through the eye's centre; positive turns it up.
+constexpr float kLidRadius = 0.029f;
+constexpr float kLidOpen = 0.45f;    // the open lid's edge above the eye's pitch, radians
+constexpr float kLidClosed = -1.1f;  // the closed lid's edge: below the pupil, radians
 
 // ---------------------------------------------------------------------------------------
 // Geometry helpers.
@@ -78,6 +93,47 @@ osg::ref_ptr<osg::Geode> cylinder(const osg::Vec3& centre, float radius, float h
     return geode;
 }
 
+// An upper eyelid: the half of a sphere above its equator (z >= 0), facing out, in one
+// colour. Turned about x, its edge (the equator) sweeps over the eye.
+osg::ref_ptr<osg::Geode> eyelid_shell(float radius, const osg::Vec4& colour) {
+    constexpr int kRings = 6, kSegments = 20;
+    osg::ref_ptr<osg::Geometry> shell = new osg::Geometry;
+    osg::ref_ptr<osg::Vec3Array> vertices = new osg::Vec3Array;
+    osg::ref_ptr<osg::Vec3Array> normals = new osg::Vec3Array;
+    for (int ring = 0; ring < kRings; ring++) {
+        const float low = 0.5f * kPi * static_cast<float>(ring) / kRings;
+        const float high = 0.5f * kPi * static_cast<float>(ring + 1) / kRings;
+        const GLint first = static_cast<GLint>(vertices->size());
+        for (int segment = 0; segment <= kSegments; segment++) {
+            const float around = 2.0f * kPi * static_cast<float>(segment) / kSegments;
+            for (const float latitude : {high, low}) {
+                const osg::Vec3 normal(std::cos(latitude) * std::cos(around),
+                                       std::cos(latitude) * std::sin(around), std::sin(latitude));
+                vertices->push_back(normal * radius);
+                normals->push_back(normal);
+            }
+        }
+        shell->addPrimitiveSet(new osg::DrawArrays(GL_TRIANGLE_STRIP, first, 2 * (kSegments + 1)));
+    }
+    shell->setVertexArray(vertices);
+    shell->setNormalArray(normals, osg::Array::BIND_PER_VERTEX);
+    osg::ref_ptr<osg::Vec4Array> colours = new osg::Vec4Array;
+    colours->push_back(colour);
+    shell->setColorArray(colours, osg::Array::BIND_OVERALL);
+    osg::ref_ptr<osg::Geode> geode = new osg::Geode;
+    geode->addDrawable(shell);
+    return geode;
+}
+
+// An upper lid's transform in the head's frame: at the eye's centre, its edge at the lid's
+// pitch (radians, up positive) blended towards closed by the blink's closure (0 open, 1
+// closed).
+osg::Matrix eyelid_matrix(float lid_pitch, float closure, const cg_vec3& eye_offset) {
+    const float edge = (1.0f - closure) * (kLidOpen + lid_pitch) + closure * kLidClosed;
+    return osg::Matrix::rotate(edge, osg::X_AXIS) *
+           osg::Matrix::translate(eye_offset.x, eye_offset.y, eye_offset.z);
+}
+
 osg::Matrix local_matrix(const cg_quat& q, const cg_vec3& offset) {
     // Row vectors: rotate about the joint's origin, then place it in its parent.
     return osg::Matrix::rotate(osg::Quat(q.x, q.y, q.z, q.w)) *
@@ -104,6 +160,7 @@ struct Character {
     float turn_at = 20.0f;    // walkers turn round at |y| = turn_at
     float phase = 0.0f;       // walk cycle
     osg::ref_ptr<osg::MatrixTransform> root, leg_left, leg_right, arm_left, arm_right;
+    osg::ref_ptr<osg::MatrixTransform> lid_left, lid_right;  // upper eyelids, under the head
     std::array<osg::ref_ptr<osg::MatrixTransform>, kJoints> joints;
 };
 
@@ -112,6 +169,7 @@ struct Street {
     cg_chain_desc chain{};
     std::vector<Character> characters;
     std::vector<cg_entity_state> states;
+    std::vector<cg_eyelids> eyelids;  // every character's, in the crowd's order, each frame
     int frame = 0;
     std::size_t observer = 0;  // the red-nosed bystander
     std::uint32_t observed_walker = 0;
@@ -133,6 +191,8 @@ struct Street {
         }
         crowd.push_frame(frame / kFps, states);
         crowd.step(dt);
+        eyelids.resize(characters.size());
+        crowd.read_eyelids(0, static_cast<std::uint32_t>(characters.size()), eyelids);
     }
 };
 
@@ -163,6 +223,11 @@ class GazeCallback : public osg::NodeCallback {
         for (int j = 0; j < kJoints; j++) {
             c.joints[j]->setMatrix(local_matrix(local[j], street_->chain.joints[j].offset));
         }
+        const cg_eyelids& lids = street_->eyelids[c.index];
+        c.lid_left->setMatrix(eyelid_matrix(lids.left_lid_pitch, lids.left_closure,
+                                            street_->chain.joints[kLeftEye].offset));
+        c.lid_right->setMatrix(eyelid_matrix(lids.right_lid_pitch, lids.right_closure,
+                                             street_->chain.joints[kRightEye].offset));
         const float swing = c.speed > 0.0f ? 0.45f * std::sin(c.phase) : 0.0f;
         const auto hinge = [](float angle, const osg::Vec3& at) {
             return osg::Matrix::rotate(angle, osg::X_AXIS) * osg::Matrix::translate(at);
@@ -228,6 +293,14 @@ void build_figure(Character& c, const cg_chain_desc& chain, const osg::Vec4& shi
             parent = c.joints[j].get();
         }
         c.joints[j]->setMatrix(local_matrix(chain.joints[j].rest, chain.joints[j].offset));
+    }
+    // The upper eyelids, open, under the head at the eyes (the eyes turn inside them).
+    const osg::Vec4 lid_skin(0.86f, 0.66f, 0.52f, 1.0f);
+    c.lid_left = new osg::MatrixTransform(eyelid_matrix(0.0f, 0.0f, chain.joints[kLeftEye].offset));
+    c.lid_right = new osg::MatrixTransform(eyelid_matrix(0.0f, 0.0f, chain.joints[kRightEye].offset));
+    for (auto* lid : {c.lid_left.get(), c.lid_right.get()}) {
+        lid->addChild(eyelid_shell(kLidRadius, lid_skin));
+        c.joints[kHead]->addChild(lid);
     }
     // Arms swing from the shoulders, on the top spine joint.
     c.arm_left = new osg::MatrixTransform;
@@ -313,6 +386,9 @@ int main(int argc, char** argv) {
         config.max_objects = 32;
         config.up_axis = CG_AXIS_POSITIVE_Z;
         config.forward_axis = CG_AXIS_POSITIVE_Y;
+        if (const char* rate = std::getenv("OSG_STREET_BLINK_RATE")) {
+            config.blink_rate = static_cast<float>(std::atof(rate));
+        }
         street.crowd = crowdgaze::Crowd(config);
         street.chain = crowdgaze::chain_desc_human(CG_AXIS_POSITIVE_Z, CG_AXIS_POSITIVE_Y);
 
@@ -465,6 +541,11 @@ int main(int argc, char** argv) {
             street.crowd.read_joints(0, static_cast<std::uint32_t>(n), joints);
             std::vector<cg_gaze_info> gaze(n);
             street.crowd.read_gaze(gaze);
+            for (std::size_t i = 0; i < n; i++) {
+                const cg_eyelids& lids = street.eyelids[i];
+                std::printf("lids %zu closure %.3f %.3f pitch %.4f %.4f\n", i, lids.left_closure,
+                            lids.right_closure, lids.left_lid_pitch, lids.right_lid_pitch);
+            }
             for (std::size_t i = 0; i < n; i++) {
                 osg::Quat head;  // the head in the body's frame: joints 0..7 composed
                 for (int j = kHead; j >= 0; j--) head = to_osg(joints[i * kJoints + static_cast<std::size_t>(j)]) * head;

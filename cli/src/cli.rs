@@ -25,7 +25,8 @@ pub enum Command {
     /// Adds gaze to pedestrian trajectories: who each person looks at, and the joint
     /// rotations of their gaze chain, per output frame.
     Annotate(AnnotateArgs),
-    /// Writes pictures (PNG and SVG): top-down views, the paper's Figure 1 and Figure 3.
+    /// Writes pictures (PNG and SVG): top-down views, the paper's Figure 1 and Figure 3, one
+    /// character's eyes and lids.
     Plot(PlotArgs),
     /// Adds gaze to a BVH clip walking the trajectory of one person of a trajectory file.
     Bvh(BvhArgs),
@@ -94,7 +95,8 @@ a cubic Hermite (Catmull-Rom) spline, headings follow the motion, each person en
 their track starts and leaves when it ends.\n\nOutput, one row per output frame and person \
 present: time,id,target,part,attending,s_max,threshold,gaze_x,gaze_y,gaze_z, then \
 <joint>_qx,_qy,_qz,_qw for each joint of the gaze chain (spine1-5, neck1-2, head, eye_l, \
-eye_r: final local rotations, base * delta). target is the id of the person looked at (empty \
+eye_r: final local rotations, base * delta), then left_closure,right_closure: how closed each \
+eye's lids are, 0 open to 1 closed (blinks). target is the id of the person looked at (empty \
 when looking ahead); the gaze direction is in the file's (x, y, up) axes."
 )]
 pub struct AnnotateArgs {
@@ -134,7 +136,10 @@ pub enum PlotKind {
     Figure1,
     /// The paper's Figure 3.
     Figure3,
-    /// All three.
+    /// The eyes of --character against time: their yaw and pitch relative to the head, the
+    /// lids' closure (blinks) and the gaze shifts' starts with their amplitudes.
+    Eyes,
+    /// All four.
     All,
 }
 
@@ -151,11 +156,11 @@ pub struct PlotArgs {
     /// separated. Default: the middle and the end.
     #[arg(long, value_delimiter = ',')]
     pub times: Vec<f64>,
-    /// The character of Figure 1: its index in the street (0-based), or its id in --input.
-    /// Default: the one with the most planned constraints.
+    /// The character of Figure 1 and of the eyes: its index in the street (0-based), or its
+    /// id in --input. Default: the one with the most planned constraints.
     #[arg(long)]
     pub character: Option<u64>,
-    /// Seconds of Figure 1 shown, from the character's first frame (0: all).
+    /// Seconds of Figure 1 and of the eyes shown, from the character's first frame (0: all).
     #[arg(long, default_value_t = 20.0)]
     pub span: f64,
     /// The street scene (without --input).

@@ -217,6 +217,8 @@ impl Observer for AnnotateWriter {
             for q in &self.joints {
                 let _ = write!(line, ",{},{},{},{}", q.x, q.y, q.z, q.w);
             }
+            let lids = crowd.eyelids(person.id)?;
+            let _ = write!(line, ",{},{}", lids.left_closure, lids.right_closure);
             line.push('\n');
             self.out
                 .write_all(line.as_bytes())
@@ -239,7 +241,7 @@ pub fn annotate(args: &AnnotateArgs) -> Result<()> {
             header.push_str(&format!(",{name}_{component}"));
         }
     }
-    header.push('\n');
+    header.push_str(",left_closure,right_closure\n");
     out.write_all(header.as_bytes())
         .with_context(|| format!("{}: cannot write", args.out.display()))?;
     let mut writer = AnnotateWriter {
@@ -318,10 +320,11 @@ pub fn annotate(args: &AnnotateArgs) -> Result<()> {
 pub fn plot(args: &PlotArgs) -> Result<()> {
     let wants = |kind: PlotKind| args.what == kind || args.what == PlotKind::All;
     let mut written = Vec::new();
-    if wants(PlotKind::Topdown) || wants(PlotKind::Figure1) {
+    if wants(PlotKind::Topdown) || wants(PlotKind::Figure1) || wants(PlotKind::Eyes) {
         let mut collector = Collector {
             figure1_label: args.character,
             figure1_auto: args.character.is_none(),
+            eyes_wanted: wants(PlotKind::Eyes),
             ..Collector::default()
         };
         if let Some(input) = &args.input {
@@ -381,6 +384,14 @@ pub fn plot(args: &PlotArgs) -> Result<()> {
                 collector.figure1.what.replace(' ', "")
             ));
             written.extend(save(&collector.figure1, &stem)?);
+        }
+        if wants(PlotKind::Eyes) {
+            collector.eyes.span = args.span;
+            collector.eyes.what = collector.figure1.what.clone();
+            let stem = args
+                .out
+                .join(format!("eyes_{}", collector.eyes.what.replace(' ', "")));
+            written.extend(save(&collector.eyes, &stem)?);
         }
     }
     if wants(PlotKind::Figure3) {

@@ -5,13 +5,16 @@
 //! - the paper's Figure 1 for one character: `S_max(t)` coloured by the entity that gives it,
 //!   the threshold `A`, and the `t_b`, `t_e` of each planned constraint;
 //! - the paper's Figure 3: eye, head and torso yaw against time during gaze shifts (one
-//!   character, an explicit target that jumps).
+//!   character, an explicit target that jumps);
+//! - the eyes of one character: where its eyes look in its head, how closed its lids are
+//!   (blinks), and when its gaze shifts start, against time.
 
 use std::path::{Path, PathBuf};
 use std::sync::Once;
 
 use anyhow::{anyhow, Context, Result};
 use crowdgaze::crowd::{ExplicitTarget, TargetPriority};
+use crowdgaze::ik::GazeChain;
 use crowdgaze::scene::ids::EntityKind;
 use crowdgaze::{CharacterDesc, Crowd, CrowdConfig, World};
 use glam::{Quat, Vec2, Vec3};
@@ -624,10 +627,237 @@ impl Figure for Figure3 {
 }
 
 // ---------------------------------------------------------------------------------------
+// Eyes and lids.
+
+/// One character's eyes and lids after one step.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EyeSample {
+    /// Time (s).
+    pub time: f64,
+    /// Yaw of the eyes in the head (degrees, left positive): the mean of both eyes'
+    /// directions, from the head's forward about the head's up.
+    pub yaw: f32,
+    /// Pitch of the eyes in the head (degrees, up positive).
+    pub pitch: f32,
+    /// How closed the lids are: 0 open, 1 closed (both eyes blink together; the left's).
+    pub closure: f32,
+}
+
+/// The eyes of one character against time: the yaw and pitch of its eyes relative to its
+/// head, the closure of its lids, and the start of each gaze shift with its amplitude.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct EyesFigure {
+    /// The character's label.
+    pub label: u64,
+    /// One sample per frame.
+    pub series: Vec<EyeSample>,
+    /// The gaze shifts that started: `(t, amplitude in degrees)`.
+    pub shift_starts: Vec<(f64, f32)>,
+    /// What the character is (for the title).
+    pub what: String,
+    /// Seconds shown from the first sample (0: all).
+    pub span: f64,
+}
+
+/// The mean direction of a chain's two eyes in the head's frame, from the chain's joints
+/// (final local rotations, base × delta); `None` for a chain without eyes.
+pub fn eye_direction_in_head(chain: &GazeChain, joints: &[Quat]) -> Option<Vec3> {
+    let eyes = chain.eye_indices()?;
+    let direction: Vec3 = eyes
+        .iter()
+        .map(|&index| {
+            let rest_forward = chain.joints()[index].rest.conjugate() * chain.eye_forward();
+            joints[index] * rest_forward
+        })
+        .sum();
+    Some(direction.normalize_or_zero())
+}
+
+impl EyesFigure {
+    /// Adds this frame of character `id` (call after each step).
+    pub fn record(&mut self, crowd: &Crowd, id: u32, time: f64) -> Result<()> {
+        let chain = crowd.chain(id)?;
+        let mut joints = vec![Quat::IDENTITY; chain.joint_count()];
+        crowd.read_joints_of(id, false, &mut joints)?;
+        let direction = eye_direction_in_head(chain, &joints).unwrap_or(chain.eye_forward());
+        let (forward, up) = (chain.eye_forward(), chain.eye_up());
+        let left = up.cross(forward);
+        let lids = crowd.eyelids(id)?;
+        self.series.push(EyeSample {
+            time,
+            yaw: direction
+                .dot(left)
+                .atan2(direction.dot(forward))
+                .to_degrees(),
+            pitch: direction.dot(up).clamp(-1.0, 1.0).asin().to_degrees(),
+            closure: lids.left_closure,
+        });
+        if let Some(amplitude) = crowd.gaze_motion(id)?.shift_start_amplitude() {
+            self.shift_starts.push((time, amplitude.to_degrees()));
+        }
+        Ok(())
+    }
+}
+
+impl Figure for EyesFigure {
+    fn size(&self) -> (u32, u32) {
+        (1400, 720)
+    }
+
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<()> {
+        root.fill(&WHITE).map_err(drawing)?;
+        let (t0, mut t1) = match (self.series.first(), self.series.last()) {
+            (Some(a), Some(b)) if b.time > a.time => (a.time, b.time),
+            (Some(a), _) => (a.time, a.time + 1.0),
+            _ => (0.0, 1.0),
+        };
+        if self.span > 0.0 {
+            t1 = t1.min(t0 + self.span);
+        }
+        let shown = |t: f64| t <= t1 + 1e-9;
+        let series: Vec<EyeSample> = self
+            .series
+            .iter()
+            .copied()
+            .filter(|s| shown(s.time))
+            .collect();
+        let shifts: Vec<(f64, f32)> = self
+            .shift_starts
+            .iter()
+            .copied()
+            .filter(|s| shown(s.0))
+            .collect();
+        let blinks = series
+            .windows(2)
+            .filter(|pair| pair[0].closure == 0.0 && pair[1].closure > 0.0)
+            .count();
+        let root = root
+            .titled(
+                &format!(
+                    "The eyes of {}: eye yaw and pitch relative to the head, lid closure, \
+                     gaze shift starts ({} shifts, {blinks} blinks seen)",
+                    self.what,
+                    shifts.len()
+                ),
+                ("sans-serif", 20),
+            )
+            .map_err(drawing)?;
+        let (upper, lower) = root.split_vertically(440);
+        // The eyes' angles, symmetric about 0, at least ±10°; a band below for the shifts'
+        // labels and one above for the legend.
+        let extent = series
+            .iter()
+            .map(|s| s.yaw.abs().max(s.pitch.abs()))
+            .fold(10.0f32, f32::max)
+            * 1.1;
+        let (bottom, top) = (-1.25 * extent, 1.6 * extent);
+        let shift_colour = RGBColor(120, 60, 170);
+        let shift_style = |amplitude: f32| {
+            // 1 px for small shifts, up to 5 px from 40°.
+            shift_colour.stroke_width((1.0 + amplitude / 10.0).clamp(1.0, 5.0) as u32)
+        };
+        let mut eyes = ChartBuilder::on(&upper)
+            .margin(12)
+            .x_label_area_size(30)
+            .y_label_area_size(60)
+            .build_cartesian_2d(t0..t1, bottom..top)
+            .map_err(drawing)?;
+        eyes.configure_mesh()
+            .y_desc("eyes in the head (degrees)")
+            .y_label_formatter(&|v| format!("{v:.0}"))
+            .light_line_style(RGBColor(235, 235, 235))
+            .draw()
+            .map_err(drawing)?;
+        for &(t, amplitude) in &shifts {
+            eyes.draw_series(std::iter::once(PathElement::new(
+                vec![(t, -1.06 * extent), (t, top)],
+                shift_style(amplitude),
+            )))
+            .map_err(drawing)?;
+            eyes.draw_series(std::iter::once(Text::new(
+                format!("{amplitude:.0}°"),
+                (t - 0.006 * (t1 - t0), -1.09 * extent),
+                ("sans-serif", 12).into_font().color(&shift_colour),
+            )))
+            .map_err(drawing)?;
+        }
+        eyes.draw_series(std::iter::once(PathElement::new(
+            vec![(t0, 0.0), (t1, 0.0)],
+            RGBColor(160, 160, 160).stroke_width(1),
+        )))
+        .map_err(drawing)?;
+        let blue = RGBColor(30, 80, 200);
+        eyes.draw_series(LineSeries::new(
+            series.iter().map(|s| (s.time, s.yaw)),
+            blue.stroke_width(2),
+        ))
+        .map_err(drawing)?
+        .label("eye yaw relative to the head (left positive)")
+        .legend(move |(x, y)| PathElement::new(vec![(x - 8, y), (x + 8, y)], blue.stroke_width(2)));
+        let green = RGBColor(40, 150, 60);
+        eyes.draw_series(LineSeries::new(
+            series.iter().map(|s| (s.time, s.pitch)),
+            green.stroke_width(1),
+        ))
+        .map_err(drawing)?
+        .label("eye pitch relative to the head (up positive)")
+        .legend(move |(x, y)| PathElement::new(vec![(x - 8, y), (x + 8, y)], green));
+        // An empty series for the legend entry of the markers.
+        eyes.draw_series(std::iter::empty::<PathElement<(f64, f32)>>())
+            .map_err(drawing)?
+            .label("gaze shift starts (labelled and thickened by amplitude)")
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y - 7), (x, y + 7)], shift_colour.stroke_width(3))
+            });
+        draw_legend(&mut eyes)?;
+
+        let mut lids = ChartBuilder::on(&lower)
+            .margin(12)
+            .x_label_area_size(36)
+            .y_label_area_size(60)
+            .build_cartesian_2d(t0..t1, 0f32..1.5f32)
+            .map_err(drawing)?;
+        lids.configure_mesh()
+            .x_desc("t (s)")
+            .y_desc("lid closure")
+            .y_labels(4)
+            // Closures run 0 to 1; above is room for the legend.
+            .y_label_formatter(&|v| {
+                if *v <= 1.0 {
+                    format!("{v:.1}")
+                } else {
+                    String::new()
+                }
+            })
+            .light_line_style(RGBColor(235, 235, 235))
+            .draw()
+            .map_err(drawing)?;
+        for &(t, amplitude) in &shifts {
+            lids.draw_series(std::iter::once(PathElement::new(
+                vec![(t, 0.0), (t, 1.5)],
+                shift_style(amplitude),
+            )))
+            .map_err(drawing)?;
+        }
+        let orange = RGBColor(230, 120, 20);
+        lids.draw_series(LineSeries::new(
+            series.iter().map(|s| (s.time, s.closure)),
+            orange.stroke_width(2),
+        ))
+        .map_err(drawing)?
+        .label("lid closure (0 open, 1 closed: a blink)")
+        .legend(move |(x, y)| {
+            PathElement::new(vec![(x - 8, y), (x + 8, y)], orange.stroke_width(2))
+        });
+        draw_legend(&mut lids)
+    }
+}
+
+// ---------------------------------------------------------------------------------------
 // Collecting what the pictures need while a crowd runs.
 
 /// An observer that takes top-down snapshots at chosen times and records one character's
-/// Figure 1 series.
+/// Figure 1 series (and, if wanted, its eyes).
 #[derive(Debug, Default)]
 pub struct Collector {
     /// Times of the wanted snapshots (s), ascending.
@@ -643,6 +873,10 @@ pub struct Collector {
     pub figure1_auto: bool,
     /// Figure 1's data.
     pub figure1: Figure1,
+    /// Record the eyes of Figure 1's character too.
+    pub eyes_wanted: bool,
+    /// The eyes of Figure 1's character, if wanted.
+    pub eyes: EyesFigure,
     /// Gaze statistics.
     pub stats: crate::sim::GazeStats,
     /// Number of frames in the run (to pick the last one for a snapshot time past the end).
@@ -663,6 +897,7 @@ impl Observer for Collector {
         }
         if let Some(label) = self.figure1_label {
             self.figure1.label = label;
+            self.eyes.label = label;
         }
         Ok(())
     }
@@ -686,6 +921,9 @@ impl Observer for Collector {
                         || frame.people.iter().any(|p| p.id == entity)
                 };
                 self.figure1.record(crowd, person.id, frame.time, present)?;
+                if self.eyes_wanted {
+                    self.eyes.record(crowd, person.id, frame.time)?;
+                }
             }
         }
         Ok(())

@@ -250,9 +250,14 @@ fn annotate_window(
             "gaze_z"
         ]
     );
-    assert_eq!(header.len(), 10 + 4 * 10, "10 chain joints of 4 components");
+    assert_eq!(
+        header.len(),
+        10 + 4 * 10 + 2,
+        "10 chain joints of 4 components, then the lids"
+    );
+    assert_eq!(&header[50..], &["left_closure", "right_closure"]);
     let mut got = BTreeSet::new();
-    let (mut attending, mut count) = (0usize, 0usize);
+    let (mut attending, mut count, mut blinking) = (0usize, 0usize, 0usize);
     for line in lines {
         let fields: Vec<&str> = line.split(',').collect();
         assert_eq!(fields.len(), header.len(), "{line}");
@@ -280,15 +285,25 @@ fn annotate_window(
             let norm = q.iter().map(|v| v * v).sum::<f64>().sqrt();
             assert!((norm - 1.0).abs() < 1e-3, "{line}");
         }
+        // Lid closures: 0 open to 1 closed, both eyes together.
+        let closures: Vec<f64> = fields[50..].iter().map(|v| v.parse().unwrap()).collect();
+        for closure in &closures {
+            assert!((0.0..=1.0).contains(closure), "closure {closure} in {line}");
+        }
+        assert_eq!(closures[0], closures[1], "both eyes blink together: {line}");
+        blinking += usize::from(closures[0] > 0.0);
     }
     assert_eq!(got.len(), expected.len(), "person-frames");
     assert_eq!(got, expected, "every person-frame in range, and only those");
     let fraction = attending as f64 / count as f64;
     println!(
-        "{file} [{start} s, {end} s] at {fps} fps{}: {count} person-frames, attentive {:.1}%",
+        "{file} [{start} s, {end} s] at {fps} fps{}: {count} person-frames, attentive {:.1}%, \
+         lids closing or closed in {blinking}",
         if offline { " offline" } else { "" },
         100.0 * fraction
     );
+    // Minutes of people at about 17 blinks a minute: some samples fall in a blink.
+    assert!(blinking > 0, "no sample has its lids closing in {count}");
     fraction
 }
 
@@ -530,6 +545,10 @@ fn plot_draws_a_trajectory_file_and_figure_3() {
         "{files:?}"
     );
     assert!(files.contains("figure3_gaze_shift.png"), "{files:?}");
+    assert!(
+        files.iter().any(|f| f.starts_with("eyes_person")),
+        "{files:?}"
+    );
     for file in &files {
         let path = out.join(file);
         if file.ends_with(".png") {
@@ -538,6 +557,73 @@ fn plot_draws_a_trajectory_file_and_figure_3() {
             check_svg(&path);
         }
     }
+}
+
+#[test]
+fn plot_draws_the_eyes_and_lids_of_one_character() {
+    let directory = tempfile::tempdir().unwrap();
+    let out = directory.path().join("plots");
+    let stdout = succeed(&[
+        "plot",
+        "--what",
+        "eyes",
+        "--seconds",
+        "30",
+        "--characters",
+        "40",
+        "--objects",
+        "20",
+        "--character",
+        "2",
+        "--out",
+        out.to_str().unwrap(),
+        "-q",
+    ]);
+    println!("{stdout}");
+    // Only the eyes picture, as PNG and SVG.
+    let files = entries(&out);
+    assert_eq!(
+        files,
+        BTreeSet::from([
+            "eyes_character2.png".to_string(),
+            "eyes_character2.svg".to_string()
+        ])
+    );
+    for file in &files {
+        assert!(
+            std::fs::metadata(out.join(file)).unwrap().len() > 0,
+            "{file}"
+        );
+    }
+    check_png(&out.join("eyes_character2.png"));
+    let svg = out.join("eyes_character2.svg");
+    check_svg(&svg);
+    // 20 s of a walking character: its gaze shifts, labelled by amplitude, and its blinks.
+    let svg = std::fs::read_to_string(&svg).unwrap();
+    let document = roxmltree::Document::parse(&svg).unwrap();
+    let texts: Vec<String> = document
+        .descendants()
+        .filter(|n| n.tag_name().name() == "text")
+        .filter_map(|n| n.text().map(|t| t.trim().to_string()))
+        .collect();
+    let amplitudes: Vec<f64> = texts
+        .iter()
+        .filter_map(|t| t.strip_suffix('°')?.parse().ok())
+        .collect();
+    let title = texts
+        .iter()
+        .find(|t| t.starts_with("The eyes of character 2"))
+        .expect("the title");
+    let count = |what: &str| -> usize {
+        let before = title.split(&format!(" {what}")).next().unwrap();
+        let digits = before.rsplit(|c: char| !c.is_ascii_digit()).next().unwrap();
+        digits.parse().unwrap()
+    };
+    let (shifts, blinks) = (count("shifts"), count("blinks seen"));
+    println!("{shifts} gaze shifts (amplitudes {amplitudes:?} degrees), {blinks} blinks");
+    assert_eq!(amplitudes.len(), shifts, "one label per gaze shift");
+    assert!(amplitudes.iter().all(|a| (0.0..=180.0).contains(a)));
+    assert!(shifts > 0 && blinks > 0, "{title}");
 }
 
 /// Runs `args` (with `{dir}` replaced by a fresh directory holding `name` = `content`) and
