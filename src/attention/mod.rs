@@ -8,6 +8,7 @@
 
 pub mod baseline;
 pub mod candidates;
+pub mod conversation;
 pub mod interest;
 pub mod plan;
 pub mod quantile;

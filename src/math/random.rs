@@ -28,6 +28,8 @@ pub enum Purpose {
     Baseline = 5,
     /// A character's blinks (rate, intervals, durations, gaze-evoked draws).
     Blinks = 6,
+    /// A conversation member's glances (lengths, whom, where away).
+    Conversation = 7,
 }
 
 /// The generator for `(seed, purpose, index)`.
