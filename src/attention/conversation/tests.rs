@@ -80,13 +80,13 @@ fn measure(members: usize, seed: u64) -> Measured {
                 }
                 glance_run[m] = (target(m), usize::from(target(m) != AWAY));
             }
-            for other in m + 1..members {
+            for (other, run) in mutual_run[m].iter_mut().enumerate().skip(m + 1) {
                 let both = target(m) == other as u8 && target(other) == m as u8;
                 if both {
-                    mutual_run[m][other] += 1;
-                } else if mutual_run[m][other] > 0 {
-                    mutual_glances.push(mutual_run[m][other]);
-                    mutual_run[m][other] = 0;
+                    *run += 1;
+                } else if *run > 0 {
+                    mutual_glances.push(*run);
+                    *run = 0;
                 }
             }
         }
