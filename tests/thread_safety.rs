@@ -14,6 +14,7 @@ mod support;
 use crowdgaze::ffi::attention::*;
 
 use crowdgaze::ffi::crowd::*;
+use crowdgaze::ffi::eyelids::*;
 use crowdgaze::ffi::frame::*;
 use crowdgaze::ffi::gaze::*;
 use crowdgaze::ffi::last_error::last_error_message;
@@ -33,7 +34,7 @@ const ROUNDS: usize = 100;
 
 /// Every header function that takes a `const` crowd or blender handle, as the transcripts
 /// below call them; `const_functions_are_all_covered` keeps the list equal to the header's.
-const COVERED: [&str; 12] = [
+const COVERED: [&str; 13] = [
     "cg_crowd_character_count",
     "cg_crowd_get_config",
     "cg_crowd_read_gaze",
@@ -41,6 +42,7 @@ const COVERED: [&str; 12] = [
     "cg_crowd_read_joints",
     "cg_crowd_read_joint_deltas",
     "cg_crowd_read_eyes",
+    "cg_crowd_read_eyelids",
     "cg_crowd_get_character_params",
     "cg_crowd_score",
     "cg_crowd_read_constraints",
@@ -104,7 +106,10 @@ fn crowd_transcript(crowd: *const cg_crowd) -> String {
     let mut eyes = vec![cg_eye_info::default(); count];
     let s = unsafe { cg_crowd_read_eyes(crowd, 0, count as u32, eyes.as_mut_ptr(), count) };
     status(&mut out, "eyes", s);
-    writeln!(out, "{total} {joints:?} {deltas:?} {eyes:?}").unwrap();
+    let mut lids = vec![cg_eyelids::default(); count];
+    let s = unsafe { cg_crowd_read_eyelids(crowd, 0, count as u32, lids.as_mut_ptr(), count) };
+    status(&mut out, "eyelids", s);
+    writeln!(out, "{total} {joints:?} {deltas:?} {eyes:?} {lids:?}").unwrap();
 
     // Per character, as an engine's animation threads would: its joints, its parameters,
     // how it scores its neighbour and its target, its planned constraints.
