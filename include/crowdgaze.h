@@ -65,8 +65,17 @@
 // entity's previous pushed position divided by the elapsed time.
 #define CG_STATE_HAS_VELOCITY 2
 
+// `cg_entity_state.flags`: the entity talks in this frame (lip-sync, chat, dialogue). A
+// talking entity is more interesting to the crowd model and the saliency model
+// (`cg_crowd_config.talking_gain`) and draws the baseline's head turns; in a conversation
+// (`cg_crowd_set_conversation`) it is the speaker the others listen to.
+#define CG_STATE_TALKING 4
+
 // Most joints a `cg_chain_desc` holds: 8 spine + 4 cervical + 1 head + 2 eyes.
 #define CG_MAX_CHAIN_JOINTS 15
+
+// Most members of one conversation.
+#define CG_MAX_CONVERSATION_MEMBERS 8
 
 // `cg_crowd_config.eye_motion`: the paper's timing (Grillon & Thalmann 2009): the eyes
 // arrive at half the activation time.
@@ -718,6 +727,36 @@ typedef struct cg_crowd_config {
     // How the eyes of crowd-model and baseline characters time a gaze shift: a
     // `CG_EYE_MOTION_*`. Default `CG_EYE_MOTION_PAPER`.
     uint32_t eye_motion;
+    // Most conversations (`cg_crowd_set_conversation`) at once, 0 to 8 388 608. Each
+    // takes about 150 bytes, allocated by `cg_crowd_create`. Default 64.
+    uint32_t max_conversations;
+    // The crowd model's and the saliency model's score of an entity that talks
+    // (`CG_STATE_TALKING`) is multiplied by this, 0 to 100 (1: talking changes nothing).
+    // Default 1.5.
+    float talking_gain;
+    // Saliency model: the multiplier of the eyes' saliency (both eyes of a character) over
+    // its other parts, 0 to 100; higher makes eye contact last longer. Default 1.5.
+    float eye_part_weight;
+    // Conversations: share of the time a listener looks at the speaker, in (0, 1).
+    // Default 0.75 (Argyle & Ingham 1972).
+    float listener_look_share;
+    // Conversations: mean length of a listener's glance at the speaker, seconds (0, 600].
+    // Default 6.
+    float listener_glance_time;
+    // Conversations: share of the time the speaker looks at a listener, in (0, 1).
+    // Default 0.41 (Argyle & Ingham 1972).
+    float speaker_look_share;
+    // Conversations: mean length of the speaker's glance at a listener, seconds (0, 600].
+    // Default 1.8.
+    float speaker_glance_time;
+    // Conversations: share of the time a member looks at another while no one talks, in
+    // (0, 1). Default 0.5.
+    float idle_look_share;
+    // Conversations: mean length of such a glance, seconds (0, 600]. Default 2.5.
+    float idle_glance_time;
+    // Conversations: a member who starts talking first looks away this long, seconds
+    // [0, 60] (0: not at all). Default 1 (Kendon 1967).
+    float turn_start_aversion_time;
 } cg_crowd_config;
 
 // A character's eyelids after a step, as read by `cg_crowd_read_eyelids`. Not versioned:
@@ -1335,6 +1374,37 @@ cg_status cg_view_blender_evaluate(const struct cg_view_blender *blender,
 cg_status cg_chain_desc_init_human(struct cg_chain_desc *desc,
                                    uint32_t up_axis,
                                    uint32_t forward_axis);
+
+// Makes the characters `members[0 .. count]` (2 to `CG_MAX_CONVERSATION_MEMBERS` ids, each
+// in no other conversation) a group standing together and talking, and writes its id to
+// `*out_group`. From the next step its members look at each other: listeners mostly at the
+// member whose pushed state has `CG_STATE_TALKING`, the speaker at its listeners now and
+// then, and away between glances. A removed character leaves its group; a group left with
+// one member ends. The caller keeps `members`.
+//
+// Errors (nothing changed): `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_INVALID_ARGUMENT` (fewer
+// than 2 or more than 8 members, an id listed twice, an object, a character already in a
+// conversation, a plan active), `CG_STATUS_NOT_FOUND` (an unknown id),
+// `CG_STATUS_CAPACITY` (`max_conversations` groups exist already). Not thread-safe.
+cg_status cg_crowd_set_conversation(struct cg_crowd *crowd,
+                                    const uint32_t *members,
+                                    size_t count,
+                                    uint32_t *out_group);
+
+// Ends conversation `group`: its members go back to their own attention.
+//
+// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NOT_FOUND` (no such group, or one that
+// already ended). Not thread-safe.
+cg_status cg_crowd_remove_conversation(struct cg_crowd *crowd, uint32_t group);
+
+// Writes the conversation `character` is in to `*out_group`, or `CG_NO_TARGET` if it is in
+// none.
+//
+// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NOT_FOUND` (no such character). Safe to
+// call concurrently with other `const` calls.
+cg_status cg_crowd_get_conversation(const struct cg_crowd *crowd,
+                                    uint32_t character,
+                                    uint32_t *out_group);
 
 // Fills `config` with the defaults documented on each field. Set `config->struct_size =
 // sizeof(cg_crowd_config)` first: only that many bytes are written (an older, shorter

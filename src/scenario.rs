@@ -236,6 +236,7 @@ impl Scenario {
             heading: person.heading,
             heading_from_motion: person.activity == Activity::Walking,
             velocity: None,
+            talking: false,
         }
     }
 

@@ -237,6 +237,7 @@ fn bad_input_changes_nothing() {
         heading: 0.5,
         heading_from_motion: false,
         velocity: None,
+        talking: false,
     };
     crowd.push_frame(1.0, &[good]).unwrap();
     let before = crowd.scene().positions().to_vec();
@@ -320,6 +321,7 @@ fn real_eth_trajectories_run_through() {
                 heading: 0.0,
                 heading_from_motion: true,
                 velocity: None,
+                talking: false,
             });
             index += 1;
         }

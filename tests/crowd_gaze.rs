@@ -181,6 +181,7 @@ fn when_idle_targets_yield_to_interest_points() {
         heading: 0.0,
         heading_from_motion: false,
         velocity: None,
+        talking: false,
     };
     crowd.push_frame(1.0, &[moved]).unwrap();
     crowd.step(DT).unwrap();

@@ -262,6 +262,7 @@ fn characters_look_at_the_viewer() {
                 heading: 0.0,
                 heading_from_motion: false,
                 velocity: None,
+                talking: false,
             })
             .collect();
         crowd.push_frame(t, &updates).unwrap();

@@ -89,6 +89,7 @@ fn run() -> Vec<String> {
                 heading: 0.0,
                 heading_from_motion: true,
                 velocity: None,
+                talking: false,
             });
         }
         crowd.push_frame(f64::from(frame) / 15.0, &updates).unwrap();

@@ -23,7 +23,7 @@ fn every_per_character_type_has_its_recorded_size() {
     // A score histogram (64 16-bit counts, their total and the quantile cursor's bin and
     // count below it) and 20 four-byte fields.
     assert_eq!(size_of::<ScoreHistogram>(), 140);
-    assert_eq!(size_of::<InterestTracker>(), 220);
+    assert_eq!(size_of::<InterestTracker>(), 216);
     // The crowd's base pose of each chain joint.
     assert_eq!(size_of::<[PackedQuat; MAX_CHAIN_JOINTS]>(), 120);
     // Deltas (240), packed start pose (120), eye rays (48), last targets (24), target key
@@ -39,22 +39,23 @@ fn every_per_character_type_has_its_recorded_size() {
     // The crowd's saliency state: one channel for the eyes, one for the head.
     assert_eq!(size_of::<FixationChannel>(), 20);
     assert_eq!(size_of::<BaselineState>(), 20);
-    // A character keeps the state of its own attention model only: the tracker (220) or
+    // A character keeps the state of its own attention model only: the tracker (216) or
     // the look, saliency and baseline state (76), and a tag.
     assert_eq!(size_of::<GlanceState>(), 76);
-    assert_eq!(size_of::<ModelState>(), 224);
+    assert_eq!(size_of::<ModelState>(), 220);
     // Each entity's share of the scene and of the neighbour index.
-    assert_eq!(Scene::bytes_per_entity(), 77);
+    assert_eq!(Scene::bytes_per_entity(), 78);
     assert_eq!(NeighbourIndex::bytes_per_entity(), 52);
 }
 
 #[test]
 fn state_per_character_adds_up() {
     // 24 parameters + 4 chain index + 120 packed base pose + 1 posed flag + 16 explicit
-    // target + 4 place in the readers' order + 224 attention model state + 464 gaze motion
-    // + 2 × 8 random streams + 8 level of detail + 8 blinks, + 77 scene + 52 neighbour
-    // index, + 4 visiting order + 1 (three bits of scratch, rounded up).
-    assert_eq!(Crowd::state_bytes_per_character(), 1023);
+    // target + 4 place in a conversation + 4 place in the readers' order + 220 attention
+    // model state + 464 gaze motion + 2 × 8 random streams + 8 level of detail + 8 blinks,
+    // + 78 scene + 52 neighbour index, + 4 visiting order + 1 (three bits of scratch,
+    // rounded up).
+    assert_eq!(Crowd::state_bytes_per_character(), 1024);
     // The design's budget.
     assert!(Crowd::state_bytes_per_character() <= 1024);
 }

@@ -540,6 +540,7 @@ impl Figure3 {
                     heading: 0.0,
                     heading_from_motion: false,
                     velocity: None,
+                    talking: false,
                 }],
             )?;
             crowd.step(dt)?;

@@ -143,6 +143,7 @@ fn track_update(world: &World, track: &Track, id: u32, t: f64) -> EntityUpdate {
         heading: 0.0,
         heading_from_motion: true,
         velocity: Some(world_point(world, velocity)),
+        talking: false,
     }
 }
 

@@ -87,17 +87,19 @@ impl NeighbourIndex {
         })
     }
 
-    /// Rebuilds the grid and the grid-ordered copies from the scene's current state.
-    pub fn rebuild(&mut self, scene: &Scene) {
+    /// Rebuilds the grid and the grid-ordered copies from the scene's current state; a
+    /// talking entity's impact is copied times `talking_gain`
+    /// ([`ScoringConfig::talking_gain`](super::score::ScoringConfig::talking_gain)).
+    pub fn rebuild(&mut self, scene: &Scene, talking_gain: f32) {
         self.grid.rebuild(scene.ground_positions());
         let (headings, velocities) = (scene.headings(), scene.velocities());
-        let (impacts, ids) = (scene.impacts(), scene.ids());
+        let ids = scene.ids();
         for (slot, &entity) in self.grid.entries().iter().enumerate() {
             let entity = entity as usize;
             self.heading[slot] = headings[entity];
             self.velocity_x[slot] = velocities[entity].x;
             self.velocity_y[slot] = velocities[entity].y;
-            self.impact[slot] = impacts[entity];
+            self.impact[slot] = scene.attention_impact(entity, talking_gain);
             self.id_bits[slot] = f32::from_bits(ids[entity]);
             self.slot_of_entity[entity] = slot as u32;
         }
@@ -502,6 +504,7 @@ pub fn all_pairs_candidates(
         scorer.max_distance_squared(),
         scorer.cos_half_field_of_view(),
     );
+    let gain = scorer.config().talking_gain;
     let impacts = scene.impacts();
     for (entity, (point, impact)) in scene.ground_positions().iter().zip(impacts).enumerate() {
         let offset = *point - observer.position;
@@ -515,20 +518,25 @@ pub fn all_pairs_candidates(
         batch.id_bits[at] = f32::from_bits(entity as u32);
         batch.len = at + usize::from(keep);
         if batch.len == BATCH {
-            gather_from_scene(&mut batch, scene, &observer);
+            gather_from_scene(&mut batch, scene, &observer, gain);
             ranking.flush::<Vec4>(&mut batch);
         }
     }
-    gather_from_scene(&mut batch, scene, &observer);
+    gather_from_scene(&mut batch, scene, &observer, gain);
     ranking.flush::<Vec4>(&mut batch);
     (ranking.best, ranking.second)
 }
 
 /// Fills the batch's data from the scene's arrays, by the entity indices it holds, and
 /// replaces those with the entities' ids.
-fn gather_from_scene(batch: &mut CandidateBatch, scene: &Scene, observer: &GroundState) {
+fn gather_from_scene(
+    batch: &mut CandidateBatch,
+    scene: &Scene,
+    observer: &GroundState,
+    talking_gain: f32,
+) {
     let (points, headings) = (scene.ground_positions(), scene.headings());
-    let (velocities, impacts) = (scene.velocities(), scene.impacts());
+    let velocities = scene.velocities();
     let ids = scene.ids();
     for i in 0..batch.len.min(BATCH) {
         let entity = batch.id_bits[i].to_bits() as usize;
@@ -539,7 +547,7 @@ fn gather_from_scene(batch: &mut CandidateBatch, scene: &Scene, observer: &Groun
         batch.heading[i] = headings[entity];
         batch.velocity_x[i] = velocities[entity].x;
         batch.velocity_y[i] = velocities[entity].y;
-        batch.impact[i] = impacts[entity];
+        batch.impact[i] = scene.attention_impact(entity, talking_gain);
     }
 }
 
@@ -649,7 +657,7 @@ mod tests {
         });
         let weights = SubscoreWeights::normalised([0.3, 0.2, 0.4, 0.1]).unwrap();
         let mut index = NeighbourIndex::new(700, 10.0, &"test").unwrap();
-        index.rebuild(&scene);
+        index.rebuild(&scene, 1.0);
         for field_of_view in [1.0, PI / 2.0, PI, 1.5 * PI, 2.0 * PI] {
             let scorer = Scorer::new(super::super::score::ScoringConfig {
                 field_of_view,
@@ -685,7 +693,7 @@ mod tests {
         let scene = random_scene(200, 6.0, 8, |_, random| random.range(0.5, 2.0));
         let weights = SubscoreWeights::normalised([0.3, 0.2, 0.4, 0.1]).unwrap();
         let mut index = NeighbourIndex::new(200, 10.0, &"test").unwrap();
-        index.rebuild(&scene);
+        index.rebuild(&scene, 1.0);
         for character in 0..200 {
             let mut batch = CandidateBatch::default();
             let (best, _) = nearby_candidates(

@@ -71,7 +71,6 @@ pub const MAX_COOLDOWNS: usize = 4;
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct InterestTracker {
     histogram: ScoreHistogram,
-    attention_fraction: f32,
     /// Seconds with `S_max ≥ A` after the warm-up (for the correction `ρ`).
     above_time: f32,
     /// Seconds attending after the warm-up (for the correction `ρ`).
@@ -92,12 +91,11 @@ pub struct InterestTracker {
 }
 
 impl InterestTracker {
-    /// A tracker for a character who attends a fraction `attention_fraction` (`a`/100) of
-    /// the time.
-    pub fn new(attention_fraction: f32, config: &InterestConfig) -> InterestTracker {
+    /// A tracker for a character (whose attention fraction `a`/100 each
+    /// [`update`](Self::update) takes).
+    pub fn new(config: &InterestConfig) -> InterestTracker {
         InterestTracker {
             histogram: ScoreHistogram::default(),
-            attention_fraction,
             above_time: 0.0,
             attending_time: 0.0,
             candidate: NO_ENTITY,
@@ -114,10 +112,9 @@ impl InterestTracker {
         }
     }
 
-    /// Changes the attention fraction; restarts the delay correction (the score history
+    /// For a changed attention fraction: restarts the delay correction (the score history
     /// is kept: it does not depend on the fraction).
-    pub fn set_attention_fraction(&mut self, attention_fraction: f32) {
-        self.attention_fraction = attention_fraction;
+    pub fn restart_delay_correction(&mut self) {
         self.above_time = 0.0;
         self.attending_time = 0.0;
     }
@@ -201,31 +198,39 @@ impl InterestTracker {
     }
 
     /// The threshold for the next decision: the `(1 − a/ρ)` quantile once warm, else the
-    /// initial one. `max_score` is `S_MAX`, the largest possible score.
-    fn current_threshold(&mut self, config: &InterestConfig, max_score: f32) -> f32 {
-        if self.attention_fraction <= 0.0 {
+    /// initial one. `max_score` is `S_MAX`, the largest possible score; `attention_fraction`
+    /// is `a`/100.
+    fn current_threshold(
+        &mut self,
+        config: &InterestConfig,
+        max_score: f32,
+        attention_fraction: f32,
+    ) -> f32 {
+        if attention_fraction <= 0.0 {
             return f32::INFINITY;
         }
-        if self.attention_fraction >= 1.0 {
+        if attention_fraction >= 1.0 {
             return 0.0;
         }
         if self.observed_time < config.warmup {
             return config.initial_threshold;
         }
-        let level = (self.attention_fraction / self.attending_ratio()).min(0.98);
+        let level = (attention_fraction / self.attending_ratio()).min(0.98);
         self.histogram
             .quantile_near(1.0 - level)
             .map_or(config.initial_threshold, |q| q * max_score)
     }
 
     /// Advances by `dt` seconds given this frame's best and second-best entities (both
-    /// excluding entities on cool-down) and `S_MAX` (`max_score`, the largest possible
-    /// score: the largest impact factor). Returns true if the IP changed.
+    /// excluding entities on cool-down), `S_MAX` (`max_score`, the largest possible
+    /// score: the largest impact factor) and the character's attention fraction `a`/100.
+    /// Returns true if the IP changed.
     pub fn update(
         &mut self,
         best: Candidate,
         second: Candidate,
         max_score: f32,
+        attention_fraction: f32,
         dt: f32,
         config: &InterestConfig,
     ) -> bool {
@@ -236,7 +241,7 @@ impl InterestTracker {
         }
         let warm = self.observed_time >= config.warmup;
         self.observed_time += dt;
-        self.threshold = self.current_threshold(config, max_score);
+        self.threshold = self.current_threshold(config, max_score, attention_fraction);
         self.s_max = best.score;
         let qualifies = |c: Candidate, threshold: f32| {
             c.id != NO_ENTITY && c.score > 0.0 && c.score >= threshold
@@ -311,8 +316,11 @@ mod tests {
 
     const DT: f32 = 1.0 / 30.0;
 
+    /// The attention fraction of the trackers below but one.
+    const HALF: f32 = 0.5;
+
     fn tracker(config: &InterestConfig) -> InterestTracker {
-        InterestTracker::new(0.5, config)
+        InterestTracker::new(config)
     }
 
     fn c(id: u32, score: f32) -> Candidate {
@@ -322,10 +330,10 @@ mod tests {
     #[test]
     fn tracker_state_is_small() {
         // Part of a character's state (Crowd::state_bytes_per_character): the 140-byte
-        // histogram (128 of counts, its total and its quantile cursor) and 20 four-byte
+        // histogram (128 of counts, its total and its quantile cursor) and 19 four-byte
         // fields.
         assert_eq!(std::mem::size_of::<ScoreHistogram>(), 140);
-        assert_eq!(std::mem::size_of::<InterestTracker>(), 220);
+        assert_eq!(std::mem::size_of::<InterestTracker>(), 216);
     }
 
     #[test]
@@ -337,13 +345,13 @@ mod tests {
         };
         let mut t = tracker(&config);
         for frame in 0..9 {
-            t.update(c(7, 0.5), Candidate::NONE, 1.0, DT, &config);
+            t.update(c(7, 0.5), Candidate::NONE, 1.0, HALF, DT, &config);
             assert_eq!(t.interest(), NO_ENTITY, "frame {frame}");
         }
-        t.update(c(7, 0.5), Candidate::NONE, 1.0, DT, &config);
+        t.update(c(7, 0.5), Candidate::NONE, 1.0, HALF, DT, &config);
         assert_eq!(t.interest(), 7);
         // Below the threshold: the IP ends at once.
-        t.update(c(7, 0.2), Candidate::NONE, 1.0, DT, &config);
+        t.update(c(7, 0.2), Candidate::NONE, 1.0, HALF, DT, &config);
         assert_eq!(t.interest(), NO_ENTITY);
     }
 
@@ -356,14 +364,14 @@ mod tests {
         };
         let mut t = tracker(&config);
         for _ in 0..12 {
-            t.update(c(1, 0.5), Candidate::NONE, 1.0, DT, &config);
+            t.update(c(1, 0.5), Candidate::NONE, 1.0, HALF, DT, &config);
         }
         assert_eq!(t.interest(), 1);
         for _ in 0..9 {
-            t.update(c(2, 0.6), c(1, 0.5), 1.0, DT, &config);
+            t.update(c(2, 0.6), c(1, 0.5), 1.0, HALF, DT, &config);
             assert_eq!(t.interest(), 1);
         }
-        t.update(c(2, 0.6), c(1, 0.5), 1.0, DT, &config);
+        t.update(c(2, 0.6), c(1, 0.5), 1.0, HALF, DT, &config);
         assert_eq!(t.interest(), 2);
         assert_eq!(t.interest_count(), 2);
     }
@@ -378,7 +386,7 @@ mod tests {
         let mut t = tracker(&config);
         let mut held = 0.0;
         while t.interest() != 2 {
-            t.update(c(1, 0.9), c(2, 0.5), 1.0, DT, &config);
+            t.update(c(1, 0.9), c(2, 0.5), 1.0, HALF, DT, &config);
             if t.interest() == 1 {
                 held += DT;
             }
@@ -387,11 +395,11 @@ mod tests {
         assert!(t.is_cooling(1));
         // While entity 1 cools down the caller does not score it: 2 is the best.
         for _ in 0..30 {
-            t.update(c(2, 0.5), Candidate::NONE, 1.0, DT, &config);
+            t.update(c(2, 0.5), Candidate::NONE, 1.0, HALF, DT, &config);
             assert_eq!(t.interest(), 2);
         }
         for _ in 0..40 {
-            t.update(c(2, 0.5), Candidate::NONE, 1.0, DT, &config);
+            t.update(c(2, 0.5), Candidate::NONE, 1.0, HALF, DT, &config);
         }
         assert!(!t.is_cooling(1));
     }
@@ -399,16 +407,16 @@ mod tests {
     #[test]
     fn threshold_follows_the_percentile_after_warmup() {
         let config = InterestConfig::default();
-        let mut t = InterestTracker::new(0.25, &config);
+        let mut t = InterestTracker::new(&config);
         for i in 0..600 {
             let score = (i % 100) as f32 / 100.0;
-            t.update(c(3, score), Candidate::NONE, 1.0, DT, &config);
+            t.update(c(3, score), Candidate::NONE, 1.0, 0.25, DT, &config);
         }
         // Close to the 75th percentile of a uniform ramp over [0, 0.99] (the level is
         // corrected by ρ, which stays near 1 here as the runs are long).
         assert!(t.attending_ratio() > 0.8, "{}", t.attending_ratio());
         assert!((0.6..0.8).contains(&t.threshold()), "{}", t.threshold());
-        let mut never = InterestTracker::new(0.0, &config);
-        assert_eq!(never.current_threshold(&config, 1.0), f32::INFINITY);
+        let mut never = InterestTracker::new(&config);
+        assert_eq!(never.current_threshold(&config, 1.0, 0.0), f32::INFINITY);
     }
 }

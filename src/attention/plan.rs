@@ -178,7 +178,7 @@ impl Plan {
             let index = &mut replay_index;
             for (f, frame) in recording.frames.iter().enumerate() {
                 scene.apply(frame.time, &states[frame.start..frame.end]);
-                index.rebuild(scene);
+                index.rebuild(scene, scorer.config().talking_gain);
                 active.clear();
                 active.extend(scene.ids().iter().map(|id| match spans.get(id) {
                     Some(&(first, last)) => first <= frame.time && frame.time <= last,

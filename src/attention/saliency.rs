@@ -105,6 +105,12 @@ pub struct SaliencyConfig {
     /// Multiplier of `S_O` for the parts of characters over objects (> 1 favours people, as
     /// the paper's database did). Default 1.5.
     pub social_weight: f32,
+    /// Multiplier of `S_O` for each part of a character, indexed by
+    /// [`TargetPart`](crate::attention::TargetPart) as `u8` (whole, head, left eye, right
+    /// eye, chest, torso; objects are whole). Default 1.5 for the eyes, 1 for the others:
+    /// Kokkinara et al. (§5) found people preferred longer eye contact between avatars and
+    /// suggest a per-object weight, higher for the eyes, to get it; 1.5 is our choice.
+    pub part_weights: [f32; 6],
 }
 
 impl Default for SaliencyConfig {
@@ -116,6 +122,7 @@ impl Default for SaliencyConfig {
             head_fixation: 1.0,
             random_pick_probability: 0.25,
             social_weight: 1.5,
+            part_weights: [1.0, 1.0, 1.5, 1.5, 1.0, 1.0],
         }
     }
 }
@@ -152,10 +159,15 @@ pub fn saliency(point: &SalientPoint, eye: Vec3, centre: Vec3, config: &Saliency
         + proximity_saliency(distance)
         + velocity_saliency(point.speed)
         + rotation_saliency(point.turn_rate);
+    let part = config
+        .part_weights
+        .get(usize::from(point.part))
+        .copied()
+        .unwrap_or(1.0);
     if point.social {
-        score * config.social_weight
+        score * config.social_weight * part
     } else {
-        score
+        score * part
     }
 }
 

@@ -39,6 +39,10 @@ pub struct ScoringConfig {
     /// `β_m`: largest angle between forward directions for the periphery subscore
     /// (radians). Default π/2.
     pub periphery_max_angle: f32,
+    /// The score of an entity that talks (its pushed state says so) is multiplied by this,
+    /// ≥ 0 (1: talking changes nothing). Default 1.5 (our choice: Kokkinara et al. §3.3.1
+    /// note that people attend more to avatars that talk; the papers give no factor).
+    pub talking_gain: f32,
 }
 
 impl Default for ScoringConfig {
@@ -48,6 +52,7 @@ impl Default for ScoringConfig {
             field_of_view: PI,
             speed_weight: 0.5,
             periphery_max_angle: PI / 2.0,
+            talking_gain: 1.5,
         }
     }
 }

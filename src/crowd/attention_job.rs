@@ -165,7 +165,15 @@ impl AttentionJob<'_> {
                     batch,
                     |id| tracker.is_cooling(id),
                 );
-                tracker.update(best, second, self.frame.max_score, dt, &config.interest);
+                let fraction = self.look.characters.params[character].attention_fraction;
+                tracker.update(
+                    best,
+                    second,
+                    self.frame.max_score,
+                    fraction,
+                    dt,
+                    &config.interest,
+                );
             }
             AttentionModel::Saliency => self.attend_saliency(character, dt, state),
             AttentionModel::Baseline => self.attend_baseline(character, dt, state),

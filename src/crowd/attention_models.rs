@@ -88,6 +88,8 @@ impl AttentionJob<'_> {
             turn_rate: 0.0,
             social: false,
         }; MAX_SALIENT_POINTS];
+        // Whether each point's entity talks (its score is multiplied by the talking gain).
+        let mut talks = [false; MAX_SALIENT_POINTS];
         let mut count = 0;
         'entities: for &(_, id, other) in near.iter() {
             let other = other as usize;
@@ -113,6 +115,7 @@ impl AttentionJob<'_> {
                         turn_rate,
                         social: is_character,
                     };
+                    talks[count] = self.look.scene.talking()[other];
                     count += 1;
                 }
             }
@@ -122,9 +125,13 @@ impl AttentionJob<'_> {
         let mut in_head = [0u8; MAX_SALIENT_POINTS];
         let mut scores = [0.0f32; MAX_SALIENT_POINTS];
         let (mut eye_count, mut head_count) = (0, 0);
+        let talking_gain = self.config.scoring.talking_gain;
         for (index, point) in points.iter().enumerate() {
             let direction = point.position - eye;
             scores[index] = saliency(point, eye, head_forward, &config);
+            if talks[index] {
+                scores[index] *= talking_gain;
+            }
             if config.eye_field.contains(head_forward, up, direction) {
                 in_eye[eye_count] = index as u8;
                 eye_count += 1;
@@ -181,14 +188,16 @@ impl AttentionJob<'_> {
     }
 
     /// The baseline for one character: the head turns to the nearest character within the
-    /// proximity radius in front of it (never an object); the eyes glance at preset
-    /// intervals.
+    /// proximity radius in front of it (never an object) — the nearest that talks, if any
+    /// does (the Second Life default turns heads preferentially to avatars that talk:
+    /// Kokkinara et al. §3.3.1); the eyes glance at preset intervals.
     pub(super) fn attend_baseline(&self, character: usize, dt: f32, state: CharacterMut<'_>) {
         let entity = self.look.scene.character_entities()[character] as usize;
         let centre = self.look.scene.ground_positions()[entity];
         let radius_squared = self.config.baseline.proximity_radius.powi(2);
         let forward = self.look.scene.forwards()[entity];
-        let mut nearest = (NO_ENTITY, f32::INFINITY);
+        // (silent, distance², id) of the best so far: talkers first, then the nearest.
+        let mut nearest = (true, f32::INFINITY, NO_ENTITY);
         self.neighbours
             .grid()
             .for_each_near(centre, |other, ground| {
@@ -199,10 +208,11 @@ impl AttentionJob<'_> {
                     && self.look.scene.kinds()[other] == EntityKind::Character
                     && distance_squared <= radius_squared
                 {
-                    // Nearest by distance, then id (whatever order the grid visits them in).
+                    // By silence, distance, then id (whatever order the grid visits them in).
                     let id = self.look.scene.ids()[other];
-                    if (distance_squared, id) < (nearest.1, nearest.0) {
-                        nearest = (id, distance_squared);
+                    let candidate = (!self.look.scene.talking()[other], distance_squared, id);
+                    if candidate < nearest {
+                        nearest = candidate;
                     }
                 }
             });
@@ -212,12 +222,12 @@ impl AttentionJob<'_> {
         };
         glance
             .baseline
-            .update(dt, nearest.0, &config, state.model_random);
-        let head = if nearest.0 == NO_ENTITY {
+            .update(dt, nearest.2, &config, state.model_random);
+        let head = if nearest.2 == NO_ENTITY {
             LookTarget::NONE
         } else {
             LookTarget {
-                entity: nearest.0,
+                entity: nearest.2,
                 part: TargetPart::Head,
             }
         };

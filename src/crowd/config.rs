@@ -2,6 +2,7 @@
 //! the capacities it sizes every buffer from.
 
 use crate::attention::baseline::BaselineConfig;
+use crate::attention::conversation::ConversationSettings;
 use crate::attention::interest::InterestConfig;
 use crate::attention::saliency::SaliencyConfig;
 use crate::attention::score::ScoringConfig;
@@ -77,6 +78,12 @@ pub struct CrowdConfig {
     /// How the eyes of the crowd model's and the baseline's characters time a shift:
     /// the paper's (default) or the human main sequence.
     pub eye_motion: EyeMotion,
+    /// Most conversations (groups standing together and talking,
+    /// [`Crowd::set_conversation`](super::Crowd::set_conversation)) at once, 0 to
+    /// [`MAX_CAPACITY`] / 2. Each takes about 150 bytes, allocated at creation. Default 64.
+    pub max_conversations: u32,
+    /// How members of conversations look at each other.
+    pub conversation: ConversationSettings,
 }
 
 /// How the eyes of the crowd model's and the baseline's characters time a gaze shift (the
@@ -124,6 +131,8 @@ impl Default for CrowdConfig {
             reorder_period: 0,
             blinks: BlinkSettings::default(),
             eye_motion: EyeMotion::Paper,
+            max_conversations: 64,
+            conversation: ConversationSettings::default(),
         }
     }
 }
@@ -195,6 +204,10 @@ impl CrowdConfig {
             "random_pick_probability",
         )?;
         check_range(saliency.social_weight, 0.0, 100.0, "social_weight")?;
+        for weight in saliency.part_weights {
+            check_range(weight, 0.0, 100.0, "part_weights")?;
+        }
+        check_range(self.scoring.talking_gain, 0.0, 100.0, "talking_gain")?;
         for (field, what) in [
             (saliency.eye_field, "eye field"),
             (saliency.head_field, "head field"),
@@ -229,6 +242,13 @@ impl CrowdConfig {
         check_range(low, 0.0, 1.0, "attention_fraction_min")?;
         check_range(high, low, 1.0, "attention_fraction_max")?;
         self.blinks.validate()?;
+        check_count(
+            self.max_conversations,
+            0,
+            MAX_CAPACITY / 2,
+            "max_conversations",
+        )?;
+        self.conversation.validate()?;
         self.gaze.validate()
     }
 }

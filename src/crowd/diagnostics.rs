@@ -62,7 +62,9 @@ impl Crowd {
     /// Rebuilds the spatial grid from the current positions (done by every step).
     pub fn rebuild_grid(&mut self) {
         let shared = &mut *self.shared;
-        shared.neighbours.rebuild(&shared.scene);
+        shared
+            .neighbours
+            .rebuild(&shared.scene, shared.config.scoring.talking_gain);
     }
 
     /// Scores one (character, entity) pair on the current state, with every intermediate.
@@ -77,7 +79,9 @@ impl Crowd {
             &observer,
             &self.shared.scene.ground_state(entity),
             &self.shared.characters.params[character].weights,
-            self.shared.scene.impacts()[entity],
+            self.shared
+                .scene
+                .attention_impact(entity, self.shared.config.scoring.talking_gain),
         ))
     }
 

@@ -91,11 +91,7 @@ impl Crowd {
                 period: 0,
                 pending: 0.0,
             },
-            ModelState::new(
-                params.model,
-                params.attention_fraction,
-                &self.shared.config.interest,
-            ),
+            ModelState::new(params.model, &self.shared.config.interest),
             GazeMotion::new(&chain),
             stream(seed, Purpose::Saliency, created),
             stream(seed, Purpose::GazeTiming, created),
@@ -136,6 +132,9 @@ impl Crowd {
     pub fn remove_entity(&mut self, id: u32) -> Result<()> {
         self.shared.scene.find(id)?;
         self.ensure_online("remove an entity")?;
+        if let Ok(character) = self.shared.scene.character_index(id) {
+            self.leave_conversation(character);
+        }
         if let Some(slot) = self.shared.scene.remove(id)? {
             let slot = slot as usize;
             let joints = self.chain_of(slot).joint_count();
@@ -206,6 +205,7 @@ impl Crowd {
                 heading: 0.0,
                 heading_from_motion: true,
                 velocity: None,
+                talking: false,
             },
         );
         Ok(id)
@@ -248,16 +248,12 @@ impl Crowd {
         Self::check_params(params)?;
         let model = &mut self.states.models[index];
         if !model.serves(params.model) {
-            *model = ModelState::new(
-                params.model,
-                params.attention_fraction,
-                &self.shared.config.interest,
-            );
+            *model = ModelState::new(params.model, &self.shared.config.interest);
         } else if params.attention_fraction
             != self.shared.characters.params[index].attention_fraction
         {
             if let ModelState::Crowd(tracker) = model {
-                tracker.set_attention_fraction(params.attention_fraction);
+                tracker.restart_delay_correction();
             }
         }
         self.shared.characters.params[index] = *params;

@@ -4,6 +4,7 @@
 
 use glam::{Quat, Vec3};
 
+use super::conversation_table::Conversations;
 use super::model_state::{Look, LookTarget};
 use super::states::CharacterView;
 use super::tables::{Chains, Characters};
@@ -29,6 +30,10 @@ pub(super) struct LookContext<'a> {
     pub chains: &'a Chains,
     /// The offline plan, when attention follows one.
     pub plan: Option<&'a Plan>,
+    /// The conversations (who looks at whom in each).
+    pub conversations: &'a Conversations,
+    /// The crowd's seed (the away glances of conversations draw from it).
+    pub seed: u64,
     /// The style of the crowd model's and the baseline's shifts: [`MotionStyle::Eased`],
     /// or [`MotionStyle::MainSequence`] ([`EyeMotion`](super::EyeMotion)).
     pub eased_style: MotionStyle,
@@ -100,8 +105,29 @@ impl LookContext<'_> {
     }
 
     /// What a character (dense index) should look at this frame: its explicit target if
-    /// one applies, else what its attention model chose, as a gaze request.
+    /// one overrides, else its conversation's choice if it is in one, else what its
+    /// attention model chose (or an explicit target that fills in), as a gaze request.
     pub fn gaze_request(&self, character: usize, view: CharacterView<'_>) -> Option<GazeRequest> {
+        let own = self.own_request(character, view);
+        match self.conversation_gaze(character) {
+            Some(gaze) if !self.overridden(character) => {
+                let own = own.filter(|_| !gaze.among_members(self.own_look(character, view)));
+                self.conversation_request(character, view, gaze, own)
+            }
+            _ => own,
+        }
+    }
+
+    /// True if the character has an explicit target that overrides everything else.
+    fn overridden(&self, character: usize) -> bool {
+        matches!(
+            self.characters.explicit[character].get(),
+            Some((_, TargetPriority::Override))
+        )
+    }
+
+    /// [`gaze_request`](Self::gaze_request) without the character's conversation.
+    fn own_request(&self, character: usize, view: CharacterView<'_>) -> Option<GazeRequest> {
         let model = self.characters.params[character].model;
         let (automatic, s_max) = match model {
             AttentionModel::Crowd => self.automatic_target(character, view.model.tracker()),
@@ -199,8 +225,24 @@ impl LookContext<'_> {
     }
 
     /// The targets a character's eyes and head fixate (dense index), resolving explicit
-    /// targets and the crowd model's interest point.
+    /// targets, its conversation and the crowd model's interest point.
     pub fn current_look(&self, character: usize, view: CharacterView<'_>) -> Look {
+        let own = self.own_look(character, view);
+        match self.conversation_gaze(character) {
+            Some(gaze) if !self.overridden(character) => {
+                let own = if gaze.among_members(own) {
+                    Look::NONE
+                } else {
+                    own
+                };
+                self.conversation_look(gaze, own)
+            }
+            _ => own,
+        }
+    }
+
+    /// [`current_look`](Self::current_look) without the character's conversation.
+    fn own_look(&self, character: usize, view: CharacterView<'_>) -> Look {
         let explicit = match self.characters.explicit[character].get() {
             Some((ExplicitTarget::Entity(id), priority)) => Some((id, priority)),
             _ => None,

@@ -36,6 +36,9 @@ mod attention_models;
 mod blinks;
 mod claims;
 mod config;
+mod conversation_look;
+mod conversation_table;
+mod conversations;
 mod diagnostics;
 mod entities;
 mod gaze_job;
@@ -70,6 +73,7 @@ use crate::scene::order::Reorder;
 use crate::scene::Scene;
 use attention_job::Frame;
 use claims::ClaimSet;
+use conversation_table::Conversations;
 use pool::WorkerPool;
 use published::{Published, Watched};
 use states::CharacterStates;
@@ -130,7 +134,7 @@ struct Shared {
     scene: Scene,
     neighbours: NeighbourIndex,
     /// Per character (dense, like the scene's character list): parameters, chain, base
-    /// pose, explicit target.
+    /// pose, explicit target, place in a conversation.
     characters: Characters,
     /// Distinct gaze chains; characters share equal ones.
     chains: Chains,
@@ -144,6 +148,8 @@ struct Shared {
     time: f64,
     recording: Recording,
     plan: Option<Plan>,
+    /// The groups standing together and talking.
+    conversations: Conversations,
 }
 
 impl Crowd {
@@ -188,6 +194,10 @@ impl Crowd {
                 time: f64::NEG_INFINITY,
                 recording: Recording::new(config.max_recorded_states as usize, per_state)?,
                 plan: None,
+                conversations: Conversations::new(
+                    config.max_conversations,
+                    &Field("max_conversations", config.max_conversations.into()),
+                )?,
                 config,
             }),
             states: Watched::new(CharacterStates::with_capacity(characters, per_character)?),

@@ -85,13 +85,10 @@ pub enum ModelState {
 }
 
 impl ModelState {
-    /// A fresh state for `model` (`attention_fraction` and `interest` set up the crowd
-    /// model's tracker).
-    pub fn new(model: AttentionModel, attention_fraction: f32, interest: &InterestConfig) -> Self {
+    /// A fresh state for `model` (`interest` sets up the crowd model's tracker).
+    pub fn new(model: AttentionModel, interest: &InterestConfig) -> Self {
         match model {
-            AttentionModel::Crowd => {
-                ModelState::Crowd(InterestTracker::new(attention_fraction, interest))
-            }
+            AttentionModel::Crowd => ModelState::Crowd(InterestTracker::new(interest)),
             AttentionModel::Saliency | AttentionModel::Baseline => {
                 ModelState::Glance(GlanceState {
                     look: Look::NONE,

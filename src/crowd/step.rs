@@ -106,7 +106,13 @@ impl Crowd {
         if let Some(plan) = &mut shared.plan {
             plan.advance(dt, &mut shared.scene);
         }
-        shared.neighbours.rebuild(&shared.scene);
+        let (settings, seed) = (&shared.config.conversation, shared.config.seed);
+        shared
+            .conversations
+            .advance(settings, seed, dt, &shared.scene);
+        shared
+            .neighbours
+            .rebuild(&shared.scene, shared.config.scoring.talking_gain);
         let period = self.shared.config.reorder_period;
         if period > 0 && self.shared.steps.is_multiple_of(u64::from(period)) {
             self.store_in_grid_order();
@@ -187,7 +193,9 @@ impl Crowd {
             *character = order[*character as usize];
         }
         self.published.storage_moved();
-        shared.neighbours.rebuild(&shared.scene);
+        shared
+            .neighbours
+            .rebuild(&shared.scene, shared.config.scoring.talking_gain);
     }
 
     /// True between [`begin_step`](Self::begin_step) and [`end_step`](Self::end_step).
@@ -267,6 +275,8 @@ impl Shared {
             chains: &self.chains,
             plan: self.plan.as_ref(),
             eased_style: self.config.eye_motion.eased_style(),
+            conversations: &self.conversations,
+            seed: self.config.seed,
         }
     }
 

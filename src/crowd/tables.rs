@@ -27,6 +27,9 @@ pub(super) struct Characters {
     pub bases: Vec<[PackedQuat; MAX_CHAIN_JOINTS]>,
     /// Explicit target from game logic.
     pub explicit: Vec<StoredTarget>,
+    /// Place in a conversation: its group's slot · 8 + its index among the members, or
+    /// `NO_CONVERSATION` (see `conversations.rs`).
+    pub conversation: Vec<u32>,
 }
 
 /// An explicit target and its priority in 16 bytes (the pair in an `Option` takes 20):
@@ -71,6 +74,7 @@ impl Characters {
             posed: try_with_capacity(capacity, what)?,
             bases: try_with_capacity(capacity, what)?,
             explicit: try_with_capacity(capacity, what)?,
+            conversation: try_with_capacity(capacity, what)?,
         })
     }
 
@@ -80,6 +84,8 @@ impl Characters {
         self.bases.push([PackedQuat::IDENTITY; MAX_CHAIN_JOINTS]);
         self.posed.push(false);
         self.explicit.push(StoredTarget::None);
+        self.conversation
+            .push(super::conversation_table::NO_CONVERSATION);
         self.params.push(params);
     }
 
@@ -90,6 +96,7 @@ impl Characters {
         self.bases.swap_remove(index);
         self.posed.swap_remove(index);
         self.explicit.swap_remove(index);
+        self.conversation.swap_remove(index);
     }
 
     /// Stores the characters in a new order: character `i` is the one at `order[i]` before.
@@ -99,6 +106,7 @@ impl Characters {
         reorder.apply(&mut self.bases, order);
         reorder.apply(&mut self.posed, order);
         reorder.apply(&mut self.explicit, order);
+        reorder.apply(&mut self.conversation, order);
     }
 
     /// The bytes one character takes in these tables.
@@ -109,6 +117,7 @@ impl Characters {
             + size_of::<[PackedQuat; MAX_CHAIN_JOINTS]>()
             + size_of::<bool>()
             + size_of::<StoredTarget>()
+            + size_of::<u32>() // place in a conversation
     }
 
     /// A character's chain, in `chains`.

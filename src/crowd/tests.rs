@@ -213,6 +213,7 @@ fn published_outputs_equal_the_readers_and_go_stale_on_any_change() {
                     heading: 1.0,
                     heading_from_motion: false,
                     velocity: None,
+                    talking: false,
                 };
                 crowd.push_frame(crowd.time() + 0.01, &[update]).unwrap();
             }),

@@ -26,6 +26,11 @@ pub const CG_STATE_HEADING_FROM_MOTION: u32 = 1;
 /// `cg_entity_state.flags`: `velocity` is given; otherwise it is the difference with the
 /// entity's previous pushed position divided by the elapsed time.
 pub const CG_STATE_HAS_VELOCITY: u32 = 2;
+/// `cg_entity_state.flags`: the entity talks in this frame (lip-sync, chat, dialogue). A
+/// talking entity is more interesting to the crowd model and the saliency model
+/// (`cg_crowd_config.talking_gain`) and draws the baseline's head turns; in a conversation
+/// (`cg_crowd_set_conversation`) it is the speaker the others listen to.
+pub const CG_STATE_TALKING: u32 = 4;
 
 /// Which model decides where a character looks (`cg_character_desc.attention_model`,
 /// `cg_character_params.attention_model`).

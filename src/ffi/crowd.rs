@@ -11,9 +11,11 @@ use super::{
     Versioned,
 };
 use crate::attention::baseline::BaselineConfig;
+use crate::attention::conversation::ConversationSettings;
 use crate::attention::interest::InterestConfig;
 use crate::attention::saliency::SaliencyConfig;
 use crate::attention::score::ScoringConfig;
+use crate::attention::TargetPart;
 use crate::crowd::{Crowd, CrowdConfig, EyeMotion, PushRanges, StepRanges};
 use crate::error::Error;
 use crate::ik::{BlinkSettings, GazeConfig};
@@ -458,6 +460,36 @@ pub struct cg_crowd_config {
     /// How the eyes of crowd-model and baseline characters time a gaze shift: a
     /// `CG_EYE_MOTION_*`. Default `CG_EYE_MOTION_PAPER`.
     pub eye_motion: u32,
+    /// Most conversations (`cg_crowd_set_conversation`) at once, 0 to 8 388 608. Each
+    /// takes about 150 bytes, allocated by `cg_crowd_create`. Default 64.
+    pub max_conversations: u32,
+    /// The crowd model's and the saliency model's score of an entity that talks
+    /// (`CG_STATE_TALKING`) is multiplied by this, 0 to 100 (1: talking changes nothing).
+    /// Default 1.5.
+    pub talking_gain: f32,
+    /// Saliency model: the multiplier of the eyes' saliency (both eyes of a character) over
+    /// its other parts, 0 to 100; higher makes eye contact last longer. Default 1.5.
+    pub eye_part_weight: f32,
+    /// Conversations: share of the time a listener looks at the speaker, in (0, 1).
+    /// Default 0.75 (Argyle & Ingham 1972).
+    pub listener_look_share: f32,
+    /// Conversations: mean length of a listener's glance at the speaker, seconds (0, 600].
+    /// Default 6.
+    pub listener_glance_time: f32,
+    /// Conversations: share of the time the speaker looks at a listener, in (0, 1).
+    /// Default 0.41 (Argyle & Ingham 1972).
+    pub speaker_look_share: f32,
+    /// Conversations: mean length of the speaker's glance at a listener, seconds (0, 600].
+    /// Default 1.8.
+    pub speaker_glance_time: f32,
+    /// Conversations: share of the time a member looks at another while no one talks, in
+    /// (0, 1). Default 0.5.
+    pub idle_look_share: f32,
+    /// Conversations: mean length of such a glance, seconds (0, 600]. Default 2.5.
+    pub idle_glance_time: f32,
+    /// Conversations: a member who starts talking first looks away this long, seconds
+    /// [0, 60] (0: not at all). Default 1 (Kendon 1967).
+    pub turn_start_aversion_time: f32,
 }
 
 /// `cg_crowd_config.eye_motion`: the paper's timing (Grillon & Thalmann 2009): the eyes
@@ -469,11 +501,13 @@ pub const CG_EYE_MOTION_PAPER: u32 = 0;
 pub const CG_EYE_MOTION_MAIN_SEQUENCE: u32 = 1;
 
 impl Versioned for cg_crowd_config {
-    // Callers built against a header from before `reorder_period` (144 bytes) or before the
-    // blink fields (152 bytes) get the defaults of the fields they lack.
+    // Callers built against a header from before `reorder_period` (144 bytes), before the
+    // blink fields (152 bytes) or before the conversation fields (176 bytes) get the
+    // defaults of the fields they lack.
     const SIZES: &'static [usize] = &[
         layout_size::<cg_crowd_config>(std::mem::offset_of!(cg_crowd_config, reorder_period)),
         layout_size::<cg_crowd_config>(std::mem::offset_of!(cg_crowd_config, blink_rate)),
+        layout_size::<cg_crowd_config>(std::mem::offset_of!(cg_crowd_config, max_conversations)),
         std::mem::size_of::<cg_crowd_config>(),
     ];
     const NAME: &'static str = "cg_crowd_config";
@@ -534,6 +568,16 @@ impl cg_crowd_config {
                 EyeMotion::Paper => CG_EYE_MOTION_PAPER,
                 EyeMotion::MainSequence => CG_EYE_MOTION_MAIN_SEQUENCE,
             },
+            max_conversations: core.max_conversations,
+            talking_gain: core.scoring.talking_gain,
+            eye_part_weight: core.saliency.part_weights[TargetPart::LeftEye as usize],
+            listener_look_share: core.conversation.listener_share,
+            listener_glance_time: core.conversation.listener_glance,
+            speaker_look_share: core.conversation.speaker_share,
+            speaker_glance_time: core.conversation.speaker_glance,
+            idle_look_share: core.conversation.idle_share,
+            idle_glance_time: core.conversation.idle_glance,
+            turn_start_aversion_time: core.conversation.turn_start_aversion,
         }
     }
 
@@ -581,6 +625,7 @@ impl cg_crowd_config {
                 field_of_view: self.field_of_view,
                 speed_weight: self.speed_weight,
                 periphery_max_angle: self.periphery_max_angle,
+                talking_gain: self.talking_gain,
             },
             interest: InterestConfig {
                 min_hold: self.min_interest_time,
@@ -597,6 +642,12 @@ impl cg_crowd_config {
                 head_fixation: self.head_fixation_time,
                 random_pick_probability: self.random_pick_probability,
                 social_weight: self.social_weight,
+                part_weights: {
+                    let mut weights = SaliencyConfig::default().part_weights;
+                    weights[TargetPart::LeftEye as usize] = self.eye_part_weight;
+                    weights[TargetPart::RightEye as usize] = self.eye_part_weight;
+                    weights
+                },
                 ..SaliencyConfig::default()
             },
             baseline: BaselineConfig {
@@ -624,6 +675,16 @@ impl cg_crowd_config {
                         "cg_crowd_config.eye_motion is {other}, not a CG_EYE_MOTION_*"
                     )))
                 }
+            },
+            max_conversations: self.max_conversations,
+            conversation: ConversationSettings {
+                listener_share: self.listener_look_share,
+                listener_glance: self.listener_glance_time,
+                speaker_share: self.speaker_look_share,
+                speaker_glance: self.speaker_glance_time,
+                idle_share: self.idle_look_share,
+                idle_glance: self.idle_glance_time,
+                turn_start_aversion: self.turn_start_aversion_time,
             },
         };
         config.validate()?;
@@ -688,7 +749,7 @@ impl cg_crowd_config {
     }
 
     /// The real-valued fields but `units_per_metre`, by name.
-    fn real_fields(&mut self) -> [(&'static str, &mut f32); 30] {
+    fn real_fields(&mut self) -> [(&'static str, &mut f32); 39] {
         macro_rules! named {
             ($($field:ident),* $(,)?) => {
                 [$((stringify!($field), &mut self.$field)),*]
@@ -725,6 +786,15 @@ impl cg_crowd_config {
             evoked_blink_full_amplitude,
             evoked_blink_probability,
             lid_gain,
+            talking_gain,
+            eye_part_weight,
+            listener_look_share,
+            listener_glance_time,
+            speaker_look_share,
+            speaker_glance_time,
+            idle_look_share,
+            idle_glance_time,
+            turn_start_aversion_time,
         )
     }
 }

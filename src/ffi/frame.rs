@@ -5,7 +5,9 @@
 
 use glam::Vec3;
 
-use super::attention::{cg_entity_state, CG_STATE_HAS_VELOCITY, CG_STATE_HEADING_FROM_MOTION};
+use super::attention::{
+    cg_entity_state, CG_STATE_HAS_VELOCITY, CG_STATE_HEADING_FROM_MOTION, CG_STATE_TALKING,
+};
 use super::crowd::{cg_crowd, crowd_handle, crowd_mut, test_hook, Hook};
 use super::error::{FfiError, Result};
 use super::types::cg_vec3;
@@ -63,6 +65,7 @@ unsafe fn entity_update(
         heading: state.heading,
         heading_from_motion: state.flags & CG_STATE_HEADING_FROM_MOTION != 0,
         velocity: has_velocity.then(|| metres(velocity)),
+        talking: state.flags & CG_STATE_TALKING != 0,
     })
 }
 
@@ -99,7 +102,8 @@ fn state_error(state: &cg_entity_state, stride: usize, index: usize) -> FfiError
 }
 
 /// Every `CG_STATE_*` bit.
-const KNOWN_STATE_FLAGS: u32 = CG_STATE_HEADING_FROM_MOTION | CG_STATE_HAS_VELOCITY;
+const KNOWN_STATE_FLAGS: u32 =
+    CG_STATE_HEADING_FROM_MOTION | CG_STATE_HAS_VELOCITY | CG_STATE_TALKING;
 
 /// Checks a C array of `count` entity states (non-null unless empty, one `struct_size`
 /// for all) and returns its stride in bytes.

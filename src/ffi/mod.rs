@@ -35,6 +35,7 @@ pub mod view_blender;
 
 pub(crate) mod boundary;
 pub mod chain;
+pub mod conversations;
 pub mod crowd;
 pub(crate) mod error;
 pub mod eyelids;

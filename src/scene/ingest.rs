@@ -34,6 +34,8 @@ pub struct EntityUpdate {
     pub heading_from_motion: bool,
     /// The velocity (world, m/s) if the caller knows it; else a finite difference is used.
     pub velocity: Option<Vec3>,
+    /// The entity talks (lip-sync, chat, dialogue) in this frame.
+    pub talking: bool,
 }
 
 /// `displacement / elapsed` (elapsed > 0), its length limited to [`MAX_SPEED`]; in `f64`,
@@ -138,6 +140,7 @@ pub struct SceneWriter<'a> {
     velocity: *mut Vec2,
     turn_rate: *mut f32,
     last_time: *mut f64,
+    talking: *mut bool,
     _arrays: PhantomData<&'a mut [Vec3]>,
 }
 
@@ -156,6 +159,7 @@ pub(super) struct PushedArrays<'a> {
     pub velocity: &'a mut [Vec2],
     pub turn_rate: &'a mut [f32],
     pub last_time: &'a mut [f64],
+    pub talking: &'a mut [bool],
 }
 
 impl<'a> SceneWriter<'a> {
@@ -169,7 +173,8 @@ impl<'a> SceneWriter<'a> {
                 arrays.forward.len(),
                 arrays.velocity.len(),
                 arrays.turn_rate.len(),
-                arrays.last_time.len()
+                arrays.last_time.len(),
+                arrays.talking.len()
             ]
             .iter()
             .all(|&other| other == len),
@@ -186,6 +191,7 @@ impl<'a> SceneWriter<'a> {
             velocity: arrays.velocity.as_mut_ptr(),
             turn_rate: arrays.turn_rate.as_mut_ptr(),
             last_time: arrays.last_time.as_mut_ptr(),
+            talking: arrays.talking.as_mut_ptr(),
             _arrays: PhantomData,
         }
     }
@@ -220,6 +226,7 @@ impl SceneWriter<'_> {
             prefetch(self.velocity.wrapping_add(index));
             prefetch(self.turn_rate.wrapping_add(index));
             prefetch(self.last_time.wrapping_add(index));
+            prefetch(self.talking.wrapping_add(index));
         }
     }
 
@@ -329,7 +336,7 @@ impl SceneWriter<'_> {
     unsafe fn write_at(&self, index: usize, time: f64, update: &EntityUpdate, motion: &Motion) {
         // SAFETY: index < len (contract): every pointer below is in bounds, and no other
         // thread touches these slots meanwhile.
-        let (position, ground, heading, forward, velocity, turn_rate, last_time) = unsafe {
+        let (position, ground, heading, forward, velocity, turn_rate, last_time, talking) = unsafe {
             (
                 &mut *self.position.add(index),
                 &mut *self.ground.add(index),
@@ -338,6 +345,7 @@ impl SceneWriter<'_> {
                 &mut *self.velocity.add(index),
                 &mut *self.turn_rate.add(index),
                 &mut *self.last_time.add(index),
+                &mut *self.talking.add(index),
             )
         };
         // Stored headings are wrapped: the turn is taken between wrapped ones (an in-range
@@ -352,6 +360,7 @@ impl SceneWriter<'_> {
         *heading = wrapped;
         *forward = Vec2::from_angle(motion.heading);
         *last_time = time;
+        *talking = update.talking;
     }
 }
 

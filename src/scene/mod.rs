@@ -27,7 +27,7 @@ use order::Reorder;
 macro_rules! each_entity_array {
     ($scene:ident, $array:ident => $body:expr) => {
         each_entity_array!(@arrays $scene, $array => $body; id, kind, character, position,
-            look_at_height, ground, heading, forward, velocity, turn_rate, impact, last_time)
+            look_at_height, ground, heading, forward, velocity, turn_rate, impact, last_time, talking)
     };
     (@arrays $scene:ident, $array:ident => $body:expr; $($name:ident),*) => {{
         $({
@@ -75,6 +75,8 @@ pub struct Scene {
     turn_rate: Vec<f32>,
     impact: Vec<f32>,
     last_time: Vec<f64>,
+    /// True while the entity talks (the last pushed state's `talking`).
+    talking: Vec<bool>,
     // Per character (dense).
     character_entity: Vec<u32>,
     /// Largest impact factor of any live entity (`S_MAX`).
@@ -112,6 +114,7 @@ impl Scene {
             turn_rate: try_with_capacity(capacity, what)?,
             impact: try_with_capacity(capacity, what)?,
             last_time: try_with_capacity(capacity, what)?,
+            talking: try_with_capacity(capacity, what)?,
             character_entity: try_with_capacity(max_characters as usize, &characters)?,
             max_impact: 0.0,
         })
@@ -139,6 +142,7 @@ impl Scene {
             turn_rate: try_clone(&self.turn_rate, what)?,
             impact: try_clone(&self.impact, what)?,
             last_time: try_clone(&self.last_time, what)?,
+            talking: try_clone(&self.talking, what)?,
             character_entity: try_clone(&self.character_entity, what)?,
             max_impact: self.max_impact,
         })
@@ -153,6 +157,7 @@ impl Scene {
             + size_of::<f32>() * 4 // look-at height, heading, turn rate, impact
             + size_of::<Vec2>() * 3 // ground, forward, velocity
             + size_of::<f64>() // last time
+            + size_of::<bool>() // talking
             + IdTable::bytes_per_entity()
     }
 
@@ -214,6 +219,7 @@ impl Scene {
         self.turn_rate.push(0.0);
         self.impact.push(impact);
         self.last_time.push(f64::NEG_INFINITY);
+        self.talking.push(false);
         match kind {
             EntityKind::Character => {
                 self.character.push(self.character_entity.len() as u32);
@@ -342,6 +348,7 @@ impl Scene {
                 velocity: &mut self.velocity,
                 turn_rate: &mut self.turn_rate,
                 last_time: &mut self.last_time,
+                talking: &mut self.talking,
             },
         )
     }
@@ -419,6 +426,20 @@ impl Scene {
     pub fn turn_rates(&self) -> &[f32] {
         &self.turn_rate
     }
+    /// Entity `index`'s impact factor as attention sees it: times `talking_gain` while it
+    /// talks.
+    #[inline]
+    pub fn attention_impact(&self, index: usize, talking_gain: f32) -> f32 {
+        if self.talking[index] {
+            self.impact[index] * talking_gain
+        } else {
+            self.impact[index]
+        }
+    }
+    /// Whether each entity talks (its last pushed state's flag), by entity index.
+    pub fn talking(&self) -> &[bool] {
+        &self.talking
+    }
     /// Impact factors, by entity index.
     pub fn impacts(&self) -> &[f32] {
         &self.impact
@@ -462,13 +483,14 @@ mod tests {
             heading: 0.0,
             heading_from_motion: true,
             velocity: None,
+            talking: false,
         }
     }
 
     #[test]
     fn entity_state_size() {
         // Part of a character's state (Crowd::state_bytes_per_character).
-        assert_eq!(Scene::bytes_per_entity(), 77);
+        assert_eq!(Scene::bytes_per_entity(), 78);
     }
 
     #[test]

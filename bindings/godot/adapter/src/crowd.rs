@@ -397,6 +397,7 @@ impl<H> SceneCrowd<H> {
                     heading: read.heading,
                     heading_from_motion: false,
                     velocity: None,
+                    talking: false,
                 });
                 Ok(())
             }
@@ -438,6 +439,7 @@ impl<H> SceneCrowd<H> {
             heading,
             heading_from_motion: false,
             velocity: None,
+            talking: false,
         });
         Ok(())
     }
@@ -458,6 +460,7 @@ impl<H> SceneCrowd<H> {
                 heading: 0.0,
                 heading_from_motion: true,
                 velocity: None,
+                talking: false,
             });
         }
         self.time += f64::from(dt);
