@@ -1,6 +1,7 @@
 //! Deterministic demo scenes for tests, benchmarks, examples and the command-line tool:
 //! the paper's street (people walking up and down, standing, sitting on benches, with
-//! scene objects) and a plaza of random walkers at a chosen density.
+//! scene objects; optionally some of them standing in groups, talking in turns) and a
+//! plaza of random walkers at a chosen density.
 //!
 //! A scenario moves its people itself ([`Scenario::advance`](crate::scenario::Scenario::advance)) and hands their states to a
 //! crowd ([`Scenario::push`](crate::scenario::Scenario::push)); it is a driver for the library, not part of its models.
@@ -63,6 +64,28 @@ pub struct Scenario {
     pub width: f32,
     random: Random,
     ids: Vec<u32>,
+    /// Groups standing together and talking in turns ([`with_conversations`]).
+    ///
+    /// [`with_conversations`]: Self::with_conversations
+    pub groups: Vec<TalkingGroup>,
+    /// Whether each person talks now.
+    talking: Vec<bool>,
+}
+
+/// A group of a scenario's people standing together and talking in turns: a seeded script
+/// of turns of 4–16 s, each by a member other than the last speaker, with pauses of 0–1 s.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TalkingGroup {
+    /// The members, as indices into [`Scenario::people`].
+    pub members: Vec<usize>,
+    /// The member talking now (an index into `members`), if any.
+    pub speaker: Option<usize>,
+    /// The last member who talked.
+    last: usize,
+    /// Seconds until the current turn or pause ends.
+    left: f32,
+    /// The group's conversation id in the crowd, after [`Scenario::populate`].
+    pub conversation: Option<u32>,
 }
 
 impl Scenario {
@@ -142,7 +165,54 @@ impl Scenario {
             width,
             random,
             ids: Vec::new(),
+            groups: Vec::new(),
+            talking: vec![false; people],
         }
+    }
+
+    /// Puts about `share` (0 to 1) of the people in groups of two and three (alternately)
+    /// standing together on the pavements, facing each other, talking in turns (seeded by
+    /// `seed`); [`populate`](Self::populate) makes each group a conversation of the crowd
+    /// and [`push`](Self::push) flags who talks.
+    pub fn with_conversations(mut self, share: f32, seed: u64) -> Scenario {
+        let mut random = stream(seed, Purpose::Scene, 2);
+        let wanted = (share.clamp(0.0, 1.0) * self.people.len() as f32).round() as usize;
+        let mut next = 0;
+        let mut size = 2;
+        while next + size <= wanted.min(self.people.len()) {
+            let centre = Vec2::new(
+                random.range(2.0, (self.length - 2.0).max(2.0)),
+                if random.next_f32() < 0.5 {
+                    2.2
+                } else {
+                    self.width - 2.2
+                },
+            );
+            let turn = random.range(0.0, std::f32::consts::TAU);
+            let members: Vec<usize> = (next..next + size).collect();
+            for (k, &member) in members.iter().enumerate() {
+                let angle = turn + std::f32::consts::TAU * k as f32 / size as f32;
+                let position = centre + 0.7 * Vec2::from_angle(angle);
+                let to_centre = centre - position;
+                self.people[member] = Person {
+                    position,
+                    velocity: Vec2::ZERO,
+                    heading: to_centre.y.atan2(to_centre.x),
+                    activity: Activity::Standing,
+                };
+            }
+            self.groups.push(TalkingGroup {
+                members,
+                speaker: None,
+                last: usize::MAX,
+                left: random.range(0.0, 2.0),
+                conversation: None,
+            });
+            next += size;
+            size = 5 - size; // 2, 3, 2, 3, ...
+        }
+        self.random = random;
+        self
     }
 
     /// `people` random walkers in a square plaza at `density` people per m² (1.0–1.6 m/s,
@@ -170,6 +240,8 @@ impl Scenario {
             width: side,
             random,
             ids: Vec::new(),
+            groups: Vec::new(),
+            talking: vec![false; people],
         }
     }
 
@@ -197,7 +269,23 @@ impl Scenario {
                 impact: prop.impact,
             })?;
         }
+        for group in &mut self.groups {
+            let members: Vec<u32> = group.members.iter().map(|&m| self.ids[m]).collect();
+            group.conversation = Some(crowd.set_conversation(&members)?);
+        }
         Ok(())
+    }
+
+    /// Whether person `i` talks now.
+    pub fn talking(&self, i: usize) -> bool {
+        self.talking[i]
+    }
+
+    /// The group person `i` stands in, if any (an index into [`groups`](Self::groups)).
+    pub fn group_of(&self, i: usize) -> Option<usize> {
+        self.groups
+            .iter()
+            .position(|group| group.members.contains(&i))
     }
 
     /// The character ids of the people, in order (after [`populate`](Self::populate)).
@@ -206,8 +294,28 @@ impl Scenario {
     }
 
     /// Moves every walker by `dt` seconds; walkers turn back at the ends and drift a
-    /// little sideways, staying inside the rectangle.
+    /// little sideways, staying inside the rectangle. Groups go on with their turns.
     pub fn advance(&mut self, dt: f32) {
+        for group in &mut self.groups {
+            group.left -= dt;
+            if group.left > 0.0 {
+                continue;
+            }
+            if let Some(speaker) = group.speaker.take() {
+                self.talking[group.members[speaker]] = false;
+                group.left = self.random.range(0.0, 1.0);
+            } else {
+                let count = group.members.len();
+                let mut speaker = self.random.below(count as u32) as usize;
+                if speaker == group.last {
+                    speaker = (speaker + 1) % count;
+                }
+                group.speaker = Some(speaker);
+                group.last = speaker;
+                self.talking[group.members[speaker]] = true;
+                group.left = self.random.range(4.0, 16.0);
+            }
+        }
         for person in &mut self.people {
             if person.activity != Activity::Walking {
                 continue;
@@ -236,7 +344,7 @@ impl Scenario {
             heading: person.heading,
             heading_from_motion: person.activity == Activity::Walking,
             velocity: None,
-            talking: false,
+            talking: self.talking[i],
         }
     }
 
@@ -270,6 +378,34 @@ impl Scenario {
 mod tests {
     use super::*;
     use crate::crowd::CrowdConfig;
+
+    #[test]
+    fn groups_stand_together_and_talk_one_at_a_time() {
+        let mut scenario = Scenario::street(60, 10, 3).with_conversations(1.0 / 3.0, 5);
+        // 20 people in groups of 2, 3, 2, 3, ...: 2 + 3 + 2 + 3 + 2 + 3 + 2 = 17, then 3.
+        let grouped: usize = scenario.groups.iter().map(|g| g.members.len()).sum();
+        assert_eq!(grouped, 20);
+        let mut crowd = Crowd::new(CrowdConfig::default()).unwrap();
+        scenario.populate(&mut crowd).unwrap();
+        let mut talked = vec![false; 60];
+        for _ in 0..900 {
+            scenario.advance(1.0 / 30.0);
+            for group in &scenario.groups {
+                let talking = group.members.iter().filter(|&&m| scenario.talking(m)).count();
+                assert!(talking <= 1);
+                for &m in &group.members {
+                    talked[m] |= scenario.talking(m);
+                    assert_eq!(scenario.people[m].activity, Activity::Standing);
+                }
+            }
+        }
+        assert!(talked.iter().filter(|&&t| t).count() >= 10);
+        for (g, group) in scenario.groups.iter().enumerate() {
+            let id = scenario.character_ids()[group.members[0]];
+            assert_eq!(crowd.conversation_of(id).unwrap(), group.conversation);
+            assert_eq!(scenario.group_of(group.members[0]), Some(g));
+        }
+    }
 
     #[test]
     fn street_is_deterministic_and_has_the_papers_mix() {
