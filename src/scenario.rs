@@ -387,7 +387,7 @@ mod tests {
         assert_eq!(grouped, 20);
         let mut crowd = Crowd::new(CrowdConfig::default()).unwrap();
         scenario.populate(&mut crowd).unwrap();
-        let mut talked = vec![false; 60];
+        let mut talked = [false; 60];
         for _ in 0..900 {
             scenario.advance(1.0 / 30.0);
             for group in &scenario.groups {
