@@ -3,7 +3,9 @@
 //! on 1 and 2 threads (`CrowdConfig::threads`): attention alone, gaze IK alone (10-joint
 //! human chain), and the whole step; in the same run the naive all-pairs scoring at 1 000
 //! and 10 000 (the baseline), attention every 4th frame (level of detail) at 10 000, and
-//! at 10 000 the step and the gaze IK with blinks off, to show what blinks and lids cost.
+//! at 10 000 the step and the gaze IK with blinks off, to show what blinks and lids cost;
+//! and the paper's street of 1 000 people with a third of them standing in groups that talk
+//! in turns, against the same street without groups.
 //!
 //! Run: `cargo bench --bench attention`, or `scripts/bench` for the README's table.
 //! Criterion reports time per crowd frame; throughput in elements = characters.
@@ -115,6 +117,58 @@ fn attention(c: &mut Criterion) {
     group.finish();
 }
 
+/// The street of `people` (the papers' mix, 60 props), a third of them in conversations or
+/// none, warmed up; and its scenario, to move it on.
+fn street(people: usize, conversations: bool) -> (Crowd, Scenario) {
+    let mut crowd = Crowd::new(CrowdConfig {
+        max_characters: people as u32,
+        max_conversations: people as u32,
+        ..CrowdConfig::default()
+    })
+    .expect("crowd");
+    let mut scenario = Scenario::street(people, 60, 3);
+    if conversations {
+        scenario = scenario.with_conversations(1.0 / 3.0, 5);
+    }
+    scenario.populate(&mut crowd).expect("populate");
+    for frame in 0..40 {
+        scenario.advance(DT);
+        scenario
+            .push(&mut crowd, f64::from(frame as f32 * DT))
+            .expect("push");
+        crowd.step(DT).expect("step");
+    }
+    (crowd, scenario)
+}
+
+/// The street with and without conversations: each frame moves the people and pushes
+/// their states (not timed), then steps (timed).
+fn conversations(c: &mut Criterion) {
+    let mut group = c.benchmark_group("street");
+    group.sample_size(20);
+    let people = 1_000;
+    group.throughput(Throughput::Elements(people as u64));
+    for (name, talking) in [("step_alone_1t", false), ("step_conversations_1t", true)] {
+        let (mut crowd, mut scenario) = street(people, talking);
+        let mut time = 40.0 * f64::from(DT);
+        group.bench_function(BenchmarkId::new(name, people), |b| {
+            b.iter_custom(|iterations| {
+                let mut total = std::time::Duration::ZERO;
+                for _ in 0..iterations {
+                    time += f64::from(DT);
+                    scenario.advance(DT);
+                    scenario.push(&mut crowd, time).expect("push");
+                    let start = std::time::Instant::now();
+                    crowd.step(black_box(DT)).expect("step");
+                    total += start.elapsed();
+                }
+                total
+            })
+        });
+    }
+    group.finish();
+}
+
 /// Writes the bytes of state per character beside criterion's results, for the table.
 fn state_bytes(_: &mut Criterion) {
     let directory = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
@@ -129,5 +183,5 @@ fn state_bytes(_: &mut Criterion) {
     .expect("write the state size");
 }
 
-criterion_group!(benches, attention, state_bytes);
+criterion_group!(benches, attention, conversations, state_bytes);
 criterion_main!(benches);

@@ -68,6 +68,12 @@ def main():
             print(f"- {what} with blinks and lids against without, 10,000 characters, "
                   f"1 thread: {on * 1000.0:.1f} against {off * 1000.0:.1f} ns per "
                   f"character-frame ({(on - off) * 1000.0:+.1f} ns).")
+    alone = per_element("street", "step_alone_1t", "1000")
+    talking = per_element("street", "step_conversations_1t", "1000")
+    if alone is not None and talking is not None:
+        print(f"- The street of 1,000 people, 1 thread: {talking * 1000.0:.1f} ns per "
+              f"character-frame with a third of them in conversations, {alone * 1000.0:.1f} "
+              f"without ({ratio(talking, alone)}).")
     for characters in ["1000", "10000", "100000"]:
         print(f"- 2 threads vs 1, attention + gaze IK, {int(characters):,} characters: "
               f"{ratio(step[(characters, '1')], step[(characters, '2')])} faster.")

@@ -469,3 +469,40 @@ fn every_attention_model_and_gaze_ik_step_without_allocating() {
     );
     assert!(closed > 0.5, "no one blinked: {closed}");
 }
+
+#[test]
+fn conversations_step_without_allocating() {
+    use crowdgaze::scenario::Scenario;
+    use crowdgaze::{Crowd, CrowdConfig};
+
+    let mut crowd = Crowd::new(CrowdConfig::default()).unwrap();
+    let mut scenario = Scenario::street(90, 20, 8).with_conversations(1.0 / 3.0, 4);
+    scenario.populate(&mut crowd).unwrap();
+    support::mix_attention_models(&mut crowd, scenario.character_ids());
+    let mut frame = 0usize;
+    let mut advance = |crowd: &mut Crowd, scenario: &mut Scenario| {
+        frame += 1;
+        scenario.advance(1.0 / 30.0);
+        scenario.push(crowd, frame as f64 / 30.0).unwrap();
+        crowd.step(1.0 / 30.0).unwrap();
+        (0..90)
+            .filter(|&character| crowd.gaze_at(character).target != u32::MAX)
+            .count()
+    };
+    for _ in 0..30 {
+        advance(&mut crowd, &mut scenario);
+    }
+    let looking = assert_no_alloc("groups talking in turns, all three models", || {
+        (0..300)
+            .map(|_| advance(&mut crowd, &mut scenario))
+            .sum::<usize>()
+    });
+    assert!(looking > 0);
+    // Forming and ending a group allocates nothing either (its slot was made at creation).
+    let ids: Vec<u32> = scenario.character_ids().to_vec();
+    let group = scenario.groups[0].conversation.unwrap();
+    assert_no_alloc("ending and forming a conversation", || {
+        crowd.remove_conversation(group).unwrap();
+        crowd.set_conversation(&ids[..2]).unwrap();
+    });
+}
