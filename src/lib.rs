@@ -61,6 +61,8 @@ mod documentation {
     struct CApi;
     #[doc = include_str!("../docs/c-api-versioning.md")]
     struct CApiVersioning;
+    #[doc = include_str!("../docs/conversations.md")]
+    struct Conversations;
     #[doc = include_str!("../docs/cli.md")]
     struct Cli;
     #[doc = include_str!("../docs/development.md")]

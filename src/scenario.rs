@@ -391,7 +391,11 @@ mod tests {
         for _ in 0..900 {
             scenario.advance(1.0 / 30.0);
             for group in &scenario.groups {
-                let talking = group.members.iter().filter(|&&m| scenario.talking(m)).count();
+                let talking = group
+                    .members
+                    .iter()
+                    .filter(|&&m| scenario.talking(m))
+                    .count();
                 assert!(talking <= 1);
                 for &m in &group.members {
                     talked[m] |= scenario.talking(m);
