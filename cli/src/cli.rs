@@ -19,8 +19,8 @@ pub struct Cli {
 /// The commands.
 #[derive(Debug, Subcommand)]
 pub enum Command {
-    /// The paper's street scene (130 characters walking, standing or sitting, 60 scene
-    /// objects): prints a summary and writes pictures.
+    /// The paper's street scene (130 characters walking, standing, sitting or talking in
+    /// groups, 60 scene objects): prints a summary and writes pictures.
     Demo(DemoArgs),
     /// Adds gaze to pedestrian trajectories: who each person looks at, and the joint
     /// rotations of their gaze chain, per output frame.
@@ -47,6 +47,10 @@ pub struct StreetArgs {
     /// Seed of the scene and of every random choice: same seed, same output.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// Share of the characters standing in groups of two and three on the pavements,
+    /// talking in turns (0 to 1; 0: no groups).
+    #[arg(long, value_name = "SHARE", default_value_t = 0.17)]
+    pub group_share: f32,
 }
 
 /// `crowdgaze demo`.
@@ -90,17 +94,22 @@ pub struct TimeArgs {
 #[derive(Debug, Args)]
 #[command(
     after_help = "Input: CSV with a header naming the columns frame,id,x,y (and \
-optionally z), in any order; x and y in metres on the ground. Tracks are resampled to --fps with \
-a cubic Hermite (Catmull-Rom) spline, headings follow the motion, each person enters when \
+optionally z, talking, group), in any order; x and y in metres on the ground. talking: 0 or 1 \
+per sample (held until the next sample); group: people with the same group id (a non-negative \
+integer, the same on all of a person's rows; empty or -1 for none; at most 8 people) stand \
+together and talk: those present together form a conversation. Tracks are resampled to --fps \
+with a cubic Hermite (Catmull-Rom) spline, headings follow the motion, each person enters when \
 their track starts and leaves when it ends.\n\nOutput, one row per output frame and person \
 present: time,id,target,part,attending,s_max,threshold,gaze_x,gaze_y,gaze_z, then \
 <joint>_qx,_qy,_qz,_qw for each joint of the gaze chain (spine1-5, neck1-2, head, eye_l, \
 eye_r: final local rotations, base * delta), then left_closure,right_closure: how closed each \
-eye's lids are, 0 open to 1 closed (blinks). target is the id of the person looked at (empty \
-when looking ahead); the gaze direction is in the file's (x, y, up) axes."
+eye's lids are, 0 open to 1 closed (blinks), then talking (0 or 1, from the input) and group \
+(the group id while the person is in a conversation, else empty). target is the id of the \
+person looked at (empty when looking ahead); the gaze direction is in the file's (x, y, up) \
+axes."
 )]
 pub struct AnnotateArgs {
-    /// The trajectory file (frame,id,x,y[,z]).
+    /// The trajectory file (frame,id,x,y[,z][,talking][,group]).
     #[arg(long)]
     pub input: PathBuf,
     /// The output CSV.

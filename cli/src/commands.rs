@@ -1,5 +1,6 @@
 //! What each command does.
 
+use std::collections::HashMap;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -15,7 +16,9 @@ use crate::bvh::Bvh;
 use crate::cli::{AnnotateArgs, BvhArgs, DemoArgs, PlotArgs, PlotKind, StreetArgs, TimeArgs};
 use crate::output::AtomicFile;
 use crate::plot::{save, Collector, Figure3};
-use crate::sim::{run_street, run_tracks, Frame, GazeStats, Model, Observer, StreetRun, TrackRun};
+use crate::sim::{
+    run_street, run_tracks, Frame, GazeStats, Model, Observer, RunStats, StreetRun, TrackRun,
+};
 use crate::skeleton::{global_rotation, joint_map, SkeletonChain};
 use crate::traj::{TimeOptions, Trajectories};
 
@@ -33,6 +36,7 @@ fn street_run(args: &StreetArgs, offline: bool, quiet: bool) -> StreetRun {
         characters: args.characters,
         objects: args.objects,
         seed: args.seed,
+        group_share: args.group_share,
         offline,
         quiet,
     }
@@ -105,6 +109,7 @@ pub fn demo(args: &DemoArgs) -> Result<()> {
         gaze.shifts_per_minute()
     );
     println!("  mean S_max:  {:.3}", gaze.mean_s_max());
+    print_groups(&stats, gaze, "characters");
     println!(
         "  cost:        {:.2} µs per character-frame (push_frame + step: attention and gaze IK), {:.2} s in all",
         stats.crowd_time.as_secs_f64() * 1e6 / stats.character_frames.max(1) as f64,
@@ -141,6 +146,21 @@ pub fn demo(args: &DemoArgs) -> Result<()> {
     Ok(())
 }
 
+/// The summary line of the conversations, if there were any.
+fn print_groups(stats: &RunStats, gaze: &GazeStats, who: &str) {
+    if stats.groups == 0 {
+        return;
+    }
+    println!(
+        "  groups:      {} standing together and talking in turns ({} {who}): listeners \
+         look at the speaker {:.0}% of the time, speakers at a listener {:.0}%",
+        stats.groups,
+        stats.grouped,
+        100.0 * gaze.listener_on_speaker_fraction(),
+        100.0 * gaze.speaker_on_listener_fraction()
+    );
+}
+
 fn print_written(paths: &[PathBuf]) {
     println!("  pictures:");
     for path in paths {
@@ -174,21 +194,27 @@ struct AnnotateWriter {
     joints: Vec<Quat>,
     rows: usize,
     line: String,
+    /// Each person's group (the input's `group` column).
+    groups: HashMap<u64, Option<u64>>,
 }
 
 impl Observer for AnnotateWriter {
     fn after_step(&mut self, crowd: &Crowd, frame: &Frame) -> Result<()> {
         use std::fmt::Write as _;
+        let scene = crowd.scene();
         for person in frame.people {
             let gaze = crowd.gaze(person.id)?;
             self.stats.add(person.id, &gaze, frame.dt);
+            self.stats.add_conversation(crowd, person.id, &gaze)?;
             let count = crowd.chain(person.id)?.joint_count();
             self.joints.resize(count, Quat::IDENTITY);
             crowd.read_joints_of(person.id, false, &mut self.joints)?;
             let direction = crowd.gaze_motion(person.id)?.gaze_ray().1;
             let line = &mut self.line;
             line.clear();
-            let target = if gaze.attending && gaze.target != NO_ENTITY {
+            // What the eyes look at: the attention model's interest point, or in a
+            // conversation the member looked at.
+            let target = if gaze.target != NO_ENTITY {
                 frame
                     .labels
                     .get(&gaze.target)
@@ -202,7 +228,7 @@ impl Observer for AnnotateWriter {
                 frame.time,
                 person.label,
                 target,
-                if gaze.attending {
+                if gaze.attending || !target.is_empty() {
                     part_name(gaze.target_part)
                 } else {
                     ""
@@ -219,6 +245,16 @@ impl Observer for AnnotateWriter {
             }
             let lids = crowd.eyelids(person.id)?;
             let _ = write!(line, ",{},{}", lids.left_closure, lids.right_closure);
+            let talking = scene
+                .index_of(person.id)
+                .is_some_and(|index| scene.talking()[index]);
+            let _ = write!(line, ",{}", u8::from(talking));
+            line.push(',');
+            if crowd.conversation_of(person.id)?.is_some() {
+                if let Some(group) = self.groups.get(&person.label).copied().flatten() {
+                    let _ = write!(line, "{group}");
+                }
+            }
             line.push('\n');
             self.out
                 .write_all(line.as_bytes())
@@ -241,7 +277,7 @@ pub fn annotate(args: &AnnotateArgs) -> Result<()> {
             header.push_str(&format!(",{name}_{component}"));
         }
     }
-    header.push_str(",left_closure,right_closure\n");
+    header.push_str(",left_closure,right_closure,talking,group\n");
     out.write_all(header.as_bytes())
         .with_context(|| format!("{}: cannot write", args.out.display()))?;
     let mut writer = AnnotateWriter {
@@ -250,6 +286,11 @@ pub fn annotate(args: &AnnotateArgs) -> Result<()> {
         joints: Vec::new(),
         rows: 0,
         line: String::new(),
+        groups: trajectories
+            .tracks
+            .iter()
+            .map(|track| (track.person, track.group))
+            .collect(),
     };
     let run = TrackRun {
         world,
@@ -305,6 +346,22 @@ pub fn annotate(args: &AnnotateArgs) -> Result<()> {
         "  gaze shifts: {:.1} per person per minute",
         gaze.shifts_per_minute()
     );
+    if trajectories.has_groups || trajectories.has_talking {
+        let talkers = trajectories
+            .tracks
+            .iter()
+            .filter(|track| track.samples.iter().any(|s| s.talking))
+            .count();
+        println!(
+            "  talking:     {talkers} people talk (column 'talking'{})",
+            if trajectories.has_groups {
+                ", groups from column 'group'"
+            } else {
+                ""
+            }
+        );
+    }
+    print_groups(&stats, &gaze, "people");
     println!(
         "  cost:        {:.2} µs per person-frame",
         stats.crowd_time.as_secs_f64() * 1e6 / stats.character_frames.max(1) as f64

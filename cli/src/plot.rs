@@ -1,7 +1,8 @@
 //! Pictures, each written as PNG and SVG with plotters:
 //!
-//! - a top-down view of the scene at a moment: people, their headings, and a line from each
-//!   one that attends to what it looks at;
+//! - a top-down view of the scene at a moment: people, their headings, a line from each
+//!   one that looks at someone or something to what it looks at, and who stands in a group
+//!   and who talks;
 //! - the paper's Figure 1 for one character: `S_max(t)` coloured by the entity that gives it,
 //!   the threshold `A`, and the `t_b`, `t_e` of each planned constraint;
 //! - the paper's Figure 3: eye, head and torso yaw against time during gaze shifts (one
@@ -15,7 +16,7 @@ use std::sync::Once;
 use anyhow::{anyhow, Context, Result};
 use crowdgaze::crowd::{ExplicitTarget, TargetPriority};
 use crowdgaze::ik::GazeChain;
-use crowdgaze::scene::ids::EntityKind;
+use crowdgaze::scene::ids::{EntityKind, NO_ENTITY};
 use crowdgaze::{CharacterDesc, Crowd, CrowdConfig, World};
 use glam::{Quat, Vec2, Vec3};
 use plotters::coord::Shift;
@@ -117,8 +118,14 @@ pub struct PersonMark {
     pub position: Vec2,
     /// Heading (radians, counter-clockwise from the first ground axis).
     pub heading: f32,
-    /// Where it looks, if it attends to something.
+    /// Where it looks, if it attends to something (or, in a group, looks at a member).
     pub target: Option<Vec2>,
+    /// It attends to an interest point of its attention model.
+    pub attending: bool,
+    /// It stands in a group (a conversation).
+    pub in_group: bool,
+    /// It talks.
+    pub talking: bool,
 }
 
 /// The scene at one moment, seen from above.
@@ -144,11 +151,18 @@ impl Snapshot {
             let (Some(index), Ok(gaze)) = (scene.index_of(person.id), crowd.gaze(person.id)) else {
                 continue;
             };
+            let in_group = matches!(crowd.conversation_of(person.id), Ok(Some(_)));
+            // A line to what it looks at: its interest point, or in a group the member
+            // its glance is on.
+            let looks = gaze.attending || (in_group && gaze.target != NO_ENTITY);
             people.push(PersonMark {
                 label: person.label,
                 position: world.ground(scene.positions()[index]),
                 heading: scene.headings()[index],
-                target: gaze.attending.then(|| world.ground(gaze.target_position)),
+                target: looks.then(|| world.ground(gaze.target_position)),
+                attending: gaze.attending,
+                in_group,
+                talking: scene.talking()[index],
             });
         }
         let objects = scene
@@ -202,14 +216,19 @@ impl Figure for Snapshot {
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<()> {
         root.fill(&WHITE).map_err(drawing)?;
         let (low, high) = self.bounds();
-        let attending = self.people.iter().filter(|p| p.target.is_some()).count();
-        let caption = format!(
+        let attending = self.people.iter().filter(|p| p.attending).count();
+        let grouped = self.people.iter().filter(|p| p.in_group).count();
+        let talking = self.people.iter().filter(|p| p.talking).count();
+        let mut caption = format!(
             "{} at t = {:.1} s: {} people, {} attending",
             self.title,
             self.time,
             self.people.len(),
             attending
         );
+        if grouped > 0 || talking > 0 {
+            caption += &format!(", {grouped} in groups, {talking} talking");
+        }
         let mut chart = ChartBuilder::on(root)
             .caption(caption, ("sans-serif", 22))
             .margin(12)
@@ -277,8 +296,42 @@ impl Figure for Snapshot {
                 blue.filled(),
             )))
             .map_err(drawing)?
-            .label("person (orange: attending)")
+            .label("person (orange: looking at someone or something)")
             .legend(move |(x, y)| Circle::new((x, y), 4, blue.filled()));
+        // Groups: a green outline round each member; a purple ring round who talks.
+        if self.people.iter().any(|p| p.in_group || p.talking) {
+            let green = RGBColor(20, 140, 60);
+            chart
+                .draw_series(
+                    self.people.iter().filter(|p| p.in_group).map(|p| {
+                        Circle::new((p.position.x, p.position.y), 6, green.stroke_width(2))
+                    }),
+                )
+                .map_err(drawing)?
+                .label("in a group, standing together")
+                .legend(move |(x, y)| Circle::new((x, y), 6, green.stroke_width(2)));
+            let purple = RGBColor(150, 30, 170);
+            chart
+                .draw_series(
+                    self.people.iter().filter(|p| p.talking).map(|p| {
+                        Circle::new((p.position.x, p.position.y), 10, purple.stroke_width(2))
+                    }),
+                )
+                .map_err(drawing)?
+                .label("talking")
+                .legend(move |(x, y)| Circle::new((x, y), 7, purple.stroke_width(2)));
+            // The gaze lines inside groups are short: drawn again on top of the dots.
+            chart
+                .draw_series(self.people.iter().filter(|p| p.in_group).filter_map(|p| {
+                    p.target.map(|target| {
+                        PathElement::new(
+                            vec![(p.position.x, p.position.y), (target.x, target.y)],
+                            orange.stroke_width(2),
+                        )
+                    })
+                }))
+                .map_err(drawing)?;
+        }
         draw_legend(&mut chart)
     }
 }
@@ -905,7 +958,9 @@ impl Observer for Collector {
 
     fn after_step(&mut self, crowd: &Crowd, frame: &Frame) -> Result<()> {
         for person in frame.people {
-            self.stats.add(person.id, &crowd.gaze(person.id)?, frame.dt);
+            let gaze = crowd.gaze(person.id)?;
+            self.stats.add(person.id, &gaze, frame.dt);
+            self.stats.add_conversation(crowd, person.id, &gaze)?;
         }
         let next = self.snapshots.len();
         if let Some(&wanted) = self.snapshot_times.get(next) {

@@ -3,8 +3,13 @@
 //! paper's pipeline: record everything, plan with the exact percentile, then replay).
 //!
 //! An [`Observer`] sees every frame after the step (and may act before it: set a base pose).
+//!
+//! Conversations: the street's standing groups talk in turns
+//! ([`Scenario::with_conversations`]); in a trajectory file, the people of each group (its
+//! `group` column) present together form a conversation, and its `talking` column says who
+//! talks.
 
-use std::collections::HashMap;
+use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::time::{Duration, Instant};
 
 use anyhow::{bail, Context, Result};
@@ -106,6 +111,11 @@ pub struct RunStats {
     pub character_frames: usize,
     /// Time spent in `push_frame` and `step` (and `plan`, offline).
     pub crowd_time: Duration,
+    /// Groups that stood together and talked (conversations formed; a group of a
+    /// trajectory file counts once).
+    pub groups: usize,
+    /// People in those groups.
+    pub grouped: usize,
 }
 
 /// How to run a trajectory file.
@@ -143,8 +153,51 @@ fn track_update(world: &World, track: &Track, id: u32, t: f64) -> EntityUpdate {
         heading: 0.0,
         heading_from_motion: true,
         velocity: Some(world_point(world, velocity)),
-        talking: false,
+        talking: track.talking_at(t),
     }
+}
+
+/// Makes the people of each group present (`active`, with their crowd ids) a conversation
+/// of the crowd: a group with two or more present is one, formed again when someone joins
+/// (a person who leaves the crowd leaves its conversation; one left alone ends it). Adds the
+/// groups formed to `formed`.
+fn sync_conversations(
+    crowd: &mut Crowd,
+    active: &[(&Track, u32)],
+    formed: &mut BTreeMap<u64, BTreeSet<u64>>,
+) -> Result<()> {
+    let mut groups: BTreeMap<u64, Vec<(u32, u64)>> = BTreeMap::new();
+    for &(track, id) in active {
+        if let Some(group) = track.group {
+            groups.entry(group).or_default().push((id, track.person));
+        }
+    }
+    for (group, people) in groups {
+        let mut members: Vec<u32> = people.iter().map(|&(id, _)| id).collect();
+        members.sort_unstable();
+        if let Some(conversation) = crowd.conversation_of(members[0])? {
+            let mut now = crowd.conversation_members(conversation)?.to_vec();
+            now.sort_unstable();
+            if now == members {
+                continue;
+            }
+        }
+        for &id in &members {
+            if let Some(conversation) = crowd.conversation_of(id)? {
+                crowd.remove_conversation(conversation)?;
+            }
+        }
+        if members.len() >= 2 {
+            crowd
+                .set_conversation(&members)
+                .with_context(|| format!("forming group {group}"))?;
+            formed
+                .entry(group)
+                .or_default()
+                .extend(people.iter().map(|&(_, person)| person));
+        }
+    }
+    Ok(())
 }
 
 fn initial_heading(track: &Track) -> f32 {
@@ -202,10 +255,16 @@ pub fn run_tracks(
         .iter()
         .map(|track| times.iter().filter(|&&t| track.covers(t)).count())
         .sum();
+    let group_count = tracks
+        .iter()
+        .filter_map(|track| track.group)
+        .collect::<BTreeSet<u64>>()
+        .len();
     let config = CrowdConfig {
         seed: run.seed,
         max_characters: tracks.len().max(1) as u32,
         max_objects: 0,
+        max_conversations: group_count.max(1) as u32,
         world: run.world,
         max_recorded_states: if run.offline {
             (person_frames + times.len() + 1) as u32
@@ -247,6 +306,12 @@ pub fn run_tracks(
 
     let mut present: Vec<Present> = Vec::new();
     let mut updates: Vec<EntityUpdate> = Vec::new();
+    // Groups formed, with their people.
+    let mut formed: BTreeMap<u64, BTreeSet<u64>> = BTreeMap::new();
+    let count_groups = |stats: &mut RunStats, formed: &BTreeMap<u64, BTreeSet<u64>>| {
+        stats.groups = formed.len();
+        stats.grouped = formed.values().map(BTreeSet::len).sum();
+    };
     if !run.offline {
         let bar = progress(times.len() as u64, "annotating", run.quiet);
         // (track, crowd id) of the people in the scene.
@@ -271,6 +336,9 @@ pub fn run_tracks(
             }
             if !added.is_empty() {
                 configure_model(&mut crowd, &added, run.model)?;
+            }
+            if trajectories.has_groups {
+                sync_conversations(&mut crowd, &active, &mut formed)?;
             }
             updates.clear();
             updates.extend(
@@ -315,6 +383,7 @@ pub fn run_tracks(
             bar.inc(1);
         }
         bar.finish_and_clear();
+        count_groups(&mut stats, &formed);
         return Ok(stats);
     }
 
@@ -334,6 +403,9 @@ pub fn run_tracks(
     }
     let ids: Vec<u32> = all.iter().map(|&(_, id)| id).collect();
     configure_model(&mut crowd, &ids, run.model)?;
+    // Each group is one conversation for the whole run.
+    sync_conversations(&mut crowd, &all, &mut formed)?;
+    count_groups(&mut stats, &formed);
     let bar = progress(2 * times.len() as u64, "planning", run.quiet);
     let started = Instant::now();
     for &t in &times {
@@ -406,6 +478,9 @@ pub struct StreetRun {
     pub objects: usize,
     /// Seed of the scene and of every random choice of the crowd.
     pub seed: u64,
+    /// Share of the characters standing in groups of two and three, talking in turns
+    /// ([`Scenario::with_conversations`]).
+    pub group_share: f32,
     /// Plan offline with the exact percentile.
     pub offline: bool,
     /// Hide the progress bar.
@@ -443,7 +518,14 @@ pub fn run_street(run: &StreetRun, observer: &mut dyn Observer) -> Result<RunSta
     if run.characters == 0 {
         bail!("--characters must be at least 1");
     }
-    let mut scenario = Scenario::street(run.characters, run.objects, run.seed);
+    if !(0.0..=1.0).contains(&run.group_share) {
+        bail!(
+            "--group-share is {}, must be between 0 and 1",
+            run.group_share
+        );
+    }
+    let mut scenario = Scenario::street(run.characters, run.objects, run.seed)
+        .with_conversations(run.group_share, run.seed);
     let mut crowd = Crowd::new(run.config()).context("creating the crowd")?;
     scenario
         .populate(&mut crowd)
@@ -461,7 +543,11 @@ pub fn run_street(run: &StreetRun, observer: &mut dyn Observer) -> Result<RunSta
     let labels: HashMap<u32, u64> = present.iter().map(|p| (p.id, p.label)).collect();
     let frames = run.frame_count();
     let dt = (1.0 / run.fps) as f32;
-    let mut stats = RunStats::default();
+    let mut stats = RunStats {
+        groups: scenario.groups.len(),
+        grouped: scenario.groups.iter().map(|g| g.members.len()).sum(),
+        ..RunStats::default()
+    };
     let bar = progress(
         frames as u64 * if run.offline { 2 } else { 1 },
         if run.offline { "planning" } else { "street" },
@@ -525,6 +611,16 @@ pub struct GazeStats {
     pub seconds: f64,
     /// Times a character started looking at a new interest point.
     pub shifts: usize,
+    /// Character-frames in a conversation.
+    pub member_frames: usize,
+    /// Of those, frames talking.
+    pub speaker_frames: usize,
+    /// Of the talking frames, those looking at another member.
+    pub speaker_on_listener: usize,
+    /// Frames of members listening (not talking while another member talks).
+    pub listener_frames: usize,
+    /// Of those, frames looking at a member who talks.
+    pub listener_on_speaker: usize,
     /// Each character's last target.
     last_target: HashMap<u32, u32>,
 }
@@ -544,6 +640,42 @@ impl GazeStats {
         } else {
             self.last_target.remove(&id);
         }
+    }
+
+    /// Adds a character's conversation of this frame, if it is in one: whether it talks,
+    /// and whether it looks at the speaker (a listener) or at a listener (the speaker).
+    pub fn add_conversation(
+        &mut self,
+        crowd: &Crowd,
+        id: u32,
+        gaze: &crowdgaze::GazeInfo,
+    ) -> Result<()> {
+        let Some(group) = crowd.conversation_of(id)? else {
+            return Ok(());
+        };
+        let scene = crowd.scene();
+        let talks = |id: u32| scene.index_of(id).is_some_and(|i| scene.talking()[i]);
+        let members = crowd.conversation_members(group)?;
+        let at_member = gaze.target != id && members.contains(&gaze.target);
+        self.member_frames += 1;
+        if talks(id) {
+            self.speaker_frames += 1;
+            self.speaker_on_listener += usize::from(at_member);
+        } else if members.iter().any(|&m| m != id && talks(m)) {
+            self.listener_frames += 1;
+            self.listener_on_speaker += usize::from(at_member && talks(gaze.target));
+        }
+        Ok(())
+    }
+
+    /// Share of listening frames spent looking at the speaker.
+    pub fn listener_on_speaker_fraction(&self) -> f64 {
+        self.listener_on_speaker as f64 / self.listener_frames.max(1) as f64
+    }
+
+    /// Share of talking frames spent looking at a listener.
+    pub fn speaker_on_listener_fraction(&self) -> f64 {
+        self.speaker_on_listener as f64 / self.speaker_frames.max(1) as f64
     }
 
     /// Share of character-frames attending.

@@ -2,6 +2,11 @@
 //! UCY files in `shared/data/pedestrians/`), turning frame numbers into seconds, and
 //! evaluating each person's track at any time with a smooth interpolation.
 //!
+//! Conversations: an optional `talking` column (0 or 1 per sample; empty is 0) says who
+//! talks, held from each sample to the next; an optional `group` column puts people who
+//! stand together and talk in groups (the same non-negative integer, one per person for
+//! their whole track; empty or -1: no group; at most 8 people per group).
+//!
 //! Time: `t = frame × time_per_frame`. Unless given, the time per frame number is detected:
 //! the most common step between a person's consecutive samples is taken to be one sample
 //! period at the annotation rate (2.5 Hz, 0.4 s, for ETH and UCY: seq_eth steps 6 frame
@@ -32,6 +37,9 @@ pub struct Sample {
     pub position: DVec3,
     /// Line of the file it came from (1-based, the header is line 1).
     pub line: u64,
+    /// Whether the person talks from this sample to the next (the `talking` column; false
+    /// without one).
+    pub talking: bool,
 }
 
 /// One person's samples, in time order.
@@ -41,6 +49,8 @@ pub struct Track {
     pub person: u64,
     /// Samples in increasing time.
     pub samples: Vec<Sample>,
+    /// The group the person stands in and talks with (the `group` column), if any.
+    pub group: Option<u64>,
 }
 
 impl Track {
@@ -93,6 +103,13 @@ impl Track {
         (position, velocity)
     }
 
+    /// Whether the person talks at time `t`: the `talking` of the last sample at or before
+    /// `t` (the first sample's before the track starts).
+    pub fn talking_at(&self, t: f64) -> bool {
+        let after = self.samples.partition_point(|s| s.time <= t + TIME_EPSILON);
+        self.samples[after.saturating_sub(1)].talking
+    }
+
     /// The direction of the first noticeable move (ground `x, y`), for an initial heading.
     pub fn initial_direction(&self) -> Option<(f64, f64)> {
         let start = self.samples[0].position;
@@ -136,7 +153,14 @@ pub struct Trajectories {
     pub rows: usize,
     /// Line of the last data row.
     pub last_line: u64,
+    /// The file has a `talking` column.
+    pub has_talking: bool,
+    /// The file has a `group` column.
+    pub has_groups: bool,
 }
+
+/// Most people in one group (the most members of a conversation).
+pub const MAX_GROUP: usize = crowdgaze::attention::conversation::MAX_MEMBERS;
 
 fn parse_number(path: &Path, line: u64, column: &str, text: &str) -> Result<f64> {
     let text = text.trim();
@@ -155,6 +179,30 @@ fn parse_number(path: &Path, line: u64, column: &str, text: &str) -> Result<f64>
     Ok(value)
 }
 
+fn parse_talking(path: &Path, line: u64, text: &str) -> Result<bool> {
+    match text.trim() {
+        "" | "0" => Ok(false),
+        "1" => Ok(true),
+        other => bail!(
+            "{}:{line}: column 'talking': '{other}' is not 0 or 1",
+            path.display()
+        ),
+    }
+}
+
+fn parse_group(path: &Path, line: u64, text: &str) -> Result<Option<u64>> {
+    match text.trim() {
+        "" | "-1" => Ok(None),
+        other => other.parse().map(Some).map_err(|_| {
+            anyhow!(
+                "{}:{line}: column 'group': '{other}' is not a group id (a non-negative \
+                 integer, or empty or -1 for none)",
+                path.display()
+            )
+        }),
+    }
+}
+
 fn parse_id(path: &Path, line: u64, text: &str) -> Result<u64> {
     let text = text.trim();
     text.parse().map_err(|_| {
@@ -166,10 +214,11 @@ fn parse_id(path: &Path, line: u64, text: &str) -> Result<u64> {
 }
 
 impl Trajectories {
-    /// Reads and checks a `frame,id,x,y[,z]` file (columns found by name in the header, in
-    /// any order; other columns ignored). Errors name the file and line: a missing column,
-    /// text where a number belongs, NaN or infinity, a row with the wrong number of fields,
-    /// a person's time going backwards or repeating, an empty file.
+    /// Reads and checks a `frame,id,x,y[,z][,talking][,group]` file (columns found by name
+    /// in the header, in any order; other columns ignored). Errors name the file and line: a
+    /// missing column, text where a number belongs, NaN or infinity, a row with the wrong
+    /// number of fields, a person's time going backwards or repeating, a `talking` not 0 or
+    /// 1, a person's group changing, more than 8 people in a group, an empty file.
     pub fn read(path: &Path, options: &TimeOptions) -> Result<Trajectories> {
         let file = std::fs::File::open(path)
             .with_context(|| format!("{}: cannot open", path.display()))?;
@@ -205,6 +254,8 @@ impl Trajectories {
             })?;
         }
         let z_index = column("z");
+        let talking_index = column("talking");
+        let group_index = column("group");
         let [frame_index, id_index, x_index, y_index] = indices;
 
         let mut rows = Vec::new();
@@ -225,7 +276,22 @@ impl Trajectories {
                 Some(index) => parse_number(path, line, "z", field(index))?,
                 None => 0.0,
             };
-            rows.push((frame, person, DVec3::new(x, y, z), line));
+            let talking = match talking_index {
+                Some(index) => parse_talking(path, line, field(index))?,
+                None => false,
+            };
+            let group = match group_index {
+                Some(index) => parse_group(path, line, field(index))?,
+                None => None,
+            };
+            rows.push(Row {
+                frame,
+                person,
+                position: DVec3::new(x, y, z),
+                line,
+                talking,
+                group,
+            });
         }
         if rows.is_empty() {
             bail!("{}:{}: no data rows", path.display(), last_line);
@@ -234,15 +300,52 @@ impl Trajectories {
         // Group by person, checking that each person's frames increase.
         let mut order: HashMap<u64, usize> = HashMap::new();
         let mut tracks: Vec<Track> = Vec::new();
-        for &(frame, person, position, line) in &rows {
+        // Each group's people, by the line of their first row.
+        let mut groups: HashMap<u64, Vec<u64>> = HashMap::new();
+        for row in &rows {
+            let &Row {
+                frame,
+                person,
+                position,
+                line,
+                talking,
+                group,
+            } = row;
             let index = *order.entry(person).or_insert_with(|| {
                 tracks.push(Track {
                     person,
                     samples: Vec::new(),
+                    group,
                 });
                 tracks.len() - 1
             });
-            let samples = &mut tracks[index].samples;
+            let track = &mut tracks[index];
+            if track.group != group {
+                let name = |group: Option<u64>| {
+                    group.map_or_else(|| "no group".to_string(), |g| format!("group {g}"))
+                };
+                bail!(
+                    "{}:{line}: person {person} is in {} here but in {} on line {}: a \
+                     person stays in one group",
+                    path.display(),
+                    name(group),
+                    name(track.group),
+                    track.samples[0].line
+                );
+            }
+            if let (Some(group), true) = (group, track.samples.is_empty()) {
+                let people = groups.entry(group).or_default();
+                people.push(person);
+                if people.len() > MAX_GROUP {
+                    bail!(
+                        "{}:{line}: group {group} has more than {MAX_GROUP} people (person \
+                         {person} is the {}th; a conversation has at most {MAX_GROUP})",
+                        path.display(),
+                        people.len()
+                    );
+                }
+            }
+            let samples = &mut track.samples;
             if let Some(previous) = samples.last() {
                 if frame == previous.frame {
                     bail!(
@@ -267,6 +370,7 @@ impl Trajectories {
                 time: 0.0,
                 position,
                 line,
+                talking,
             });
         }
 
@@ -298,6 +402,8 @@ impl Trajectories {
             detected_step,
             rows: rows.len(),
             last_line,
+            has_talking: talking_index.is_some(),
+            has_groups: group_index.is_some(),
         })
     }
 
@@ -351,6 +457,16 @@ impl Trajectories {
     }
 }
 
+/// One data row of a trajectory file.
+struct Row {
+    frame: f64,
+    person: u64,
+    position: DVec3,
+    line: u64,
+    talking: bool,
+    group: Option<u64>,
+}
+
 /// The most common positive step between a person's consecutive frame numbers.
 fn most_common_step(tracks: &[Track]) -> Option<f64> {
     let mut counts: HashMap<i64, (usize, f64)> = HashMap::new();
@@ -382,8 +498,10 @@ mod tests {
                     time,
                     position: DVec3::new(x, y, 0.0),
                     line: i as u64 + 2,
+                    talking: i % 2 == 1,
                 })
                 .collect(),
+            group: None,
         }
     }
 
@@ -411,6 +529,16 @@ mod tests {
         let line = track(&[(0.0, 0.0, 0.0), (1.0, 1.0, 0.0), (2.0, 2.0, 0.0)]);
         let (p, v) = line.evaluate(0.3);
         assert!((p.x - 0.3).abs() < 1e-12 && (v.x - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn talking_holds_from_each_sample_to_the_next() {
+        // Samples at 0, 0.4, 0.8: talking at the odd ones.
+        let t = track(&[(0.0, 0.0, 0.0), (0.4, 0.0, 0.0), (0.8, 0.0, 0.0)]);
+        let at = |time: f64| t.talking_at(time);
+        assert!(!at(-1.0) && !at(0.0) && !at(0.39));
+        assert!(at(0.4) && at(0.79));
+        assert!(!at(0.8) && !at(5.0));
     }
 
     #[test]

@@ -111,6 +111,23 @@ fn demo_prints_a_summary_and_writes_valid_pictures() {
     for needle in ["attentive:", "gaze shifts:", "µs per character-frame"] {
         assert!(stdout.contains(needle), "no '{needle}' in {stdout}");
     }
+    // The street has standing groups that talk in turns: about a sixth of its 130 people in
+    // groups of two and three.
+    let groups = stdout
+        .lines()
+        .find_map(|l| l.trim().strip_prefix("groups:"))
+        .unwrap_or_else(|| panic!("no groups line in {stdout}"));
+    let numbers: Vec<usize> = groups
+        .split(|c: char| !c.is_ascii_digit())
+        .filter_map(|w| w.parse().ok())
+        .collect();
+    let (count, people) = (numbers[0], numbers[1]);
+    assert!(
+        (2 * count..=3 * count).contains(&people) && (18..=26).contains(&people),
+        "{groups}"
+    );
+    assert!(groups.contains("talking in turns"), "{groups}");
+    assert!(groups.contains("listeners look at the speaker"), "{groups}");
     let files = entries(&out);
     let pngs: Vec<&String> = files.iter().filter(|f| f.ends_with(".png")).collect();
     let svgs: Vec<&String> = files.iter().filter(|f| f.ends_with(".svg")).collect();
@@ -252,10 +269,13 @@ fn annotate_window(
     );
     assert_eq!(
         header.len(),
-        10 + 4 * 10 + 2,
-        "10 chain joints of 4 components, then the lids"
+        10 + 4 * 10 + 2 + 2,
+        "10 chain joints of 4 components, then the lids, talking and group"
     );
-    assert_eq!(&header[50..], &["left_closure", "right_closure"]);
+    assert_eq!(
+        &header[50..],
+        &["left_closure", "right_closure", "talking", "group"]
+    );
     let mut got = BTreeSet::new();
     let (mut attending, mut count, mut blinking) = (0usize, 0usize, 0usize);
     for line in lines {
@@ -267,7 +287,9 @@ fn annotate_window(
             got.insert(((t * 1e3).round() as i64, id)),
             "duplicate row {line}"
         );
-        for (name, value) in header.iter().zip(&fields).skip(5) {
+        // No talking and no groups in a file without those columns.
+        assert_eq!(&fields[52..], &["0", ""], "{line}");
+        for (name, value) in header.iter().zip(&fields).skip(5).take(47) {
             let value: f64 = value
                 .parse()
                 .unwrap_or_else(|_| panic!("{name} = {value} in {line}"));
@@ -286,7 +308,7 @@ fn annotate_window(
             assert!((norm - 1.0).abs() < 1e-3, "{line}");
         }
         // Lid closures: 0 open to 1 closed, both eyes together.
-        let closures: Vec<f64> = fields[50..].iter().map(|v| v.parse().unwrap()).collect();
+        let closures: Vec<f64> = fields[50..52].iter().map(|v| v.parse().unwrap()).collect();
         for closure in &closures {
             assert!((0.0..=1.0).contains(closure), "closure {closure} in {line}");
         }
@@ -626,6 +648,119 @@ fn plot_draws_the_eyes_and_lids_of_one_character() {
     assert!(shifts > 0 && blinks > 0, "{title}");
 }
 
+/// Two people walk up to each other and stand talking in turns of 4 s (group 7): person 1
+/// talks from 2 s to 6 s, person 2 from 6 s to 10 s, and so on to 20 s. Person 3 walks by,
+/// in no group; person 4 stands alone in group 9 (a group of one: no conversation). The
+/// columns come in another order than usual.
+fn conversation_scene(path: &Path) {
+    let mut csv = String::from("frame,id,group,x,y,talking\n");
+    for k in 0..=50 {
+        let frame = 10 * k;
+        let t = k as f64 * 0.4;
+        let walked = (1.2 * t).min(2.4);
+        let (first, second) = (talker(k, 1), talker(k, 2));
+        csv += &format!("{frame},1,7,{},0,{}\n", -2.4 + walked, u8::from(first));
+        csv += &format!("{frame},2,7,{},0,{}\n", 3.6 - walked, u8::from(second));
+        csv += &format!("{frame},3,,{},3,0\n", -5.0 + 0.65 * t);
+        csv += &format!("{frame},4,9,5,-3,\n");
+    }
+    std::fs::write(path, csv).unwrap();
+}
+
+/// Whether person 1 or 2 of [`conversation_scene`] talks from sample `k` (0.4 s each).
+fn talker(k: usize, person: u64) -> bool {
+    k >= 5 && ((k - 5) / 10) % 2 == (person - 1) as usize
+}
+
+#[test]
+fn annotate_reads_talking_and_groups_and_listeners_look_at_the_speaker() {
+    let directory = tempfile::tempdir().unwrap();
+    let input = directory.path().join("talk.csv");
+    conversation_scene(&input);
+    let out = directory.path().join("gaze.csv");
+    for offline in [false, true] {
+        let mut args = vec![
+            "annotate",
+            "--input",
+            input.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--fps",
+            "10",
+            "-q",
+        ];
+        if offline {
+            args.push("--offline");
+        }
+        let stdout = succeed(&args);
+        println!("{stdout}");
+        assert!(stdout.contains("2 people talk"), "{stdout}");
+        assert!(
+            stdout.contains("groups:      1 standing together and talking in turns (2 people)"),
+            "{stdout}"
+        );
+        let csv = std::fs::read_to_string(&out).unwrap();
+        let mut lines = csv.lines();
+        let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+        let column = |name: &str| header.iter().position(|h| *h == name).unwrap();
+        let (talking, group, target) = (column("talking"), column("group"), column("target"));
+        assert_eq!((talking, group), (52, 53), "after the lid closures");
+        // Per person: (time, talking, group, target).
+        let mut rows: HashMap<u64, Vec<(f64, bool, String, String)>> = HashMap::new();
+        for line in lines {
+            let fields: Vec<&str> = line.split(',').collect();
+            assert_eq!(fields.len(), header.len(), "{line}");
+            assert!(["0", "1"].contains(&fields[talking]), "{line}");
+            rows.entry(fields[1].parse().unwrap()).or_default().push((
+                fields[0].parse().unwrap(),
+                fields[talking] == "1",
+                fields[group].to_string(),
+                fields[target].to_string(),
+            ));
+        }
+        assert_eq!(rows.len(), 4);
+        for (person, rows) in &rows {
+            assert_eq!(rows.len(), 201, "20 s at 10 fps");
+            for (t, talks, group, _) in rows {
+                // Talking holds from each sample (0.4 s) to the next.
+                let k = (t / 0.4 + 1e-6).floor() as usize;
+                let expected = matches!(person, 1 | 2) && talker(k, *person);
+                assert_eq!(*talks, expected, "person {person} at {t} s");
+                // Only the two form a conversation: person 4's group has one person.
+                let expected = if matches!(person, 1 | 2) { "7" } else { "" };
+                assert_eq!(group, expected, "person {person} at {t} s");
+            }
+        }
+        // While one talks the other mostly looks at them (Argyle & Ingham: 75% of the time).
+        let mut on_speaker = [0usize; 2];
+        let mut listening = [0usize; 2];
+        for (listener, speaker) in [(1u64, 2u64), (2, 1)] {
+            let slot = (listener - 1) as usize;
+            for ((_, listener_talks, _, target), (_, speaker_talks, _, _)) in
+                rows[&listener].iter().zip(&rows[&speaker])
+            {
+                if *speaker_talks && !listener_talks {
+                    listening[slot] += 1;
+                    on_speaker[slot] += usize::from(*target == speaker.to_string());
+                }
+            }
+        }
+        let share = |slot: usize| on_speaker[slot] as f64 / listening[slot] as f64;
+        println!(
+            "{}: person 1 looks at person 2 in {:.0}% of 2's talking frames, 2 at 1 in {:.0}% \
+             of 1's",
+            if offline { "offline" } else { "online" },
+            100.0 * share(0),
+            100.0 * share(1)
+        );
+        assert!(listening.iter().all(|&n| n >= 60), "{listening:?}");
+        assert!(
+            share(0) > 0.5 && share(1) > 0.5,
+            "{on_speaker:?} of {listening:?}"
+        );
+    }
+}
+
 /// Runs `args` (with `{dir}` replaced by a fresh directory holding `name` = `content`) and
 /// checks the failure: non-zero exit, one line naming `name:line`, nothing written.
 fn check_bad_input(name: &str, content: &str, args: &[&str], line: &str) {
@@ -697,6 +832,34 @@ fn bad_trajectory_files_fail_with_file_and_line_and_leave_nothing() {
         "4",
     );
     check_bad_input("bad.csv", "frame,id,x,y\n", &annotate, "1");
+    // The talking and group columns.
+    let talk =
+        "frame,id,x,y,talking,group\n0,1,0,0,0,3\n10,1,0.5,0,1,3\n0,2,1,1,,3\n10,2,1,1,0,3\n";
+    check_bad_input(
+        "bad.csv",
+        &talk.replace("0.5,0,1,3", "0.5,0,2,3"),
+        &annotate,
+        "3",
+    );
+    check_bad_input(
+        "bad.csv",
+        &talk.replace("0,2,1,1,,3", "0,2,1,1,,x"),
+        &annotate,
+        "4",
+    );
+    // A person's group does not change.
+    check_bad_input(
+        "bad.csv",
+        &talk.replace("10,2,1,1,0,3", "10,2,1,1,0,4"),
+        &annotate,
+        "5",
+    );
+    // At most 8 people in a group: the 9th's first row.
+    let mut crowded = String::from("frame,id,x,y,group\n");
+    for person in 0..9 {
+        crowded += &format!("0,{person},{person},0,5\n10,{person},{person},1,5\n");
+    }
+    check_bad_input("bad.csv", &crowded, &annotate, "18");
     // Plot and bvh read trajectories the same way.
     check_bad_input(
         "bad.csv",
