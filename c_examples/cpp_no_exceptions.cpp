@@ -77,6 +77,12 @@ int main() {
     if (joints.size() != 20 || eyes[0].left_direction.x < 0.99f || eyes[1].left_direction.x > -0.99f) {
         return 1;
     }
+    // The two form a conversation: from the next step they look at each other as people
+    // talking do.
+    std::uint32_t group = CG_NO_TARGET;
+    if (!ok(crowd.try_set_conversation(ids, group), "conversation") || group == CG_NO_TARGET) {
+        return 1;
+    }
     // A failure is a status and a message; the crowd is unchanged.
     const cg_status status = crowd.try_step(-1.0f);
     std::printf("try_step(-1): %s (%s)\n", crowdgaze::status_string(status),

@@ -1,9 +1,9 @@
 // cpp_wrapper.cpp: the C++17 wrapper (bindings/cpp/crowdgaze.hpp) as an engine uses it —
 // a crowd created from its config, characters and an object added, frames pushed, steps,
 // gaze, joints, deltas and eyes read, a base pose, explicit gaze targets, blinks and
-// eyelids, an offline plan and its constraints, a view blender (keys, cameras, weights,
-// evaluate), the dual quaternion helpers, errors as exceptions and as statuses, and the
-// owners' move semantics.
+// eyelids, a conversation, an offline plan and its constraints, a view blender (keys,
+// cameras, weights, evaluate), the dual quaternion helpers, errors as exceptions and as
+// statuses, and the owners' move semantics.
 #include "crowdgaze.hpp"
 
 #include <array>
@@ -289,6 +289,60 @@ void eyelids() {
     CHECK(crowdgaze::Crowd::try_create(bad, refused) == CG_STATUS_NON_FINITE && !refused);
 }
 
+// A conversation: two characters facing each other form a group, the first talking; the
+// group is read back, ends when one of them is removed, and a group of one is refused.
+void conversation() {
+    cg_crowd_config config = crowdgaze::crowd_config();
+    config.seed = 5;
+    config.max_characters = 3;
+    config.max_objects = 0;
+    crowdgaze::Crowd crowd(config);
+    const std::uint32_t speaker = crowd.add_character_at({0.0f, 0.0f, 0.0f});
+    const std::uint32_t listener = crowd.add_character_at({0.0f, 0.0f, 1.2f}, kPi);
+    const std::uint32_t passer_by = crowd.add_character_at({4.0f, 0.0f, 3.0f}, -kPi / 2.0f);
+
+    const std::array<std::uint32_t, 2> pair{speaker, listener};
+    const std::uint32_t group = crowd.set_conversation(pair);
+    CHECK(group != CG_NO_TARGET);
+    CHECK(crowd.conversation(speaker) == group && crowd.conversation(listener) == group);
+    CHECK(crowd.conversation(passer_by) == CG_NO_TARGET);
+
+    std::array<cg_entity_state, 3> states{
+        crowdgaze::entity_state(speaker, {0.0f, 0.0f, 0.0f}),
+        crowdgaze::entity_state(listener, {0.0f, 0.0f, 1.2f}),
+        crowdgaze::entity_state(passer_by, {4.0f, 0.0f, 3.0f})};
+    states[0].flags |= CG_STATE_TALKING;
+    states[1].heading = kPi;
+    states[2].heading = -kPi / 2.0f;
+    std::array<cg_gaze_info, 3> gaze{};
+    for (int frame = 1; frame <= 60; frame++) {
+        crowd.push_frame(frame / 30.0, states);
+        crowd.step(1.0f / 30.0f);
+        crowd.read_gaze(gaze);
+    }
+    CHECK(gaze[1].character == listener);
+
+    // A group of one: refused, as a status or an exception; nothing changed.
+    const std::array<std::uint32_t, 1> alone{passer_by};
+    std::uint32_t refused = 12345u;
+    CHECK(crowd.try_set_conversation(alone, refused) == CG_STATUS_INVALID_ARGUMENT);
+    CHECK(refused == 12345u && crowd.conversation(passer_by) == CG_NO_TARGET);
+    bool thrown = false;
+    try {
+        crowd.set_conversation(alone);
+    } catch (const crowdgaze::Error& error) {
+        thrown = error.status() == CG_STATUS_INVALID_ARGUMENT && !error.message().empty();
+    }
+    CHECK(thrown);
+    CHECK(crowd.try_conversation(12345u, refused) == CG_STATUS_NOT_FOUND);
+
+    // The listener leaves: a group left with one member ends.
+    crowd.remove_entity(listener);
+    CHECK(crowd.conversation(speaker) == CG_NO_TARGET);
+    CHECK(crowd.try_remove_conversation(group) == CG_STATUS_NOT_FOUND);
+    std::printf("conversation %u of 2: ended when the listener left\n", group);
+}
+
 // An offline plan of two walkers crossing, and its constraints.
 void offline_plan() {
     cg_crowd_config config = crowdgaze::crowd_config();
@@ -452,6 +506,7 @@ int main() {
     try {
         crowd_gaze();
         eyelids();
+        conversation();
         offline_plan();
         dual_quaternions();
         view_blender();

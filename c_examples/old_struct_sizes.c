@@ -1,9 +1,10 @@
 /* old_struct_sizes.c: the library reads and writes no more of a versioned struct than its
  * struct_size says. Each struct lives in a heap block of exactly its size followed by guard
  * bytes: every call that fills, reads or returns the struct must leave the guard intact.
- * cg_crowd_config is also passed in its two older layouts, of 144 bytes (everything
- * before reorder_period) and 152 bytes (everything before the blink fields, padded), as programs
- * built against older headers have it. */
+ * cg_crowd_config is also passed in its three older layouts, of 144 bytes (everything
+ * before reorder_period), 152 bytes (everything before the blink fields, padded) and 176 bytes
+ * (everything before the conversation fields, padded), as programs built against older headers
+ * have it. */
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -15,10 +16,12 @@
 #define GUARD_BYTES 64
 #define GUARD 0xA5
 
-/* The sizes of cg_crowd_config before reorder_period and before blink_rate were added (C
- * pads the struct to 8 bytes, for its uint64_t seed). */
-#define OLDEST_CROWD_CONFIG_SIZE offsetof(cg_crowd_config, reorder_period)
-#define OLDER_CROWD_CONFIG_SIZE ((offsetof(cg_crowd_config, blink_rate) + 7) / 8 * 8)
+/* The sizes of cg_crowd_config before reorder_period, before blink_rate and before
+ * max_conversations were added (C pads the struct to 8 bytes, for its uint64_t seed). */
+#define CROWD_CONFIG_SIZE_BEFORE_REORDER offsetof(cg_crowd_config, reorder_period)
+#define CROWD_CONFIG_SIZE_BEFORE_BLINKS ((offsetof(cg_crowd_config, blink_rate) + 7) / 8 * 8)
+#define CROWD_CONFIG_SIZE_BEFORE_CONVERSATIONS                                           \
+    ((offsetof(cg_crowd_config, max_conversations) + 7) / 8 * 8)
 
 static int failures = 0;
 
@@ -96,6 +99,12 @@ static void old_crowd_config(size_t size) {
         CHECK(current.threads == 2 && current.reorder_period == 0); /* its default */
         CHECK(current.blink_rate == 17.0f && current.lid_gain == 1.0f);
         CHECK(current.eye_motion == CG_EYE_MOTION_PAPER);
+        CHECK(current.max_conversations == 64 && current.talking_gain == 1.5f);
+        CHECK(current.eye_part_weight == 1.5f);
+        CHECK(current.listener_look_share == 0.75f && current.listener_glance_time == 6.0f);
+        CHECK(current.speaker_look_share == 0.41f && current.speaker_glance_time == 1.8f);
+        CHECK(current.idle_look_share == 0.5f && current.idle_glance_time == 2.5f);
+        CHECK(current.turn_start_aversion_time == 1.0f);
     }
 
     /* A struct_size that is no layout's: refused, nothing written. */
@@ -182,9 +191,11 @@ static void current_sizes(void) {
 }
 
 int main(void) {
-    CHECK(OLDEST_CROWD_CONFIG_SIZE == 144 && OLDER_CROWD_CONFIG_SIZE == 152);
-    old_crowd_config(OLDEST_CROWD_CONFIG_SIZE);
-    old_crowd_config(OLDER_CROWD_CONFIG_SIZE);
+    CHECK(CROWD_CONFIG_SIZE_BEFORE_REORDER == 144 && CROWD_CONFIG_SIZE_BEFORE_BLINKS == 152);
+    CHECK(CROWD_CONFIG_SIZE_BEFORE_CONVERSATIONS == 176 && sizeof(cg_crowd_config) == 216);
+    old_crowd_config(CROWD_CONFIG_SIZE_BEFORE_REORDER);
+    old_crowd_config(CROWD_CONFIG_SIZE_BEFORE_BLINKS);
+    old_crowd_config(CROWD_CONFIG_SIZE_BEFORE_CONVERSATIONS);
     current_sizes();
     if (failures != 0) {
         return 1;

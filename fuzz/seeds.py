@@ -125,6 +125,25 @@ def maxima():
     return create + crowd(3) + walk(4) + reads()
 
 
+def conversations():
+    # Two groups of the first crowd's characters: live[0] and live[1], then live[2 .. 5];
+    # the talker passes every second in the pair and every 2/3 s in the three. Then reads,
+    # a member removed (the pair ends), the ended group removed, the other removed twice,
+    # and a group of one refused.
+    # set_conversation: count (0: 2 members, 1: 3), each id (0: a live one, its index).
+    groups = op("set_conversation", 0, 0, 0, 0, 1) + op("set_conversation", 1, 0, 2, 0, 3, 0, 4)
+    # walk: one float per live entity (0: its lane), then the byte of who talks.
+    talks = b"".join(
+        op("walk", 0, 0, 0, 0, 0, (1 << (f // 30 % 2)) | (1 << (2 + f // 20 % 3))) for f in range(90)
+    )
+    # get_conversation: the id (0: a live one, its index).
+    asks = op("get_conversation", 0, 0) + op("get_conversation", 0, 3)
+    ends = op("remove_entity", 0, 1) + walk(5) + op("remove_conversation", 0, 0) + op(
+        "remove_conversation", 0, 1
+    ) + op("remove_conversation", 0, 1) + op("set_conversation", 14, 1, 0, 2)
+    return crowd(5) + groups + talks + asks + reads() + ends + asks + walk(5) + reads()
+
+
 def random_seed(rng):
     data = bytearray()
     for _ in range(rng.randrange(5, 60)):
@@ -155,6 +174,7 @@ def main():
         "blender-dib": blender(1),
         "blends": blends(),
         "maxima": maxima(),
+        "conversations": conversations(),
     }
     rng = random.Random(10)
     for index in range(30):

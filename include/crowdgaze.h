@@ -1384,7 +1384,7 @@ cg_status cg_chain_desc_init_human(struct cg_chain_desc *desc,
 //
 // Errors (nothing changed): `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_INVALID_ARGUMENT` (fewer
 // than 2 or more than 8 members, an id listed twice, an object, a character already in a
-// conversation, a plan active), `CG_STATUS_NOT_FOUND` (an unknown id),
+// conversation), `CG_STATUS_NOT_FOUND` (an unknown id),
 // `CG_STATUS_CAPACITY` (`max_conversations` groups exist already). Not thread-safe.
 cg_status cg_crowd_set_conversation(struct cg_crowd *crowd,
                                     const uint32_t *members,
@@ -1400,8 +1400,9 @@ cg_status cg_crowd_remove_conversation(struct cg_crowd *crowd, uint32_t group);
 // Writes the conversation `character` is in to `*out_group`, or `CG_NO_TARGET` if it is in
 // none.
 //
-// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NOT_FOUND` (no such character). Safe to
-// call concurrently with other `const` calls.
+// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NOT_FOUND` (no such entity),
+// `CG_STATUS_INVALID_ARGUMENT` (an object's or the viewer's id). Safe to call concurrently
+// with other `const` calls.
 cg_status cg_crowd_get_conversation(const struct cg_crowd *crowd,
                                     uint32_t character,
                                     uint32_t *out_group);

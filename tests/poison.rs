@@ -14,6 +14,7 @@
 
 use crowdgaze::ffi::attention::*;
 
+use crowdgaze::ffi::conversations::*;
 use crowdgaze::ffi::crowd::*;
 use crowdgaze::ffi::eyelids::*;
 use crowdgaze::ffi::frame::*;
@@ -228,7 +229,7 @@ fn every_crowd_call(crowd: *mut cg_crowd, ids: &[u32], expected: &str) {
     let (gaze_out, eyes_out) = (gaze.as_mut_ptr(), eyes.as_mut_ptr());
     let eyelids_out = eyelids.as_mut_ptr();
     let (constraints_out, quats_out) = (constraints.as_mut_ptr(), quats.as_mut_ptr());
-    let calls: [(&str, &dyn Fn() -> cg_status); 32] = [
+    let calls: [(&str, &dyn Fn() -> cg_status); 35] = [
         ("cg_crowd_begin_step", &|| unsafe {
             cg_crowd_begin_step(crowd, 0.05)
         }),
@@ -316,6 +317,15 @@ fn every_crowd_call(crowd: *mut cg_crowd, ids: &[u32], expected: &str) {
         }),
         ("cg_crowd_read_eyelids", &|| unsafe {
             cg_crowd_read_eyelids(crowd, 0, 3, eyelids_out, 3)
+        }),
+        ("cg_crowd_set_conversation", &|| unsafe {
+            cg_crowd_set_conversation(crowd, [a, b].as_ptr(), 2, id_out)
+        }),
+        ("cg_crowd_remove_conversation", &|| unsafe {
+            cg_crowd_remove_conversation(crowd, 0)
+        }),
+        ("cg_crowd_get_conversation", &|| unsafe {
+            cg_crowd_get_conversation(crowd, a, id_out)
         }),
     ];
     all_poisoned("cg_crowd", &calls, expected);

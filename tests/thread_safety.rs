@@ -13,6 +13,7 @@ mod support;
 
 use crowdgaze::ffi::attention::*;
 
+use crowdgaze::ffi::conversations::*;
 use crowdgaze::ffi::crowd::*;
 use crowdgaze::ffi::eyelids::*;
 use crowdgaze::ffi::frame::*;
@@ -34,7 +35,7 @@ const ROUNDS: usize = 100;
 
 /// Every header function that takes a `const` crowd or blender handle, as the transcripts
 /// below call them; `const_functions_are_all_covered` keeps the list equal to the header's.
-const COVERED: [&str; 13] = [
+const COVERED: [&str; 14] = [
     "cg_crowd_character_count",
     "cg_crowd_get_config",
     "cg_crowd_read_gaze",
@@ -46,6 +47,7 @@ const COVERED: [&str; 13] = [
     "cg_crowd_get_character_params",
     "cg_crowd_score",
     "cg_crowd_read_constraints",
+    "cg_crowd_get_conversation",
     "cg_view_blender_weights",
     "cg_view_blender_evaluate",
 ];
@@ -112,7 +114,7 @@ fn crowd_transcript(crowd: *const cg_crowd) -> String {
     writeln!(out, "{total} {joints:?} {deltas:?} {eyes:?} {lids:?}").unwrap();
 
     // Per character, as an engine's animation threads would: its joints, its parameters,
-    // how it scores its neighbour and its target, its planned constraints.
+    // its conversation, how it scores its neighbour and its target, its planned constraints.
     let mut one = [cg_quat::IDENTITY; crowdgaze::ik::MAX_CHAIN_JOINTS];
     let mut constraints = vec![cg_constraint::default(); 64];
     for (index, info) in gaze.iter().enumerate() {
@@ -124,7 +126,10 @@ fn crowd_transcript(crowd: *const cg_crowd) -> String {
         params.struct_size = std::mem::size_of::<cg_character_params>() as u32;
         let s = unsafe { cg_crowd_get_character_params(crowd, info.character, &mut params) };
         status(&mut out, "params", s);
-        writeln!(out, "{one:?} {params:?}").unwrap();
+        let mut group = 0;
+        let s = unsafe { cg_crowd_get_conversation(crowd, info.character, &mut group) };
+        status(&mut out, "conversation", s);
+        writeln!(out, "{one:?} {params:?} {group}").unwrap();
         let neighbour = gaze[(index + 1) % gaze.len()].character;
         for entity in [neighbour, info.target, info.head_target] {
             let mut score = cg_score_breakdown::default();
@@ -150,6 +155,9 @@ fn crowd_transcript(crowd: *const cg_crowd) -> String {
     status(&mut out, "joints past the end", s);
     status(&mut out, "unknown id", unsafe {
         cg_crowd_score(crowd, 0xdead_beef, 0, &mut cg_score_breakdown::default())
+    });
+    status(&mut out, "unknown id's conversation", unsafe {
+        cg_crowd_get_conversation(crowd, 0xdead_beef, &mut 0)
     });
     out
 }
@@ -199,10 +207,39 @@ fn same_on_every_thread<T>(handle: *const T, transcript: fn(*const T) -> String)
 #[test]
 fn const_crowd_calls_agree_across_threads() {
     // The street, recorded for 8 s and planned, then replayed for 4 s: every const call has
-    // something to say (constraints included).
+    // something to say (constraints included, and conversations: groups of 2, 3 and 4 from
+    // the first frame on).
     let (characters, recorded_frames) = (130, 240);
     let mut street = Street::new(characters, 60, 7, (characters as u32 + 1) * recorded_frames);
-    for _ in 0..recorded_frames {
+    street.frame();
+    let mut gaze = vec![cg_gaze_info::default(); characters];
+    check(
+        unsafe {
+            cg_crowd_read_gaze(
+                street.crowd.as_const(),
+                gaze.as_mut_ptr(),
+                characters,
+                null_mut(),
+            )
+        },
+        "cg_crowd_read_gaze",
+    );
+    let ids: Vec<u32> = gaze.iter().map(|info| info.character).collect();
+    for members in [&ids[0..2], &ids[2..5], &ids[5..9]] {
+        let mut group = 0;
+        check(
+            unsafe {
+                cg_crowd_set_conversation(
+                    street.crowd.as_mut(),
+                    members.as_ptr(),
+                    members.len(),
+                    &mut group,
+                )
+            },
+            "cg_crowd_set_conversation",
+        );
+    }
+    for _ in 1..recorded_frames {
         street.frame();
     }
     check(
@@ -217,6 +254,12 @@ fn const_crowd_calls_agree_across_threads() {
     }
     let text = crowd_transcript(street.crowd.as_const());
     assert!(text.contains("constraints: Ok") && !text.contains("NaN"));
+    let mut group = CG_NO_TARGET;
+    check(
+        unsafe { cg_crowd_get_conversation(street.crowd.as_const(), ids[0], &mut group) },
+        "cg_crowd_get_conversation",
+    );
+    assert_ne!(group, CG_NO_TARGET, "the first group still talks");
     same_on_every_thread(street.crowd.as_const(), crowd_transcript);
 }
 

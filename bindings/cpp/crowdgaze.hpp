@@ -568,6 +568,37 @@ class Crowd : public Owner<cg_crowd, cg_crowd_destroy> {
     }
     void clear_gaze_target(std::uint32_t character) { check(try_clear_gaze_target(character)); }
 
+    // --- conversations -----------------------------------------------------------------
+
+    // Makes `members` (2 to CG_MAX_CONVERSATION_MEMBERS character ids, each in no other
+    // conversation) a group standing together and talking; its id goes to `out_group` (only
+    // on success). Who talks comes with each pushed state (`CG_STATE_TALKING` in `flags`).
+    [[nodiscard]] cg_status try_set_conversation(Span<const std::uint32_t> members,
+                                                 std::uint32_t& out_group) noexcept {
+        return cg_crowd_set_conversation(raw(), members.data(), members.size(), &out_group);
+    }
+    std::uint32_t set_conversation(Span<const std::uint32_t> members) {
+        std::uint32_t group = CG_NO_TARGET;
+        check(try_set_conversation(members, group));
+        return group;
+    }
+    // Ends conversation `group`: its members go back to their own attention. (A group also
+    // ends when removing its members leaves it one.)
+    [[nodiscard]] cg_status try_remove_conversation(std::uint32_t group) noexcept {
+        return cg_crowd_remove_conversation(raw(), group);
+    }
+    void remove_conversation(std::uint32_t group) { check(try_remove_conversation(group)); }
+    // The conversation `character` is in, or `CG_NO_TARGET` if it is in none.
+    [[nodiscard]] cg_status try_conversation(std::uint32_t character,
+                                             std::uint32_t& out_group) const noexcept {
+        return cg_crowd_get_conversation(raw(), character, &out_group);
+    }
+    std::uint32_t conversation(std::uint32_t character) const {
+        std::uint32_t group = CG_NO_TARGET;
+        check(try_conversation(character, group));
+        return group;
+    }
+
     // --- tools and offline planning ----------------------------------------------------
 
     [[nodiscard]] cg_status try_score(std::uint32_t character, std::uint32_t entity,

@@ -1,7 +1,8 @@
 // osg_street: crowdgaze in an OpenSceneGraph 3.6 scene.
 //
 // A pedestrian street (Z up, the street along +Y): walkers go up and down, three bystanders
-// stand by, lamps and shop windows line it. Every character is a small articulated figure:
+// stand by, three friends stand together on the right pavement and talk in turns, lamps and
+// shop windows line it. Every character is a small articulated figure:
 // legs and arms, and the gaze chain of `cg_chain_desc_init_human` — five spine joints, two
 // neck joints and the head as nested osg::MatrixTransforms, and two eyes under the head,
 // each with an upper eyelid (a skin-coloured half shell over the eye ball, also under the
@@ -12,7 +13,15 @@
 // eyelids with one call (`cg_crowd_read_eyelids`); then one update callback per character
 // (an osg::NodeCallback on its root transform) reads that character's chain
 // (`cg_crowd_read_joints`), writes the quaternions into its MatrixTransforms and turns its
-// lids. The scene is rendered offscreen — into a window of a virtual X server (run it under
+// lids.
+//
+// The three friends are a conversation of the crowd (`set_conversation`); their
+// turns are scripted by frame — each talks for 2.5 s, then a pause of 0.5 s, then the next —
+// and pushed with `CG_STATE_TALKING` in their states. Crowdgaze has the listeners look at the
+// speaker, the speaker at them now and then. Whoever talks opens and closes a mouth and has
+// a yellow marker above the head.
+//
+// The scene is rendered offscreen — into a window of a virtual X server (run it under
 // xvfb-run, with Mesa's software OpenGL), or a pbuffer — and frames are written as PNG files.
 //
 // Usage: osg_street OUTDIR [WIDTHxHEIGHT] [SECONDS]
@@ -20,8 +29,9 @@
 //        the library's, 17), e.g. 120 to catch closed lids in the frames.
 //        OSG_STREET_SURFACE=pbuffer: render into a GLX pbuffer instead of a window.
 // Prints, for every written frame, its file, each character's head rotation in its body
-// frame (x y z w) and yaw, each character's lid closure and pitch, and where the red-nosed
-// bystander's nose is on the image; "ok" last.
+// frame (x y z w) and yaw, each character's lid closure and pitch, where the red-nosed
+// bystander's nose is on the image, and for each member of the group whether it talks and
+// the id of what it looks at ("talk" lines); "ok" last.
 #include "crowdgaze.hpp"
 
 #include <osg/Geode>
@@ -59,6 +69,10 @@ const osg::Vec3 kNose(0.0f, 0.1f, 0.03f);  // the red nose's centre in the head'
 constexpr float kLidRadius = 0.029f;
 constexpr float kLidOpen = 0.45f;    // the open lid's edge above the eye's pitch, radians
 constexpr float kLidClosed = -1.1f;  // the closed lid's edge: below the pupil, radians
+// The group's turns: each member talks kTalkFrames frames, then nobody for kPauseFrames.
+constexpr int kTalkFrames = 60;   // 2.5 s at 24 fps
+constexpr int kPauseFrames = 12;  // 0.5 s
+const osg::Vec3 kMouth(0.0f, 0.045f, 0.008f);  // the mouth's centre in the head's frame
 
 // ---------------------------------------------------------------------------------------
 // Geometry helpers.
@@ -162,6 +176,10 @@ struct Character {
     osg::ref_ptr<osg::MatrixTransform> root, leg_left, leg_right, arm_left, arm_right;
     osg::ref_ptr<osg::MatrixTransform> lid_left, lid_right;  // upper eyelids, under the head
     std::array<osg::ref_ptr<osg::MatrixTransform>, kJoints> joints;
+    // Members of the group: a mouth that opens while talking and a marker above the head.
+    osg::ref_ptr<osg::MatrixTransform> mouth;
+    osg::ref_ptr<osg::Node> talk_marker;
+    bool talking = false;
 };
 
 struct Street {
@@ -173,10 +191,25 @@ struct Street {
     int frame = 0;
     std::size_t observer = 0;  // the red-nosed bystander
     std::uint32_t observed_walker = 0;
+    std::vector<std::size_t> group;  // the friends talking together (character indices)
+    std::uint32_t conversation = 0;  // their conversation's id
+
+    // The member of the group talking at frame `f` (an index into `group`), or -1 in a pause.
+    int speaker_at(int f) const {
+        const int turn = f / (kTalkFrames + kPauseFrames);
+        if (group.empty() || f % (kTalkFrames + kPauseFrames) >= kTalkFrames) return -1;
+        return turn % static_cast<int>(group.size());
+    }
 
     void advance() {
         frame++;
         const float dt = static_cast<float>(1.0 / kFps);
+        const int speaker = speaker_at(frame);
+        for (std::size_t k = 0; k < group.size(); k++) {
+            Character& c = characters[group[k]];
+            c.talking = static_cast<int>(k) == speaker;
+            states[group[k]].flags = c.talking ? CG_STATE_TALKING : 0u;
+        }
         for (std::size_t i = 0; i < characters.size(); i++) {
             Character& c = characters[i];
             if (c.speed > 0.0f) {
@@ -236,6 +269,12 @@ class GazeCallback : public osg::NodeCallback {
         c.leg_right->setMatrix(hinge(-swing, {0.1f, 0.0f, 0.9f}));
         c.arm_left->setMatrix(hinge(-0.7f * swing, {-0.25f, 0.0f, 0.02f}));
         c.arm_right->setMatrix(hinge(0.7f * swing, {0.25f, 0.0f, 0.02f}));
+        if (c.mouth) {  // talking: the mouth opens and closes about four times a second
+            const float t = static_cast<float>(street_->frame / kFps);
+            const float open = c.talking ? 0.6f + 1.6f * std::fabs(std::sin(12.0f * t)) : 0.3f;
+            c.mouth->setMatrix(osg::Matrix::scale(1.0f, 1.0f, open) * osg::Matrix::translate(kMouth));
+            c.talk_marker->setNodeMask(c.talking ? ~0u : 0u);
+        }
         traverse(node, visitor);
     }
 
@@ -246,7 +285,7 @@ class GazeCallback : public osg::NodeCallback {
 
 // The figure of one character: legs and arms, and the gaze chain as nested transforms.
 void build_figure(Character& c, const cg_chain_desc& chain, const osg::Vec4& shirt,
-                  const osg::Vec4& trousers, bool red_nose) {
+                  const osg::Vec4& trousers, bool red_nose, bool talker) {
     const osg::Vec4 skin(0.93f, 0.76f, 0.62f, 1.0f);
     const osg::Vec4 hair(0.22f, 0.15f, 0.10f, 1.0f);
     c.root = new osg::MatrixTransform;
@@ -301,6 +340,19 @@ void build_figure(Character& c, const cg_chain_desc& chain, const osg::Vec4& shi
     for (auto* lid : {c.lid_left.get(), c.lid_right.get()}) {
         lid->addChild(eyelid_shell(kLidRadius, lid_skin));
         c.joints[kHead]->addChild(lid);
+    }
+    if (talker) {
+        // A dark mouth under the nose (scaled open while talking), and a yellow marker above
+        // the head shown while talking (unlit, so it reads from afar).
+        c.mouth = new osg::MatrixTransform(osg::Matrix::scale(1.0f, 1.0f, 0.3f) *
+                                           osg::Matrix::translate(kMouth));
+        c.mouth->addChild(box({0.0f, 0.0f, 0.0f}, {0.06f, 0.024f, 0.016f}, {0.35f, 0.08f, 0.1f, 1.0f}));
+        c.joints[kHead]->addChild(c.mouth);
+        osg::ref_ptr<osg::Geode> marker = sphere({0.0f, -0.02f, 0.42f}, 0.06f, {1.0f, 0.85f, 0.1f, 1.0f});
+        marker->getOrCreateStateSet()->setMode(GL_LIGHTING, osg::StateAttribute::OFF);
+        marker->setNodeMask(0u);
+        c.talk_marker = marker;
+        c.joints[kHead]->addChild(marker);
     }
     // Arms swing from the shoulders, on the top spine joint.
     c.arm_left = new osg::MatrixTransform;
@@ -432,11 +484,21 @@ int main(int argc, char** argv) {
         // Bystanders: x, y, heading (facing the street); the first one has the red nose.
         const Walk stands[] = {{2.6f, -14.5f, 2.11f, 0.0f}, {-4.0f, -8.0f, -kPi / 2, 0.0f},
                                {4.3f, 0.0f, kPi / 2 + 0.3f, 0.0f}};
+        // The group: three friends round a point of the right pavement, facing its centre
+        // (heading 0 along +Y, counter-clockwise: the direction (dx, dy) is atan2(-dx, dy)).
+        const osg::Vec3 meeting(4.2f, -10.5f, 0.0f);
+        std::vector<Walk> friends;
+        for (const float degrees : {60.0f, 180.0f, 300.0f}) {
+            const float angle = degrees * kPi / 180.0f;
+            const osg::Vec3 at = meeting + osg::Vec3(std::cos(angle), std::sin(angle), 0.0f) * 0.62f;
+            const osg::Vec3 to_centre = meeting - at;
+            friends.push_back({at.x(), at.y(), std::atan2(-to_centre.x(), to_centre.y()), 0.0f});
+        }
 
         osg::ref_ptr<osg::Group> root = new osg::Group;
         root->addChild(build_street_set(lamps));
         std::size_t n = 0;
-        const auto add = [&](const Walk& w, bool red_nose) {
+        const auto add = [&](const Walk& w, bool red_nose, bool talker) {
             Character c;
             c.position.set(w.x, w.y, 0.0f);
             c.heading = w.heading;
@@ -445,16 +507,27 @@ int main(int argc, char** argv) {
             desc.chain = &street.chain;
             c.id = street.crowd.add_character(desc);
             c.index = static_cast<std::uint32_t>(n);
-            build_figure(c, street.chain, shirts[n % 8], trousers[n % 4], red_nose);
+            build_figure(c, street.chain, shirts[n % 8], trousers[n % 4], red_nose, talker);
             cg_entity_state state = crowdgaze::entity_state();  // explicit headings
             state.id = c.id;
             street.states.push_back(state);
             street.characters.push_back(c);
             n++;
         };
-        for (const Walk& w : walks) add(w, false);
+        for (const Walk& w : walks) add(w, false, false);
         street.observer = n;
-        for (const Walk& s : stands) add(s, n == street.observer);
+        for (const Walk& s : stands) add(s, n == street.observer, false);
+        std::vector<std::uint32_t> members;
+        for (const Walk& f : friends) {
+            street.group.push_back(n);
+            add(f, false, true);
+            members.push_back(street.characters.back().id);
+        }
+        // The friends are one conversation.
+        street.conversation = street.crowd.set_conversation(members);
+        std::printf("group %u of %zu:", street.conversation, members.size());
+        for (const std::size_t i : street.group) std::printf(" %zu (id %u)", i, street.characters[i].id);
+        std::printf("\n");
         // The red-nosed bystander follows the first walker with its eyes and head as it
         // passes; the others look where crowdgaze's attention model takes them.
         street.observed_walker = street.characters[0].id;
@@ -564,6 +637,24 @@ int main(int argc, char** argv) {
                                           camera->getViewport()->computeWindowMatrix();
             const osg::Vec3 nose = kNose * world * to_window;
             std::printf("nose %.1f %.1f\n", nose.x(), height - nose.y());
+            // The group: who talks, and what each member looks at (a member's id, another
+            // entity's, or -1 ahead or away).
+            const int speaker = street.speaker_at(frame);
+            for (std::size_t k = 0; k < street.group.size(); k++) {
+                const std::size_t i = street.group[k];
+                const std::uint32_t target = gaze[i].target;
+                const char* at = target == CG_NO_TARGET ? "away" : "other";
+                for (std::size_t m = 0; m < street.group.size(); m++) {
+                    if (m != k && target == street.characters[street.group[m]].id) {
+                        at = static_cast<int>(m) == speaker ? "speaker" : "member";
+                    }
+                }
+                std::printf("talk %zu id %u group %u talking %d target %d at %s\n", i,
+                            street.characters[i].id,
+                            street.crowd.conversation(street.characters[i].id),
+                            street.characters[i].talking ? 1 : 0,
+                            target == CG_NO_TARGET ? -1 : static_cast<int>(target), at);
+            }
         }
         std::printf("frames written: %d\n", written);
         if (written == 0) return 1;

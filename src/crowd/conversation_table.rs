@@ -19,8 +19,9 @@ pub(super) struct Conversations {
     pub groups: Vec<Conversation>,
     /// Whether each slot holds a group.
     pub live: Vec<bool>,
-    /// Each slot's generation: a group's id is `slot + capacity · generation`, so that the
-    /// id of a removed group does not name the next one in its slot.
+    /// Each slot's generation: a group's id is `slot + capacity · generation` (wrapping),
+    /// so that the id of a removed group does not name the next one in its slot — until
+    /// a slot has been reused about 2³² / capacity times (67 million at the default 64).
     pub generations: Vec<u32>,
     /// Free slots, the next one last.
     pub free: Vec<u32>,

@@ -18,7 +18,7 @@ pub const CG_MAX_CONVERSATION_MEMBERS: u32 = 8;
 ///
 /// Errors (nothing changed): `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_INVALID_ARGUMENT` (fewer
 /// than 2 or more than 8 members, an id listed twice, an object, a character already in a
-/// conversation, a plan active), `CG_STATUS_NOT_FOUND` (an unknown id),
+/// conversation), `CG_STATUS_NOT_FOUND` (an unknown id),
 /// `CG_STATUS_CAPACITY` (`max_conversations` groups exist already). Not thread-safe.
 #[no_mangle]
 pub unsafe extern "C" fn cg_crowd_set_conversation(
@@ -59,8 +59,9 @@ pub unsafe extern "C" fn cg_crowd_remove_conversation(
 /// Writes the conversation `character` is in to `*out_group`, or `CG_NO_TARGET` if it is in
 /// none.
 ///
-/// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NOT_FOUND` (no such character). Safe to
-/// call concurrently with other `const` calls.
+/// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NOT_FOUND` (no such entity),
+/// `CG_STATUS_INVALID_ARGUMENT` (an object's or the viewer's id). Safe to call concurrently
+/// with other `const` calls.
 #[no_mangle]
 pub unsafe extern "C" fn cg_crowd_get_conversation(
     crowd: *const cg_crowd,

@@ -89,7 +89,8 @@ pub(crate) fn struct_sizes_from<T>(smallest: usize) -> Vec<Corruption<T>> {
         .collect()
 }
 
-/// The size of the older `cg_crowd_config` (before `reorder_period`), still accepted.
+/// The size of the oldest `cg_crowd_config` layout (before `reorder_period`), still
+/// accepted, as are the later ones (before the blink fields, before the conversation fields).
 pub(crate) const OLDER_CROWD_CONFIG: usize = offset_of!(cg_crowd_config, reorder_period);
 
 /// The cases of a function that fills a versioned struct `T` whose `struct_size` the caller

@@ -23,7 +23,9 @@ fn crowd_config_floats() -> Fields {
         restart_distance, min_deactivation_time, max_deactivation_time, eye_fixation_time,
         head_fixation_time, random_pick_probability, social_weight, proximity_radius,
         lod_distance, blink_rate, blink_rate_spread, evoked_blink_min_amplitude,
-        evoked_blink_full_amplitude, evoked_blink_probability, lid_gain)
+        evoked_blink_full_amplitude, evoked_blink_probability, lid_gain, talking_gain,
+        eye_part_weight, listener_look_share, listener_glance_time, speaker_look_share,
+        speaker_glance_time, idle_look_share, idle_glance_time, turn_start_aversion_time)
 }
 
 /// Values of `cg_crowd_config` outside their documented ranges.
@@ -115,6 +117,36 @@ fn crowd_config_out_of_range() -> Vec<Corruption<cg_crowd_config>> {
         ("lid_gain 3", |c| c.lid_gain = 3.0),
         ("eye_motion 2", |c| c.eye_motion = 2),
         ("eye_motion UINT32_MAX", |c| c.eye_motion = u32::MAX),
+        ("max_conversations 2^23 + 1", |c| {
+            c.max_conversations = (1 << 23) + 1
+        }),
+        ("max_conversations UINT32_MAX", |c| {
+            c.max_conversations = u32::MAX
+        }),
+        ("talking_gain -1", |c| c.talking_gain = -1.0),
+        ("talking_gain 101", |c| c.talking_gain = 101.0),
+        ("eye_part_weight -0.1", |c| c.eye_part_weight = -0.1),
+        ("eye_part_weight 101", |c| c.eye_part_weight = 101.0),
+        ("listener_look_share 0", |c| c.listener_look_share = 0.0),
+        ("listener_look_share 1", |c| c.listener_look_share = 1.0),
+        ("listener_glance_time 0", |c| c.listener_glance_time = 0.0),
+        ("listener_glance_time 601", |c| {
+            c.listener_glance_time = 601.0
+        }),
+        ("speaker_look_share -0.5", |c| c.speaker_look_share = -0.5),
+        ("speaker_look_share 1", |c| c.speaker_look_share = 1.0),
+        ("speaker_glance_time -1", |c| c.speaker_glance_time = -1.0),
+        ("speaker_glance_time 601", |c| c.speaker_glance_time = 601.0),
+        ("idle_look_share 0", |c| c.idle_look_share = 0.0),
+        ("idle_look_share 1.5", |c| c.idle_look_share = 1.5),
+        ("idle_glance_time 0", |c| c.idle_glance_time = 0.0),
+        ("idle_glance_time 601", |c| c.idle_glance_time = 601.0),
+        ("turn_start_aversion_time -0.1", |c| {
+            c.turn_start_aversion_time = -0.1
+        }),
+        ("turn_start_aversion_time 61", |c| {
+            c.turn_start_aversion_time = 61.0
+        }),
     ])
 }
 
@@ -126,11 +158,12 @@ pub(crate) fn rows_crowd(t: &mut Table) {
     t.case(f, "out_crowd NULL", NULL_ARG, |_| unsafe {
         cg_crowd_create(&init(cg_crowd_config_init), null_mut())
     });
-    // Callers built before `reorder_period` existed pass the size without it, which is
-    // accepted.
+    // Callers built against older headers pass the sizes of the older layouts (144 bytes,
+    // before `reorder_period`; 152, before the blink fields; 176, before the conversation
+    // fields), which are accepted.
     let mut corruptions = struct_sizes_from::<cg_crowd_config>(OLDER_CROWD_CONFIG);
-    // Between the two older layouts' sizes and the current one: no layout's.
-    for size in [148u32, 156] {
+    // Between two layouts' sizes: no layout's.
+    for size in [148u32, 156, 180, 212] {
         corruptions.push(change(
             format!("struct_size {size} (between two layouts)"),
             BAD_SIZE,

@@ -8,6 +8,7 @@ use crate::{
 };
 use crowdgaze::ffi::attention::*;
 use crowdgaze::ffi::chain::*;
+use crowdgaze::ffi::conversations::*;
 use crowdgaze::ffi::crowd::*;
 use crowdgaze::ffi::eyelids::cg_eyelids;
 use crowdgaze::ffi::frame::*;
@@ -21,12 +22,13 @@ use std::ptr::{null, null_mut};
 #[derive(Clone, Copy, PartialEq, Eq, Hash, Debug)]
 pub(crate) enum Setup {
     /// Characters (three attention models, two chains) and objects below capacity, a
-    /// viewer, explicit targets, a base pose, a removed character and object, recording on,
-    /// a few frames pushed and stepped.
+    /// viewer, explicit targets, a base pose, a removed character and object, a conversation
+    /// of characters 0 and 1 (1 talking) and two that ended, recording on, a few frames
+    /// pushed and stepped.
     Online,
     /// `Online`, then planned (`cg_crowd_plan`) and stepped along the plan.
     Planned,
-    /// `Online` with as many characters and objects as the capacities allow.
+    /// `Online` with as many characters, objects and conversations as the capacities allow.
     Full,
     /// `Online` with the recording exactly full.
     RecordingFull,
@@ -37,6 +39,8 @@ pub(crate) enum Setup {
 pub(crate) const FPS: f64 = 30.0;
 const FRAMES: usize = 6;
 pub(crate) const UNKNOWN_ID: u32 = 123_456_789;
+/// `max_conversations` of every setup but `Full` (which has 1).
+pub(crate) const MAX_CONVERSATIONS: u32 = 4;
 pub(crate) const JOINTS: usize = 3;
 pub(crate) const KEYS: usize = 3;
 
@@ -121,6 +125,11 @@ pub(crate) struct Harness {
     pub(crate) viewer: Option<u32>,
     pub(crate) removed_character: u32,
     pub(crate) removed_object: u32,
+    /// The live conversation, of characters 0 and 1.
+    pub(crate) conversation: u32,
+    /// Conversations that ended: one left with one member when the removed character went,
+    /// one removed with `cg_crowd_remove_conversation`.
+    pub(crate) ended_conversations: [u32; 2],
     /// Time of the last pushed frame.
     pub(crate) time: f64,
     pub(crate) blender: *mut cg_view_blender,
@@ -181,6 +190,11 @@ impl Harness {
         let mut config: cg_crowd_config = init(cg_crowd_config_init);
         config.max_characters = if setup == Setup::Full { 4 } else { 6 };
         config.max_objects = if setup == Setup::Full { 2 } else { 3 };
+        config.max_conversations = if setup == Setup::Full {
+            1
+        } else {
+            MAX_CONVERSATIONS
+        };
         config.max_recorded_states = match setup {
             Setup::Unrecorded => 0,
             Setup::RecordingFull => (6 * FRAMES) as u32,
@@ -196,6 +210,8 @@ impl Harness {
             viewer: None,
             removed_character: 0,
             removed_object: 0,
+            conversation: 0,
+            ended_conversations: [0; 2],
             time: 0.0,
             blender: Harness::blender(true, [true; KEYS]),
             blender_no_camera: Harness::blender(false, [true; KEYS]),
@@ -206,14 +222,15 @@ impl Harness {
         let no_eyes = chain_without_eyes();
         let crowd_model = cg_attention_model::Crowd as u32;
         h.add_character([0.0, 0.0, 0.0], [1.0, 0.0, 0.2], 0, crowd_model, null());
-        h.add_character(
+        let talker = h.add_character(
             [1.5, 0.0, 2.0],
             [0.0, 0.0, -0.8],
-            CG_STATE_HEADING_FROM_MOTION,
+            CG_STATE_HEADING_FROM_MOTION | CG_STATE_TALKING,
             crowd_model,
             &no_eyes,
         );
         h.removed_character = h.add_character([5.0, 0.0, 5.0], [0.0; 3], 0, crowd_model, null());
+        h.ended_conversations[0] = h.converse(&[talker, h.removed_character]);
         h.remove(h.removed_character);
         h.add_character(
             [-1.0, 0.0, 3.0],
@@ -241,6 +258,9 @@ impl Harness {
         let [c0, c1, c3, c4] = h.characters[..] else {
             unreachable!("four characters")
         };
+        h.ended_conversations[1] = h.converse(&[c3, c4]);
+        ok(unsafe { cg_crowd_remove_conversation(crowd, h.ended_conversations[1]) });
+        h.conversation = h.converse(&[c0, c1]);
         let mut target: cg_gaze_target = init(cg_gaze_target_init);
         target.kind = CG_GAZE_TARGET_ENTITY;
         target.entity = h.objects[0];
@@ -293,6 +313,15 @@ impl Harness {
             flags,
             ..Mover::still(id, start)
         })
+    }
+
+    /// Makes `members` a conversation; returns its id.
+    fn converse(&mut self, members: &[u32]) -> u32 {
+        let mut group = 0;
+        ok(unsafe {
+            cg_crowd_set_conversation(self.crowd, members.as_ptr(), members.len(), &mut group)
+        });
+        group
     }
 
     /// Remembers how a new entity moves; returns its id.

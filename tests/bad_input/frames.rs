@@ -53,11 +53,17 @@ fn frame_corruptions() -> Vec<Corruption<Vec<cg_entity_state>>> {
                 }),
             ));
         }
-        out.push(element(
-            "flags 4 (an unknown bit)".into(),
-            INVALID,
-            Rc::new(|s: &mut S| s.flags = 4),
-        ));
+        for (what, flags) in [
+            ("flags 8 (an unknown bit)", 8),
+            ("flags 0x80000000 (an unknown bit)", 0x8000_0000),
+            ("flags CG_STATE_TALKING | 8", CG_STATE_TALKING | 8),
+        ] {
+            out.push(element(
+                what.into(),
+                INVALID,
+                Rc::new(move |s: &mut S| s.flags = flags),
+            ));
+        }
         out.push(element(
             "flags UINT32_MAX".into(),
             INVALID,

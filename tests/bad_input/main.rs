@@ -34,6 +34,7 @@ mod values;
 // calls.
 mod attention;
 mod blend;
+mod conversations;
 mod crowd;
 mod dual_quaternions;
 mod entities;
@@ -58,6 +59,7 @@ use crate::{
 };
 use crowdgaze::ffi::attention::*;
 use crowdgaze::ffi::chain::*;
+use crowdgaze::ffi::conversations::*;
 use crowdgaze::ffi::frame::*;
 use crowdgaze::ffi::gaze::*;
 use crowdgaze::ffi::status::{cg_status, cg_status_str};
@@ -243,7 +245,7 @@ fn bad_input_gets_its_documented_status_and_changes_nothing() {
 #[test]
 fn the_snapshots_see_every_kind_of_change() {
     type Change = fn(&mut Harness) -> cg_status;
-    let changes: [(&str, Change); 14] = [
+    let changes: [(&str, Change); 16] = [
         ("set_impact", |h| unsafe {
             cg_crowd_set_impact(h.crowd, h.object(), 3.0)
         }),
@@ -278,6 +280,13 @@ fn the_snapshots_see_every_kind_of_change() {
         }),
         ("remove_entity", |h| unsafe {
             cg_crowd_remove_entity(h.crowd, h.object())
+        }),
+        ("set_conversation", |h| {
+            let (members, mut group) = ([h.character(2), h.character(3)], 0);
+            unsafe { cg_crowd_set_conversation(h.crowd, members.as_ptr(), 2, &mut group) }
+        }),
+        ("remove_conversation", |h| unsafe {
+            cg_crowd_remove_conversation(h.crowd, h.conversation)
         }),
         ("set_viewer", |h| unsafe {
             cg_crowd_set_viewer(h.crowd, &vec3(0.0, 1.7, 5.0), 1.5, null_mut())

@@ -5,6 +5,7 @@ use crate::{
     values::{bytes_of, init, sized, transform, vec3, zeroed, ZERO_QUAT},
 };
 use crowdgaze::ffi::attention::*;
+use crowdgaze::ffi::conversations::cg_crowd_get_conversation;
 use crowdgaze::ffi::crowd::*;
 use crowdgaze::ffi::gaze::*;
 use crowdgaze::ffi::status::cg_status;
@@ -49,7 +50,7 @@ fn count(bytes: &mut Vec<u8>, value: usize) {
 }
 
 /// Every reader of the crowd: count, config, gaze, joints (final and deltas), eyes, and
-/// for every id its parameters, constraints and its score of every id.
+/// for every id its parameters, constraints, conversation and its score of every id.
 pub(crate) fn crowd_snapshot(crowd: *const cg_crowd, ids: &[u32]) -> Snapshot {
     let mut s = Snapshot::default();
     let mut characters = 0usize;
@@ -117,6 +118,12 @@ pub(crate) fn crowd_snapshot(crowd: *const cg_crowd, ids: &[u32]) -> Snapshot {
         });
         count(b, total);
         b.extend(bytes_of(&constraints));
+        let mut group = u32::MAX - 1;
+        let b = s.section(format!("cg_crowd_get_conversation({id})"));
+        status(b, unsafe {
+            cg_crowd_get_conversation(crowd, id, &mut group)
+        });
+        b.extend(group.to_le_bytes());
         let b = s.section(format!("cg_crowd_score({id}, *)"));
         for &entity in ids {
             let mut score = [zeroed::<cg_score_breakdown>()];

@@ -3,6 +3,7 @@
 use crate::{
     attention::rows_attention,
     blend::rows_blends,
+    conversations::rows_conversations,
     corruption::{inside, non_finite, Corruption},
     crowd::rows_crowd,
     dual_quaternions::rows_dual_quaternions,
@@ -308,6 +309,7 @@ pub(crate) fn table() -> Table {
     rows_init(&mut t);
     rows_crowd(&mut t);
     rows_entities(&mut t);
+    rows_conversations(&mut t);
     rows_frames(&mut t);
     rows_attention(&mut t);
     rows_steps(&mut t);

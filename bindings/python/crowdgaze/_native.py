@@ -29,6 +29,8 @@ from pathlib import Path
 CG_NO_TARGET = 0xFFFFFFFF
 CG_STATE_HEADING_FROM_MOTION = 1
 CG_STATE_HAS_VELOCITY = 2
+CG_STATE_TALKING = 4
+CG_MAX_CONVERSATION_MEMBERS = 8
 CG_MAX_CHAIN_JOINTS = 15
 CG_EYE_MOTION_PAPER = 0
 CG_EYE_MOTION_MAIN_SEQUENCE = 1
@@ -366,6 +368,16 @@ class CrowdConfig(Structure):
         ("evoked_blink_probability", c_float),
         ("lid_gain", c_float),
         ("eye_motion", c_uint32),
+        ("max_conversations", c_uint32),
+        ("talking_gain", c_float),
+        ("eye_part_weight", c_float),
+        ("listener_look_share", c_float),
+        ("listener_glance_time", c_float),
+        ("speaker_look_share", c_float),
+        ("speaker_glance_time", c_float),
+        ("idle_look_share", c_float),
+        ("idle_glance_time", c_float),
+        ("turn_start_aversion_time", c_float),
     ]
 
 
@@ -529,6 +541,12 @@ FUNCTIONS = {
     "cg_gaze_target_init": (_status, [_P(GazeTarget)]),
     "cg_crowd_set_gaze_target": (_status, [_P(CrowdHandle), c_uint32, _P(GazeTarget)]),
     "cg_crowd_clear_gaze_target": (_status, [_P(CrowdHandle), c_uint32]),
+    "cg_crowd_set_conversation": (
+        _status,
+        [_P(CrowdHandle), _P(c_uint32), c_size_t, _P(c_uint32)],
+    ),
+    "cg_crowd_remove_conversation": (_status, [_P(CrowdHandle), c_uint32]),
+    "cg_crowd_get_conversation": (_status, [_P(CrowdHandle), c_uint32, _P(c_uint32)]),
     "cg_crowd_set_base_pose": (_status, [_P(CrowdHandle), c_uint32, _P(Quat), c_size_t]),
     "cg_crowd_set_base_poses": (
         _status,

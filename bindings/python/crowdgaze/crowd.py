@@ -76,7 +76,10 @@ def entity_states(ids, positions=None, flags=n.CG_STATE_HEADING_FROM_MOTION) -> 
     """A numpy record array of ``cg_entity_state`` (``ENTITY_STATE_DTYPE``) for ``ids``, each
     initialised by ``cg_entity_state_init``, with ``flags`` and, if given, ``positions``
     (``(n, 3)``). Set ``states["position"]`` (an ``(n, 3)`` float32 view) each frame and pass
-    the array to ``Crowd.push_frame``: it goes to C without a copy."""
+    the array to ``Crowd.push_frame``: it goes to C without a copy. Who talks changes from
+    frame to frame too: set ``cg.CG_STATE_TALKING`` in a talking entity's flags
+    (``states["flags"][i] |= cg.CG_STATE_TALKING``) and clear it when it stops
+    (``states["flags"][i] &= ~cg.CG_STATE_TALKING``); see ``Crowd.set_conversation``."""
     where = "entity_states"
     ids = a.unsigned(ids, where, "ids")
     flags = c.integer(flags, where, "flags")
@@ -517,6 +520,49 @@ class Crowd(HandleOwner):
         character = c.integer(character, where, "character")
         with self._call(where, exclusive=True) as handle:
             check(lib.cg_crowd_clear_gaze_target(handle, character), "cg_crowd_clear_gaze_target")
+
+    # --- conversations ----------------------------------------------------------------------
+
+    def set_conversation(self, members) -> int:
+        """Makes ``members`` (2 to ``CG_MAX_CONVERSATION_MEMBERS`` character ids, as any
+        sequence of integers or an integer array, each in no other conversation) a group
+        standing together and talking; returns the group's id. From the next step its
+        members look at each other as people in conversation do: listeners mostly at the
+        member whose pushed state has ``CG_STATE_TALKING`` in its ``flags`` (see
+        ``entity_states``), the speaker at its listeners now and then. Removing a member
+        takes it out of the group; a group left with one member ends."""
+        where = "Crowd.set_conversation"
+        ids = a.unsigned(members, where, "members")
+        out = c_uint32(n.CG_NO_TARGET)
+        with self._call(where, exclusive=True) as handle:
+            check(
+                lib.cg_crowd_set_conversation(
+                    handle, a.pointer(ids, c_uint32), ids.size, byref(out)
+                ),
+                "cg_crowd_set_conversation",
+            )
+        return out.value
+
+    def remove_conversation(self, group: int) -> None:
+        """Ends conversation ``group``: its members go back to their own attention."""
+        where = "Crowd.remove_conversation"
+        group = c.integer(group, where, "group")
+        with self._call(where, exclusive=True) as handle:
+            check(
+                lib.cg_crowd_remove_conversation(handle, group), "cg_crowd_remove_conversation"
+            )
+
+    def conversation_of(self, character: int) -> int | None:
+        """The id of the conversation ``character`` is in, or None if it is in none."""
+        where = "Crowd.conversation_of"
+        character = c.integer(character, where, "character")
+        out = c_uint32(n.CG_NO_TARGET)
+        with self._call(where) as handle:
+            check(
+                lib.cg_crowd_get_conversation(handle, character, byref(out)),
+                "cg_crowd_get_conversation",
+            )
+        return None if out.value == n.CG_NO_TARGET else out.value
 
     # --- tools and offline planning ---------------------------------------------------------
 

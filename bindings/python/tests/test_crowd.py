@@ -489,3 +489,166 @@ def test_read_eyelids_refuses_a_wrong_out_or_range():
     status = cg.lib.cg_crowd_read_eyelids(crowd.handle, 0, 3, lids, len(lids))
     assert status == cg.CG_STATUS_INVALID_ARGUMENT
     assert lids[0].character == 0
+
+
+def test_conversations_are_formed_read_back_and_ended():
+    crowd = cg.Crowd(max_characters=6, max_objects=1, max_conversations=2, seed=1)
+    ids = [crowd.add_character((1.5 * k, 0, 0)) for k in range(6)]
+    lamp = crowd.add_object((0, 0, 3))
+    assert crowd.config.max_conversations == 2 and cg.CG_MAX_CONVERSATION_MEMBERS == 8
+    pair = crowd.set_conversation(ids[:2])  # a list
+    trio = crowd.set_conversation(np.array(ids[2:5], np.uint32))  # a uint32 array
+    assert isinstance(pair, int) and pair != trio
+    assert [crowd.conversation_of(i) for i in ids] == [pair, pair, trio, trio, trio, None]
+    # A character is in one conversation at a time.
+    with pytest.raises(cg.Error) as error:
+        crowd.set_conversation((ids[5], ids[0]))
+    assert error.value.status == cg.Status.INVALID_ARGUMENT
+    assert "already in conversation" in error.value.message
+    # Removing a member leaves the others talking; a group left with one member ends.
+    crowd.remove_entity(ids[4])
+    assert crowd.conversation_of(ids[2]) == trio
+    crowd.remove_entity(ids[1])
+    assert crowd.conversation_of(ids[0]) is None
+    with pytest.raises(cg.Error) as error:
+        crowd.remove_conversation(pair)
+    assert error.value.status == cg.Status.NOT_FOUND
+    assert error.value.function == "cg_crowd_remove_conversation"
+    crowd.remove_conversation(trio)
+    assert crowd.conversation_of(ids[2]) is None and crowd.conversation_of(ids[3]) is None
+    with pytest.raises(cg.Error) as error:  # removing it twice
+        crowd.remove_conversation(trio)
+    assert error.value.status == cg.Status.NOT_FOUND
+    # A new group takes the freed room; the ended groups' ids do not name it.
+    again = crowd.set_conversation([ids[0], ids[5]])
+    assert again not in (pair, trio)
+    crowd.step(1 / FPS)
+    with pytest.raises(cg.Error) as error:
+        crowd.conversation_of(lamp)
+    assert error.value.status == cg.Status.INVALID_ARGUMENT
+
+
+def test_max_conversations_is_a_capacity():
+    crowd = cg.Crowd(max_characters=4, max_conversations=1)
+    ids = [crowd.add_character((k, 0, 0)) for k in range(4)]
+    crowd.set_conversation(ids[:2])
+    with pytest.raises(cg.Error) as error:
+        crowd.set_conversation(ids[2:])
+    assert error.value.status == cg.Status.CAPACITY
+    assert "max_conversations" in error.value.message
+    assert crowd.conversation_of(ids[2]) is None
+    none_allowed = cg.Crowd(max_characters=2, max_conversations=0)
+    a, b = none_allowed.add_character((0, 0, 0)), none_allowed.add_character((1, 0, 0))
+    with pytest.raises(cg.Error) as error:
+        none_allowed.set_conversation([a, b])
+    assert error.value.status == cg.Status.CAPACITY
+
+
+@pytest.mark.parametrize(
+    ("members", "status", "words"),
+    [
+        (lambda ids, lamp: [ids[0]], cg.Status.INVALID_ARGUMENT, "not 1"),
+        (lambda ids, lamp: [ids[0]] * 9, cg.Status.INVALID_ARGUMENT, "not 9"),
+        (lambda ids, lamp: [ids[0], ids[1], ids[0]], cg.Status.INVALID_ARGUMENT, "twice"),
+        (lambda ids, lamp: [ids[0], lamp], cg.Status.INVALID_ARGUMENT, "object"),
+        (lambda ids, lamp: [ids[0], ids[2]], cg.Status.INVALID_ARGUMENT, "already"),
+        (lambda ids, lamp: [ids[0], 12345], cg.Status.NOT_FOUND, "12345"),
+    ],
+    ids=["one member", "nine members", "a member twice", "an object", "already grouped",
+         "an unknown id"],
+)
+def test_bad_conversations_are_refused_and_change_nothing(members, status, words):
+    crowd = cg.Crowd(max_characters=4, max_objects=1, seed=2)
+    ids = [crowd.add_character((k, 0, 0)) for k in range(4)]
+    lamp = crowd.add_object((0, 0, 2))
+    grouped = crowd.set_conversation(ids[2:])
+    with pytest.raises(cg.Error) as error:
+        crowd.set_conversation(members(ids, lamp))
+    assert error.value.status == status
+    assert error.value.function == "cg_crowd_set_conversation"
+    assert words in error.value.message
+    assert [crowd.conversation_of(i) for i in ids] == [None, None, grouped, grouped]
+
+
+def test_conversation_arguments_are_checked_by_name():
+    crowd = cg.Crowd(max_characters=2)
+    ids = [crowd.add_character((k, 0, 0)) for k in range(2)]
+    with pytest.raises(TypeError, match="Crowd.set_conversation: members"):
+        crowd.set_conversation([ids[0], 1.5])
+    with pytest.raises(OverflowError, match="Crowd.set_conversation: members"):
+        crowd.set_conversation([ids[0], -1])
+    with pytest.raises(TypeError, match="Crowd.set_conversation: members"):
+        crowd.set_conversation(None)
+    with pytest.raises(OverflowError, match="Crowd.remove_conversation: group"):
+        crowd.remove_conversation(2**32)
+    with pytest.raises(TypeError, match="Crowd.conversation_of: character"):
+        crowd.conversation_of("0")
+    assert crowd.conversation_of(ids[0]) is None
+
+
+def test_the_talking_flag_decides_whom_the_listener_looks_at():
+    # Three characters in a triangle, facing its centre, in one conversation: for 10 s the
+    # first talks, then the second. The third, listening, looks at the one talking.
+    crowd = cg.Crowd(max_characters=3, seed=4)
+    positions = np.array([[0, 0, 0], [1.2, 0, 0], [0.6, 0, 1.0]], np.float32)
+    centre = positions.mean(axis=0)
+    headings = [float(np.arctan2(*(centre - p)[[0, 2]])) for p in positions]
+    ids = [crowd.add_character(p, h) for p, h in zip(positions, headings)]
+    crowd.set_conversation(ids)
+    states = cg.entity_states(ids, positions, flags=0)
+    states["heading"] = headings
+    looks = np.zeros((2, 3))  # per talker, the frames the listener looks at each member
+    for frame in range(20 * FPS):
+        speaker = 0 if frame < 10 * FPS else 1
+        states["flags"] = 0
+        states["flags"][speaker] |= cg.CG_STATE_TALKING
+        crowd.push_frame(frame / FPS, states)
+        crowd.step(1 / FPS)
+        target = crowd.read_gaze()["target"][2]
+        if target in ids:
+            looks[speaker, ids.index(target)] += 1
+    share = looks / (10 * FPS)
+    assert share[0, 0] > 0.4 and share[0, 1] < 0.05, share
+    assert share[1, 1] > 0.4 and share[1, 0] < 0.05, share
+    assert cg.STATE_TALKING == cg.CG_STATE_TALKING == 4
+
+
+@pytest.mark.parametrize(
+    ("field", "value", "status"),
+    [
+        ("max_conversations", 2**23 + 1, cg.Status.INVALID_ARGUMENT),
+        ("talking_gain", -1, cg.Status.INVALID_ARGUMENT),
+        ("eye_part_weight", 101, cg.Status.INVALID_ARGUMENT),
+        ("listener_look_share", 1, cg.Status.INVALID_ARGUMENT),
+        ("listener_glance_time", 0, cg.Status.INVALID_ARGUMENT),
+        ("speaker_look_share", 0, cg.Status.INVALID_ARGUMENT),
+        ("speaker_glance_time", 601, cg.Status.INVALID_ARGUMENT),
+        ("idle_look_share", 1.5, cg.Status.INVALID_ARGUMENT),
+        ("idle_glance_time", -1, cg.Status.INVALID_ARGUMENT),
+        ("turn_start_aversion_time", 61, cg.Status.INVALID_ARGUMENT),
+        ("listener_look_share", float("nan"), cg.Status.NON_FINITE),
+        ("talking_gain", float("inf"), cg.Status.NON_FINITE),
+    ],
+)
+def test_bad_conversation_settings_are_refused(field, value, status):
+    with pytest.raises(cg.Error) as error:
+        cg.Crowd(max_characters=1, **{field: value})
+    assert error.value.status == status
+    assert error.value.function == "cg_crowd_create"
+    assert field in error.value.message
+
+
+def test_conversation_settings_have_their_defaults_and_are_kept():
+    defaults = cg.crowd_config()
+    assert defaults.max_conversations == 64
+    assert (defaults.talking_gain, defaults.eye_part_weight) == (1.5, 1.5)
+    assert (defaults.listener_look_share, defaults.listener_glance_time) == (0.75, 6.0)
+    assert defaults.speaker_look_share == pytest.approx(0.41)
+    assert defaults.speaker_glance_time == pytest.approx(1.8)
+    assert (defaults.idle_look_share, defaults.idle_glance_time) == (0.5, 2.5)
+    assert defaults.turn_start_aversion_time == 1.0
+    crowd = cg.Crowd(max_characters=1, max_conversations=3, talking_gain=2.0,
+                     listener_look_share=0.5, turn_start_aversion_time=0.0)
+    stored = crowd.config
+    assert stored.max_conversations == 3 and stored.talking_gain == 2.0
+    assert stored.listener_look_share == 0.5 and stored.turn_start_aversion_time == 0.0

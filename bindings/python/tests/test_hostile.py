@@ -275,6 +275,8 @@ INTEGER_ARGUMENTS = {
     "score.character": ("crowd.score({v}, lamp)", "character", BAD_UINT32),
     "score.entity": ("crowd.score(ids[0], {v})", "entity", BAD_UINT32),
     "read_constraints.character": ("crowd.read_constraints({v})", "character", BAD_UINT32),
+    "remove_conversation.group": ("crowd.remove_conversation({v})", "group", BAD_UINT32),
+    "conversation_of.character": ("crowd.conversation_of({v})", "character", BAD_UINT32),
     "add_character.attention_model": (
         "crowd.add_character((0, 0, 0), attention_model={v})",
         "attention_model",
@@ -316,6 +318,7 @@ INTEGER_ARGUMENTS = {
 INTEGER_ARRAYS = {
     "entity_states.ids": ("cg.entity_states([{v}])", "ids"),
     "set_base_poses.characters": ("crowd.set_base_poses([{v}], q)", "characters"),
+    "set_conversation.members": ("crowd.set_conversation([{v}])", "members"),
 }
 BAD_IN_ARRAY = [
     (v, t) for v, t in BAD_UINT32 if v not in ("[1]", "np.True_", "1.0", "Decimal(1)")
@@ -810,6 +813,79 @@ def test_other_misuse_is_refused_by_name():
     batch.run()
 
 
+def test_hostile_conversations_are_refused_and_change_nothing():
+    batch = Batch()
+    add = batch.add
+    invalid, not_found = "Error:INVALID_ARGUMENT", "Error:NOT_FOUND"
+    # Members the library refuses (after the binding's checks passed).
+    add("members of one", "crowd.set_conversation([ids[0]])", invalid, "not 1")
+    add("members an int", "crowd.set_conversation(ids[0])", invalid, "not 1")
+    add("members of nine", "crowd.set_conversation([ids[0], ids[1]] * 4 + [ids[2]])", invalid,
+        "not 9")
+    add("members of 2**16", "crowd.set_conversation(np.arange(2**16) % 3)", invalid, "65536")
+    add("members twice", "crowd.set_conversation([ids[2], ids[2]])", invalid, "twice")
+    add("members an object", "crowd.set_conversation([ids[2], lamp])", invalid, "object")
+    add("members already grouped", "crowd.set_conversation([ids[2], ids[0]])", invalid,
+        "already")
+    add("members unknown", "crowd.set_conversation([ids[2], 2**32 - 1])", not_found,
+        "4294967295")
+    add("members a removed character", "crowd.set_conversation([ids[2], gone])", not_found)
+    # Members the binding refuses before the call, naming them.
+    add("members a string", "crowd.set_conversation('01')", TYPE, "members")
+    add("members a dict", "crowd.set_conversation({ids[1]: ids[2]})", TYPE, "members")
+    add("members floats", "crowd.set_conversation(np.array([0.0, 1.0]))", TYPE, "members")
+    add("members bools", "crowd.set_conversation([True, False])", TYPE, "members")
+    add("members 2-D", "crowd.set_conversation(np.array([[ids[1]], [ids[2]]], np.int64))",
+        invalid, "already")
+    add("members int64 too large", "crowd.set_conversation(np.array([ids[1], 2**40]))",
+        OVERFLOW, "members")
+    add("members big-endian", "crowd.set_conversation(np.array([ids[2], 9], '>u4'))",
+        not_found, "9")
+    add("members a generator", "crowd.set_conversation(i for i in ids)", TYPE, "members")
+    # Groups and characters the library does not know.
+    for value in ("group + 1", "2**32 - 1", "0 if group else 1", "ended"):
+        add(f"remove_conversation({value})", f"crowd.remove_conversation({value})", not_found,
+            "conversation")
+    add("conversation_of(gone)", "crowd.conversation_of(gone)", not_found)
+    add("conversation_of(2**32 - 1)", "crowd.conversation_of(2**32 - 1)", not_found)
+    add("conversation_of(lamp)", "crowd.conversation_of(lamp)", invalid, "object")
+    # A failed call changed nothing: the group and the gaze are those of a twin that never
+    # saw a bad call.
+    add("unchanged after the failed calls", None, "ok")
+    setup = SETUP + textwrap.dedent(
+        """
+        gone = crowd.add_character((9, 0, 9))
+        crowd.remove_entity(gone)
+        ended = crowd.set_conversation([ids[1], ids[2]])
+        crowd.remove_conversation(ended)
+        group = crowd.set_conversation([ids[0], ids[1]])
+        """
+    )
+    epilogue = textwrap.dedent(
+        """
+        twin = cg.Crowd(max_characters=8, max_objects=2, seed=1, max_recorded_states=100)
+        assert [twin.add_character((2.0 * k, 0, 0)) for k in range(3)] == ids
+        twin.add_object((0, 0, 3), look_at_height=1.5)
+        twin.push_frame(0.0, states)
+        twin.step(1 / 30)
+        twin.remove_entity(twin.add_character((9, 0, 9)))
+        twin.remove_conversation(twin.set_conversation([ids[1], ids[2]]))
+        assert twin.set_conversation([ids[0], ids[1]]) == group
+        def unchanged():
+            assert [crowd.conversation_of(i) for i in ids] == [group, group, None]
+            for frame in range(1, 31):
+                for c in (crowd, twin):
+                    states["flags"] = cg.CG_STATE_TALKING if frame < 15 else 0
+                    c.push_frame(frame / 30, states)
+                    c.step(1 / 30)
+            assert crowd.read_joints().tobytes() == twin.read_joints().tobytes()
+            assert crowd.read_gaze().tobytes() == twin.read_gaze().tobytes()
+        attempt("unchanged after the failed calls", unchanged)
+        """
+    )
+    batch.run(setup=setup, epilogue=epilogue)
+
+
 # --- ownership: copies, pickles, re-initialisation ----------------------------------------
 
 
@@ -910,6 +986,11 @@ REENTRANT = {
     "evaluate t __float__": ("blender", "blender.evaluate(dq, (0, 0, 5), Closer(blender))"),
     "weights viewer element": ("blender", "blender.weights(dq, (0, 0, Closer(blender)))"),
     "add_camera key __index__": ("blender", "blender.add_camera((0, 0, 1), Closer(blender))"),
+    "set_conversation members element": (
+        "crowd", "crowd.set_conversation(np.array([0, Closer(crowd)], dtype=object))"),
+    "remove_conversation group __index__": (
+        "crowd", "crowd.remove_conversation(Closer(crowd))"),
+    "conversation_of character __index__": ("crowd", "crowd.conversation_of(Closer(crowd))"),
 }
 
 

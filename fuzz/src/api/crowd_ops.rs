@@ -7,6 +7,9 @@ use super::values::{point, quat, vec3};
 use super::{array_pointer, or_null, pointer_to, State};
 use crowdgaze::ffi::attention::*;
 use crowdgaze::ffi::chain::{cg_chain_desc, cg_chain_desc_init_human};
+use crowdgaze::ffi::conversations::{
+    cg_crowd_get_conversation, cg_crowd_remove_conversation, cg_crowd_set_conversation,
+};
 use crowdgaze::ffi::crowd::{
     cg_crowd, cg_crowd_config, cg_crowd_config_init, cg_crowd_create, cg_crowd_destroy,
     cg_crowd_get_config, CG_EYE_MOTION_MAIN_SEQUENCE,
@@ -152,6 +155,39 @@ pub fn create(state: &mut State, input: &mut Input) {
         }
         _ => {}
     }
+    // The conversations' settings (read after the eyes'): any values and a small or bad
+    // capacity, no room for a conversation, or glances as short and turns as abrupt as
+    // allowed.
+    match input.below(8) {
+        7 => {
+            config.max_conversations = [0, 1, 2, 3, 8_388_609, u32::MAX][input.below(6) as usize];
+            let fields: [&mut f32; 9] = [
+                &mut config.talking_gain,
+                &mut config.eye_part_weight,
+                &mut config.listener_look_share,
+                &mut config.listener_glance_time,
+                &mut config.speaker_look_share,
+                &mut config.speaker_glance_time,
+                &mut config.idle_look_share,
+                &mut config.idle_glance_time,
+                &mut config.turn_start_aversion_time,
+            ];
+            for field in fields {
+                *field = input.float();
+            }
+        }
+        6 => config.max_conversations = 0,
+        5 => {
+            config.max_conversations = 1;
+            config.talking_gain = 100.0;
+            config.listener_look_share = 0.999;
+            config.listener_glance_time = 1e-3;
+            config.speaker_glance_time = 1e-3;
+            config.idle_glance_time = 1e-3;
+            config.turn_start_aversion_time = 60.0;
+        }
+        _ => {}
+    }
     let pointer: *const cg_crowd_config = if pointer.is_null() { pointer } else { &config };
     let status = state.change("cg_crowd_create", unsafe { cg_crowd_create(pointer, out) });
     if status == cg_status::Ok {
@@ -160,6 +196,7 @@ pub fn create(state: &mut State, input: &mut Input) {
         state.config = config;
         state.live.clear();
         state.removed.clear();
+        state.conversations.clear();
         state.viewer = None;
         state.time = 0.0;
     } else {
@@ -304,12 +341,29 @@ fn fuzzed_time(state: &State, input: &mut Input) -> f64 {
     }
 }
 
+/// Sets `CG_STATE_TALKING` on the states whose bit (index modulo 8) in one input byte is
+/// set: read after an operation's other arguments, so that older inputs push what they did.
+fn talking(states: &mut [cg_entity_state], input: &mut Input) {
+    let talkers = input.byte();
+    for (index, entity) in states.iter_mut().enumerate() {
+        if talkers & (1 << (index % 8)) != 0 {
+            entity.flags |= CG_STATE_TALKING;
+        }
+    }
+}
+
 pub fn push_frame(state: &mut State, input: &mut Input) {
-    let states = fuzzed_states(state, input);
+    let mut states = fuzzed_states(state, input);
     let count = states.len();
     let t = fuzzed_time(state, input);
     let crowd = state.crowd(input);
     let pointer = array_pointer(&states, input);
+    talking(&mut states, input);
+    let pointer = if pointer.is_null() {
+        pointer
+    } else {
+        states.as_ptr()
+    };
     let status = state.change("cg_crowd_push_frame", unsafe {
         cg_crowd_push_frame(crowd, t, pointer, count)
     });
@@ -386,11 +440,11 @@ pub fn ranged_step(state: &mut State, input: &mut Input) {
     });
 }
 
-/// A frame of a walking crowd: every live entity moves along x in its own lane, then a
-/// step of 1/30 s. Drives the simulation forward with valid calls.
+/// A frame of a walking crowd: every live entity moves along x in its own lane, some of
+/// them talking, then a step of 1/30 s. Drives the simulation forward with valid calls.
 pub fn walk(state: &mut State, input: &mut Input) {
     let t = state.time + 1.0 / 30.0;
-    let states: Vec<cg_entity_state> = state
+    let mut states: Vec<cg_entity_state> = state
         .live
         .iter()
         .enumerate()
@@ -404,6 +458,7 @@ pub fn walk(state: &mut State, input: &mut Input) {
             entity
         })
         .collect();
+    talking(&mut states, input);
     let status = state.change("cg_crowd_push_frame", unsafe {
         cg_crowd_push_frame(state.crowd, t, states.as_ptr(), states.len())
     });
@@ -726,4 +781,65 @@ pub fn chain_init(state: &mut State, input: &mut Input) {
         cg_chain_desc_init_human(pointer, up, forward)
     });
     state.versioned_output("cg_chain_desc_init_human", status, &chain);
+}
+
+/// `cg_crowd_set_conversation`: 2 to 8 members mostly, rarely too few or too many or an
+/// impossible count; the ids from [`State::id`] (live entities mostly, objects among them,
+/// sometimes the viewer, removed or unknown ids; repeats by chance). Records the group on
+/// success.
+pub fn set_conversation(state: &mut State, input: &mut Input) {
+    let count = match input.below(16) {
+        15 => usize::MAX,
+        14 => input.below(11) as usize,
+        n => 2 + n as usize % 7,
+    };
+    // SIZE_MAX is refused before any member is read: 10 ids stand for it.
+    let members: Vec<u32> = (0..count.min(10)).map(|_| state.id(input)).collect();
+    let crowd = state.crowd(input);
+    let pointer = array_pointer(&members, input);
+    let mut group = sentinel::<u32>(1);
+    let out = or_null(group.as_mut_ptr(), input);
+    let function = "cg_crowd_set_conversation";
+    let status = state.change(function, unsafe {
+        cg_crowd_set_conversation(crowd, pointer, count, out)
+    });
+    state.outputs(function, status, &group, 1);
+    if status == cg_status::Ok {
+        assert!(
+            !state.conversations.contains(&group[0]),
+            "{function} returned the id {} of an earlier group",
+            group[0]
+        );
+        state.conversations.push(group[0]);
+    }
+}
+
+/// `cg_crowd_remove_conversation` of a group the crowd returned (live or ended) mostly.
+pub fn remove_conversation(state: &mut State, input: &mut Input) {
+    let group = state.conversation(input);
+    let crowd = state.crowd(input);
+    state.change("cg_crowd_remove_conversation", unsafe {
+        cg_crowd_remove_conversation(crowd, group)
+    });
+}
+
+/// `cg_crowd_get_conversation`, whose group must be `CG_NO_TARGET` or one the crowd
+/// returned.
+pub fn get_conversation(state: &mut State, input: &mut Input) {
+    let id = state.id(input);
+    let mut group = sentinel::<u32>(1);
+    let crowd = state.crowd(input);
+    let out = or_null(group.as_mut_ptr(), input);
+    let function = "cg_crowd_get_conversation";
+    let status = state.call(function, unsafe {
+        cg_crowd_get_conversation(crowd, id, out)
+    });
+    state.outputs(function, status, &group, 1);
+    if status == cg_status::Ok {
+        assert!(
+            group[0] == CG_NO_TARGET || state.conversations.contains(&group[0]),
+            "{function}({id}) gave {}, a group the crowd never returned",
+            group[0]
+        );
+    }
 }

@@ -108,6 +108,8 @@ pub struct State {
     live: Vec<u32>,
     removed: Vec<u32>,
     viewer: Option<u32>,
+    /// Ids of the conversations the crowd returned, live or ended.
+    conversations: Vec<u32>,
     /// Time of the last frame pushed successfully.
     time: f64,
     /// The operation running, for messages.
@@ -333,6 +335,21 @@ impl State {
         id.unwrap_or(0)
     }
 
+    /// A conversation id to pass: mostly one the crowd returned (live or ended; 0 if none),
+    /// sometimes `CG_NO_TARGET`, one past the last returned, or any value.
+    fn conversation(&self, input: &mut Input) -> u32 {
+        let last = self.conversations.last().copied().unwrap_or(0);
+        match input.below(16) {
+            13 => u32::MAX,
+            14 => last.wrapping_add(1),
+            15 => input.u32(),
+            _ => match self.conversations.len() {
+                0 => 0,
+                n => self.conversations[input.below(256) as usize % n],
+            },
+        }
+    }
+
     /// The crowd handle, rarely NULL.
     fn crowd(&self, input: &mut Input) -> *mut cg_crowd {
         self.touch(CROWD);
@@ -414,6 +431,7 @@ impl State {
             live: Vec::new(),
             removed: Vec::new(),
             viewer: None,
+            conversations: Vec::new(),
             time: 0.0,
             operation: "start",
             changed: false,

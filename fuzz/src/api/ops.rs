@@ -58,6 +58,9 @@ pub const OPS: &[Op] = &[
     ("ranged_step", crowd_ops::ranged_step),
     ("ranged_push", crowd_ops::ranged_push),
     ("read_eyelids", crowd_ops::read_eyelids),
+    ("set_conversation", crowd_ops::set_conversation),
+    ("remove_conversation", crowd_ops::remove_conversation),
+    ("get_conversation", crowd_ops::get_conversation),
 ];
 
 /// The functions that return no status: the last error message into a buffer of any

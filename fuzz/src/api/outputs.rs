@@ -172,6 +172,21 @@ output!(cg_crowd_config, |v| [
     v.social_weight,
     v.proximity_radius,
     v.lod_distance,
+    v.blink_rate,
+    v.blink_rate_spread,
+    v.evoked_blink_min_amplitude,
+    v.evoked_blink_full_amplitude,
+    v.evoked_blink_probability,
+    v.lid_gain,
+    v.talking_gain,
+    v.eye_part_weight,
+    v.listener_look_share,
+    v.listener_glance_time,
+    v.speaker_look_share,
+    v.speaker_glance_time,
+    v.idle_look_share,
+    v.idle_glance_time,
+    v.turn_start_aversion_time,
 ]);
 
 // SAFETY: a repr(C) struct of integers and floats only.
