@@ -189,8 +189,13 @@ impl Crowd {
         let scene = &self.shared.scene;
         let id = scene.ids()[scene.character_entities()[character] as usize];
         let settings = &self.shared.config.blinks;
-        let closure =
-            self.states.blinks[character].closure(character_seed(self.shared.config.seed, id));
+        // Open eyes need no draw (nor the character's seed).
+        let blink = &self.states.blinks[character];
+        let closure = if blink.is_blinking() {
+            blink.closure(character_seed(self.shared.config.seed, id))
+        } else {
+            0.0
+        };
         let chain = self.chain_of(character);
         let tables = &self.shared.characters;
         let base = |joint| tables.base_rotation(&self.shared.chains, character, joint);
