@@ -391,3 +391,26 @@ fn the_c_config_names_a_bad_blink_field() {
         );
     }
 }
+
+#[test]
+fn a_longer_output_than_asked_for_is_written_only_as_far_as_count() {
+    use crowdgaze::ffi::eyelids::{cg_crowd_read_eyelids, cg_eyelids};
+    use crowdgaze::ffi::status::cg_status;
+    let handle =
+        support::CrowdHandle::new(&support::init(crowdgaze::ffi::crowd::cg_crowd_config_init));
+    for x in 0..3 {
+        handle.add_character(Vec3::new(x as f32, 0.0, 0.0), 0.0);
+    }
+    let untouched = cg_eyelids {
+        character: 77,
+        left_closure: 7.0,
+        ..cg_eyelids::default()
+    };
+    let mut out = [untouched; 8];
+    // SAFETY: a live crowd and 8 writable entries.
+    let status =
+        unsafe { cg_crowd_read_eyelids(handle.as_const(), 1, 2, out.as_mut_ptr(), out.len()) };
+    assert_eq!(status, cg_status::Ok);
+    assert!(out[..2].iter().all(|lids| lids.character != 77));
+    assert!(out[2..].iter().all(|lids| *lids == untouched));
+}

@@ -2,9 +2,9 @@
 //! closure, upper lids following the eyes). The model is `crate::ik::eyelids`; its
 //! settings are fields of `cg_crowd_config`.
 
-use super::crowd::{cg_crowd, crowd_ref};
+use super::crowd::cg_crowd;
+use super::gaze::read_characters;
 use super::{cg_status, ffi_boundary};
-use crate::error::Error;
 
 /// A character's eyelids after a step, as read by `cg_crowd_read_eyelids`. Not versioned:
 /// an array element, like `cg_eye_info`.
@@ -43,27 +43,18 @@ pub unsafe extern "C" fn cg_crowd_read_eyelids(
     out_len: usize,
 ) -> cg_status {
     ffi_boundary!({
-        // SAFETY: handle contract of cg_crowd.
-        let crowd = unsafe { crowd_ref(crowd) }?;
-        // SAFETY: the caller provides `out_len` writable cg_eyelids (or (NULL, 0)).
-        let out = unsafe { super::slice_mut(out, out_len, "out") }?;
-        crowd.joint_total(first as usize, count as usize)?;
-        if out.len() < count as usize {
-            return Err(Error::InvalidArgument(format!(
-                "out_len is {out_len}, {count} characters were asked for"
-            ))
-            .into());
+        // SAFETY: the caller's contract, forwarded.
+        unsafe {
+            read_characters(crowd, first, count, out, out_len, |crowd, position| {
+                let lids = crowd.eyelids_at(position);
+                cg_eyelids {
+                    character: lids.character,
+                    left_closure: lids.left_closure,
+                    right_closure: lids.right_closure,
+                    left_lid_pitch: lids.left_lid_pitch,
+                    right_lid_pitch: lids.right_lid_pitch,
+                }
+            })
         }
-        for (slot, position) in out.iter_mut().zip(first as usize..) {
-            let lids = crowd.eyelids_at(position);
-            *slot = cg_eyelids {
-                character: lids.character,
-                left_closure: lids.left_closure,
-                right_closure: lids.right_closure,
-                left_lid_pitch: lids.left_lid_pitch,
-                right_lid_pitch: lids.right_lid_pitch,
-            };
-        }
-        Ok(())
     })
 }

@@ -340,28 +340,52 @@ pub unsafe extern "C" fn cg_crowd_read_eyes(
     out_len: usize,
 ) -> cg_status {
     ffi_boundary!({
-        // SAFETY: handle contract of cg_crowd.
-        let crowd = unsafe { crowd_ref(crowd) }?;
-        // SAFETY: the caller provides `out_len` writable cg_eye_info (or (NULL, 0)).
-        let out = unsafe { super::slice_mut(out, out_len, "out") }?;
-        crowd.joint_total(first as usize, count as usize)?;
-        if out.len() < count as usize {
-            return Err(Error::InvalidArgument(format!(
-                "out_len is {out_len}, {count} characters were asked for"
-            ))
-            .into());
+        // SAFETY: the caller's contract, forwarded.
+        unsafe {
+            read_characters(crowd, first, count, out, out_len, |crowd, character| {
+                let world = crowd.config().world;
+                let eyes = crowd.eyes_at(character);
+                cg_eye_info {
+                    character: eyes.character,
+                    left_origin: world.from_metres(eyes.origins[0]).into(),
+                    right_origin: world.from_metres(eyes.origins[1]).into(),
+                    left_direction: eyes.directions[0].into(),
+                    right_direction: eyes.directions[1].into(),
+                }
+            })
         }
-        let world = crowd.config().world;
-        for (slot, character) in out.iter_mut().zip(first as usize..(first + count) as usize) {
-            let eyes = crowd.eyes_at(character);
-            *slot = cg_eye_info {
-                character: eyes.character,
-                left_origin: world.from_metres(eyes.origins[0]).into(),
-                right_origin: world.from_metres(eyes.origins[1]).into(),
-                left_direction: eyes.directions[0].into(),
-                right_direction: eyes.directions[1].into(),
-            };
-        }
-        Ok(())
     })
+}
+
+/// A per-character reader's body: checks `crowd`, `out` (`out_len` writable `T`, or (NULL,
+/// 0)) and the range `first .. first + count` of the characters in the order of
+/// `cg_crowd_read_gaze`, then writes `each(crowd, position)` for each into `out[..count]`.
+///
+/// # Safety
+/// `crowd` must be NULL or a live handle, and `out` NULL or valid for `out_len` writes of
+/// `T` (the contract of the readers).
+pub(super) unsafe fn read_characters<T>(
+    crowd: *const cg_crowd,
+    first: u32,
+    count: u32,
+    out: *mut T,
+    out_len: usize,
+    each: impl Fn(&crate::crowd::Crowd, usize) -> T,
+) -> Result<()> {
+    // SAFETY: handle contract of cg_crowd.
+    let crowd = unsafe { crowd_ref(crowd) }?;
+    // SAFETY: the caller provides `out_len` writable values (or (NULL, 0)).
+    let out = unsafe { super::slice_mut(out, out_len, "out") }?;
+    crowd.joint_total(first as usize, count as usize)?;
+    if out.len() < count as usize {
+        return Err(Error::InvalidArgument(format!(
+            "out_len is {out_len}, {count} characters were asked for"
+        ))
+        .into());
+    }
+    let positions = first as usize..first as usize + count as usize;
+    for (slot, position) in out.iter_mut().zip(positions) {
+        *slot = each(crowd, position);
+    }
+    Ok(())
 }
