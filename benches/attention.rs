@@ -40,16 +40,21 @@ fn plaza_configured(characters: usize, period: u32, threads: u32, blinks: BlinkS
     })
     .expect("crowd");
     let mut scenario = Scenario::plaza(characters, DENSITY, 7);
-    scenario.populate(&mut crowd).expect("populate");
-    // Two frames so that velocities and headings come from motion, then a warm-up.
+    warm_up(&mut crowd, &mut scenario);
+    crowd
+}
+
+/// Adds `scenario`'s people to `crowd` and plays 40 frames: two so that velocities and
+/// headings come from motion, then a warm-up.
+fn warm_up(crowd: &mut Crowd, scenario: &mut Scenario) {
+    scenario.populate(crowd).expect("populate");
     for frame in 0..40 {
         scenario.advance(DT);
         scenario
-            .push(&mut crowd, f64::from(frame as f32 * DT))
+            .push(crowd, f64::from(frame as f32 * DT))
             .expect("push");
         crowd.step(DT).expect("step");
     }
-    crowd
 }
 
 fn attention(c: &mut Criterion) {
@@ -130,14 +135,7 @@ fn street(people: usize, conversations: bool) -> (Crowd, Scenario) {
     if conversations {
         scenario = scenario.with_conversations(1.0 / 3.0, 5);
     }
-    scenario.populate(&mut crowd).expect("populate");
-    for frame in 0..40 {
-        scenario.advance(DT);
-        scenario
-            .push(&mut crowd, f64::from(frame as f32 * DT))
-            .expect("push");
-        crowd.step(DT).expect("step");
-    }
+    warm_up(&mut crowd, &mut scenario);
     (crowd, scenario)
 }
 

@@ -72,18 +72,64 @@ pub struct Scenario {
     talking: Vec<bool>,
 }
 
-/// A group of a scenario's people standing together and talking in turns: a seeded script
-/// of turns of 4–16 s, each by a member other than the last speaker, with pauses of 0–1 s.
-#[derive(Debug, Clone, PartialEq)]
-pub struct TalkingGroup {
-    /// The members, as indices into [`Scenario::people`].
-    pub members: Vec<usize>,
-    /// The member talking now (an index into `members`), if any.
-    pub speaker: Option<usize>,
+/// Turn-taking in a group of talkers: turns of 4–16 s, each by a member other than the
+/// last speaker, with pauses of 0–1 s between them, drawn from the caller's stream.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TurnTaking {
+    /// How many members take turns.
+    members: usize,
+    /// The member talking now, if any.
+    speaker: Option<usize>,
     /// The last member who talked.
     last: usize,
     /// Seconds until the current turn or pause ends.
     left: f32,
+}
+
+impl TurnTaking {
+    /// Turns among `members` (at least 2), starting after a pause of `pause` seconds.
+    pub fn new(members: usize, pause: f32) -> TurnTaking {
+        TurnTaking {
+            members,
+            speaker: None,
+            last: usize::MAX,
+            left: pause,
+        }
+    }
+
+    /// The member talking now, if any.
+    pub fn speaker(&self) -> Option<usize> {
+        self.speaker
+    }
+
+    /// Moves on by `dt` seconds, drawing from `random`; returns who talks now.
+    pub fn advance(&mut self, dt: f32, random: &mut Random) -> Option<usize> {
+        self.left -= dt;
+        if self.left <= 0.0 {
+            if self.speaker.take().is_some() {
+                self.left = random.range(0.0, 1.0);
+            } else {
+                let mut speaker = random.below(self.members as u32) as usize;
+                if speaker == self.last {
+                    speaker = (speaker + 1) % self.members;
+                }
+                self.speaker = Some(speaker);
+                self.last = speaker;
+                self.left = random.range(4.0, 16.0);
+            }
+        }
+        self.speaker
+    }
+}
+
+/// A group of a scenario's people standing together and talking in turns ([`TurnTaking`],
+/// seeded).
+#[derive(Debug, Clone, PartialEq)]
+pub struct TalkingGroup {
+    /// The members, as indices into [`Scenario::people`].
+    pub members: Vec<usize>,
+    /// Who talks when (indices into `members`).
+    pub turns: TurnTaking,
     /// The group's conversation id in the crowd, after [`Scenario::populate`].
     pub conversation: Option<u32>,
 }
@@ -202,10 +248,8 @@ impl Scenario {
                 };
             }
             self.groups.push(TalkingGroup {
+                turns: TurnTaking::new(members.len(), random.range(0.0, 2.0)),
                 members,
-                speaker: None,
-                last: usize::MAX,
-                left: random.range(0.0, 2.0),
                 conversation: None,
             });
             next += size;
@@ -297,23 +341,15 @@ impl Scenario {
     /// little sideways, staying inside the rectangle. Groups go on with their turns.
     pub fn advance(&mut self, dt: f32) {
         for group in &mut self.groups {
-            group.left -= dt;
-            if group.left > 0.0 {
-                continue;
-            }
-            if let Some(speaker) = group.speaker.take() {
-                self.talking[group.members[speaker]] = false;
-                group.left = self.random.range(0.0, 1.0);
-            } else {
-                let count = group.members.len();
-                let mut speaker = self.random.below(count as u32) as usize;
-                if speaker == group.last {
-                    speaker = (speaker + 1) % count;
+            let before = group.turns.speaker();
+            let now = group.turns.advance(dt, &mut self.random);
+            if before != now {
+                if let Some(member) = before {
+                    self.talking[group.members[member]] = false;
                 }
-                group.speaker = Some(speaker);
-                group.last = speaker;
-                self.talking[group.members[speaker]] = true;
-                group.left = self.random.range(4.0, 16.0);
+                if let Some(member) = now {
+                    self.talking[group.members[member]] = true;
+                }
             }
         }
         for person in &mut self.people {

@@ -7,31 +7,20 @@
 mod support;
 
 use crowdgaze::attention::{AttentionModel, CharacterParams};
+use crowdgaze::scenario::TurnTaking;
 use crowdgaze::scene::EntityUpdate;
 use crowdgaze::{CharacterDesc, Crowd, CrowdConfig, Error};
 use glam::Vec3;
 
 const DT: f32 = 1.0 / 30.0;
 
-/// Who talks each frame in a group of `members`: turns of 4–16 s by a member other than the
-/// last speaker, with pauses of 0–1 s (seeded).
+/// Who talks each frame in a group of `members` ([`TurnTaking`], seeded).
 fn turns(members: usize, frames: usize, seed: u64) -> Vec<Option<usize>> {
     let mut random = crowdgaze::math::random::Random::new(seed);
-    let mut script = Vec::with_capacity(frames);
-    let mut last = usize::MAX;
-    while script.len() < frames {
-        let mut speaker = random.below(members as u32) as usize;
-        if speaker == last {
-            speaker = (speaker + 1) % members;
-        }
-        last = speaker;
-        let turn = (random.range(4.0, 16.0) / DT) as usize;
-        let pause = (random.range(0.0, 1.0) / DT) as usize;
-        script.extend(std::iter::repeat_n(Some(speaker), turn));
-        script.extend(std::iter::repeat_n(None, pause));
-    }
-    script.truncate(frames);
-    script
+    let mut turns = TurnTaking::new(members, 0.0);
+    (0..frames)
+        .map(|_| turns.advance(DT, &mut random))
+        .collect()
 }
 
 /// A group standing in a circle of radius `radius` around `centre`, each facing the centre.
