@@ -42,6 +42,10 @@ pub const NOBODY: u8 = u8::MAX;
 /// Shape of the gamma distribution of glance lengths.
 const GLANCE_SHAPE: u32 = 2;
 
+/// The most glances of one member a step replays: a longer step (a pause) starts the
+/// member's glance afresh after them, so a step of any length costs a bounded time.
+const MAX_GLANCES_PER_STEP: u32 = 64;
+
 /// How members of conversations look at each other. Times in seconds, shares in [0, 1].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ConversationSettings {
@@ -263,13 +267,17 @@ impl Conversation {
                 self.start_glance(settings, seed, member, role, true);
             } else {
                 self.gaze[member].left -= dt;
-                // A long step may end several glances.
-                let mut guard = 0;
-                while self.gaze[member].left <= 0.0 && guard < 64 {
+                // A long step may end several glances: up to `MAX_GLANCES_PER_STEP` are
+                // replayed; after more (a pause), the member starts a glance afresh.
+                let mut replayed = 0;
+                while self.gaze[member].left <= 0.0 {
                     let overshoot = self.gaze[member].left;
                     self.start_glance(settings, seed, member, role, false);
+                    replayed += 1;
+                    if replayed == MAX_GLANCES_PER_STEP {
+                        break;
+                    }
                     self.gaze[member].left += overshoot;
-                    guard += 1;
                 }
             }
         }

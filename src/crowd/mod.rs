@@ -60,6 +60,7 @@ pub use config::{CrowdConfig, EyeMotion, MAX_CAPACITY, MAX_THREADS};
 pub use ingest::PushRanges;
 pub use model_state::{GlanceState, Look, LookTarget, ModelState, SaliencyState};
 pub use ranges::StepRanges;
+pub use step::MAX_SIMULATED_STEP;
 pub use values::{
     CharacterDesc, ExplicitTarget, EyeState, EyelidState, GazeInfo, ObjectDesc, TargetPriority,
 };

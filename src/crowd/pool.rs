@@ -74,6 +74,9 @@ impl PoolState {
 pub(super) struct WorkerPool {
     state: Arc<PoolState>,
     workers: Vec<JoinHandle<()>>,
+    /// The process that started the workers: in a child forked from it (`fork()` copies
+    /// only the calling thread) they do not exist.
+    process: u32,
 }
 
 impl std::fmt::Debug for WorkerPool {
@@ -105,6 +108,7 @@ impl WorkerPool {
                 workers,
                 &crate::alloc::Field("worker threads", workers as u64),
             )?,
+            process: std::process::id(),
         };
         for index in 0..workers {
             let state = Arc::clone(&pool.state);
@@ -119,6 +123,18 @@ impl WorkerPool {
             pool.workers.push(worker);
         }
         Ok(pool)
+    }
+
+    /// The number of worker threads (the caller of `run` is one more).
+    pub fn workers(&self) -> usize {
+        self.workers.len()
+    }
+
+    /// True in a child process forked after the workers started: they do not run there,
+    /// and `run` would wait for them forever. Drop such a pool (it lets go of the threads
+    /// without joining them) and start a new one.
+    pub fn is_forked(&self) -> bool {
+        std::process::id() != self.process
     }
 
     /// Runs `task(index)` for every index in `0..tasks`, on the workers and the calling
@@ -195,6 +211,15 @@ fn worker_loop(state: &PoolState) {
 
 impl Drop for WorkerPool {
     fn drop(&mut self) {
+        if self.is_forked() {
+            // The threads stayed in the parent: nothing to stop or join here, and joining
+            // or detaching a thread of another process is undefined. Their handles are let
+            // go without their destructors.
+            for worker in self.workers.drain(..) {
+                std::mem::forget(worker);
+            }
+            return;
+        }
         self.state.shutdown.store(true, Ordering::Release);
         self.state.generation.fetch_add(1, Ordering::Release);
         for worker in self.workers.drain(..) {

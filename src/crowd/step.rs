@@ -26,6 +26,12 @@ const CHARACTERS_PER_TASK: usize = 128;
 /// faster at 100 000 than grid order without it.)
 const GRID_ORDER_FROM: usize = 30_000;
 
+/// The longest time one step simulates, seconds (one hour): a longer `dt` (a pause, a time
+/// stamp passed as a step) moves attention, gaze, blinks and conversations on by this much,
+/// long after every one of them has settled, and keeps their clocks finite. A plan's replay
+/// clock still moves by the whole `dt`.
+pub const MAX_SIMULATED_STEP: f32 = 3600.0;
+
 impl Crowd {
     /// Steps every character `dt` seconds after the previous step: the attention job (by
     /// each character's model and level of detail), then the gaze job. With `threads > 1`
@@ -53,7 +59,13 @@ impl Crowd {
     /// in storage order, each split into tasks of [`CHARACTERS_PER_TASK`].
     fn step_jobs(&mut self, dt: f32, attention: bool, gaze: bool) -> Result<()> {
         self.begin_step(dt)?;
-        let pool = self.pool.take();
+        let pool = match self.pool.take() {
+            // In a child forked from the process that started the workers, they are gone:
+            // start them anew (or step on this thread alone if that fails; the result is
+            // the same).
+            Some(pool) if pool.is_forked() => WorkerPool::new(pool.workers()).ok(),
+            pool => pool,
+        };
         let ranges = self.step_ranges()?;
         let count = ranges.character_count();
         let mut result = Ok(());
@@ -85,8 +97,10 @@ impl Crowd {
     /// rebuilds the spatial grid and fixes what every character shares this frame. Then
     /// run ranges of characters with [`step_ranges`](Self::step_ranges) (from any number of
     /// threads) or [`step_range`](Self::step_range), and finish with
-    /// [`end_step`](Self::end_step). Fails without changing anything on a negative or
-    /// non-finite `dt`, or if a step or a push is already open ([`Error::WrongState`]).
+    /// [`end_step`](Self::end_step). Any finite `dt` returns in a time bounded by the
+    /// crowd's size; a step longer than [`MAX_SIMULATED_STEP`] simulates that much. Fails
+    /// without changing anything on a negative or non-finite `dt`, or if a step or a push
+    /// is already open ([`Error::WrongState`]).
     pub fn begin_step(&mut self, dt: f32) -> Result<()> {
         ensure_finite(dt, "dt")?;
         if dt < 0.0 {
@@ -106,6 +120,7 @@ impl Crowd {
         if let Some(plan) = &mut shared.plan {
             plan.advance(dt, &mut shared.scene);
         }
+        let dt = dt.min(MAX_SIMULATED_STEP);
         let (settings, seed) = (&shared.config.conversation, shared.config.seed);
         shared
             .conversations

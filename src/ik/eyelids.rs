@@ -50,6 +50,11 @@ pub const MIN_OPEN: f32 = 0.1;
 /// The share of a blink during which the lid closes (the rest it opens).
 pub const CLOSING_SHARE: f32 = 1.0 / 3.0;
 
+/// The longest time a step replays blink by blink, seconds: a longer step starts the
+/// character's blinking afresh ([`BlinkState::advance`]), so that a step of any length costs
+/// at most `CATCH_UP_HORIZON / MIN_OPEN` (600) draws per character.
+pub const CATCH_UP_HORIZON: f32 = 60.0;
+
 /// Shape of the gamma distribution of the intervals between blinks.
 const INTERVAL_SHAPE: u32 = 3;
 
@@ -278,7 +283,21 @@ impl BlinkState {
             }
         }
         self.clock -= dt;
-        // A blink that ended this frame: the next interval runs from its start.
+        if self.clock < -CATCH_UP_HORIZON {
+            // Blinks over more than the horizon passed in this step (a pause, or a time
+            // stamp passed as a step): start afresh, as a new character does, rather than
+            // replay them one by one (in f32, past about 10⁸ s, replaying them would make
+            // no progress at all).
+            let (mut random, _) = blink_stream(seed, self.draws);
+            let rate = settings.rate_of(seed);
+            let first = interval(&mut random, rate) * (1.0 - random.next_f32());
+            self.draws = self.draws.wrapping_add(1);
+            self.clock = first.max(f32::MIN_POSITIVE);
+            return;
+        }
+        // A blink that ended this frame: the next interval runs from its start. Each turn
+        // moves the clock on by at least `MIN_OPEN`, so at most `CATCH_UP_HORIZON /
+        // MIN_OPEN` turns.
         while self.is_blinking() {
             let (mut random, duration) = blink_stream(seed, self.draws);
             let elapsed = -self.clock;

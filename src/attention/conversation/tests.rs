@@ -230,3 +230,34 @@ fn settings_out_of_range_are_refused() {
     };
     assert!(matches!(nan.validate(), Err(Error::NonFinite(_))));
 }
+
+#[test]
+fn a_long_step_starts_glances_afresh_and_normal_frames_go_on() {
+    let settings = ConversationSettings::default();
+    let mut talking = [false; MAX_MEMBERS];
+    talking[0] = true;
+    for dt in [100.0, 1.0e7, 3.0e8, f32::MAX] {
+        let mut conversation = Conversation::new(&[100, 101, 102]);
+        for _ in 0..30 {
+            conversation.advance(&settings, 7, DT, &talking);
+        }
+        conversation.advance(&settings, 7, dt, &talking);
+        for member in 0..3 {
+            let left = conversation.gaze[member].left;
+            assert!(
+                left > 0.0 && left.is_finite(),
+                "dt {dt}: glance left {left}"
+            );
+        }
+        // Normal frames then change glances at the usual pace (seconds), not every frame.
+        let draws = |c: &Conversation| c.gaze[..3].iter().map(|g| g.draws).sum::<u32>();
+        let before = draws(&conversation);
+        for _ in 0..30 {
+            conversation.advance(&settings, 7, DT, &talking);
+        }
+        assert!(
+            draws(&conversation) - before < 10,
+            "dt {dt}: glances every frame"
+        );
+    }
+}

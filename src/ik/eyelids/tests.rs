@@ -281,3 +281,44 @@ fn eye_pitches_measure_each_eye_against_the_heads_up() {
     .unwrap();
     assert_eq!(eye_pitches(&eyeless, rest, deltas), [0.0, 0.0]);
 }
+
+#[test]
+fn a_step_of_any_length_returns_with_open_eyes_and_blinking_goes_on() {
+    let settings = BlinkSettings {
+        mean_rate: 120.0, // the most draws a step can need
+        ..BlinkSettings::default()
+    };
+    for seed in seeds(20) {
+        for dt in [30.0, 61.0, 1.0e4, 1.0e7, 3.0e8, 1.0e20, f32::MAX] {
+            let mut state = BlinkState::new(&settings, seed);
+            state.advance(&settings, seed, 1.0, Some(1.0)); // mid-blink, evoked
+            let before = state.draws();
+            state.advance(&settings, seed, dt, None);
+            // Replayed blink by blink up to the horizon, started afresh beyond it: a
+            // bounded number of draws either way.
+            let used = state.draws() - before;
+            assert!(
+                used as f32 <= CATCH_UP_HORIZON / MIN_OPEN + 1.0,
+                "dt {dt}: {used} draws"
+            );
+            assert!(state.clock.is_finite(), "dt {dt}: clock {}", state.clock);
+            if dt > CATCH_UP_HORIZON {
+                assert!(
+                    !state.is_blinking(),
+                    "dt {dt}: blinking after a fresh start"
+                );
+                assert_eq!(used, 1, "dt {dt}: a fresh start draws once");
+            }
+            // Normal frames afterwards: the character blinks again within a minute.
+            let blinks_before = state.draws();
+            for _ in 0..(60.0 * FPS) as usize {
+                state.advance(&settings, seed, DT, None);
+                assert!((0.0..=1.0).contains(&state.closure(seed)));
+            }
+            assert!(
+                state.draws() > blinks_before + 10,
+                "dt {dt}: no blinks after"
+            );
+        }
+    }
+}
