@@ -10,6 +10,7 @@ use glam::{Vec2, Vec3};
 
 use crate::crowd::{CharacterDesc, Crowd, ObjectDesc};
 use crate::error::Result;
+use crate::ik::GazeChain;
 use crate::math::random::{stream, Purpose, Random};
 use crate::scene::EntityUpdate;
 use crate::world::World;
@@ -70,6 +71,9 @@ pub struct Scenario {
     pub groups: Vec<TalkingGroup>,
     /// Whether each person talks now.
     talking: Vec<bool>,
+    /// The gaze chains people take in turn ([`with_chains`](Self::with_chains)); empty: the
+    /// crowd's human chain for everyone.
+    chains: Vec<GazeChain>,
 }
 
 /// Turn-taking in a group of talkers: turns of 4–16 s, each by a member other than the
@@ -213,6 +217,7 @@ impl Scenario {
             ids: Vec::new(),
             groups: Vec::new(),
             talking: vec![false; people],
+            chains: Vec::new(),
         }
     }
 
@@ -286,6 +291,7 @@ impl Scenario {
             ids: Vec::new(),
             groups: Vec::new(),
             talking: vec![false; people],
+            chains: Vec::new(),
         }
     }
 
@@ -293,14 +299,27 @@ impl Scenario {
         world.forward * ground.x + world.side * ground.y
     }
 
+    /// Gives person `i` the gaze chain `chains[i % chains.len()]` (in the crowd's axes) when
+    /// [`populate`](Self::populate) adds them: a crowd of mixed rigs. No chains (the
+    /// default): everyone gets the crowd's human chain.
+    pub fn with_chains(mut self, chains: Vec<GazeChain>) -> Scenario {
+        self.chains = chains;
+        self
+    }
+
     /// Adds every person as a character and every prop as an object to `crowd`.
     pub fn populate(&mut self, crowd: &mut Crowd) -> Result<()> {
         let world = crowd.config().world;
         self.ids.clear();
         for person in &self.people {
+            let chain = match self.chains.len() {
+                0 => None,
+                kinds => Some(self.chains[self.ids.len() % kinds]),
+            };
             let id = crowd.add_character(&CharacterDesc {
                 position: Self::to_world(&world, person.position),
                 heading: person.heading,
+                chain,
                 ..CharacterDesc::default()
             })?;
             self.ids.push(id);

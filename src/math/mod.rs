@@ -11,6 +11,8 @@ pub mod packed;
 pub mod random;
 pub(crate) mod wide;
 
+pub use wide::set_max_simd_lanes;
+
 /// `angle` (radians, finite) wrapped into [−π, π] (π only by rounding): the same direction
 /// to within the rounding of the result. Angles already in [−π, π) come back unchanged, bit
 /// for bit.

@@ -233,7 +233,63 @@ pub fn mixed_street_config() -> crowdgaze::CrowdConfig {
     }
 }
 
+/// Gaze chains of every shape the gaze IK steps side by side in one batch, in `world`'s
+/// axes: the human chain; head and eyes alone (empty spine and neck); the human chain
+/// without eyes; a short chain (2 spine, 1 cervical, head, eyes) with rest rotations; a
+/// neck and head without spine or eyes.
+pub fn varied_chains(world: &World) -> Vec<crowdgaze::ik::GazeChain> {
+    use crowdgaze::ik::{ChainJoint, GazeChain};
+    let human = GazeChain::human(world.up, world.forward);
+    let joints = human.joints();
+    let (up, forward) = (world.up, world.forward);
+    let chain = |joints: &[ChainJoint], root: f32| {
+        GazeChain::new(joints, forward, up, up * root).expect("a valid test chain")
+    };
+    let head = |joint: ChainJoint, offset: f32| ChainJoint {
+        offset: up * offset,
+        ..joint
+    };
+    let tilted = |joint: ChainJoint, degrees: f32| ChainJoint {
+        rest: glam::Quat::from_axis_angle(world.side, degrees.to_radians()),
+        ..joint
+    };
+    vec![
+        human,
+        chain(&[head(joints[7], 0.61), joints[8], joints[9]], 0.95),
+        chain(&joints[..8], 0.95),
+        chain(
+            &[
+                tilted(joints[0], 4.0),
+                head(joints[1], 0.25),
+                tilted(joints[5], -3.0),
+                head(joints[7], 0.2),
+                joints[8],
+                joints[9],
+            ],
+            0.95,
+        ),
+        chain(&[joints[5], joints[6], joints[7]], 1.46),
+    ]
+}
+
+/// Gives every third character of `ids` a base pose: a small bend of each joint, different
+/// per character.
+pub fn set_base_poses(crowd: &mut crowdgaze::Crowd, ids: &[u32]) {
+    for (i, &id) in ids.iter().enumerate().filter(|(i, _)| i % 3 == 1) {
+        let joints = crowd.chain(id).unwrap().joint_count();
+        let side = crowd.config().world.side;
+        let pose: Vec<glam::Quat> = (0..joints)
+            .map(|joint| {
+                let angle = 0.02 * (1 + (i + joint) % 5) as f32;
+                glam::Quat::from_axis_angle(side, angle)
+            })
+            .collect();
+        crowd.set_base_pose(id, &pose).unwrap();
+    }
+}
+
 /// A street crowd of `people` and `props` (seed `seed`) mixing the three attention models,
+/// the gaze chains of [`varied_chains`] in turn and base poses on every third character,
 /// with an explicit target of each priority: with a viewer set by the test, every path of a
 /// character's step.
 pub fn mixed_street(
@@ -244,10 +300,12 @@ pub fn mixed_street(
 ) -> (crowdgaze::Crowd, Scenario) {
     use crowdgaze::crowd::{ExplicitTarget, TargetPriority};
     let mut crowd = crowdgaze::Crowd::new(config).unwrap();
-    let mut scenario = Scenario::street(people, props, seed);
+    let chains = varied_chains(&crowd.config().world);
+    let mut scenario = Scenario::street(people, props, seed).with_chains(chains);
     scenario.populate(&mut crowd).unwrap();
     let ids = scenario.character_ids().to_vec();
     mix_attention_models(&mut crowd, &ids);
+    set_base_poses(&mut crowd, &ids);
     crowd
         .set_gaze_target(
             ids[7],

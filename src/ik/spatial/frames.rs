@@ -106,9 +106,14 @@ pub(crate) fn offsets<W: Wide>(
     if same_chain {
         return V3::splat(chains[0].joints()[index].offset.into());
     }
-    V3::gather(|i| match chains[i].joints().get(index) {
-        Some(joint) => joint.offset.into(),
-        None => Vec3A::ZERO,
+    // Past a lane's body joints come its eyes (or nothing): a zero offset, not theirs.
+    V3::gather(|i| {
+        let chain = chains[i];
+        if index < chain.body_count() {
+            chain.joints()[index].offset.into()
+        } else {
+            Vec3A::ZERO
+        }
     })
 }
 

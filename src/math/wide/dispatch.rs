@@ -5,6 +5,7 @@ use super::Wide;
 #[cfg(target_arch = "x86_64")]
 use super::{avx::F8, avx512::F16};
 use glam::Vec4;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// Work written once for any lane width: [`run_widest`] runs it at the widest width the
 /// processor offers, compiled for that instruction set.
@@ -22,20 +23,37 @@ pub(crate) trait LaneJob {
 /// at every width. The wide forms are also compiled with POPCNT (every processor with AVX
 /// has it): counting a mask's lanes is then one instruction rather than fifteen, and a
 /// search's batch length waits on that count.
+/// No wider than [`set_max_simd_lanes`] allows.
 #[inline]
 pub(crate) fn run_widest<J: LaneJob>(job: J) -> J::Output {
+    let max_lanes = MAX_LANES.load(Ordering::Relaxed);
     #[cfg(target_arch = "x86_64")]
     if std::is_x86_feature_detected!("popcnt") {
-        if std::is_x86_feature_detected!("avx512f") {
+        if max_lanes >= 16 && std::is_x86_feature_detected!("avx512f") {
             // SAFETY: the processor has AVX-512F and POPCNT, checked just above.
             return unsafe { run_avx512(job) };
         }
-        if std::is_x86_feature_detected!("avx") {
+        if max_lanes >= 8 && std::is_x86_feature_detected!("avx") {
             // SAFETY: the processor has AVX and POPCNT, checked just above.
             return unsafe { run_avx(job) };
         }
     }
+    if max_lanes < 4 {
+        return job.run::<f32>();
+    }
     job.run::<Vec4>()
+}
+
+/// The widest lanes [`run_widest`] may use (see [`set_max_simd_lanes`]).
+static MAX_LANES: AtomicUsize = AtomicUsize::new(usize::MAX);
+
+/// Limits the SIMD width of every later step in this process to at most `lanes` lanes: 16
+/// (AVX-512F, the default where the processor has it), 8 (AVX), 4 (SSE2 or NEON) or 1 (plain
+/// floats, for any smaller value). Results are the same bits at every width: this exists to
+/// check that, and to rule the wide paths out when debugging. Safe to call at any time from
+/// any thread; a step under way may use either width for its remaining batches.
+pub fn set_max_simd_lanes(lanes: usize) {
+    MAX_LANES.store(lanes, Ordering::Relaxed);
 }
 
 /// How many lanes [`run_widest`] runs with on this processor.

@@ -23,6 +23,7 @@ mod scalar;
 
 #[cfg(test)]
 pub(crate) use dispatch::for_every_width;
+pub use dispatch::set_max_simd_lanes;
 pub(crate) use dispatch::{run_widest, widest_lanes, LaneJob};
 
 // Private to this module: an F8 or F16 is only sound where the processor has AVX or
