@@ -58,7 +58,8 @@
 #define CG_NO_TARGET UINT32_MAX
 
 // `cg_entity_state.flags`: derive the heading from the direction of motion (the velocity
-// projected on the ground); below 0.1 m/s the last heading is kept. `heading` is ignored.
+// projected on the ground); below 0.1 m/s the last heading is kept. `heading` is then not
+// read at all: any value, NaN included, is accepted.
 #define CG_STATE_HEADING_FROM_MOTION 1
 
 // `cg_entity_state.flags`: `velocity` is given; otherwise it is the difference with the
@@ -461,8 +462,8 @@ typedef struct cg_entity_state {
     uint32_t id;
     // `CG_STATE_*` bits. Default 0.
     uint32_t flags;
-    // Heading, radians counter-clockwise about up; ignored with
-    // `CG_STATE_HEADING_FROM_MOTION`.
+    // Heading, radians counter-clockwise about up; must be finite, except with
+    // `CG_STATE_HEADING_FROM_MOTION`, which ignores it (any value, NaN included).
     float heading;
     // Root (ground) position in your units.
     struct cg_vec3 position;
@@ -713,7 +714,7 @@ typedef struct cg_crowd_config {
     // See `blink_rate`; in [0, 1). Default 0.5.
     float blink_rate_spread;
     // Gaze-evoked blinks: shifts of the gaze up to this amplitude (radians) start no
-    // blink. Default 10°.
+    // blink. In [0, `evoked_blink_full_amplitude`). Default 10°.
     float evoked_blink_min_amplitude;
     // Gaze-evoked blinks: shifts from this amplitude (radians, above the minimum, at most
     // π) start a blink with `evoked_blink_probability`; between the two the probability
@@ -1185,6 +1186,16 @@ cg_status cg_crowd_end_push(struct cg_crowd *crowd);
 // nothing. The same as `cg_crowd_begin_step`, one range over all characters, and
 // `cg_crowd_end_step`.
 //
+// Any finite `dt` returns in a time bounded by the crowd's size. A step longer than one
+// hour (a pause, or a time stamp passed as `dt` by mistake) moves attention, gaze, blinks
+// and conversations on by one hour, long after all of them have settled: the characters
+// start afresh, and the next frames go on normally. A plan's replay clock moves by the
+// whole `dt`.
+//
+// In a child process made by `fork()` after the crowd's worker threads started, the first
+// step starts new workers in the child (or steps on the calling thread alone if that
+// fails); results are the same. The parent is not affected.
+//
 // Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE` (dt), `CG_STATUS_INVALID_ARGUMENT`
 // (dt < 0), `CG_STATUS_WRONG_STATE` (a ranged step is open). Not thread-safe: no other
 // call on this crowd may run at the same time.
@@ -1432,10 +1443,13 @@ cg_status cg_crowd_config_init(struct cg_crowd_config *config);
 cg_status cg_crowd_create(const struct cg_crowd_config *config, struct cg_crowd **out_crowd);
 
 // Destroys a crowd created by `cg_crowd_create` and frees everything it owns, also when
-// the crowd is poisoned or a ranged step is open.
+// the crowd is poisoned or a ranged step or a ranged push is open (the open frame is
+// dropped unapplied), and in a child process forked after its worker threads started (the
+// threads stayed in the parent: nothing to stop).
 //
 // NULL is accepted and ignored. The handle must not be used afterwards, and no other call
-// on this crowd may be running.
+// on this crowd may be running: not even a `cg_crowd_push_range` or `cg_crowd_step_range`
+// of an open frame (end or abandon them first).
 void cg_crowd_destroy(struct cg_crowd *crowd);
 
 // Copies the settings `crowd` was created with into `*out_config`. Set
@@ -1474,6 +1488,12 @@ cg_status cg_gaze_target_init(struct cg_gaze_target *target);
 // Gives `character` an explicit gaze target until `cg_crowd_clear_gaze_target`: a point,
 // or an entity followed as it moves, overriding the automatic interest point or only
 // filling in when there is none. The gaze moves there with the usual timing.
+//
+// With conversations (`cg_crowd_set_conversation`): a `CG_GAZE_PRIORITY_OVERRIDE`
+// target wins over the character's conversation (it looks only at the target while the
+// other members go on, still looking at it); a `CG_GAZE_PRIORITY_WHEN_IDLE` target yields
+// to it, and shows only in the member's glances away from the group when its attention
+// model has nothing to look at.
 //
 // Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_BAD_STRUCT_SIZE`, `CG_STATUS_NOT_FOUND`
 // (character or target entity), `CG_STATUS_NON_FINITE` (point),

@@ -21,7 +21,8 @@ use crate::world::World;
 pub const CG_NO_TARGET: u32 = u32::MAX;
 
 /// `cg_entity_state.flags`: derive the heading from the direction of motion (the velocity
-/// projected on the ground); below 0.1 m/s the last heading is kept. `heading` is ignored.
+/// projected on the ground); below 0.1 m/s the last heading is kept. `heading` is then not
+/// read at all: any value, NaN included, is accepted.
 pub const CG_STATE_HEADING_FROM_MOTION: u32 = 1;
 /// `cg_entity_state.flags`: `velocity` is given; otherwise it is the difference with the
 /// entity's previous pushed position divided by the elapsed time.
@@ -139,8 +140,8 @@ pub struct cg_entity_state {
     pub id: u32,
     /// `CG_STATE_*` bits. Default 0.
     pub flags: u32,
-    /// Heading, radians counter-clockwise about up; ignored with
-    /// `CG_STATE_HEADING_FROM_MOTION`.
+    /// Heading, radians counter-clockwise about up; must be finite, except with
+    /// `CG_STATE_HEADING_FROM_MOTION`, which ignores it (any value, NaN included).
     pub heading: f32,
     /// Root (ground) position in your units.
     pub position: cg_vec3,

@@ -446,7 +446,7 @@ pub struct cg_crowd_config {
     /// See `blink_rate`; in [0, 1). Default 0.5.
     pub blink_rate_spread: f32,
     /// Gaze-evoked blinks: shifts of the gaze up to this amplitude (radians) start no
-    /// blink. Default 10°.
+    /// blink. In [0, `evoked_blink_full_amplitude`). Default 10°.
     pub evoked_blink_min_amplitude: f32,
     /// Gaze-evoked blinks: shifts from this amplitude (radians, above the minimum, at most
     /// π) start a blink with `evoked_blink_probability`; between the two the probability
@@ -853,10 +853,13 @@ pub unsafe extern "C" fn cg_crowd_create(
 }
 
 /// Destroys a crowd created by `cg_crowd_create` and frees everything it owns, also when
-/// the crowd is poisoned or a ranged step is open.
+/// the crowd is poisoned or a ranged step or a ranged push is open (the open frame is
+/// dropped unapplied), and in a child process forked after its worker threads started (the
+/// threads stayed in the parent: nothing to stop).
 ///
 /// NULL is accepted and ignored. The handle must not be used afterwards, and no other call
-/// on this crowd may be running.
+/// on this crowd may be running: not even a `cg_crowd_push_range` or `cg_crowd_step_range`
+/// of an open frame (end or abandon them first).
 #[no_mangle]
 pub unsafe extern "C" fn cg_crowd_destroy(crowd: *mut cg_crowd) {
     // SAFETY: a crowd handle from cg_crowd_create (or NULL), destroyed once and not in use

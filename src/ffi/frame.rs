@@ -42,8 +42,15 @@ unsafe fn entity_update(
     };
     let velocity = state.velocity;
     let has_velocity = state.flags & CG_STATE_HAS_VELOCITY != 0;
+    let heading_from_motion = state.flags & CG_STATE_HEADING_FROM_MOTION != 0;
+    // A heading the flags say to ignore is not read (NaN included).
+    let heading = if heading_from_motion {
+        0.0
+    } else {
+        state.heading
+    };
     let values = [
-        state.heading,
+        heading,
         state.position.x,
         state.position.y,
         state.position.z,
@@ -62,15 +69,16 @@ unsafe fn entity_update(
     Ok(EntityUpdate {
         id: state.id,
         position: metres(state.position),
-        heading: state.heading,
-        heading_from_motion: state.flags & CG_STATE_HEADING_FROM_MOTION != 0,
+        heading,
+        heading_from_motion,
         velocity: has_velocity.then(|| metres(velocity)),
         talking: state.flags & CG_STATE_TALKING != 0,
     })
 }
 
 /// What is wrong with a state [`entity_update`] refused, checked in this order: its
-/// `struct_size`, its heading, its flags, its velocity (when flagged), its position.
+/// `struct_size`, its heading (unless derived from motion), its flags, its velocity (when
+/// flagged), its position.
 #[cold]
 #[inline(never)]
 fn state_error(state: &cg_entity_state, stride: usize, index: usize) -> FfiError {
@@ -81,7 +89,9 @@ fn state_error(state: &cg_entity_state, stride: usize, index: usize) -> FfiError
         ));
     }
     let checks = || -> Result<()> {
-        ensure_finite(state.heading, "heading")?;
+        if state.flags & CG_STATE_HEADING_FROM_MOTION == 0 {
+            ensure_finite(state.heading, "heading")?;
+        }
         if state.flags & !KNOWN_STATE_FLAGS != 0 {
             return Err(Error::InvalidArgument(format!(
                 "states[{index}].flags has unknown bits 0x{:x}",
@@ -239,6 +249,16 @@ pub unsafe extern "C" fn cg_crowd_end_push(crowd: *mut cg_crowd) -> cg_status {
 /// config, the crowd's worker threads share the work; results are the same. Allocates
 /// nothing. The same as `cg_crowd_begin_step`, one range over all characters, and
 /// `cg_crowd_end_step`.
+///
+/// Any finite `dt` returns in a time bounded by the crowd's size. A step longer than one
+/// hour (a pause, or a time stamp passed as `dt` by mistake) moves attention, gaze, blinks
+/// and conversations on by one hour, long after all of them have settled: the characters
+/// start afresh, and the next frames go on normally. A plan's replay clock moves by the
+/// whole `dt`.
+///
+/// In a child process made by `fork()` after the crowd's worker threads started, the first
+/// step starts new workers in the child (or steps on the calling thread alone if that
+/// fails); results are the same. The parent is not affected.
 ///
 /// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE` (dt), `CG_STATUS_INVALID_ARGUMENT`
 /// (dt < 0), `CG_STATUS_WRONG_STATE` (a ranged step is open). Not thread-safe: no other

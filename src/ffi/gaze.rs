@@ -90,6 +90,12 @@ pub unsafe extern "C" fn cg_gaze_target_init(target: *mut cg_gaze_target) -> cg_
 /// or an entity followed as it moves, overriding the automatic interest point or only
 /// filling in when there is none. The gaze moves there with the usual timing.
 ///
+/// With conversations (`cg_crowd_set_conversation`): a `CG_GAZE_PRIORITY_OVERRIDE`
+/// target wins over the character's conversation (it looks only at the target while the
+/// other members go on, still looking at it); a `CG_GAZE_PRIORITY_WHEN_IDLE` target yields
+/// to it, and shows only in the member's glances away from the group when its attention
+/// model has nothing to look at.
+///
 /// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_BAD_STRUCT_SIZE`, `CG_STATUS_NOT_FOUND`
 /// (character or target entity), `CG_STATUS_NON_FINITE` (point),
 /// `CG_STATUS_INVALID_ARGUMENT` (unknown kind or priority, an object as `character`, the

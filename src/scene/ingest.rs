@@ -113,11 +113,14 @@ fn given_velocity(velocity: Vec2) -> Vec2 {
 }
 
 /// Checks one update against `ids` without changing anything (the id is live, the values
-/// finite) and returns its entity's index.
+/// it uses finite: not the heading of one whose heading comes from its motion) and returns
+/// its entity's index.
 pub(super) fn check(ids: &IdTable, update: &EntityUpdate) -> Result<usize> {
     let (_, index) = ids.find(update.id)?;
     ensure_all_finite(&update.position.to_array(), "position")?;
-    ensure_finite(update.heading, "heading")?;
+    if !update.heading_from_motion {
+        ensure_finite(update.heading, "heading")?;
+    }
     if let Some(velocity) = update.velocity {
         ensure_all_finite(&velocity.to_array(), "velocity")?;
     }

@@ -38,9 +38,20 @@ fn frame_corruptions() -> Vec<Corruption<Vec<cg_entity_state>>> {
                 move |states: &mut Vec<S>| apply(&mut states[index]),
             )
         };
-        let plain = floats!(S: heading, position.x, position.y, position.z);
-        for c in non_finite::<S>(&plain) {
+        for c in non_finite::<S>(&floats!(S: position.x, position.y, position.z)) {
             out.push(element(c.what, c.expected, c.apply));
+        }
+        // A heading is read (and checked) unless it comes from the motion.
+        for c in non_finite::<S>(&floats!(S: heading)) {
+            let apply = c.apply;
+            out.push(element(
+                format!("{} without CG_STATE_HEADING_FROM_MOTION", c.what),
+                c.expected,
+                Rc::new(move |s: &mut S| {
+                    s.flags &= !CG_STATE_HEADING_FROM_MOTION;
+                    apply(s)
+                }),
+            ));
         }
         for c in non_finite::<S>(&floats!(S: velocity.x, velocity.y, velocity.z)) {
             let apply = c.apply;
