@@ -35,7 +35,21 @@ from ._arrays import (
     GAZE_INFO_DTYPE,
     RECORD_DTYPES,
 )
-from ._errors import Error, last_error_message, status_string
+from ._errors import last_error_message, status_string
+from ._exceptions import (
+    ArgumentRangeError,
+    ArgumentTypeError,
+    CapacityError,
+    ClosedError,
+    Error,
+    InternalError,
+    InvalidArgumentError,
+    NonFiniteError,
+    NotConvergedError,
+    NotFoundError,
+    OutOfMemoryError,
+    WrongStateError,
+)
 from ._library import lib, library_path
 from ._native import (
     ENUMS,

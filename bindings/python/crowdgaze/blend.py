@@ -14,6 +14,7 @@ from ctypes import POINTER, byref, c_float, sizeof
 
 import numpy as np
 
+from . import _exceptions as e
 from . import _arrays as a
 from . import _checks as c
 from . import _native as n
@@ -36,7 +37,7 @@ def _converged(status: int, function: str, return_converged: bool) -> bool:
 def _one_dualquat(value, where: str, name: str) -> np.ndarray:
     rows = a.float_rows(value, n.DualQuat, where, name)
     if len(rows) != 1:
-        raise ValueError(
+        raise e.value_error(
             f"{where}: {name} must be one dual quaternion (8 numbers), got {len(rows)}"
         )
     return rows
@@ -100,7 +101,7 @@ def _inputs_and_weights(inputs, weights, where: str):
     q = a.float_rows(inputs, n.DualQuat, where, "inputs")
     w = a.float_values(weights, where, "weights")
     if len(q) != w.size:
-        raise ValueError(
+        raise e.value_error(
             f"{where}: inputs holds {len(q)} dual quaternions but weights {w.size} weights"
         )
     return q, w
@@ -149,7 +150,7 @@ def _keys(keys, weights, where: str):
     w = a.float_values(weights, where, "weights")
     k = a.float_rows(keys, n.DualQuat, where, "keys")
     if len(k) % max(w.size, 1) != 0:
-        raise ValueError(
+        raise e.value_error(
             f"{where}: keys holds {len(k)} transforms, not whole poses of the {w.size} keys "
             f"weights has"
         )
@@ -275,7 +276,7 @@ class ViewBlender(HandleOwner):
         frames_per_second = c.real(frames_per_second, where, "frames_per_second")
         looping = c.flag(looping, where, "looping")
         if self._joint_count == 0 or len(f) % self._joint_count != 0:
-            raise ValueError(
+            raise e.value_error(
                 f"{where}: frames holds {len(f)} transforms, not whole frames of "
                 f"{self._joint_count} joints"
             )

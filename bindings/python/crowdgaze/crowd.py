@@ -13,6 +13,7 @@ from ctypes import POINTER, byref, c_size_t, c_uint32, sizeof
 
 import numpy as np
 
+from . import _exceptions as e
 from . import _arrays as a
 from . import _checks as c
 from . import _native as n
@@ -86,7 +87,7 @@ def entity_states(ids, positions=None, flags=n.CG_STATE_HEADING_FROM_MOTION) -> 
     if positions is not None:
         positions = a.float_rows(positions, n.Vec3, where, "positions")
         if len(positions) != ids.size:
-            raise ValueError(
+            raise e.value_error(
                 f"{where}: positions holds {len(positions)} positions for {ids.size} ids"
             )
     template = n.EntityState(struct_size=sizeof(n.EntityState))
@@ -174,7 +175,7 @@ class Crowd(HandleOwner):
         where = "Crowd.add_character"
         if desc is not None:
             if position is not None or heading is not None or chain is not None or fields:
-                raise TypeError(f"{where}: give desc, or position, heading, chain and fields; "
+                raise e.type_error(f"{where}: give desc, or position, heading, chain and fields; "
                                 f"not both")
             c.instance(desc, n.CharacterDesc, where, "desc")
         else:
@@ -200,7 +201,7 @@ class Crowd(HandleOwner):
         where = "Crowd.add_object"
         if desc is not None:
             if position is not None or fields:
-                raise TypeError(f"{where}: give desc, or position and fields; not both")
+                raise e.type_error(f"{where}: give desc, or position and fields; not both")
             c.instance(desc, n.ObjectDesc, where, "desc")
         else:
             values = dict(fields)
@@ -245,7 +246,7 @@ class Crowd(HandleOwner):
         character = c.integer(character, where, "character")
         if params is not None:
             if fields:
-                raise TypeError(f"{where}: give params or fields, not both")
+                raise e.type_error(f"{where}: give params or fields, not both")
             c.instance(params, n.CharacterParams, where, "params")
             converted = None
         else:
@@ -496,12 +497,12 @@ class Crowd(HandleOwner):
         character = c.integer(character, where, "character")
         if target is not None:
             if point is not None or entity is not None or priority is not None:
-                raise TypeError(f"{where}: give target, or point or entity (and priority); "
+                raise e.type_error(f"{where}: give target, or point or entity (and priority); "
                                 f"not both")
             c.instance(target, n.GazeTarget, where, "target")
         else:
             if (point is None) == (entity is None):
-                raise TypeError(f"{where}: give exactly one of point and entity")
+                raise e.type_error(f"{where}: give exactly one of point and entity")
             fields = {"priority": n.CG_GAZE_PRIORITY_OVERRIDE if priority is None else priority}
             if point is not None:
                 fields.update(kind=n.CG_GAZE_TARGET_POINT, point=point)
