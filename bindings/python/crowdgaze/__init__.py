@@ -42,6 +42,7 @@ from ._exceptions import (
     CapacityError,
     ClosedError,
     Error,
+    FieldError,
     InternalError,
     InvalidArgumentError,
     NonFiniteError,

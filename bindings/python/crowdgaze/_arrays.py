@@ -418,7 +418,9 @@ def quat(value, where: str, name: str) -> n.Quat:
     return _struct_of_floats(value, n.Quat, where, name)
 
 
-def _field(ctype, name: str, field_type, value, where: str):
+def field_value(field_type, value, where: str, name: str):
+    """``value`` checked and converted for a struct field of the ctypes type
+    ``field_type`` (what ``CheckedStructure`` assignments and ``struct_fields`` use)."""
     if field_type is c_uint32:
         return c.integer(value, where, name, "uint32")
     if field_type is c_uint64:
@@ -451,7 +453,7 @@ def struct_fields(ctype, fields: dict, where: str) -> list:
     for name, value in fields.items():
         if name not in types:
             raise e.type_error(f"{where}: {C_NAMES[ctype]} has no field {name!r}")
-        converted.append((name, _field(ctype, name, types[name], value, where)))
+        converted.append((name, field_value(types[name], value, where, name)))
     return converted
 
 

@@ -17,6 +17,8 @@ NonFiniteError         NON_FINITE                             InvalidArgumentErr
 ArgumentRangeError     (binding) an integer out of its C      InvalidArgumentError,
                        type's range                           OverflowError
 ArgumentTypeError      (binding) a wrong type                 TypeError
+FieldError             (binding) no such field, or a          AttributeError
+                       read-only struct
 NotFoundError          NOT_FOUND                              LookupError
 CapacityError          CAPACITY                               RuntimeError
 WrongStateError        WRONG_STATE                            RuntimeError
@@ -95,6 +97,11 @@ class ArgumentRangeError(InvalidArgumentError, OverflowError):
 
 class ArgumentTypeError(Error, TypeError):
     """An argument of the wrong type (refused by the binding before any C call)."""
+
+
+class FieldError(Error, AttributeError):
+    """An assignment to a name that is no field of the struct, or to a read-only copy such
+    as ``Crowd.config``."""
 
 
 class NotFoundError(Error, LookupError):

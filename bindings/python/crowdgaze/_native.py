@@ -11,6 +11,7 @@ import ctypes
 import enum
 import os
 import sys
+from typing import Any
 from ctypes import (
     POINTER,
     Structure,
@@ -152,7 +153,86 @@ del _c_name, _enum, _member
 # --- structs -------------------------------------------------------------------------------
 
 
-class Vec3(Structure):
+class CheckedStructure(Structure):
+    """Base of the header's structs: ctypes structs whose fields are checked on assignment.
+
+    ``struct.field = value`` (and ``Struct(field=value)``) converts and checks ``value`` as
+    every argument of the package is (``crowdgaze._checks``): an integer field takes an
+    integer in its C type's range (else ``OverflowError``; ``2**32 + 3`` is never masked to
+    3), a ``float`` field a real number a C float holds, a vector field a ``Vec3`` or three
+    real numbers, and so on; a wrong type raises ``TypeError``. Both are
+    ``crowdgaze.Error`` s. A name that is not a field raises ``AttributeError`` (a typo is
+    not silently kept), as does any assignment to a read-only copy such as
+    ``Crowd.config``, whose changes could not take effect.
+    """
+
+    #: Field name -> enum of its values, for ``repr`` (the C field is a plain uint32).
+    _enums_: dict[str, type[enum.IntEnum]] = {}
+
+    def __setattr__(self, name: str, value: Any) -> None:
+        if name.startswith("_"):
+            super().__setattr__(name, value)
+            return
+        kind = type(self).__name__
+        if self.__dict__.get("_read_only_"):
+            raise _field_error(
+                f"{kind}.{name}: this {kind} is a read-only copy ({self._read_only_}); "
+                f"changing it would change nothing",
+                Status.WRONG_STATE,
+            )
+        field_type = _field_types(type(self)).get(name)
+        if field_type is None:
+            raise _field_error(f"{kind} has no field {name!r}", Status.INVALID_ARGUMENT)
+        from ._arrays import field_value  # imported late: _arrays imports this module
+
+        super().__setattr__(name, field_value(field_type, value, kind, name))
+
+    def __repr__(self) -> str:
+        fields = ", ".join(
+            f"{name}={_show(getattr(self, name), self._enums_.get(name))}"
+            for name in _field_types(type(self))
+        )
+        return f"{type(self).__name__}({fields})"
+
+    def _freeze(self, why: str) -> None:
+        """Makes this struct read-only; ``why`` says what it is a copy of."""
+        self._read_only_ = why
+
+
+_FIELD_TYPES: dict[type, dict[str, Any]] = {}
+
+
+def _field_types(ctype: type) -> dict[str, Any]:
+    """Field name -> ctypes type of the struct ``ctype``, in order."""
+    types = _FIELD_TYPES.get(ctype)
+    if types is None:
+        types = _FIELD_TYPES[ctype] = {f[0]: f[1] for f in ctype._fields_}  # type: ignore[attr-defined]
+    return types
+
+
+def _field_error(message: str, status: Status) -> Exception:
+    from ._exceptions import FieldError  # imported late: _exceptions imports this module
+
+    return FieldError(status, message)
+
+
+def _show(value: Any, values: type[enum.IntEnum] | None = None) -> str:
+    """A field's value for ``repr``."""
+    if isinstance(value, float):
+        return format(value, ".7g")
+    if isinstance(value, int) and values is not None:
+        try:
+            return f"{values.__name__}.{values(value).name}"
+        except ValueError:
+            return str(value)
+    if isinstance(value, ctypes.Array):
+        return "[" + ", ".join(_show(item) for item in value) + "]"
+    if isinstance(value, ctypes._Pointer):
+        return f"pointer({_show(value.contents)})" if value else "None"
+    return repr(value)
+
+
+class Vec3(CheckedStructure):
     """``cg_vec3``."""
 
     _fields_ = [("x", c_float), ("y", c_float), ("z", c_float)]
@@ -164,7 +244,7 @@ class Vec3(Structure):
         return f"Vec3({self.x:g}, {self.y:g}, {self.z:g})"
 
 
-class Quat(Structure):
+class Quat(CheckedStructure):
     """``cg_quat``: x, y, z, w."""
 
     _fields_ = [("x", c_float), ("y", c_float), ("z", c_float), ("w", c_float)]
@@ -176,8 +256,10 @@ class Quat(Structure):
         return f"Quat({self.x:g}, {self.y:g}, {self.z:g}, {self.w:g})"
 
 
-class ChainJoint(Structure):
+class ChainJoint(CheckedStructure):
     """``cg_chain_joint``."""
+
+    _enums_ = {"role": JointRole}
 
     _fields_ = [
         ("role", c_uint32),
@@ -190,7 +272,7 @@ class ChainJoint(Structure):
     ]
 
 
-class ChainDesc(Structure):
+class ChainDesc(CheckedStructure):
     """``cg_chain_desc``."""
 
     _fields_ = [
@@ -203,8 +285,10 @@ class ChainDesc(Structure):
     ]
 
 
-class CharacterDesc(Structure):
+class CharacterDesc(CheckedStructure):
     """``cg_character_desc``."""
+
+    _enums_ = {"attention_model": AttentionModel}
 
     _fields_ = [
         ("struct_size", c_uint32),
@@ -216,7 +300,7 @@ class CharacterDesc(Structure):
     ]
 
 
-class ObjectDesc(Structure):
+class ObjectDesc(CheckedStructure):
     """``cg_object_desc``."""
 
     _fields_ = [
@@ -228,7 +312,7 @@ class ObjectDesc(Structure):
     ]
 
 
-class EntityState(Structure):
+class EntityState(CheckedStructure):
     """``cg_entity_state``."""
 
     _fields_ = [
@@ -241,8 +325,10 @@ class EntityState(Structure):
     ]
 
 
-class GazeInfo(Structure):
+class GazeInfo(CheckedStructure):
     """``cg_gaze_info``."""
+
+    _enums_ = {"target_part": TargetPart}
 
     _fields_ = [
         ("character", c_uint32),
@@ -258,7 +344,7 @@ class GazeInfo(Structure):
     ]
 
 
-class ScoreBreakdown(Structure):
+class ScoreBreakdown(CheckedStructure):
     """``cg_score_breakdown``."""
 
     _fields_ = [
@@ -275,8 +361,10 @@ class ScoreBreakdown(Structure):
     ]
 
 
-class CharacterParams(Structure):
+class CharacterParams(CheckedStructure):
     """``cg_character_params``."""
+
+    _enums_ = {"attention_model": AttentionModel}
 
     _fields_ = [
         ("struct_size", c_uint32),
@@ -289,7 +377,7 @@ class CharacterParams(Structure):
     ]
 
 
-class Constraint(Structure):
+class Constraint(CheckedStructure):
     """``cg_constraint``."""
 
     _fields_ = [
@@ -300,14 +388,16 @@ class Constraint(Structure):
     ]
 
 
-class DualQuat(Structure):
+class DualQuat(CheckedStructure):
     """``cg_dualquat``: real (rotation) then dual (translation) part."""
 
     _fields_ = [("real", Quat), ("dual", Quat)]
 
 
-class ViewBlenderConfig(Structure):
+class ViewBlenderConfig(CheckedStructure):
     """``cg_view_blender_config``."""
+
+    _enums_ = {"distance": ViewDistance, "method": BlendMethod}
 
     _fields_ = [
         ("struct_size", c_uint32),
@@ -321,8 +411,10 @@ class ViewBlenderConfig(Structure):
     ]
 
 
-class CrowdConfig(Structure):
+class CrowdConfig(CheckedStructure):
     """``cg_crowd_config``."""
+
+    _enums_ = {"up_axis": Axis, "forward_axis": Axis, "eye_motion": EyeMotion}
 
     _fields_ = [
         ("struct_size", c_uint32),
@@ -381,7 +473,7 @@ class CrowdConfig(Structure):
     ]
 
 
-class GazeTarget(Structure):
+class GazeTarget(CheckedStructure):
     """``cg_gaze_target``."""
 
     _fields_ = [
@@ -393,7 +485,7 @@ class GazeTarget(Structure):
     ]
 
 
-class EyeInfo(Structure):
+class EyeInfo(CheckedStructure):
     """``cg_eye_info``."""
 
     _fields_ = [
@@ -405,7 +497,7 @@ class EyeInfo(Structure):
     ]
 
 
-class Eyelids(Structure):
+class Eyelids(CheckedStructure):
     """``cg_eyelids``: a character's blink closures (0 open, 1 closed) and upper lid
     pitches (radians)."""
 

@@ -204,6 +204,21 @@ class HandleOwner:
         finally:
             guard.release(True)
 
+    def __repr__(self) -> str:
+        name = f"crowdgaze.{type(self).__name__}"
+        if self._guard is None:
+            return f"<{name}: not initialised>"
+        if not self._handle:
+            return f"<{name}: closed>"
+        try:
+            return f"<{name}: {self._describe()}>"
+        except Exception:  # e.g. from a finalizer while a call is in flight: no details
+            return f"<{name}>"
+
+    def _describe(self) -> str:
+        """What ``repr`` shows of a live object."""
+        return "open"
+
     def __enter__(self):
         return self
 

@@ -255,6 +255,9 @@ class ViewBlender(HandleOwner):
         self._key_count = config.key_count
         self._adopt(handle, where)
 
+    def _describe(self) -> str:
+        return f"{self._joint_count} joints, {self._key_count} keys"
+
     @property
     def joint_count(self) -> int:
         """Joints per pose (from the config)."""

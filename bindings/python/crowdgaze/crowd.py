@@ -155,15 +155,22 @@ class Crowd(HandleOwner):
         handle = POINTER(n.CrowdHandle)()
         check(lib.cg_crowd_create(byref(config), byref(handle)), "cg_crowd_create")
         self._adopt(handle, where)
+        self._max_characters = config.max_characters
+
+    def _describe(self) -> str:
+        return f"{self.character_count()} of {self._max_characters} characters"
 
     # --- setup ------------------------------------------------------------------------------
 
     @property
     def config(self) -> n.CrowdConfig:
-        """The settings the crowd was created with."""
+        """The settings the crowd was created with: a read-only copy (they cannot change;
+        assigning a field raises ``crowdgaze.FieldError``). ``Crowd(crowd.config, seed=5)``
+        makes a crowd with the same settings but a field."""
         config = n.CrowdConfig(struct_size=sizeof(n.CrowdConfig))
         with self._call("Crowd.config") as handle:
             check(lib.cg_crowd_get_config(handle, byref(config)), "cg_crowd_get_config")
+        config._freeze("Crowd.config: the settings a crowd was created with")
         return config
 
     def add_character(

@@ -82,3 +82,72 @@ def test_the_bindings_own_refusals_are_crowdgaze_errors_too():
         crowd.step(0.1)
     assert isinstance(info.value, ValueError) and isinstance(info.value, cg.WrongStateError)
     assert info.value.status == cg.Status.WRONG_STATE
+
+
+# --- checked structs -------------------------------------------------------------------------
+
+
+def test_struct_fields_are_checked_on_assignment():
+    config = cg.crowd_config()
+    params = cg.CharacterParams()
+    cases = [
+        (lambda: setattr(config, "max_characters", 2**32 + 3), OverflowError, "max_characters"),
+        (lambda: setattr(config, "seed", -1), OverflowError, "seed"),
+        (lambda: setattr(config, "seed", 2**64), OverflowError, "seed"),
+        (lambda: setattr(config, "units_per_metre", 1e300), OverflowError, "units_per_metre"),
+        (lambda: setattr(config, "threads", 2.0), TypeError, "threads"),
+        (lambda: setattr(config, "blink_rate", "fast"), TypeError, "blink_rate"),
+        (lambda: setattr(params, "attention_model", 2**32 + 1), OverflowError, "attention_model"),
+        (lambda: cg.CharacterParams(attention_model=-1), OverflowError, "attention_model"),
+        (lambda: cg.CrowdConfig(4, 2**32), OverflowError, "max_characters"),
+        (lambda: setattr(config, "max_charcters", 5), AttributeError, "max_charcters"),
+        (lambda: setattr(cg.Vec3(), "x", "1"), TypeError, "x"),
+    ]
+    before = bytes(config), bytes(params)
+    for call, builtin, name in cases:
+        with pytest.raises(builtin) as info:
+            call()
+        assert isinstance(info.value, cg.Error) and name in str(info.value), info.value
+    assert (bytes(config), bytes(params)) == before  # nothing was set
+    config.seed = 2**64 - 1
+    config.max_characters = np.uint32(7)
+    config.field_of_view = np.float64(1.5)
+    params.attention_model = cg.AttentionModel.BASELINE
+    desc = cg.character_desc()
+    desc.position = (1, 2, 3)
+    assert (config.seed, config.max_characters, config.field_of_view) == (2**64 - 1, 7, 1.5)
+    assert params.attention_model == cg.AttentionModel.BASELINE and tuple(desc.position) == (1, 2, 3)
+
+
+def test_the_config_of_a_crowd_is_read_only():
+    crowd = cg.Crowd(max_characters=3, seed=4)
+    config = crowd.config
+    with pytest.raises(AttributeError) as info:
+        config.seed = 5  # would change nothing: the crowd keeps its settings
+    assert isinstance(info.value, cg.FieldError) and "read-only" in str(info.value)
+    assert crowd.config.seed == 4
+    twin = cg.Crowd(crowd.config, seed=5)  # a new crowd from it, with a field changed
+    assert (twin.config.seed, twin.config.max_characters) == (5, 3)
+    copy = cg.CrowdConfig.from_buffer_copy(config)  # a writeable copy
+    copy.seed = 6
+    assert cg.Crowd(copy).config.seed == 6
+
+
+def test_structs_and_crowds_have_a_repr():
+    config = cg.crowd_config(max_characters=12)
+    text = repr(config)
+    assert text.startswith("CrowdConfig(struct_size=") and "max_characters=12" in text
+    assert "up_axis=Axis.POSITIVE_Y" in text and "eye_motion=EyeMotion.PAPER" in text
+    assert "attention_model=AttentionModel.CROWD" in repr(cg.CharacterParams())
+    assert repr(cg.character_desc(position=(1, 2, 3))).endswith(
+        "position=Vec3(1, 2, 3), chain=None, attention_model=AttentionModel.CROWD)"
+    )
+    crowd = cg.Crowd(config)
+    crowd.add_character()
+    assert repr(crowd) == "<crowdgaze.Crowd: 1 of 12 characters>"
+    crowd.close()
+    assert repr(crowd) == "<crowdgaze.Crowd: closed>"
+    blender = cg.ViewBlender(joint_count=2, key_count=3)
+    assert repr(blender) == "<crowdgaze.ViewBlender: 2 joints, 3 keys>"
+    blender.close()
+    assert repr(blender) == "<crowdgaze.ViewBlender: closed>"
