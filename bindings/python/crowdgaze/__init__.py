@@ -76,6 +76,7 @@ from ._native import (
     ObjectDesc,
     Quat,
     ScoreBreakdown,
+    StateFlag,
     Status,
     TargetPart,
     Vec3,

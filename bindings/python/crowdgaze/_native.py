@@ -25,12 +25,11 @@ from ctypes import (
 )
 from pathlib import Path
 
+import numpy as np
+
 # --- constants (#define in the header) ---------------------------------------------------
 
 CG_NO_TARGET = 0xFFFFFFFF
-CG_STATE_HEADING_FROM_MOTION = 1
-CG_STATE_HAS_VELOCITY = 2
-CG_STATE_TALKING = 4
 CG_MAX_CONVERSATION_MEMBERS = 8
 CG_MAX_CHAIN_JOINTS = 15
 CG_EYE_MOTION_PAPER = 0
@@ -130,6 +129,41 @@ class EyeMotion(enum.IntEnum):
     #: The eyes' shift lasts as long as a human saccade of its amplitude (the main
     #: sequence); the head, neck and spine keep the paper's timing.
     MAIN_SEQUENCE = CG_EYE_MOTION_MAIN_SEQUENCE
+
+
+class StateFlag(enum.IntFlag):
+    """``cg_entity_state.flags``: the header's ``CG_STATE_*`` bits, combined with ``|``.
+
+    They work on the ``uint32`` flags of ``ENTITY_STATE_DTYPE`` records, an element or a
+    whole column at a time: ``states["flags"][i] |= cg.CG_STATE_TALKING`` sets a bit and
+    ``states["flags"][i] &= ~cg.CG_STATE_TALKING`` clears it (``~`` keeps every other bit
+    of the 32, so its value stays in ``0 .. 2**32 - 1``).
+    """
+
+    #: The heading is the direction of motion (``heading`` is ignored).
+    HEADING_FROM_MOTION = 1
+    #: ``velocity`` is given (else it is derived from the previous pushed position).
+    HAS_VELOCITY = 2
+    #: The entity talks in this frame (see ``Crowd.set_conversation``).
+    TALKING = 4
+
+    def __invert__(self) -> StateFlag:
+        """The other bits of the 32 (not a negative number, which numpy's ``uint32``
+        arrays refuse)."""
+        return type(self)(~int(self) & 0xFFFFFFFF)
+
+    def __array_ufunc__(self, ufunc: Any, method: str, *inputs: Any, **kwargs: Any) -> Any:
+        # numpy takes an int subclass as an int64 array, and then refuses to write
+        # `uint32_array | flag` back into a uint32 array: a flag is a uint32 to numpy.
+        inputs = tuple(
+            np.uint32(value) if isinstance(value, StateFlag) else value for value in inputs
+        )
+        return getattr(ufunc, method)(*inputs, **kwargs)
+
+
+CG_STATE_HEADING_FROM_MOTION = StateFlag.HEADING_FROM_MOTION
+CG_STATE_HAS_VELOCITY = StateFlag.HAS_VELOCITY
+CG_STATE_TALKING = StateFlag.TALKING
 
 
 #: C enum name -> Python enum, for the declaration test and for users who read the header.

@@ -151,3 +151,24 @@ def test_structs_and_crowds_have_a_repr():
     assert repr(blender) == "<crowdgaze.ViewBlender: 2 joints, 3 keys>"
     blender.close()
     assert repr(blender) == "<crowdgaze.ViewBlender: closed>"
+
+
+# --- flags -----------------------------------------------------------------------------------
+
+
+def test_state_flags_set_and_clear_bits_of_numpy_records():
+    assert issubclass(cg.StateFlag, __import__("enum").IntFlag)
+    assert cg.CG_STATE_TALKING is cg.StateFlag.TALKING is cg.STATE_TALKING
+    assert 0 <= ~cg.CG_STATE_TALKING <= 2**32 - 1
+    assert ~cg.CG_STATE_TALKING & cg.CG_STATE_TALKING == 0
+    states = cg.entity_states([1, 2, 3], flags=cg.CG_STATE_HAS_VELOCITY | 8)
+    assert states["flags"].dtype == np.uint32
+    states["flags"][1] |= cg.CG_STATE_TALKING  # the documented way, element by element
+    assert list(states["flags"]) == [10, 14, 10]
+    states["flags"][1] &= ~cg.CG_STATE_TALKING
+    assert list(states["flags"]) == [10, 10, 10]
+    states["flags"] |= cg.CG_STATE_TALKING  # a whole column at once
+    states["flags"] &= ~(cg.CG_STATE_HAS_VELOCITY | cg.CG_STATE_TALKING)
+    assert list(states["flags"]) == [8, 8, 8] and states["flags"].dtype == np.uint32
+    states["flags"] = cg.CG_STATE_TALKING
+    assert list((states["flags"] & cg.CG_STATE_TALKING) != 0) == [True] * 3
