@@ -242,7 +242,8 @@ def unsigned(value, where: str, name: str, ctype: str = "uint32") -> np.ndarray:
     if array.dtype.kind == "O":
         items = [c.integer(item, where, f"{name} element", ctype) for item in array.reshape(-1)]
         return np.array(items, dtype=dtype)
-    if array.dtype.kind not in "iu":
+    # An empty list reads as float64: it holds no value that is not an integer.
+    if array.dtype.kind not in "iu" and not (array.size == 0 and array.dtype.kind == "f"):
         raise e.type_error(
             f"{where}: {name} must be integers, got {_what(value)}, read as dtype {array.dtype}"
         )

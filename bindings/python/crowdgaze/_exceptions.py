@@ -167,6 +167,11 @@ def range_error(message: str) -> ArgumentRangeError:
     return ArgumentRangeError(Status.INVALID_ARGUMENT, message)
 
 
+def not_found_error(message: str) -> NotFoundError:
+    """An id the binding finds nowhere (a ``LookupError``)."""
+    return NotFoundError(Status.NOT_FOUND, message)
+
+
 def state_error(message: str) -> WrongStateError:
     """A call the binding refuses at this time (a ``RuntimeError``)."""
     return WrongStateError(Status.WRONG_STATE, message)

@@ -108,6 +108,16 @@ def _character_count(handle) -> int:
     return out.value
 
 
+def _read_gaze(handle, out: np.ndarray) -> None:
+    """Fills ``out`` (one ``GAZE_INFO_DTYPE`` record per character) by
+    ``cg_crowd_read_gaze``."""
+    written = c_size_t()
+    check(
+        lib.cg_crowd_read_gaze(handle, a.pointer(out, n.GazeInfo), out.size, byref(written)),
+        "cg_crowd_read_gaze",
+    )
+
+
 def _joint_total(handle, first: int, count: int) -> int:
     out = c_size_t()
     check(lib.cg_crowd_joint_total(handle, first, count, byref(out)), "cg_crowd_joint_total")
@@ -375,24 +385,50 @@ class Crowd(HandleOwner):
             check(lib.cg_crowd_end_step(handle), "cg_crowd_end_step")
 
     def read_gaze(self, out=None) -> np.ndarray:
-        """Where each character looks: a record array of ``GAZE_INFO_DTYPE`` (one per
-        character, in character order); or, into ``out`` (a 1-D array of
-        ``GAZE_INFO_DTYPE`` of any length), its first ``min(len(out), characters)`` rows,
-        which are returned."""
+        """Where each character looks: a record array of ``GAZE_INFO_DTYPE``, one per
+        character in character order (``rows_of`` maps ids to its rows); or ``out``
+        (exactly ``(characters,)`` of it) written in place."""
         where = "Crowd.read_gaze"
         if out is not None:
             a.check_out(out, a.GAZE_INFO_DTYPE, where, ndim=1)
-        written = c_size_t()
         with self._call(where) as handle:
-            if out is None:
-                out = np.zeros(_character_count(handle), a.GAZE_INFO_DTYPE)
-            check(
-                lib.cg_crowd_read_gaze(
-                    handle, a.pointer(out, n.GazeInfo), out.size, byref(written)
-                ),
-                "cg_crowd_read_gaze",
-            )
-        return out[: written.value]
+            out = a.shaped(out, a.GAZE_INFO_DTYPE, (_character_count(handle),), where)
+            _read_gaze(handle, out)
+        return out
+
+    def rows_of(self, characters) -> np.ndarray:
+        """The rows of ``characters`` (ids: any sequence of integers or an integer array) in
+        what ``read_gaze``, ``read_eyes`` and ``read_eyelids`` return, as an ``intp`` array
+        to index them with (``gaze[crowd.rows_of(ids)]``); ``read_joints(row, 1)`` reads
+        one character's joints. Rows are the crowd's character order, which removing a
+        character changes (the last one takes its place): map ids to rows again after a
+        removal. An id that is no character of the crowd raises ``NotFoundError`` (a
+        ``LookupError``)."""
+        where = "Crowd.rows_of"
+        return self._rows(a.unsigned(characters, where, "characters"), where)
+
+    def row_of(self, character: int) -> int:
+        """The row of ``character`` in what ``read_gaze``, ``read_eyes`` and
+        ``read_eyelids`` return (see ``rows_of``)."""
+        where = "Crowd.row_of"
+        character = c.integer(character, where, "character")
+        return int(self._rows(np.array([character], np.uint32), where)[0])
+
+    def _rows(self, wanted: np.ndarray, where: str) -> np.ndarray:
+        with self._call(where) as handle:
+            gaze = np.empty(_character_count(handle), a.GAZE_INFO_DTYPE)
+            _read_gaze(handle, gaze)
+        order = gaze["character"]
+        rows = np.zeros(wanted.size, np.intp)
+        if order.size:
+            by_id = np.argsort(order, kind="stable")
+            found = np.searchsorted(order, wanted, sorter=by_id)
+            rows = by_id[np.minimum(found, order.size - 1)].astype(np.intp)
+        missing = np.flatnonzero(order[rows] != wanted) if order.size else np.arange(wanted.size)
+        if missing.size:
+            unknown = int(wanted[missing[0]])
+            raise e.not_found_error(f"{where}: {unknown} is not a character of this crowd")
+        return rows
 
     def joint_total(self, first: int = 0, count: int | None = None) -> int:
         """Joints of characters ``first .. first + count`` together (all by default)."""

@@ -172,3 +172,53 @@ def test_state_flags_set_and_clear_bits_of_numpy_records():
     assert list(states["flags"]) == [8, 8, 8] and states["flags"].dtype == np.uint32
     states["flags"] = cg.CG_STATE_TALKING
     assert list((states["flags"] & cg.CG_STATE_TALKING) != 0) == [True] * 3
+
+
+# --- outputs and rows ------------------------------------------------------------------------
+
+
+def test_every_reader_refuses_an_out_of_the_wrong_size():
+    crowd = cg.Crowd(max_characters=4)
+    for x in range(3):
+        crowd.add_character((x, 0, 0))
+    crowd.step(0.1)
+    readers = [
+        (crowd.read_gaze, cg.GAZE_INFO_DTYPE, 3),
+        (crowd.read_eyes, cg.EYE_INFO_DTYPE, 3),
+        (crowd.read_eyelids, cg.EYELIDS_DTYPE, 3),
+    ]
+    for read, dtype, rows in readers:
+        for wrong in (rows - 1, rows + 1, 0):
+            with pytest.raises(ValueError, match="out must have the shape") as info:
+                read(out=np.zeros(wrong, dtype))
+            assert isinstance(info.value, cg.InvalidArgumentError)
+        out = np.zeros(rows, dtype)
+        assert read(out=out) is out
+    for read in (crowd.read_joints, crowd.read_joint_deltas):
+        with pytest.raises(ValueError, match="out must have the shape"):
+            read(out=np.zeros((31, 4), np.float32))
+
+
+def test_rows_of_maps_ids_to_rows_before_and_after_a_removal():
+    crowd = cg.Crowd(max_characters=5)
+    ids = [crowd.add_character((x, 0, 0)) for x in range(4)]
+    thing = crowd.add_object((0, 0, 5))
+    crowd.step(0.1)
+    assert list(crowd.rows_of(ids)) == [0, 1, 2, 3]
+    crowd.remove_entity(ids[1])  # the last character takes its place
+    crowd.step(0.1)
+    gaze = crowd.read_gaze()
+    rows = crowd.rows_of([ids[3], ids[0], ids[2]])
+    assert rows.dtype == np.intp and list(gaze["character"][rows]) == [ids[3], ids[0], ids[2]]
+    assert crowd.row_of(ids[3]) == rows[0]
+    eyes = crowd.read_eyes()
+    assert eyes["character"][crowd.row_of(ids[2])] == ids[2]
+    joints = crowd.read_joints(crowd.row_of(ids[3]), 1)
+    assert np.array_equal(joints, crowd.read_joints()[10 * rows[0]: 10 * rows[0] + 10])
+    assert crowd.rows_of([]).size == 0
+    for missing in (ids[1], thing, 999):
+        with pytest.raises(LookupError, match=str(missing)) as info:
+            crowd.rows_of([ids[0], missing])
+        assert isinstance(info.value, cg.NotFoundError)
+    with pytest.raises(cg.NotFoundError):
+        cg.Crowd(max_characters=1).row_of(0)
