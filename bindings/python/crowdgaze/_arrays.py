@@ -21,13 +21,22 @@ from __future__ import annotations
 
 import ctypes
 from collections.abc import Sequence
+from typing import Any, Optional, Union
 from ctypes import POINTER, c_double, c_float, c_uint32, c_uint64
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from . import _checks as c
 from . import _exceptions as e
 from . import _native as n
+
+#: What number arguments take (checked at run time, see above): numpy arrays, nested
+#: sequences, ctypes structs and arrays of the matching type.
+Numbers = Union[ArrayLike, ctypes.Structure, "ctypes.Array[Any]"]
+#: What the ``out=`` arguments take: None (a new array) or a numpy array of the result's
+#: exact dtype and shape.
+Out = Optional[NDArray[Any]]
 
 #: ``cg_entity_state`` as a numpy record; ``position`` and ``velocity`` are ``float32[3]``.
 ENTITY_STATE_DTYPE = np.dtype(
@@ -180,7 +189,7 @@ def _is_floats_of(value, ctype) -> bool:
     ``ctype`` or of ``c_float``: memory C can read as float rows as it is."""
     if isinstance(value, ctypes.Structure):
         return isinstance(value, ctype)
-    element = type(value)
+    element: Any = type(value)
     while issubclass(element, ctypes.Array):
         element = element._type_
     return element is ctype or element is c_float
@@ -193,7 +202,7 @@ def float_rows(value, ctype, where: str, name: str) -> np.ndarray:
     it) and for ctypes objects of ``ctype`` or ``c_float``; converted by value otherwise."""
     width = WIDTHS[ctype]
     if isinstance(value, (ctypes.Array, ctypes.Structure)) and _is_floats_of(value, ctype):
-        array = np.frombuffer(value, dtype=np.float32)
+        array = np.frombuffer(value, dtype=np.float32)  # type: ignore[call-overload]
     elif isinstance(value, ctypes.Structure):
         raise e.type_error(
             f"{where}: {name} must be a crowdgaze.{ctype.__name__} or real numbers, "
@@ -368,7 +377,7 @@ def records_in(value, ctype, where: str, name: str):
             array = np.require(flat, dtype, ["C", "A"])
         else:
             array = np.zeros(flat.size, dtype=dtype)
-            for field in dtype.names:
+            for field in dtype.names or ():
                 if field in flat.dtype.names:
                     _record_field(array, field, flat[field], where, name)
                 elif field == "struct_size":

@@ -177,11 +177,44 @@ ENUMS = {
     "cg_target_part": TargetPart,
 }
 
-# Every enum value also under its C name (CG_STATUS_OK, CG_AXIS_POSITIVE_Y, ...).
-for _c_name, _enum in ENUMS.items():
-    for _member in _enum:
-        globals()[f"{_c_name.upper()}_{_member.name}"] = int(_member)
-del _c_name, _enum, _member
+# Every enum value also under its C name (CG_STATUS_OK, CG_AXIS_POSITIVE_Y, ...), spelt out
+# so that type checkers see them; tests/test_declarations.py checks them against the header.
+CG_STATUS_OK = Status.OK
+CG_STATUS_NULL_ARGUMENT = Status.NULL_ARGUMENT
+CG_STATUS_INVALID_ARGUMENT = Status.INVALID_ARGUMENT
+CG_STATUS_NON_FINITE = Status.NON_FINITE
+CG_STATUS_NOT_FOUND = Status.NOT_FOUND
+CG_STATUS_CAPACITY = Status.CAPACITY
+CG_STATUS_BAD_STRUCT_SIZE = Status.BAD_STRUCT_SIZE
+CG_STATUS_WRONG_STATE = Status.WRONG_STATE
+CG_STATUS_NOT_CONVERGED = Status.NOT_CONVERGED
+CG_STATUS_INTERNAL = Status.INTERNAL
+CG_STATUS_OUT_OF_MEMORY = Status.OUT_OF_MEMORY
+CG_STATUS_POISONED = Status.POISONED
+CG_AXIS_POSITIVE_X = Axis.POSITIVE_X
+CG_AXIS_NEGATIVE_X = Axis.NEGATIVE_X
+CG_AXIS_POSITIVE_Y = Axis.POSITIVE_Y
+CG_AXIS_NEGATIVE_Y = Axis.NEGATIVE_Y
+CG_AXIS_POSITIVE_Z = Axis.POSITIVE_Z
+CG_AXIS_NEGATIVE_Z = Axis.NEGATIVE_Z
+CG_JOINT_ROLE_SPINE = JointRole.SPINE
+CG_JOINT_ROLE_CERVICAL = JointRole.CERVICAL
+CG_JOINT_ROLE_HEAD = JointRole.HEAD
+CG_JOINT_ROLE_LEFT_EYE = JointRole.LEFT_EYE
+CG_JOINT_ROLE_RIGHT_EYE = JointRole.RIGHT_EYE
+CG_BLEND_METHOD_DLB = BlendMethod.DLB
+CG_BLEND_METHOD_DIB = BlendMethod.DIB
+CG_VIEW_DISTANCE_GEODESIC = ViewDistance.GEODESIC
+CG_VIEW_DISTANCE_CHORDAL = ViewDistance.CHORDAL
+CG_ATTENTION_MODEL_CROWD = AttentionModel.CROWD
+CG_ATTENTION_MODEL_SALIENCY = AttentionModel.SALIENCY
+CG_ATTENTION_MODEL_BASELINE = AttentionModel.BASELINE
+CG_TARGET_PART_WHOLE = TargetPart.WHOLE
+CG_TARGET_PART_HEAD = TargetPart.HEAD
+CG_TARGET_PART_LEFT_EYE = TargetPart.LEFT_EYE
+CG_TARGET_PART_RIGHT_EYE = TargetPart.RIGHT_EYE
+CG_TARGET_PART_CHEST = TargetPart.CHEST
+CG_TARGET_PART_TORSO = TargetPart.TORSO
 
 
 # --- structs -------------------------------------------------------------------------------

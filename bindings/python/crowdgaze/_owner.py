@@ -35,6 +35,7 @@ The raw handle (``owner.handle``) used with ``crowdgaze.lib`` directly bypasses 
 from __future__ import annotations
 
 import threading
+from typing import Any
 
 from . import _exceptions as e
 
@@ -151,7 +152,7 @@ class HandleOwner:
     """
 
     _kind = "object"
-    _destroy = None
+    _destroy: Any = None
     #: The handle (a ctypes pointer), None once closed or before ``__init__``.
     _handle = None
     #: The guard, set once by ``_adopt``; None means never initialised.
