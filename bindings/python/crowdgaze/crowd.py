@@ -659,7 +659,8 @@ class Crowd(HandleOwner):
             check(lib.cg_crowd_plan(handle), "cg_crowd_plan")
 
     def clear_plan(self) -> None:
-        """Drops the plan ``plan`` made: attention is chosen live again."""
+        """Leaves planned mode and forgets the recording; online stepping and pushing
+        resume."""
         with self._call("Crowd.clear_plan", exclusive=True) as handle:
             check(lib.cg_crowd_clear_plan(handle), "cg_crowd_clear_plan")
 
