@@ -21,12 +21,22 @@ from __future__ import annotations
 
 import ctypes
 from collections.abc import Sequence
+from typing import Any, Optional, Union
 from ctypes import POINTER, c_double, c_float, c_uint32, c_uint64
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from . import _checks as c
+from . import _exceptions as e
 from . import _native as n
+
+#: What number arguments take (checked at run time, see above): numpy arrays, nested
+#: sequences, ctypes structs and arrays of the matching type.
+Numbers = Union[ArrayLike, ctypes.Structure, "ctypes.Array[Any]"]
+#: What the ``out=`` arguments take: None (a new array) or a numpy array of the result's
+#: exact dtype and shape.
+Out = Optional[NDArray[Any]]
 
 #: ``cg_entity_state`` as a numpy record; ``position`` and ``velocity`` are ``float32[3]``.
 ENTITY_STATE_DTYPE = np.dtype(
@@ -130,27 +140,27 @@ def numbers(value, where: str, name: str) -> np.ndarray:
     """``value`` as a numpy array of integers or floats (not yet converted to float32),
     refusing anything that is not numbers (see the module's doc)."""
     if value is None or isinstance(value, _NOT_NUMBERS):
-        raise TypeError(
+        raise e.type_error(
             f"{where}: {name} must be real numbers (a numpy array or a sequence), "
             f"got {_what(value)}"
         )
     if isinstance(value, memoryview) and value.format in ("B", "b", "c"):
-        raise TypeError(
+        raise e.type_error(
             f"{where}: {name} is raw bytes (a memoryview of format {value.format!r}); "
             f"reinterpret them explicitly, e.g. with numpy.frombuffer(..., numpy.float32)"
         )
     try:
         array = np.asarray(value)
     except Exception as error:
-        raise TypeError(f"{where}: {name} must be real numbers: {error}") from error
+        raise e.type_error(f"{where}: {name} must be real numbers: {error}") from error
     kind = array.dtype.kind
     if kind == "O":
         if array.ndim == 0:
-            raise TypeError(f"{where}: {name} must be real numbers, got {_what(value)}")
+            raise e.type_error(f"{where}: {name} must be real numbers, got {_what(value)}")
         items = [c.real(x, where, f"{name} element", single=False) for x in array.reshape(-1)]
         array = np.array(items, dtype=np.float64).reshape(array.shape)
     elif kind not in "fiu":
-        raise TypeError(
+        raise e.type_error(
             f"{where}: {name} must be real numbers, got {_what(value)}, read as dtype "
             f"{array.dtype}"
         )
@@ -167,7 +177,7 @@ def float32(array: np.ndarray, where: str, name: str) -> np.ndarray:
     if array.dtype.kind == "f" and array.dtype.itemsize > 4 and np.isinf(result).any():
         overflowed = np.isinf(result) & np.isfinite(array.reshape(result.shape))
         if overflowed.any():
-            raise OverflowError(
+            raise e.range_error(
                 f"{where}: {name} holds {array.reshape(-1)[overflowed.reshape(-1)][0]!r}, "
                 f"out of the range of a C float (at most {c.FLOAT32_MAX:g} in magnitude)"
             )
@@ -179,7 +189,7 @@ def _is_floats_of(value, ctype) -> bool:
     ``ctype`` or of ``c_float``: memory C can read as float rows as it is."""
     if isinstance(value, ctypes.Structure):
         return isinstance(value, ctype)
-    element = type(value)
+    element: Any = type(value)
     while issubclass(element, ctypes.Array):
         element = element._type_
     return element is ctype or element is c_float
@@ -192,21 +202,21 @@ def float_rows(value, ctype, where: str, name: str) -> np.ndarray:
     it) and for ctypes objects of ``ctype`` or ``c_float``; converted by value otherwise."""
     width = WIDTHS[ctype]
     if isinstance(value, (ctypes.Array, ctypes.Structure)) and _is_floats_of(value, ctype):
-        array = np.frombuffer(value, dtype=np.float32)
+        array = np.frombuffer(value, dtype=np.float32)  # type: ignore[call-overload]
     elif isinstance(value, ctypes.Structure):
-        raise TypeError(
+        raise e.type_error(
             f"{where}: {name} must be a crowdgaze.{ctype.__name__} or real numbers, "
             f"got {_what(value)}"
         )
     else:
         array = float32(numbers(value, where, name), where, name)
     if array.ndim == 0 or array.size % width != 0:
-        raise ValueError(
+        raise e.value_error(
             f"{where}: {name} must be rows of {width} numbers ({ctype.__name__}), "
             f"got shape {array.shape}"
         )
     if array.ndim > 1 and array.shape[-1] != width:
-        raise ValueError(
+        raise e.value_error(
             f"{where}: {name} must have a last dimension of {width} ({ctype.__name__}), "
             f"got shape {array.shape}"
         )
@@ -224,7 +234,7 @@ def fixed_floats(value, count: int, where: str, name: str, shapes=None) -> np.nd
     array = numbers(value, where, name)
     if array.size != count or (shapes is not None and array.shape not in shapes):
         accepted = " or ".join(str(s) for s in shapes) if shapes else f"{count} numbers"
-        raise ValueError(f"{where}: {name} must be {accepted}, got shape {array.shape}")
+        raise e.value_error(f"{where}: {name} must be {accepted}, got shape {array.shape}")
     return float32(array, where, name)
 
 
@@ -232,17 +242,18 @@ def unsigned(value, where: str, name: str, ctype: str = "uint32") -> np.ndarray:
     """``value`` (an integer or integers) as a C-contiguous 1-D ``uint32`` (or ``uint64``)
     array, each checked in range: booleans and floats are refused, as for one integer."""
     if value is None or isinstance(value, _NOT_NUMBERS) or isinstance(value, memoryview):
-        raise TypeError(f"{where}: {name} must be integers, got {_what(value)}")
+        raise e.type_error(f"{where}: {name} must be integers, got {_what(value)}")
     try:
         array = np.asarray(value)
     except Exception as error:
-        raise TypeError(f"{where}: {name} must be integers: {error}") from error
+        raise e.type_error(f"{where}: {name} must be integers: {error}") from error
     dtype = np.uint32 if ctype == "uint32" else np.uint64
     if array.dtype.kind == "O":
         items = [c.integer(item, where, f"{name} element", ctype) for item in array.reshape(-1)]
         return np.array(items, dtype=dtype)
-    if array.dtype.kind not in "iu":
-        raise TypeError(
+    # An empty list reads as float64: it holds no value that is not an integer.
+    if array.dtype.kind not in "iu" and not (array.size == 0 and array.dtype.kind == "f"):
+        raise e.type_error(
             f"{where}: {name} must be integers, got {_what(value)}, read as dtype {array.dtype}"
         )
     array = array.reshape(-1)
@@ -251,7 +262,7 @@ def unsigned(value, where: str, name: str, ctype: str = "uint32") -> np.ndarray:
         largest = c.UNSIGNED[ctype]
         if low < 0 or high > largest:
             bad = low if low < 0 else high
-            raise OverflowError(
+            raise e.range_error(
                 f"{where}: {name} must be integers in 0..{largest} ({ctype}), holds {bad}"
             )
     return np.ascontiguousarray(array, dtype=dtype)
@@ -273,32 +284,32 @@ def check_out(out, dtype: np.dtype, where: str, ndim: int | None = None) -> np.n
     """Refuses an ``out`` that is not a writeable, C-contiguous, aligned numpy array of
     ``dtype`` (and ``ndim`` dimensions); its shape is checked by ``check_shape``."""
     if not isinstance(out, np.ndarray):
-        raise TypeError(
+        raise e.type_error(
             f"{where}: out must be a numpy array of {_DTYPE_NAMES.get(dtype, dtype)}, "
             f"got {_what(out)}"
         )
     if out.dtype != dtype:
         shown = out.dtype if out.dtype.names is None else "another record dtype"
-        raise TypeError(
+        raise e.type_error(
             f"{where}: out must have the dtype {_DTYPE_NAMES.get(dtype, dtype)}, got {shown} "
             f"(results are never converted)"
         )
     if ndim is not None and out.ndim != ndim:
-        raise ValueError(f"{where}: out must have {ndim} dimension(s), got shape {out.shape}")
+        raise e.value_error(f"{where}: out must have {ndim} dimension(s), got shape {out.shape}")
     flags = out.flags
     if not flags.writeable:
-        raise ValueError(f"{where}: out is read-only")
+        raise e.value_error(f"{where}: out is read-only")
     if not flags.c_contiguous:
-        raise ValueError(f"{where}: out must be C-contiguous (a strided view is not)")
+        raise e.value_error(f"{where}: out must be C-contiguous (a strided view is not)")
     if not flags.aligned:
-        raise ValueError(f"{where}: out is not aligned for its dtype")
+        raise e.value_error(f"{where}: out is not aligned for its dtype")
     return out
 
 
 def check_shape(out: np.ndarray, shape: tuple, where: str) -> np.ndarray:
     """Refuses an ``out`` whose shape is not exactly ``shape``."""
     if out.shape != shape:
-        raise ValueError(f"{where}: out must have the shape {shape}, got {out.shape}")
+        raise e.value_error(f"{where}: out must have the shape {shape}, got {out.shape}")
     return out
 
 
@@ -324,19 +335,19 @@ def _record_field(array, field, source, where, name):
     target = array[field]
     label = f"{name}[{field!r}]"
     if source.shape != target.shape:
-        raise ValueError(
+        raise e.value_error(
             f"{where}: {label} must have the shape {target.shape}, got {source.shape}"
         )
     kind = source.dtype.kind
     if target.dtype.kind == "u":
         if kind not in "iu":
-            raise TypeError(f"{where}: {label} must be integers, got dtype {source.dtype}")
+            raise e.type_error(f"{where}: {label} must be integers, got dtype {source.dtype}")
         if source.size and (int(source.min()) < 0 or int(source.max()) > c.UNSIGNED["uint32"]):
-            raise OverflowError(f"{where}: {label} must be integers in 0..{2**32 - 1}")
+            raise e.range_error(f"{where}: {label} must be integers in 0..{2**32 - 1}")
         array[field] = source
     else:
         if kind not in "fiu":
-            raise TypeError(f"{where}: {label} must be real numbers, got dtype {source.dtype}")
+            raise e.type_error(f"{where}: {label} must be real numbers, got dtype {source.dtype}")
         array[field] = float32(np.asarray(source), where, label)
 
 
@@ -351,13 +362,13 @@ def records_in(value, ctype, where: str, name: str):
         return value, ctypes.pointer(value), 1
     if isinstance(value, ctypes.Array):
         if value._type_ is not ctype:
-            raise TypeError(
+            raise e.type_error(
                 f"{where}: {name} must hold {ctype.__name__} structs, got {_what(value)}"
             )
         return value, ctypes.cast(value, POINTER(ctype)), len(value)
     if isinstance(value, np.ndarray):
         if value.dtype.names is None:
-            raise TypeError(
+            raise e.type_error(
                 f"{where}: {name} must be a record array of {_DTYPE_NAMES[dtype]} (see "
                 f"crowdgaze.entity_states), got {_what(value)}"
             )
@@ -366,25 +377,25 @@ def records_in(value, ctype, where: str, name: str):
             array = np.require(flat, dtype, ["C", "A"])
         else:
             array = np.zeros(flat.size, dtype=dtype)
-            for field in dtype.names:
+            for field in dtype.names or ():
                 if field in flat.dtype.names:
                     _record_field(array, field, flat[field], where, name)
                 elif field == "struct_size":
                     array[field] = ctypes.sizeof(ctype)
                 else:
-                    raise ValueError(f"{where}: {name} has no record field {field!r}")
+                    raise e.value_error(f"{where}: {name} has no record field {field!r}")
         return array, pointer(array, ctype), array.size
     if isinstance(value, (str, bytes, bytearray, memoryview)) or not isinstance(
         value, Sequence
     ):
-        raise TypeError(
+        raise e.type_error(
             f"{where}: {name} must be a numpy array of {ctype.__name__} records, a ctypes "
             f"array or a sequence (list, tuple) of {ctype.__name__}, got {_what(value)}"
         )
     items = list(value)
     for index, item in enumerate(items):
         if not isinstance(item, ctype):
-            raise TypeError(
+            raise e.type_error(
                 f"{where}: {name}[{index}] must be a crowdgaze.{ctype.__name__}, "
                 f"got {_what(item)}"
             )
@@ -399,7 +410,7 @@ def _struct_of_floats(value, ctype, where: str, name: str):
     if isinstance(value, ctype):
         return value
     if isinstance(value, ctypes.Structure):
-        raise TypeError(
+        raise e.type_error(
             f"{where}: {name} must be a crowdgaze.{ctype.__name__} or {WIDTHS[ctype]} real "
             f"numbers, got {_what(value)}"
         )
@@ -417,7 +428,9 @@ def quat(value, where: str, name: str) -> n.Quat:
     return _struct_of_floats(value, n.Quat, where, name)
 
 
-def _field(ctype, name: str, field_type, value, where: str):
+def field_value(field_type, value, where: str, name: str):
+    """``value`` checked and converted for a struct field of the ctypes type
+    ``field_type`` (what ``CheckedStructure`` assignments and ``struct_fields`` use)."""
     if field_type is c_uint32:
         return c.integer(value, where, name, "uint32")
     if field_type is c_uint64:
@@ -436,7 +449,7 @@ def _field(ctype, name: str, field_type, value, where: str):
             return ctypes.pointer(value)
         if isinstance(value, field_type):
             return value
-        raise TypeError(
+        raise e.type_error(
             f"{where}: {name} must be a crowdgaze.{target.__name__} or None, got {_what(value)}"
         )
     return c.instance(value, field_type, where, name)
@@ -449,8 +462,8 @@ def struct_fields(ctype, fields: dict, where: str) -> list:
     converted = []
     for name, value in fields.items():
         if name not in types:
-            raise TypeError(f"{where}: {C_NAMES[ctype]} has no field {name!r}")
-        converted.append((name, _field(ctype, name, types[name], value, where)))
+            raise e.type_error(f"{where}: {C_NAMES[ctype]} has no field {name!r}")
+        converted.append((name, field_value(types[name], value, where, name)))
     return converted
 
 

@@ -29,6 +29,8 @@ import operator
 
 import numpy as np
 
+from . import _exceptions as e
+
 #: Largest finite C float.
 FLOAT32_MAX = float(np.finfo(np.float32).max)
 #: Doubles at least this large in magnitude round to an infinite C float (half-way between
@@ -66,16 +68,16 @@ def integer(value, where: str, name: str, ctype: str = "uint32") -> int:
     """``value`` as a Python ``int`` in the range of the unsigned C type ``ctype``."""
     largest = UNSIGNED[ctype]
     if isinstance(value, (bool, np.bool_)):
-        raise TypeError(f"{where}: {name} must be an integer, got a bool ({value!r})")
+        raise e.type_error(f"{where}: {name} must be an integer, got a bool ({value!r})")
     try:
         result = operator.index(value)
     except TypeError:
-        raise TypeError(
+        raise e.type_error(
             f"{where}: {name} must be an integer, got {describe(value)} "
             f"({type(value).__name__})"
         ) from None
     if not 0 <= result <= largest:
-        raise OverflowError(
+        raise e.range_error(
             f"{where}: {name} must be an integer in 0..{largest} ({ctype}), got {result}"
         )
     return result
@@ -87,23 +89,23 @@ def real(value, where: str, name: str, single: bool = True) -> float:
     if _refused_number(value) or not (
         hasattr(type(value), "__float__") or hasattr(type(value), "__index__")
     ):
-        raise TypeError(
+        raise e.type_error(
             f"{where}: {name} must be a real number, got {describe(value)} "
             f"({type(value).__name__})"
         )
     try:
         result = float(value)
     except OverflowError:
-        raise OverflowError(
+        raise e.range_error(
             f"{where}: {name} is too large for a float: {describe(value)}"
         ) from None
     except Exception as error:
-        raise TypeError(
+        raise e.type_error(
             f"{where}: {name} must be a real number, converting {describe(value)} failed: "
             f"{error}"
         ) from error
     if single and math.isfinite(result) and abs(result) >= FLOAT32_OVERFLOW:
-        raise OverflowError(
+        raise e.range_error(
             f"{where}: {name} is out of the range of a C float (at most {FLOAT32_MAX:g} "
             f"in magnitude), got {result!r}"
         )
@@ -113,7 +115,7 @@ def real(value, where: str, name: str, single: bool = True) -> float:
 def flag(value, where: str, name: str) -> bool:
     """``value`` as a ``bool``: only ``True``/``False`` (or ``numpy.bool_``)."""
     if not isinstance(value, (bool, np.bool_)):
-        raise TypeError(
+        raise e.type_error(
             f"{where}: {name} must be True or False, got {describe(value)} "
             f"({type(value).__name__})"
         )
@@ -123,7 +125,7 @@ def flag(value, where: str, name: str) -> bool:
 def instance(value, ctype, where: str, name: str):
     """``value`` itself if it is a ``ctype`` (a ctypes struct), else ``TypeError``."""
     if not isinstance(value, ctype):
-        raise TypeError(
+        raise e.type_error(
             f"{where}: {name} must be a crowdgaze.{ctype.__name__}, got {describe(value)} "
             f"({type(value).__name__})"
         )

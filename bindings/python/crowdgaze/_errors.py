@@ -1,4 +1,5 @@
-"""``crowdgaze.Error`` and the status check every wrapper call goes through."""
+"""The status check every wrapper call goes through (the exceptions are in
+``crowdgaze._exceptions``)."""
 
 from __future__ import annotations
 
@@ -6,6 +7,7 @@ import ctypes
 
 from . import _checks as c
 from . import _native as n
+from ._exceptions import Error
 from ._library import lib
 
 
@@ -23,26 +25,8 @@ def status_string(status: int) -> str:
     return lib.cg_status_str(status).decode("utf-8")
 
 
-class Error(Exception):
-    """A failed crowdgaze call.
-
-    ``status`` is the ``crowdgaze.Status`` (an ``int``), ``message`` the library's one-line
-    explanation (``cg_last_error_message``), ``function`` the C function that failed.
-    """
-
-    def __init__(self, status: int, message: str, function: str | None = None):
-        try:
-            self.status = n.Status(status)
-        except ValueError:
-            self.status = status
-        self.message = message
-        self.function = function
-        text = message or status_string(status)
-        super().__init__(f"{function}: {text}" if function else text)
-
-
 def check(status: int, function: str) -> None:
-    """Raises ``Error`` unless ``status`` is ``CG_STATUS_OK``."""
+    """Raises the ``Error`` subclass of ``status`` unless ``status`` is ``CG_STATUS_OK``."""
     if status != n.Status.OK:
         raise Error(status, last_error_message(), function)
 

@@ -11,6 +11,7 @@ import ctypes
 import enum
 import os
 import sys
+from typing import Any
 from ctypes import (
     POINTER,
     Structure,
@@ -24,12 +25,11 @@ from ctypes import (
 )
 from pathlib import Path
 
+import numpy as np
+
 # --- constants (#define in the header) ---------------------------------------------------
 
 CG_NO_TARGET = 0xFFFFFFFF
-CG_STATE_HEADING_FROM_MOTION = 1
-CG_STATE_HAS_VELOCITY = 2
-CG_STATE_TALKING = 4
 CG_MAX_CONVERSATION_MEMBERS = 8
 CG_MAX_CHAIN_JOINTS = 15
 CG_EYE_MOTION_PAPER = 0
@@ -131,6 +131,41 @@ class EyeMotion(enum.IntEnum):
     MAIN_SEQUENCE = CG_EYE_MOTION_MAIN_SEQUENCE
 
 
+class StateFlag(enum.IntFlag):
+    """``cg_entity_state.flags``: the header's ``CG_STATE_*`` bits, combined with ``|``.
+
+    They work on the ``uint32`` flags of ``ENTITY_STATE_DTYPE`` records, an element or a
+    whole column at a time: ``states["flags"][i] |= cg.CG_STATE_TALKING`` sets a bit and
+    ``states["flags"][i] &= ~cg.CG_STATE_TALKING`` clears it (``~`` keeps every other bit
+    of the 32, so its value stays in ``0 .. 2**32 - 1``).
+    """
+
+    #: The heading is the direction of motion (``heading`` is ignored).
+    HEADING_FROM_MOTION = 1
+    #: ``velocity`` is given (else it is derived from the previous pushed position).
+    HAS_VELOCITY = 2
+    #: The entity talks in this frame (see ``Crowd.set_conversation``).
+    TALKING = 4
+
+    def __invert__(self) -> StateFlag:
+        """The other bits of the 32 (not a negative number, which numpy's ``uint32``
+        arrays refuse)."""
+        return type(self)(~int(self) & 0xFFFFFFFF)
+
+    def __array_ufunc__(self, ufunc: Any, method: str, *inputs: Any, **kwargs: Any) -> Any:
+        # numpy takes an int subclass as an int64 array, and then refuses to write
+        # `uint32_array | flag` back into a uint32 array: a flag is a uint32 to numpy.
+        inputs = tuple(
+            np.uint32(value) if isinstance(value, StateFlag) else value for value in inputs
+        )
+        return getattr(ufunc, method)(*inputs, **kwargs)
+
+
+CG_STATE_HEADING_FROM_MOTION = StateFlag.HEADING_FROM_MOTION
+CG_STATE_HAS_VELOCITY = StateFlag.HAS_VELOCITY
+CG_STATE_TALKING = StateFlag.TALKING
+
+
 #: C enum name -> Python enum, for the declaration test and for users who read the header.
 ENUMS = {
     "cg_status": Status,
@@ -142,17 +177,129 @@ ENUMS = {
     "cg_target_part": TargetPart,
 }
 
-# Every enum value also under its C name (CG_STATUS_OK, CG_AXIS_POSITIVE_Y, ...).
-for _c_name, _enum in ENUMS.items():
-    for _member in _enum:
-        globals()[f"{_c_name.upper()}_{_member.name}"] = int(_member)
-del _c_name, _enum, _member
+# Every enum value also under its C name (CG_STATUS_OK, CG_AXIS_POSITIVE_Y, ...), spelt out
+# so that type checkers see them; tests/test_declarations.py checks them against the header.
+CG_STATUS_OK = Status.OK
+CG_STATUS_NULL_ARGUMENT = Status.NULL_ARGUMENT
+CG_STATUS_INVALID_ARGUMENT = Status.INVALID_ARGUMENT
+CG_STATUS_NON_FINITE = Status.NON_FINITE
+CG_STATUS_NOT_FOUND = Status.NOT_FOUND
+CG_STATUS_CAPACITY = Status.CAPACITY
+CG_STATUS_BAD_STRUCT_SIZE = Status.BAD_STRUCT_SIZE
+CG_STATUS_WRONG_STATE = Status.WRONG_STATE
+CG_STATUS_NOT_CONVERGED = Status.NOT_CONVERGED
+CG_STATUS_INTERNAL = Status.INTERNAL
+CG_STATUS_OUT_OF_MEMORY = Status.OUT_OF_MEMORY
+CG_STATUS_POISONED = Status.POISONED
+CG_AXIS_POSITIVE_X = Axis.POSITIVE_X
+CG_AXIS_NEGATIVE_X = Axis.NEGATIVE_X
+CG_AXIS_POSITIVE_Y = Axis.POSITIVE_Y
+CG_AXIS_NEGATIVE_Y = Axis.NEGATIVE_Y
+CG_AXIS_POSITIVE_Z = Axis.POSITIVE_Z
+CG_AXIS_NEGATIVE_Z = Axis.NEGATIVE_Z
+CG_JOINT_ROLE_SPINE = JointRole.SPINE
+CG_JOINT_ROLE_CERVICAL = JointRole.CERVICAL
+CG_JOINT_ROLE_HEAD = JointRole.HEAD
+CG_JOINT_ROLE_LEFT_EYE = JointRole.LEFT_EYE
+CG_JOINT_ROLE_RIGHT_EYE = JointRole.RIGHT_EYE
+CG_BLEND_METHOD_DLB = BlendMethod.DLB
+CG_BLEND_METHOD_DIB = BlendMethod.DIB
+CG_VIEW_DISTANCE_GEODESIC = ViewDistance.GEODESIC
+CG_VIEW_DISTANCE_CHORDAL = ViewDistance.CHORDAL
+CG_ATTENTION_MODEL_CROWD = AttentionModel.CROWD
+CG_ATTENTION_MODEL_SALIENCY = AttentionModel.SALIENCY
+CG_ATTENTION_MODEL_BASELINE = AttentionModel.BASELINE
+CG_TARGET_PART_WHOLE = TargetPart.WHOLE
+CG_TARGET_PART_HEAD = TargetPart.HEAD
+CG_TARGET_PART_LEFT_EYE = TargetPart.LEFT_EYE
+CG_TARGET_PART_RIGHT_EYE = TargetPart.RIGHT_EYE
+CG_TARGET_PART_CHEST = TargetPart.CHEST
+CG_TARGET_PART_TORSO = TargetPart.TORSO
 
 
 # --- structs -------------------------------------------------------------------------------
 
 
-class Vec3(Structure):
+class CheckedStructure(Structure):
+    """Base of the header's structs: ctypes structs whose fields are checked on assignment.
+
+    ``struct.field = value`` (and ``Struct(field=value)``) converts and checks ``value`` as
+    every argument of the package is (``crowdgaze._checks``): an integer field takes an
+    integer in its C type's range (else ``OverflowError``; ``2**32 + 3`` is never masked to
+    3), a ``float`` field a real number a C float holds, a vector field a ``Vec3`` or three
+    real numbers, and so on; a wrong type raises ``TypeError``. Both are
+    ``crowdgaze.Error`` s. A name that is not a field raises ``AttributeError`` (a typo is
+    not silently kept), as does any assignment to a read-only copy such as
+    ``Crowd.config``, whose changes could not take effect.
+    """
+
+    #: Field name -> enum of its values, for ``repr`` (the C field is a plain uint32).
+    _enums_: dict[str, type[enum.IntEnum]] = {}
+
+    def __setattr__(self, name: str, value: Any) -> None:
+        if name.startswith("_"):
+            super().__setattr__(name, value)
+            return
+        kind = type(self).__name__
+        if self.__dict__.get("_read_only_"):
+            raise _field_error(
+                f"{kind}.{name}: this {kind} is a read-only copy ({self._read_only_}); "
+                f"changing it would change nothing",
+                Status.WRONG_STATE,
+            )
+        field_type = _field_types(type(self)).get(name)
+        if field_type is None:
+            raise _field_error(f"{kind} has no field {name!r}", Status.INVALID_ARGUMENT)
+        from ._arrays import field_value  # imported late: _arrays imports this module
+
+        super().__setattr__(name, field_value(field_type, value, kind, name))
+
+    def __repr__(self) -> str:
+        fields = ", ".join(
+            f"{name}={_show(getattr(self, name), self._enums_.get(name))}"
+            for name in _field_types(type(self))
+        )
+        return f"{type(self).__name__}({fields})"
+
+    def _freeze(self, why: str) -> None:
+        """Makes this struct read-only; ``why`` says what it is a copy of."""
+        self._read_only_ = why
+
+
+_FIELD_TYPES: dict[type, dict[str, Any]] = {}
+
+
+def _field_types(ctype: type) -> dict[str, Any]:
+    """Field name -> ctypes type of the struct ``ctype``, in order."""
+    types = _FIELD_TYPES.get(ctype)
+    if types is None:
+        types = _FIELD_TYPES[ctype] = {f[0]: f[1] for f in ctype._fields_}  # type: ignore[attr-defined]
+    return types
+
+
+def _field_error(message: str, status: Status) -> Exception:
+    from ._exceptions import FieldError  # imported late: _exceptions imports this module
+
+    return FieldError(status, message)
+
+
+def _show(value: Any, values: type[enum.IntEnum] | None = None) -> str:
+    """A field's value for ``repr``."""
+    if isinstance(value, float):
+        return format(value, ".7g")
+    if isinstance(value, int) and values is not None:
+        try:
+            return f"{values.__name__}.{values(value).name}"
+        except ValueError:
+            return str(value)
+    if isinstance(value, ctypes.Array):
+        return "[" + ", ".join(_show(item) for item in value) + "]"
+    if isinstance(value, ctypes._Pointer):
+        return f"pointer({_show(value.contents)})" if value else "None"
+    return repr(value)
+
+
+class Vec3(CheckedStructure):
     """``cg_vec3``."""
 
     _fields_ = [("x", c_float), ("y", c_float), ("z", c_float)]
@@ -164,7 +311,7 @@ class Vec3(Structure):
         return f"Vec3({self.x:g}, {self.y:g}, {self.z:g})"
 
 
-class Quat(Structure):
+class Quat(CheckedStructure):
     """``cg_quat``: x, y, z, w."""
 
     _fields_ = [("x", c_float), ("y", c_float), ("z", c_float), ("w", c_float)]
@@ -176,8 +323,10 @@ class Quat(Structure):
         return f"Quat({self.x:g}, {self.y:g}, {self.z:g}, {self.w:g})"
 
 
-class ChainJoint(Structure):
+class ChainJoint(CheckedStructure):
     """``cg_chain_joint``."""
+
+    _enums_ = {"role": JointRole}
 
     _fields_ = [
         ("role", c_uint32),
@@ -190,7 +339,7 @@ class ChainJoint(Structure):
     ]
 
 
-class ChainDesc(Structure):
+class ChainDesc(CheckedStructure):
     """``cg_chain_desc``."""
 
     _fields_ = [
@@ -203,8 +352,10 @@ class ChainDesc(Structure):
     ]
 
 
-class CharacterDesc(Structure):
+class CharacterDesc(CheckedStructure):
     """``cg_character_desc``."""
+
+    _enums_ = {"attention_model": AttentionModel}
 
     _fields_ = [
         ("struct_size", c_uint32),
@@ -216,7 +367,7 @@ class CharacterDesc(Structure):
     ]
 
 
-class ObjectDesc(Structure):
+class ObjectDesc(CheckedStructure):
     """``cg_object_desc``."""
 
     _fields_ = [
@@ -228,7 +379,7 @@ class ObjectDesc(Structure):
     ]
 
 
-class EntityState(Structure):
+class EntityState(CheckedStructure):
     """``cg_entity_state``."""
 
     _fields_ = [
@@ -241,8 +392,10 @@ class EntityState(Structure):
     ]
 
 
-class GazeInfo(Structure):
+class GazeInfo(CheckedStructure):
     """``cg_gaze_info``."""
+
+    _enums_ = {"target_part": TargetPart}
 
     _fields_ = [
         ("character", c_uint32),
@@ -258,7 +411,7 @@ class GazeInfo(Structure):
     ]
 
 
-class ScoreBreakdown(Structure):
+class ScoreBreakdown(CheckedStructure):
     """``cg_score_breakdown``."""
 
     _fields_ = [
@@ -275,8 +428,10 @@ class ScoreBreakdown(Structure):
     ]
 
 
-class CharacterParams(Structure):
+class CharacterParams(CheckedStructure):
     """``cg_character_params``."""
+
+    _enums_ = {"attention_model": AttentionModel}
 
     _fields_ = [
         ("struct_size", c_uint32),
@@ -289,7 +444,7 @@ class CharacterParams(Structure):
     ]
 
 
-class Constraint(Structure):
+class Constraint(CheckedStructure):
     """``cg_constraint``."""
 
     _fields_ = [
@@ -300,14 +455,16 @@ class Constraint(Structure):
     ]
 
 
-class DualQuat(Structure):
+class DualQuat(CheckedStructure):
     """``cg_dualquat``: real (rotation) then dual (translation) part."""
 
     _fields_ = [("real", Quat), ("dual", Quat)]
 
 
-class ViewBlenderConfig(Structure):
+class ViewBlenderConfig(CheckedStructure):
     """``cg_view_blender_config``."""
+
+    _enums_ = {"distance": ViewDistance, "method": BlendMethod}
 
     _fields_ = [
         ("struct_size", c_uint32),
@@ -321,8 +478,10 @@ class ViewBlenderConfig(Structure):
     ]
 
 
-class CrowdConfig(Structure):
+class CrowdConfig(CheckedStructure):
     """``cg_crowd_config``."""
+
+    _enums_ = {"up_axis": Axis, "forward_axis": Axis, "eye_motion": EyeMotion}
 
     _fields_ = [
         ("struct_size", c_uint32),
@@ -381,7 +540,7 @@ class CrowdConfig(Structure):
     ]
 
 
-class GazeTarget(Structure):
+class GazeTarget(CheckedStructure):
     """``cg_gaze_target``."""
 
     _fields_ = [
@@ -393,7 +552,7 @@ class GazeTarget(Structure):
     ]
 
 
-class EyeInfo(Structure):
+class EyeInfo(CheckedStructure):
     """``cg_eye_info``."""
 
     _fields_ = [
@@ -405,7 +564,7 @@ class EyeInfo(Structure):
     ]
 
 
-class Eyelids(Structure):
+class Eyelids(CheckedStructure):
     """``cg_eyelids``: a character's blink closures (0 open, 1 closed) and upper lid
     pitches (radians)."""
 

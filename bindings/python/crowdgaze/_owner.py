@@ -35,6 +35,9 @@ The raw handle (``owner.handle``) used with ``crowdgaze.lib`` directly bypasses 
 from __future__ import annotations
 
 import threading
+from typing import Any
+
+from . import _exceptions as e
 
 #: Serialises the check-and-set of a new owner's handle (re-``__init__`` from two threads).
 _INIT_LOCK = threading.Lock()
@@ -76,7 +79,7 @@ class Guard:
         me = threading.get_ident()
         with self._condition:
             if me in self._holders:
-                raise RuntimeError(
+                raise e.state_error(
                     f"{where}: called while a call on this {kind} is in flight on the same "
                     f"thread (from code that call ran, e.g. a finalizer); call it after that "
                     f"call returns"
@@ -129,12 +132,12 @@ class _Call:
         owner = self._owner
         guard = owner._guard
         if guard is None:
-            raise ValueError(f"{self._where}: this {owner._kind} was never initialised")
+            raise e.closed_error(f"{self._where}: this {owner._kind} was never initialised")
         guard.acquire(self._exclusive, self._where, owner._kind)
         handle = owner._handle
         if not handle:
             guard.release(self._exclusive)
-            raise ValueError(f"{self._where}: the {owner._kind} is closed")
+            raise e.closed_error(f"{self._where}: the {owner._kind} is closed")
         return handle
 
     def __exit__(self, *exc) -> None:
@@ -149,7 +152,7 @@ class HandleOwner:
     """
 
     _kind = "object"
-    _destroy = None
+    _destroy: Any = None
     #: The handle (a ctypes pointer), None once closed or before ``__init__``.
     _handle = None
     #: The guard, set once by ``_adopt``; None means never initialised.
@@ -157,7 +160,7 @@ class HandleOwner:
 
     def _refuse_reinit(self, where: str) -> None:
         if self._guard is not None:
-            raise RuntimeError(
+            raise e.state_error(
                 f"{where}: this {type(self).__name__} is already initialised (it owns a "
                 f"native handle); create a new {type(self).__name__} instead"
             )
@@ -180,7 +183,7 @@ class HandleOwner:
         calls bypass the checks and the guard of the methods."""
         handle = self._handle
         if not handle:
-            raise ValueError(f"the {self._kind} is closed")
+            raise e.closed_error(f"the {self._kind} is closed")
         return handle
 
     @property
@@ -202,6 +205,21 @@ class HandleOwner:
         finally:
             guard.release(True)
 
+    def __repr__(self) -> str:
+        name = f"crowdgaze.{type(self).__name__}"
+        if self._guard is None:
+            return f"<{name}: not initialised>"
+        if not self._handle:
+            return f"<{name}: closed>"
+        try:
+            return f"<{name}: {self._describe()}>"
+        except Exception:  # e.g. from a finalizer while a call is in flight: no details
+            return f"<{name}>"
+
+    def _describe(self) -> str:
+        """What ``repr`` shows of a live object."""
+        return "open"
+
     def __enter__(self):
         return self
 
@@ -215,7 +233,7 @@ class HandleOwner:
 
     def _refuse_copy(self, what: str):
         name = type(self).__name__
-        raise TypeError(
+        raise e.type_error(
             f"{name} objects cannot be {what}: each owns a native handle that only it may "
             f"destroy; create another {name} from the same config instead"
         )

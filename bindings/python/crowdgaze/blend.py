@@ -10,10 +10,13 @@ converted and checked as in ``crowdgaze.crowd`` (errors name the argument), and 
 from __future__ import annotations
 
 import warnings
+from typing import Any
 from ctypes import POINTER, byref, c_float, sizeof
 
 import numpy as np
+from numpy.typing import NDArray
 
+from . import _exceptions as e
 from . import _arrays as a
 from . import _checks as c
 from . import _native as n
@@ -33,16 +36,16 @@ def _converged(status: int, function: str, return_converged: bool) -> bool:
     return converged
 
 
-def _one_dualquat(value, where: str, name: str) -> np.ndarray:
+def _one_dualquat(value: a.Numbers, where: str, name: str) -> NDArray[Any]:
     rows = a.float_rows(value, n.DualQuat, where, name)
     if len(rows) != 1:
-        raise ValueError(
+        raise e.value_error(
             f"{where}: {name} must be one dual quaternion (8 numbers), got {len(rows)}"
         )
     return rows
 
 
-def dualquat_from_rt(rotation, translation) -> np.ndarray:
+def dualquat_from_rt(rotation: a.Numbers, translation: a.Numbers) -> NDArray[Any]:
     """The rigid transform "rotate by ``rotation`` (x y z w), then translate by
     ``translation``" as a dual quaternion (8 float32)."""
     where = "dualquat_from_rt"
@@ -56,7 +59,7 @@ def dualquat_from_rt(rotation, translation) -> np.ndarray:
     return out
 
 
-def dualquat_to_rt(dual_quat) -> tuple[np.ndarray, np.ndarray]:
+def dualquat_to_rt(dual_quat: a.Numbers) -> tuple[NDArray[Any], NDArray[Any]]:
     """``(rotation (4,), translation (3,))`` of a rigid transform."""
     q = _one_dualquat(dual_quat, "dualquat_to_rt", "dual_quat")
     rotation, translation = n.Quat(), n.Vec3()
@@ -67,7 +70,7 @@ def dualquat_to_rt(dual_quat) -> tuple[np.ndarray, np.ndarray]:
     return np.array(tuple(rotation), np.float32), np.array(tuple(translation), np.float32)
 
 
-def dualquat_from_matrix(matrix) -> np.ndarray:
+def dualquat_from_matrix(matrix: a.Numbers) -> NDArray[Any]:
     """A dual quaternion from a rigid 4x4 matrix: a ``(4, 4)`` array indexed
     ``[row, column]`` for column vectors (translation in ``matrix[:3, 3]``), or 16 floats
     already column-major as C takes them (OpenGL, ``osg::Matrixf::ptr()``)."""
@@ -84,7 +87,7 @@ def dualquat_from_matrix(matrix) -> np.ndarray:
     return out
 
 
-def dualquat_to_matrix(dual_quat) -> np.ndarray:
+def dualquat_to_matrix(dual_quat: a.Numbers) -> NDArray[Any]:
     """The ``(4, 4)`` matrix ``[row, column]`` for column vectors (translation in
     ``[:3, 3]``); ``.T.ravel()`` gives C's column-major 16 floats."""
     q = _one_dualquat(dual_quat, "dualquat_to_matrix", "dual_quat")
@@ -96,23 +99,23 @@ def dualquat_to_matrix(dual_quat) -> np.ndarray:
     return out.reshape(4, 4).T.copy()
 
 
-def _inputs_and_weights(inputs, weights, where: str):
+def _inputs_and_weights(inputs: a.Numbers, weights: a.Numbers, where: str) -> tuple[NDArray[Any], NDArray[Any]]:
     q = a.float_rows(inputs, n.DualQuat, where, "inputs")
     w = a.float_values(weights, where, "weights")
     if len(q) != w.size:
-        raise ValueError(
+        raise e.value_error(
             f"{where}: inputs holds {len(q)} dual quaternions but weights {w.size} weights"
         )
     return q, w
 
 
-def _dib_settings(precision, max_iterations, where: str):
+def _dib_settings(precision: Any, max_iterations: Any, where: str) -> tuple[float, int]:
     return c.real(precision, where, "precision"), c.integer(
         max_iterations, where, "max_iterations"
     )
 
 
-def blend_dlb(inputs, weights) -> np.ndarray:
+def blend_dlb(inputs: a.Numbers, weights: a.Numbers) -> NDArray[Any]:
     """DLB of ``inputs`` (``(n, 8)``) with ``weights`` (``n``): one dual quaternion."""
     q, w = _inputs_and_weights(inputs, weights, "blend_dlb")
     out = np.empty(8, dtype=np.float32)
@@ -125,7 +128,14 @@ def blend_dlb(inputs, weights) -> np.ndarray:
     return out
 
 
-def blend_dib(inputs, weights, precision=1e-6, max_iterations=16, *, return_converged=False):
+def blend_dib(
+    inputs: a.Numbers,
+    weights: a.Numbers,
+    precision: float = 1e-6,
+    max_iterations: int = 16,
+    *,
+    return_converged: bool = False,
+) -> NDArray[Any] | tuple[NDArray[Any], bool]:
     """DIB of ``inputs`` with ``weights``. Returns the dual quaternion, or with
     ``return_converged=True`` a tuple ``(dual_quat, converged)``; if the precision is not
     reached, the best iterate (with a ``NotConvergedWarning`` unless ``return_converged``)."""
@@ -145,18 +155,18 @@ def blend_dib(inputs, weights, precision=1e-6, max_iterations=16, *, return_conv
     return (out, converged) if return_converged else out
 
 
-def _keys(keys, weights, where: str):
+def _keys(keys: a.Numbers, weights: a.Numbers, where: str) -> tuple[NDArray[Any], NDArray[Any], int]:
     w = a.float_values(weights, where, "weights")
     k = a.float_rows(keys, n.DualQuat, where, "keys")
     if len(k) % max(w.size, 1) != 0:
-        raise ValueError(
+        raise e.value_error(
             f"{where}: keys holds {len(k)} transforms, not whole poses of the {w.size} keys "
             f"weights has"
         )
     return k, w, len(k) // max(w.size, 1)
 
 
-def blend_pose_dlb(keys, weights, out=None) -> np.ndarray:
+def blend_pose_dlb(keys: a.Numbers, weights: a.Numbers, out: a.Out = None) -> NDArray[Any]:
     """DLB of whole poses: ``keys`` ``(key_count, joints, 8)`` (or key-major
     ``(key_count * joints, 8)``), ``weights`` ``(key_count,)``; returns ``(joints, 8)``, or
     ``out`` (exactly that: float32, C-contiguous, writeable) written in place."""
@@ -177,8 +187,14 @@ def blend_pose_dlb(keys, weights, out=None) -> np.ndarray:
 
 
 def blend_pose_dib(
-    keys, weights, precision=1e-6, max_iterations=16, out=None, *, return_converged=False
-):
+    keys: a.Numbers,
+    weights: a.Numbers,
+    precision: float = 1e-6,
+    max_iterations: int = 16,
+    out: a.Out = None,
+    *,
+    return_converged: bool = False,
+) -> NDArray[Any] | tuple[NDArray[Any], bool]:
     """DIB of whole poses, laid out as ``blend_pose_dlb``."""
     where = "blend_pose_dib"
     k, w, joints = _keys(keys, weights, where)
@@ -197,7 +213,7 @@ def blend_pose_dib(
     return (out, converged) if return_converged else out
 
 
-def camera_center_from_projection(projection) -> np.ndarray:
+def camera_center_from_projection(projection: a.Numbers) -> NDArray[Any]:
     """The centre ``C = -R^T t`` of a camera ``P = K[R|t]`` given as a ``(3, 4)`` array (or
     12 numbers, row-major)."""
     where = "camera_center_from_projection"
@@ -211,14 +227,14 @@ def camera_center_from_projection(projection) -> np.ndarray:
     return np.array(tuple(out), np.float32)
 
 
-def _blender_config(fields: dict, where: str) -> n.ViewBlenderConfig:
+def _blender_config(fields: dict[str, Any], where: str) -> n.ViewBlenderConfig:
     converted = a.struct_fields(n.ViewBlenderConfig, fields, where)
     config = n.ViewBlenderConfig(struct_size=sizeof(n.ViewBlenderConfig))
     check(lib.cg_view_blender_config_init(byref(config)), "cg_view_blender_config_init")
     return a.fill(config, converted)
 
 
-def view_blender_config(**fields) -> n.ViewBlenderConfig:
+def view_blender_config(**fields: Any) -> n.ViewBlenderConfig:
     """A ``ViewBlenderConfig`` with the library's defaults, then ``fields``."""
     return _blender_config(fields, "view_blender_config")
 
@@ -235,11 +251,11 @@ class ViewBlender(HandleOwner):
     """
 
     _kind = "view blender"
-    _destroy = lib.cg_view_blender_destroy
+    _destroy: Any = lib.cg_view_blender_destroy
     _joint_count = 0
     _key_count = 0
 
-    def __init__(self, config: n.ViewBlenderConfig | None = None, **fields):
+    def __init__(self, config: n.ViewBlenderConfig | None = None, **fields: Any):
         where = "ViewBlender"
         self._refuse_reinit(where)
         if config is None:
@@ -254,6 +270,9 @@ class ViewBlender(HandleOwner):
         self._key_count = config.key_count
         self._adopt(handle, where)
 
+    def _describe(self) -> str:
+        return f"{self._joint_count} joints, {self._key_count} keys"
+
     @property
     def joint_count(self) -> int:
         """Joints per pose (from the config)."""
@@ -265,7 +284,7 @@ class ViewBlender(HandleOwner):
         return self._key_count
 
     def set_key_clip(
-        self, key: int, frames, frames_per_second: float, looping: bool = True
+        self, key: int, frames: a.Numbers, frames_per_second: float, looping: bool = True
     ) -> None:
         """Key ``key`` plays ``frames``: ``(frame_count, joints, 8)`` (or frame-major
         ``(frame_count * joints, 8)``) local joint transforms."""
@@ -275,7 +294,7 @@ class ViewBlender(HandleOwner):
         frames_per_second = c.real(frames_per_second, where, "frames_per_second")
         looping = c.flag(looping, where, "looping")
         if self._joint_count == 0 or len(f) % self._joint_count != 0:
-            raise ValueError(
+            raise e.value_error(
                 f"{where}: frames holds {len(f)} transforms, not whole frames of "
                 f"{self._joint_count} joints"
             )
@@ -292,7 +311,7 @@ class ViewBlender(HandleOwner):
                 "cg_view_blender_set_key_clip",
             )
 
-    def set_key_pose(self, key: int, pose) -> None:
+    def set_key_pose(self, key: int, pose: a.Numbers) -> None:
         """Key ``key`` is the static pose ``pose`` (``(joints, 8)``)."""
         where = "ViewBlender.set_key_pose"
         key = c.integer(key, where, "key")
@@ -303,7 +322,7 @@ class ViewBlender(HandleOwner):
                 "cg_view_blender_set_key_pose",
             )
 
-    def add_camera(self, direction, key: int) -> None:
+    def add_camera(self, direction: a.Numbers, key: int) -> None:
         """A key camera: ``direction`` from the character's centre in its own frame."""
         where = "ViewBlender.add_camera"
         direction = a.vec3(direction, where, "direction")
@@ -314,7 +333,7 @@ class ViewBlender(HandleOwner):
                 "cg_view_blender_add_camera",
             )
 
-    def weights(self, character, viewer, out=None) -> np.ndarray:
+    def weights(self, character: a.Numbers, viewer: a.Numbers, out: a.Out = None) -> NDArray[Any]:
         """The key weights (``(key_count,)`` float32) for a viewer at ``viewer`` looking at
         the character placed by the dual quaternion ``character``; or ``out`` (exactly
         that) written in place."""
@@ -335,7 +354,15 @@ class ViewBlender(HandleOwner):
             )
         return out
 
-    def evaluate(self, character, viewer, t: float, out=None, *, return_converged=False):
+    def evaluate(
+        self,
+        character: a.Numbers,
+        viewer: a.Numbers,
+        t: float,
+        out: a.Out = None,
+        *,
+        return_converged: bool = False,
+    ) -> NDArray[Any] | tuple[NDArray[Any], bool]:
         """The blended pose (``(joints, 8)``) at clip time ``t``, or ``out`` (exactly that)
         written in place; with ``return_converged=True`` a tuple ``(pose, converged)``."""
         where = "ViewBlender.evaluate"

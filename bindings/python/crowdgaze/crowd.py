@@ -9,10 +9,13 @@ C calls holding the crowd's guard (see ``crowdgaze._owner``), and raises
 
 from __future__ import annotations
 
+from typing import Any
 from ctypes import POINTER, byref, c_size_t, c_uint32, sizeof
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
+from . import _exceptions as e
 from . import _arrays as a
 from . import _checks as c
 from . import _native as n
@@ -21,7 +24,7 @@ from ._library import lib
 from ._owner import HandleOwner
 
 
-def _new(ctype, init, init_name: str, fields: dict, where: str):
+def _new(ctype: Any, init: Any, init_name: str, fields: dict[str, Any], where: str) -> Any:
     """A ``ctype`` filled by the library's ``init``, then ``fields`` (checked first)."""
     converted = a.struct_fields(ctype, fields, where)
     struct = ctype(struct_size=sizeof(ctype))
@@ -29,7 +32,7 @@ def _new(ctype, init, init_name: str, fields: dict, where: str):
     return a.fill(struct, converted)
 
 
-def crowd_config(**fields) -> n.CrowdConfig:
+def crowd_config(**fields: Any) -> n.CrowdConfig:
     """A ``CrowdConfig`` with the library's defaults (``cg_crowd_config_init``), then
     ``fields`` set (``crowd_config(max_characters=100, seed=7)``). The fields are the
     header's, documented there: blinks, for instance, are ``blink_rate`` (per minute),
@@ -40,26 +43,26 @@ def crowd_config(**fields) -> n.CrowdConfig:
                 "crowd_config")
 
 
-def character_desc(**fields) -> n.CharacterDesc:
+def character_desc(**fields: Any) -> n.CharacterDesc:
     """A ``CharacterDesc`` with defaults, then ``fields`` (``position`` a 3-sequence,
     ``chain`` a ``ChainDesc`` or None)."""
     return _new(n.CharacterDesc, lib.cg_character_desc_init, "cg_character_desc_init",
                 fields, "character_desc")
 
 
-def object_desc(**fields) -> n.ObjectDesc:
+def object_desc(**fields: Any) -> n.ObjectDesc:
     """An ``ObjectDesc`` with defaults, then ``fields``."""
     return _new(n.ObjectDesc, lib.cg_object_desc_init, "cg_object_desc_init", fields,
                 "object_desc")
 
 
-def gaze_target(**fields) -> n.GazeTarget:
+def gaze_target(**fields: Any) -> n.GazeTarget:
     """A ``GazeTarget`` with defaults (a point target, overriding), then ``fields``."""
     return _new(n.GazeTarget, lib.cg_gaze_target_init, "cg_gaze_target_init", fields,
                 "gaze_target")
 
 
-def chain_desc_human(up_axis=n.Axis.POSITIVE_Y, forward_axis=n.Axis.POSITIVE_Z) -> n.ChainDesc:
+def chain_desc_human(up_axis: int = n.Axis.POSITIVE_Y, forward_axis: int = n.Axis.POSITIVE_Z) -> n.ChainDesc:
     """The human gaze chain (5 spine, 2 cervical, head, 2 eyes; metres) for these axes."""
     where = "chain_desc_human"
     up_axis = c.integer(up_axis, where, "up_axis")
@@ -72,7 +75,9 @@ def chain_desc_human(up_axis=n.Axis.POSITIVE_Y, forward_axis=n.Axis.POSITIVE_Z) 
     return desc
 
 
-def entity_states(ids, positions=None, flags=n.CG_STATE_HEADING_FROM_MOTION) -> np.ndarray:
+def entity_states(
+    ids: ArrayLike, positions: a.Numbers | None = None, flags: int = n.CG_STATE_HEADING_FROM_MOTION
+) -> NDArray[Any]:
     """A numpy record array of ``cg_entity_state`` (``ENTITY_STATE_DTYPE``) for ``ids``, each
     initialised by ``cg_entity_state_init``, with ``flags`` and, if given, ``positions``
     (``(n, 3)``). Set ``states["position"]`` (an ``(n, 3)`` float32 view) each frame and pass
@@ -86,7 +91,7 @@ def entity_states(ids, positions=None, flags=n.CG_STATE_HEADING_FROM_MOTION) -> 
     if positions is not None:
         positions = a.float_rows(positions, n.Vec3, where, "positions")
         if len(positions) != ids.size:
-            raise ValueError(
+            raise e.value_error(
                 f"{where}: positions holds {len(positions)} positions for {ids.size} ids"
             )
     template = n.EntityState(struct_size=sizeof(n.EntityState))
@@ -101,26 +106,36 @@ def entity_states(ids, positions=None, flags=n.CG_STATE_HEADING_FROM_MOTION) -> 
     return states
 
 
-def _character_count(handle) -> int:
+def _character_count(handle: Any) -> int:
     out = c_size_t()
     check(lib.cg_crowd_character_count(handle, byref(out)), "cg_crowd_character_count")
     return out.value
 
 
-def _joint_total(handle, first: int, count: int) -> int:
+def _read_gaze(handle: Any, out: np.ndarray) -> None:
+    """Fills ``out`` (one ``GAZE_INFO_DTYPE`` record per character) by
+    ``cg_crowd_read_gaze``."""
+    written = c_size_t()
+    check(
+        lib.cg_crowd_read_gaze(handle, a.pointer(out, n.GazeInfo), out.size, byref(written)),
+        "cg_crowd_read_gaze",
+    )
+
+
+def _joint_total(handle: Any, first: int, count: int) -> int:
     out = c_size_t()
     check(lib.cg_crowd_joint_total(handle, first, count, byref(out)), "cg_crowd_joint_total")
     return out.value
 
 
-def _range(handle, first: int, count: int | None) -> tuple[int, int]:
+def _range(handle: Any, first: int, count: int | None) -> tuple[int, int]:
     """``(first, count)``, ``count`` defaulting to the characters from ``first`` on."""
     if count is None:
         count = max(_character_count(handle) - first, 0)
     return first, count
 
 
-def _optional_count(count, where: str):
+def _optional_count(count: Any, where: str) -> int | None:
     return None if count is None else c.integer(count, where, "count")
 
 
@@ -139,9 +154,9 @@ class Crowd(HandleOwner):
     """
 
     _kind = "crowd"
-    _destroy = lib.cg_crowd_destroy
+    _destroy: Any = lib.cg_crowd_destroy
 
-    def __init__(self, config: n.CrowdConfig | None = None, **fields):
+    def __init__(self, config: n.CrowdConfig | None = None, **fields: Any):
         where = "Crowd"
         self._refuse_reinit(where)
         if config is None:
@@ -154,19 +169,32 @@ class Crowd(HandleOwner):
         handle = POINTER(n.CrowdHandle)()
         check(lib.cg_crowd_create(byref(config), byref(handle)), "cg_crowd_create")
         self._adopt(handle, where)
+        self._max_characters = config.max_characters
+
+    def _describe(self) -> str:
+        return f"{self.character_count()} of {self._max_characters} characters"
 
     # --- setup ------------------------------------------------------------------------------
 
     @property
     def config(self) -> n.CrowdConfig:
-        """The settings the crowd was created with."""
+        """The settings the crowd was created with: a read-only copy (they cannot change;
+        assigning a field raises ``crowdgaze.FieldError``). ``Crowd(crowd.config, seed=5)``
+        makes a crowd with the same settings but a field."""
         config = n.CrowdConfig(struct_size=sizeof(n.CrowdConfig))
         with self._call("Crowd.config") as handle:
             check(lib.cg_crowd_get_config(handle, byref(config)), "cg_crowd_get_config")
+        config._freeze("Crowd.config: the settings a crowd was created with")
         return config
 
     def add_character(
-        self, position=None, heading=None, *, desc=None, chain=None, **fields
+        self,
+        position: a.Numbers | None = None,
+        heading: float | None = None,
+        *,
+        desc: n.CharacterDesc | None = None,
+        chain: n.ChainDesc | None = None,
+        **fields: Any,
     ) -> int:
         """Adds a character; returns its id. Either a ready ``desc`` (``CharacterDesc``) or
         ``position`` (default the origin), ``heading`` (default 0), ``chain`` (a
@@ -174,7 +202,7 @@ class Crowd(HandleOwner):
         where = "Crowd.add_character"
         if desc is not None:
             if position is not None or heading is not None or chain is not None or fields:
-                raise TypeError(f"{where}: give desc, or position, heading, chain and fields; "
+                raise e.type_error(f"{where}: give desc, or position, heading, chain and fields; "
                                 f"not both")
             c.instance(desc, n.CharacterDesc, where, "desc")
         else:
@@ -194,13 +222,13 @@ class Crowd(HandleOwner):
             )
         return out.value
 
-    def add_object(self, position=None, *, desc=None, **fields) -> int:
+    def add_object(self, position: a.Numbers | None = None, *, desc: n.ObjectDesc | None = None, **fields: Any) -> int:
         """Adds a scene object; returns its id. Either a ready ``desc`` (``ObjectDesc``) or
         ``position`` (default the origin) and ``fields`` (heading, look_at_height, impact)."""
         where = "Crowd.add_object"
         if desc is not None:
             if position is not None or fields:
-                raise TypeError(f"{where}: give desc, or position and fields; not both")
+                raise e.type_error(f"{where}: give desc, or position and fields; not both")
             c.instance(desc, n.ObjectDesc, where, "desc")
         else:
             values = dict(fields)
@@ -221,13 +249,17 @@ class Crowd(HandleOwner):
             check(lib.cg_crowd_remove_entity(handle, entity), "cg_crowd_remove_entity")
 
     def character_count(self) -> int:
+        """The number of characters (``len(crowd)`` too)."""
         with self._call("Crowd.character_count") as handle:
             return _character_count(handle)
 
     def __len__(self) -> int:
+        """The number of characters."""
         return self.character_count()
 
     def character_params(self, character: int) -> n.CharacterParams:
+        """A copy of ``character``'s attention parameters; change it and pass it to
+        ``set_character_params`` (or give that the changed fields)."""
         where = "Crowd.character_params"
         character = c.integer(character, where, "character")
         out = n.CharacterParams(struct_size=sizeof(n.CharacterParams))
@@ -238,14 +270,14 @@ class Crowd(HandleOwner):
             )
         return out
 
-    def set_character_params(self, character: int, params=None, **fields) -> None:
+    def set_character_params(self, character: int, params: n.CharacterParams | None = None, **fields: Any) -> None:
         """Sets a character's attention parameters: ``params``, or its current ones with
         ``fields`` changed (``set_character_params(id, attention_fraction=0.5)``)."""
         where = "Crowd.set_character_params"
         character = c.integer(character, where, "character")
         if params is not None:
             if fields:
-                raise TypeError(f"{where}: give params or fields, not both")
+                raise e.type_error(f"{where}: give params or fields, not both")
             c.instance(params, n.CharacterParams, where, "params")
             converted = None
         else:
@@ -258,12 +290,13 @@ class Crowd(HandleOwner):
                     "cg_crowd_get_character_params",
                 )
                 a.fill(params, converted)
+            assert params is not None
             check(
                 lib.cg_crowd_set_character_params(handle, character, byref(params)),
                 "cg_crowd_set_character_params",
             )
 
-    def set_viewer(self, position, impact: float = 1.0) -> int:
+    def set_viewer(self, position: a.Numbers, impact: float = 1.0) -> int:
         """Adds the viewer (user or camera) as an entity characters may look at, or moves
         it; returns its id."""
         where = "Crowd.set_viewer"
@@ -290,6 +323,7 @@ class Crowd(HandleOwner):
             )
 
     def set_impact(self, entity: int, impact: float) -> None:
+        """How much ``entity`` (a character, an object or the viewer) draws attention."""
         where = "Crowd.set_impact"
         entity = c.integer(entity, where, "entity")
         impact = c.real(impact, where, "impact")
@@ -298,7 +332,7 @@ class Crowd(HandleOwner):
 
     # --- every frame ------------------------------------------------------------------------
 
-    def push_frame(self, t: float, states) -> None:
+    def push_frame(self, t: float, states: a.Numbers) -> None:
         """Pushes entity states at time ``t``: a numpy array of ``ENTITY_STATE_DTYPE``
         (see ``entity_states``) or a ctypes array of ``EntityState`` (both without a copy),
         or a sequence (list, tuple) of ``EntityState``."""
@@ -317,7 +351,7 @@ class Crowd(HandleOwner):
         with self._call(where, exclusive=True) as handle:
             check(lib.cg_crowd_begin_push(handle, t), "cg_crowd_begin_push")
 
-    def push_range(self, states) -> None:
+    def push_range(self, states: a.Numbers) -> None:
         """Pushes a part of the open push's states (as ``push_frame`` takes them); each
         entity once per push. ctypes releases the GIL during the call, so Python threads may
         push their own entities in parallel."""
@@ -366,25 +400,51 @@ class Crowd(HandleOwner):
         with self._call(where, exclusive=True) as handle:
             check(lib.cg_crowd_end_step(handle), "cg_crowd_end_step")
 
-    def read_gaze(self, out=None) -> np.ndarray:
-        """Where each character looks: a record array of ``GAZE_INFO_DTYPE`` (one per
-        character, in character order); or, into ``out`` (a 1-D array of
-        ``GAZE_INFO_DTYPE`` of any length), its first ``min(len(out), characters)`` rows,
-        which are returned."""
+    def read_gaze(self, out: a.Out = None) -> NDArray[Any]:
+        """Where each character looks: a record array of ``GAZE_INFO_DTYPE``, one per
+        character in character order (``rows_of`` maps ids to its rows); or ``out``
+        (exactly ``(characters,)`` of it) written in place."""
         where = "Crowd.read_gaze"
         if out is not None:
             a.check_out(out, a.GAZE_INFO_DTYPE, where, ndim=1)
-        written = c_size_t()
         with self._call(where) as handle:
-            if out is None:
-                out = np.zeros(_character_count(handle), a.GAZE_INFO_DTYPE)
-            check(
-                lib.cg_crowd_read_gaze(
-                    handle, a.pointer(out, n.GazeInfo), out.size, byref(written)
-                ),
-                "cg_crowd_read_gaze",
-            )
-        return out[: written.value]
+            out = a.shaped(out, a.GAZE_INFO_DTYPE, (_character_count(handle),), where)
+            _read_gaze(handle, out)
+        return out
+
+    def rows_of(self, characters: ArrayLike) -> NDArray[Any]:
+        """The rows of ``characters`` (ids: any sequence of integers or an integer array) in
+        what ``read_gaze``, ``read_eyes`` and ``read_eyelids`` return, as an ``intp`` array
+        to index them with (``gaze[crowd.rows_of(ids)]``); ``read_joints(row, 1)`` reads
+        one character's joints. Rows are the crowd's character order, which removing a
+        character changes (the last one takes its place): map ids to rows again after a
+        removal. An id that is no character of the crowd raises ``NotFoundError`` (a
+        ``LookupError``)."""
+        where = "Crowd.rows_of"
+        return self._rows(a.unsigned(characters, where, "characters"), where)
+
+    def row_of(self, character: int) -> int:
+        """The row of ``character`` in what ``read_gaze``, ``read_eyes`` and
+        ``read_eyelids`` return (see ``rows_of``)."""
+        where = "Crowd.row_of"
+        character = c.integer(character, where, "character")
+        return int(self._rows(np.array([character], np.uint32), where)[0])
+
+    def _rows(self, wanted: np.ndarray, where: str) -> NDArray[Any]:
+        with self._call(where) as handle:
+            gaze = np.empty(_character_count(handle), a.GAZE_INFO_DTYPE)
+            _read_gaze(handle, gaze)
+        order = gaze["character"]
+        rows = np.zeros(wanted.size, np.intp)
+        if order.size:
+            by_id = np.argsort(order, kind="stable")
+            found = np.searchsorted(order, wanted, sorter=by_id)
+            rows = by_id[np.minimum(found, order.size - 1)].astype(np.intp)
+        missing = np.flatnonzero(order[rows] != wanted) if order.size else np.arange(wanted.size)
+        if missing.size:
+            unknown = int(wanted[missing[0]])
+            raise e.not_found_error(f"{where}: {unknown} is not a character of this crowd")
+        return rows
 
     def joint_total(self, first: int = 0, count: int | None = None) -> int:
         """Joints of characters ``first .. first + count`` together (all by default)."""
@@ -394,7 +454,9 @@ class Crowd(HandleOwner):
         with self._call(where) as handle:
             return _joint_total(handle, *_range(handle, first, count))
 
-    def _read_quats(self, function, name, where, first, count, out):
+    def _read_quats(
+        self, function: Any, name: str, where: str, first: int, count: int | None, out: a.Out
+    ) -> NDArray[Any]:
         first = c.integer(first, where, "first")
         count = _optional_count(count, where)
         if out is not None:
@@ -406,7 +468,7 @@ class Crowd(HandleOwner):
             check(function(handle, first, count, a.pointer(out, n.Quat), total), name)
         return out
 
-    def read_joints(self, first: int = 0, count: int | None = None, out=None) -> np.ndarray:
+    def read_joints(self, first: int = 0, count: int | None = None, out: a.Out = None) -> NDArray[Any]:
         """The final local rotations (``base * delta``, x y z w) of the chain joints of
         characters ``first .. first + count``, bottom to top, chain after chain: a
         ``(joints, 4)`` float32 array, or ``out`` (exactly that) written in place."""
@@ -415,14 +477,23 @@ class Crowd(HandleOwner):
             count, out,
         )
 
-    def read_joint_deltas(self, first: int = 0, count: int | None = None, out=None) -> np.ndarray:
+    def read_joint_deltas(self, first: int = 0, count: int | None = None, out: a.Out = None) -> NDArray[Any]:
         """The gaze's delta rotations alone (``final = base * delta``), as ``read_joints``."""
         return self._read_quats(
             lib.cg_crowd_read_joint_deltas, "cg_crowd_read_joint_deltas",
             "Crowd.read_joint_deltas", first, count, out,
         )
 
-    def _read_records(self, function, name, where, ctype, first, count, out):
+    def _read_records(
+        self,
+        function: Any,
+        name: str,
+        where: str,
+        ctype: Any,
+        first: int,
+        count: int | None,
+        out: a.Out,
+    ) -> NDArray[Any]:
         """One ``ctype`` record per character of ``first .. first + count`` (all from
         ``first`` by default), read by ``function`` into a new array or into ``out``
         (exactly ``(count,)`` of the record dtype)."""
@@ -437,7 +508,7 @@ class Crowd(HandleOwner):
             check(function(handle, first, count, a.pointer(out, ctype), count), name)
         return out
 
-    def read_eyes(self, first: int = 0, count: int | None = None, out=None) -> np.ndarray:
+    def read_eyes(self, first: int = 0, count: int | None = None, out: a.Out = None) -> NDArray[Any]:
         """Eye origins and directions (world, your units): a record array of
         ``EYE_INFO_DTYPE``, one per character; or ``out`` (exactly ``(count,)`` of it)."""
         return self._read_records(
@@ -445,7 +516,7 @@ class Crowd(HandleOwner):
             count, out,
         )
 
-    def read_eyelids(self, first: int = 0, count: int | None = None, out=None) -> np.ndarray:
+    def read_eyelids(self, first: int = 0, count: int | None = None, out: a.Out = None) -> NDArray[Any]:
         """The eyelids of characters ``first .. first + count`` (all from ``first`` by
         default) after the last step, in ``read_gaze``'s order: a record array of
         ``EYELIDS_DTYPE``, one per character, or ``out`` (exactly ``(count,)`` of it) written
@@ -459,7 +530,7 @@ class Crowd(HandleOwner):
             n.Eyelids, first, count, out,
         )
 
-    def set_base_pose(self, character: int, local) -> None:
+    def set_base_pose(self, character: int, local: a.Numbers) -> None:
         """The animated local rotations of a character's chain joints (``(joints, 4)``, x y z
         w, bottom to top); a float32 C-contiguous array is passed without a copy."""
         where = "Crowd.set_base_pose"
@@ -471,7 +542,7 @@ class Crowd(HandleOwner):
                 "cg_crowd_set_base_pose",
             )
 
-    def set_base_poses(self, characters, local) -> None:
+    def set_base_poses(self, characters: ArrayLike, local: a.Numbers) -> None:
         """Base poses of many characters, their joints packed in the order of ``characters``
         (all or nothing)."""
         where = "Crowd.set_base_poses"
@@ -487,7 +558,12 @@ class Crowd(HandleOwner):
             )
 
     def set_gaze_target(
-        self, character: int, point=None, *, entity=None, priority=None, target=None
+        self, character: int, point: a.Numbers | None = None,
+        *,
+        entity: int | None = None,
+        priority: int | None = None,
+        target: n.GazeTarget | None = None,
+    
     ) -> None:
         """An explicit gaze target: a ``point`` (3 numbers), an ``entity`` id followed as it
         moves, or a ready ``GazeTarget``. ``priority``: ``GAZE_PRIORITY_OVERRIDE`` (default)
@@ -496,13 +572,13 @@ class Crowd(HandleOwner):
         character = c.integer(character, where, "character")
         if target is not None:
             if point is not None or entity is not None or priority is not None:
-                raise TypeError(f"{where}: give target, or point or entity (and priority); "
+                raise e.type_error(f"{where}: give target, or point or entity (and priority); "
                                 f"not both")
             c.instance(target, n.GazeTarget, where, "target")
         else:
             if (point is None) == (entity is None):
-                raise TypeError(f"{where}: give exactly one of point and entity")
-            fields = {"priority": n.CG_GAZE_PRIORITY_OVERRIDE if priority is None else priority}
+                raise e.type_error(f"{where}: give exactly one of point and entity")
+            fields: dict[str, Any] = {"priority": n.CG_GAZE_PRIORITY_OVERRIDE if priority is None else priority}
             if point is not None:
                 fields.update(kind=n.CG_GAZE_TARGET_POINT, point=point)
             else:
@@ -516,6 +592,7 @@ class Crowd(HandleOwner):
             )
 
     def clear_gaze_target(self, character: int) -> None:
+        """Removes ``character``'s explicit gaze target: back to its own attention."""
         where = "Crowd.clear_gaze_target"
         character = c.integer(character, where, "character")
         with self._call(where, exclusive=True) as handle:
@@ -523,7 +600,7 @@ class Crowd(HandleOwner):
 
     # --- conversations ----------------------------------------------------------------------
 
-    def set_conversation(self, members) -> int:
+    def set_conversation(self, members: ArrayLike) -> int:
         """Makes ``members`` (2 to ``CG_MAX_CONVERSATION_MEMBERS`` character ids, as any
         sequence of integers or an integer array, each in no other conversation) a group
         standing together and talking; returns the group's id. From the next step its
@@ -582,10 +659,12 @@ class Crowd(HandleOwner):
             check(lib.cg_crowd_plan(handle), "cg_crowd_plan")
 
     def clear_plan(self) -> None:
+        """Leaves planned mode and forgets the recording; online stepping and pushing
+        resume."""
         with self._call("Crowd.clear_plan", exclusive=True) as handle:
             check(lib.cg_crowd_clear_plan(handle), "cg_crowd_clear_plan")
 
-    def read_constraints(self, character: int) -> np.ndarray:
+    def read_constraints(self, character: int) -> NDArray[Any]:
         """A character's planned constraints, in time order: a record array of
         ``CONSTRAINT_DTYPE`` (entity, s_max, begin, end)."""
         where = "Crowd.read_constraints"
