@@ -785,7 +785,8 @@ def find_library() -> Path:
         path = Path(configured)
         if not path.is_file():
             raise OSError(f"CROWDGAZE_LIBRARY={configured} is not a file")
-        return path
+        # Absolute, so that `library_path` still names it after a change of directory.
+        return path.resolve()
     bundled = _bundled_library()
     if bundled is not None:
         return bundled

@@ -9,6 +9,8 @@ import textwrap
 
 import pytest
 
+import crowdgaze as cg
+
 from conftest import PACKAGE_ROOT
 
 #: Runs in a child Python: makes a crowd with 2 worker threads, steps it, forks; the forked
@@ -55,6 +57,7 @@ def test_fork_child_steps():
     child = subprocess.Popen(
         [sys.executable, "-c", SCRIPT],
         cwd=PACKAGE_ROOT,
+        env=dict(os.environ, CROWDGAZE_LIBRARY=cg.library_path),
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,

@@ -65,7 +65,7 @@ def test_a_typed_user_script_passes_mypy_strict(tmp_path):
     pytest.importorskip("mypy")
     script = tmp_path / "user.py"
     script.write_text(USER_SCRIPT)
-    env = dict(os.environ, PYTHONPATH=str(PACKAGE_ROOT))
+    env = dict(os.environ, PYTHONPATH=str(PACKAGE_ROOT), CROWDGAZE_LIBRARY=cg.library_path)
     env.pop("MYPYPATH", None)
     result = run_mypy("--strict", "--cache-dir", str(tmp_path / "cache"), "user.py",
                       cwd=tmp_path, env=env)
