@@ -1,5 +1,6 @@
 //! A recorded run: the real ETH trajectories (`seq_eth`) through a crowd mixing the three
-//! attention models, 1 200 steps at 30 fps, people added at their first sample and removed
+//! attention models and every chain shape (`support::varied_chains`, base poses on every
+//! third person), 1 200 steps at 30 fps, people added at their first sample and removed
 //! after their last. Every step's outputs (gaze, eyes and joints of every character, as bits)
 //! are hashed, and the hashes must equal `tests/data/recorded_run.txt`, recorded before a
 //! change that must not change behaviour (a refactoring): a change of one bit anywhere fails.
@@ -59,6 +60,8 @@ fn run() -> Vec<String> {
         ..CrowdConfig::default()
     })
     .unwrap();
+    // Every chain shape side by side, and base poses on every third person.
+    let chains = support::varied_chains(&world);
     let mut ids: BTreeMap<u32, u32> = BTreeMap::new();
     let mut lines = Vec::new();
     let mut step = 0;
@@ -71,9 +74,13 @@ fn run() -> Vec<String> {
                 None => {
                     let desc = CharacterDesc {
                         position,
+                        chain: Some(chains[person as usize % chains.len()]),
                         ..Default::default()
                     };
                     let id = crowd.add_character(&desc).unwrap();
+                    if person % 3 == 1 {
+                        support::bend(&mut crowd, id, person as usize);
+                    }
                     let params = crowd.character_params(id).unwrap();
                     let model = MODELS[person as usize % MODELS.len()];
                     crowd

@@ -272,19 +272,23 @@ pub fn varied_chains(world: &World) -> Vec<crowdgaze::ik::GazeChain> {
     ]
 }
 
-/// Gives every third character of `ids` a base pose: a small bend of each joint, different
-/// per character.
+/// Gives character `id` a base pose: a small bend of each joint, one of five by `variant`.
+pub fn bend(crowd: &mut crowdgaze::Crowd, id: u32, variant: usize) {
+    let joints = crowd.chain(id).unwrap().joint_count();
+    let side = crowd.config().world.side;
+    let pose: Vec<glam::Quat> = (0..joints)
+        .map(|joint| {
+            let angle = 0.02 * (1 + (variant + joint) % 5) as f32;
+            glam::Quat::from_axis_angle(side, angle)
+        })
+        .collect();
+    crowd.set_base_pose(id, &pose).unwrap();
+}
+
+/// Gives every third character of `ids` a base pose ([`bend`]).
 pub fn set_base_poses(crowd: &mut crowdgaze::Crowd, ids: &[u32]) {
     for (i, &id) in ids.iter().enumerate().filter(|(i, _)| i % 3 == 1) {
-        let joints = crowd.chain(id).unwrap().joint_count();
-        let side = crowd.config().world.side;
-        let pose: Vec<glam::Quat> = (0..joints)
-            .map(|joint| {
-                let angle = 0.02 * (1 + (i + joint) % 5) as f32;
-                glam::Quat::from_axis_angle(side, angle)
-            })
-            .collect();
-        crowd.set_base_pose(id, &pose).unwrap();
+        bend(crowd, id, i);
     }
 }
 
