@@ -144,6 +144,18 @@ def conversations():
     return crowd(5) + groups + talks + asks + reads() + ends + asks + walk(5) + reads()
 
 
+def pauses():
+    # Long steps on a crowd that blinks and talks: a time stamp's worth (1e7 s), 1e30 s and
+    # the largest floats, whole and ranged (a rare dt byte, then the special value's index),
+    # each followed by ordinary frames.
+    groups = op("set_conversation", 0, 0, 0, 0, 1) + op("set_conversation", 1, 0, 2, 0, 3, 0, 4)
+    long_steps = b"".join(
+        op("step", 0xF0, 0xF0 + k) + walk(10) + op("ranged_step", 0xF0, 0xF0 + k, 2, 0, 0, 0, 3) + walk(10)
+        for k in (11, 5, 3, 14)
+    )
+    return crowd(3) + crowd(3, 1) + crowd(2, 2) + groups + walk(30) + long_steps + reads()
+
+
 def random_seed(rng):
     data = bytearray()
     for _ in range(rng.randrange(5, 60)):
@@ -175,6 +187,7 @@ def main():
         "blends": blends(),
         "maxima": maxima(),
         "conversations": conversations(),
+        "pauses": pauses(),
     }
     rng = random.Random(10)
     for index in range(30):
