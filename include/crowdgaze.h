@@ -729,7 +729,9 @@ typedef struct cg_crowd_config {
     // `CG_EYE_MOTION_*`. Default `CG_EYE_MOTION_PAPER`.
     uint32_t eye_motion;
     // Most conversations (`cg_crowd_set_conversation`) at once, 0 to 8 388 608. Each
-    // takes about 150 bytes, allocated by `cg_crowd_create`. Default 64.
+    // takes about 170 bytes, reserved by `cg_crowd_create`. Default 64. A removed group's
+    // id names no group until at least 2^32 - 1 - max_conversations more groups have been
+    // formed (4 286 578 687 at 8 388 608).
     uint32_t max_conversations;
     // The crowd model's and the saliency model's score of an entity that talks
     // (`CG_STATE_TALKING`) is multiplied by this, 0 to 100 (1: talking changes nothing).
@@ -1392,6 +1394,11 @@ cg_status cg_chain_desc_init_human(struct cg_chain_desc *desc,
 // member whose pushed state has `CG_STATE_TALKING`, the speaker at its listeners now and
 // then, and away between glances. A removed character leaves its group; a group left with
 // one member ends. The caller keeps `members`.
+//
+// Ids are given in turn, never `CG_NO_TARGET` nor a live group's: the id of a removed
+// group names no group (`CG_STATUS_NOT_FOUND` from `cg_crowd_remove_conversation`) until
+// at least 2^32 - 1 - `max_conversations` more groups have been formed (4 286 578 687 at
+// the largest `max_conversations`, 8 388 608), however long other groups last.
 //
 // Errors (nothing changed): `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_INVALID_ARGUMENT` (fewer
 // than 2 or more than 8 members, an id listed twice, an object, a character already in a

@@ -479,3 +479,79 @@ fn conversations_give_the_same_outputs_at_every_thread_count() {
     support::assert_same(&one, &run(1), "a second run");
     support::assert_same(&one, &run(4), "4 threads");
 }
+
+/// Forms `formed` pairs' groups in a crowd of capacity `capacity`, ends those at
+/// `released` (in that order: the table's next free slots), then forms and ends one more
+/// pair's group `cycles` times. Every id given is new, never `CG_NO_TARGET` (u32::MAX)
+/// nor a live group's; ending it leaves every other group alone; its stale id ends
+/// nothing afterwards and its members are in no group.
+fn reuse_group_ids(capacity: u32, formed: usize, released: std::ops::Range<usize>, cycles: usize) {
+    let characters = 2 * (formed + 1);
+    let mut crowd = Crowd::new(CrowdConfig {
+        max_characters: characters as u32,
+        max_conversations: capacity,
+        ..CrowdConfig::default()
+    })
+    .unwrap();
+    let ids: Vec<u32> = (0..characters)
+        .map(|i| {
+            let desc = CharacterDesc {
+                position: Vec3::new(i as f32, 0.0, 0.0),
+                ..Default::default()
+            };
+            crowd.add_character(&desc).unwrap()
+        })
+        .collect();
+    let pairs: Vec<&[u32]> = ids.chunks(2).collect();
+    let mut groups: Vec<Option<u32>> = pairs[..formed]
+        .iter()
+        .map(|pair| Some(crowd.set_conversation(pair).unwrap()))
+        .collect();
+    let mut given: std::collections::HashSet<u32> = groups.iter().flatten().copied().collect();
+    for group in &mut groups[released] {
+        crowd.remove_conversation(group.take().unwrap()).unwrap();
+    }
+    let held: Vec<(usize, u32)> = groups
+        .iter()
+        .enumerate()
+        .filter_map(|(pair, group)| group.map(|group| (pair, group)))
+        .collect();
+    let cycling = pairs[formed];
+    for cycle in 0..cycles {
+        let group = crowd.set_conversation(cycling).unwrap();
+        let what = format!("capacity {capacity}, cycle {cycle}: id {group}");
+        assert_ne!(group, u32::MAX, "{what} is CG_NO_TARGET");
+        assert!(given.insert(group), "{what} was given before");
+        assert_eq!(
+            crowd.conversation_of(cycling[0]).unwrap(),
+            Some(group),
+            "{what}"
+        );
+        crowd.remove_conversation(group).unwrap();
+        assert!(
+            matches!(crowd.remove_conversation(group), Err(Error::NotFound(_))),
+            "{what}: a stale id ends nothing"
+        );
+        assert_eq!(crowd.conversation_of(cycling[1]).unwrap(), None, "{what}");
+    }
+    for &(pair, group) in &held {
+        assert_eq!(crowd.conversation_members(group).unwrap(), pairs[pair]);
+        for &member in pairs[pair] {
+            assert_eq!(crowd.conversation_of(member).unwrap(), Some(group));
+        }
+    }
+}
+
+#[test]
+fn a_removed_groups_id_never_names_a_live_group() {
+    // The default: every slot but one held, the last one reused.
+    reuse_group_ids(64, 63, 0..0, 3000);
+    // 2²⁰ − 1: a slot reused 4 096 times gave u32::MAX (CG_NO_TARGET) with ids
+    // slot + capacity × generation.
+    reuse_group_ids(1_048_575, 4097, 0..4096, 4200);
+    // 8 372 256 · 513 = 2³² + 32: slot 0 reused 513 times gave the id of the live group in
+    // slot 32, and ending it ended that group.
+    reuse_group_ids(8_372_256, 33, 0..1, 600);
+    // The largest capacity, 2²³: slot 1 reused 512 times gave its first id again.
+    reuse_group_ids(1 << 23, 1, 0..0, 600);
+}

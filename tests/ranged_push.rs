@@ -471,3 +471,202 @@ mod c_api {
         check(unsafe { cg_crowd_step(handle, 0.1) }, "step after the push");
     }
 }
+
+/// A crowd of `count` characters standing at x = 0, 1, 2, ... and their ids.
+fn standing(count: usize) -> (Crowd, Vec<u32>) {
+    let mut crowd = Crowd::new(CrowdConfig::default()).unwrap();
+    let ids = (0..count)
+        .map(|i| {
+            let desc = crowdgaze::CharacterDesc {
+                position: Vec3::new(i as f32, 0.0, 0.0),
+                ..Default::default()
+            };
+            crowd.add_character(&desc).unwrap()
+        })
+        .collect();
+    (crowd, ids)
+}
+
+/// Entity `id`'s position.
+fn position(crowd: &Crowd, id: u32) -> Vec3 {
+    crowd.scene().positions()[crowd.scene().index_of(id).unwrap()]
+}
+
+/// Entity `id` moved to `position`.
+fn moved(id: u32, x: f32) -> EntityUpdate {
+    EntityUpdate {
+        id,
+        position: Vec3::new(x, 0.0, 5.0),
+        heading: 0.0,
+        heading_from_motion: false,
+        velocity: None,
+        talking: false,
+    }
+}
+
+/// True if entity `id` can still be claimed in the open push (then it is, by this call).
+fn claimable(crowd: &mut Crowd, id: u32) -> bool {
+    crowd.push_range(&[moved(id, 100.0)]).is_ok()
+}
+
+/// A state closure with interior mutability: state 0 is `first` the first time it is
+/// asked for and `later` after that; state 1 is `other`.
+fn changing(
+    first: EntityUpdate,
+    later: EntityUpdate,
+    other: EntityUpdate,
+) -> impl Fn(usize) -> Result<EntityUpdate, Error> {
+    let calls = std::cell::Cell::new(0);
+    move |i| {
+        if i > 0 {
+            return Ok(other);
+        }
+        calls.set(calls.get() + 1);
+        Ok(if calls.get() == 1 { first } else { later })
+    }
+}
+
+#[test]
+fn a_state_closure_naming_another_entity_the_second_time_writes_only_its_claims() {
+    let (mut crowd, ids) = standing(4);
+    let [a, b, c, d] = ids[..] else { panic!() };
+    crowd.begin_push(1.0).unwrap();
+    // Another call has pushed c; this one claims a and b, and is given c for a when it
+    // applies.
+    crowd.push_range(&[moved(c, 30.0)]).unwrap();
+    let ranges = crowd.push_ranges().unwrap();
+    let result = ranges.push_with(2, changing(moved(a, -1.0), moved(c, -1.0), moved(b, 20.0)));
+    assert!(
+        matches!(result, Err(Error::InvalidArgument(_))),
+        "{result:?}"
+    );
+    // The claims are intact: a, b and c stay taken until the push ends.
+    for taken in [a, b, c] {
+        assert!(
+            !claimable(&mut crowd, taken),
+            "entity {taken} was given back"
+        );
+    }
+    assert!(claimable(&mut crowd, d));
+    crowd.end_push().unwrap();
+    assert_eq!(
+        position(&crowd, c).x,
+        30.0,
+        "another call's entity is not written"
+    );
+    assert_eq!(
+        position(&crowd, a).x,
+        0.0,
+        "a state that changed is skipped"
+    );
+    assert_eq!(
+        position(&crowd, b).x,
+        20.0,
+        "the consistent state is applied"
+    );
+}
+
+#[test]
+fn a_failed_push_gives_back_its_own_claims_whatever_the_closure_says() {
+    let (mut crowd, ids) = standing(3);
+    let [a, b, c] = ids[..] else { panic!() };
+    crowd.begin_push(1.0).unwrap();
+    crowd.push_range(&[moved(c, 30.0)]).unwrap();
+    let ranges = crowd.push_ranges().unwrap();
+    // State 0 is a, then c (another call's claim) when asked again; state 1 an unknown id:
+    // the call fails and gives back a, not c.
+    let unknown = moved(u32::MAX - 1, 0.0);
+    let result = ranges.push_with(2, changing(moved(a, -1.0), moved(c, -1.0), unknown));
+    assert!(matches!(result, Err(Error::NotFound(_))), "{result:?}");
+    assert!(
+        !claimable(&mut crowd, c),
+        "another call's claim was given back"
+    );
+    assert!(claimable(&mut crowd, a), "the failed call's claim was kept");
+    assert!(claimable(&mut crowd, b));
+    crowd.end_push().unwrap();
+    assert_eq!(position(&crowd, c).x, 30.0);
+}
+
+#[test]
+fn threads_with_inconsistent_closures_never_write_each_others_entities() {
+    // Each thread claims its own quarter, then names the next thread's entities when asked
+    // again: nothing is written, and every entity stays its owner's.
+    const THREADS: usize = 4;
+    const EACH: usize = 64;
+    let (mut crowd, ids) = standing(THREADS * EACH);
+    let before: Vec<Vec3> = ids.iter().map(|&id| position(&crowd, id)).collect();
+    for round in 0..20 {
+        crowd.begin_push(1.0 + round as f64).unwrap();
+        let ranges = crowd.push_ranges().unwrap();
+        let errors = AtomicUsize::new(0);
+        std::thread::scope(|scope| {
+            for thread in 0..THREADS {
+                let (ids, ranges, errors) = (&ids, &ranges, &errors);
+                scope.spawn(move || {
+                    let calls: Vec<AtomicUsize> = (0..EACH).map(|_| AtomicUsize::new(0)).collect();
+                    let result = ranges.push_with(EACH, |i| {
+                        let later = calls[i].fetch_add(1, Ordering::Relaxed) > 0;
+                        let owner = if later {
+                            (thread + 1) % THREADS
+                        } else {
+                            thread
+                        };
+                        Ok::<_, Error>(moved(ids[owner * EACH + i], -7.0))
+                    });
+                    if matches!(result, Err(Error::InvalidArgument(_))) {
+                        errors.fetch_add(1, Ordering::Relaxed);
+                    }
+                });
+            }
+        });
+        assert_eq!(errors.into_inner(), THREADS);
+        crowd.end_push().unwrap();
+        for (k, &id) in ids.iter().enumerate() {
+            assert_eq!(
+                position(&crowd, id),
+                before[k],
+                "round {round}: entity {id}"
+            );
+        }
+    }
+    // Consistent closures on the same threads (counting their calls) push everything.
+    crowd.begin_push(100.0).unwrap();
+    let ranges = crowd.push_ranges().unwrap();
+    std::thread::scope(|scope| {
+        for thread in 0..THREADS {
+            let (ids, ranges) = (&ids, &ranges);
+            scope.spawn(move || {
+                let calls = AtomicUsize::new(0);
+                ranges
+                    .push_with(EACH, |i| {
+                        calls.fetch_add(1, Ordering::Relaxed);
+                        Ok::<_, Error>(moved(ids[thread * EACH + i], i as f32))
+                    })
+                    .unwrap();
+                assert_eq!(calls.into_inner(), 2 * EACH);
+            });
+        }
+    });
+    crowd.end_push().unwrap();
+    for (k, &id) in ids.iter().enumerate() {
+        assert_eq!(position(&crowd, id).x, (k % EACH) as f32);
+    }
+}
+
+#[test]
+fn a_whole_frame_closure_giving_another_state_the_second_time_is_refused() {
+    let (mut crowd, ids) = standing(3);
+    let [a, b, c] = ids[..] else { panic!() };
+    for later in [moved(b, 9.0), moved(a, f32::NAN), moved(u32::MAX - 1, 9.0)] {
+        let time = crowd.time().max(0.0) + 1.0;
+        let result = crowd.push_frame_with(time, 2, changing(moved(a, 1.5), later, moved(c, 7.0)));
+        assert!(
+            matches!(result, Err(Error::InvalidArgument(_))),
+            "{later:?}"
+        );
+        assert_eq!(position(&crowd, a).x, 0.0, "{later:?}: skipped");
+        assert_eq!(position(&crowd, b).x, 1.0, "{later:?}: not written");
+        assert_eq!(position(&crowd, c).x, 7.0, "{later:?}: applied");
+    }
+}

@@ -1,7 +1,9 @@
 //! Claims: one atomic flag per character or entity, so that ranges run from several
-//! threads (of a ranged step, of a ranged push) are checked for overlap without a lock.
+//! threads (of a ranged step, of a ranged push) are checked for overlap without a lock;
+//! and the chain of the entities each call of a ranged push claimed, so that it writes and
+//! gives back those and no others.
 
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicU32, AtomicU64, Ordering};
 
 use crate::error::Result;
 
@@ -128,6 +130,65 @@ impl ClaimSet {
     }
 }
 
+/// The entities one call claimed, in the order it claimed them: a chain through
+/// [`ClaimLinks`].
+#[derive(Debug, Clone, Copy, Default)]
+pub(super) struct ClaimChain {
+    head: u32,
+    tail: u32,
+    len: usize,
+}
+
+/// One link per entity: the next entity the call that claimed it claimed after it. Only
+/// the call holding an entity's claim writes or reads its link, so each call's chain is its
+/// own, whatever other threads do; the links are atomics only so that calls on several
+/// threads may each use their own entities' links through one shared view. Kept in a
+/// scratch buffer of one `u32` per entity, free while a ranged push is open.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct ClaimLinks<'a> {
+    links: &'a [AtomicU32],
+}
+
+// The view below relies on it.
+const _: () = assert!(std::mem::align_of::<AtomicU32>() == std::mem::align_of::<u32>());
+
+impl<'a> ClaimLinks<'a> {
+    /// Links in `scratch`, one per entity (what it holds is overwritten as chains grow).
+    pub fn new(scratch: &'a mut [u32]) -> ClaimLinks<'a> {
+        let scratch: *mut [u32] = scratch;
+        // SAFETY: `AtomicU32` has the size, bit validity and (asserted above) alignment of
+        // `u32`; the exclusive borrow of `scratch` for 'a keeps every other access out
+        // while the view lives.
+        let links = unsafe { &*(scratch as *const [AtomicU32]) };
+        ClaimLinks { links }
+    }
+
+    /// Appends entity `index`, which the chain's call has just claimed, to its chain.
+    pub fn append(&self, chain: &mut ClaimChain, index: usize) {
+        let index = index as u32;
+        if chain.len == 0 {
+            chain.head = index;
+        } else {
+            // Written and read by this call alone (it holds the tail's claim): relaxed.
+            self.links[chain.tail as usize].store(index, Ordering::Relaxed);
+        }
+        chain.tail = index;
+        chain.len += 1;
+    }
+
+    /// The chain's entities, in the order they were appended.
+    pub fn walk(&self, chain: ClaimChain) -> impl Iterator<Item = usize> + '_ {
+        let mut next = chain.head;
+        (0..chain.len).map(move |k| {
+            let index = next;
+            if k + 1 < chain.len {
+                next = self.links[index as usize].load(Ordering::Relaxed);
+            }
+            index as usize
+        })
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -189,5 +250,19 @@ mod tests {
         assert_eq!(ClaimSet::mask(1, 60, 70), 0b11_1111);
         assert_eq!(ClaimSet::mask(0, 60, 70), 0xF << 60);
         assert_eq!(ClaimSet::mask(2, 0, 64), 0);
+    }
+
+    #[test]
+    fn chains_walk_what_was_appended_in_order() {
+        let mut scratch = vec![7u32; 10];
+        let links = ClaimLinks::new(&mut scratch);
+        let (mut first, mut second) = (ClaimChain::default(), ClaimChain::default());
+        assert_eq!(links.walk(first).count(), 0);
+        links.append(&mut first, 4);
+        links.append(&mut second, 9);
+        links.append(&mut first, 0);
+        links.append(&mut first, 5);
+        assert_eq!(links.walk(first).collect::<Vec<_>>(), [4, 0, 5]);
+        assert_eq!(links.walk(second).collect::<Vec<_>>(), [9]);
     }
 }

@@ -80,7 +80,10 @@ pub struct CrowdConfig {
     pub eye_motion: EyeMotion,
     /// Most conversations (groups standing together and talking,
     /// [`Crowd::set_conversation`](super::Crowd::set_conversation)) at once, 0 to
-    /// [`MAX_CAPACITY`] / 2. Each takes about 150 bytes, allocated at creation. Default 64.
+    /// [`MAX_CAPACITY`] / 2. Each takes about 170 bytes, reserved at creation (a group's
+    /// 132 bytes are touched only once a group has used its slot). Default 64. A removed
+    /// group's id names no group until at least 2³² − 1 − `max_conversations` more groups
+    /// have been formed ([`Crowd::set_conversation`](super::Crowd::set_conversation)).
     pub max_conversations: u32,
     /// How members of conversations look at each other.
     pub conversation: ConversationSettings,

@@ -16,6 +16,11 @@ impl Crowd {
     /// [`Error::InvalidArgument`] for fewer than 2 or more than 8 members, a repeated id, an
     /// object, or a character already in a conversation; [`Error::NotFound`] for an unknown
     /// id; [`Error::Capacity`] when `max_conversations` groups exist already.
+    ///
+    /// Ids are given in turn from one 32-bit counter, skipping `u32::MAX` (`CG_NO_TARGET`,
+    /// "in none") and live groups' ids: a removed group's id names no group until at least
+    /// 2³² − 1 − `max_conversations` more groups have been formed (4 286 578 687 at the
+    /// largest capacity), whatever the capacity and however long other groups last.
     pub fn set_conversation(&mut self, members: &[u32]) -> Result<u32> {
         if !(2..=MAX_MEMBERS).contains(&members.len()) {
             return Err(Error::InvalidArgument(format!(
@@ -48,19 +53,16 @@ impl Crowd {
         }
         let shared = &mut *self.shared;
         let table = &mut shared.conversations;
-        let Some(slot) = table.free.pop() else {
+        let Some((slot, id)) = table.open(Conversation::new(members)) else {
             return Err(Error::Capacity(format!(
                 "the crowd already holds max_conversations = {} conversations",
                 table.capacity()
             )));
         };
-        let slot = slot as usize;
-        table.groups[slot] = Conversation::new(members);
-        table.live[slot] = true;
         for (member, &character) in characters[..members.len()].iter().enumerate() {
             shared.characters.conversation[character] = place(slot, member);
         }
-        Ok(table.id_of(slot))
+        Ok(id)
     }
 
     /// Ends conversation `group`: its members go back to their own attention.
@@ -103,9 +105,7 @@ impl Crowd {
                 shared.characters.conversation[character] = NO_CONVERSATION;
             }
         }
-        table.live[slot] = false;
-        table.generations[slot] = table.generations[slot].wrapping_add(1);
-        table.free.push(slot as u32);
+        table.close(slot);
     }
 
     /// Takes character `character` (dense index, still in the scene) out of its

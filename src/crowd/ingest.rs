@@ -2,6 +2,7 @@
 //! checked, into the scene (and the recording, for the offline plan) — in one call, or in
 //! ranges pushed from several threads ([`PushRanges`]).
 
+use super::claims::{ClaimChain, ClaimLinks, ClaimSet};
 use super::Crowd;
 use crate::error::{Error, Result};
 use crate::scene::{EntityUpdate, SceneWriter};
@@ -30,9 +31,13 @@ impl Crowd {
     }
 
     /// [`push_frame`](Self::push_frame) for states produced on the fly: `state(i)` for
-    /// `i < count` converts the caller's i-th state (it is called more than once per state:
-    /// to check them all, to record them with recording on, to apply). Lets a caller hand
-    /// over its own layout without a buffer.
+    /// `i < count` converts the caller's i-th state. Lets a caller hand over its own layout
+    /// without a buffer. `state` is called more than once per state (to check them all, to
+    /// record them with recording on, to apply) and should give the same state each time.
+    /// If it does not, the call stays sound: a later call's state is applied only if it
+    /// passes the checks and, when the first calls' entities were all distinct, names the
+    /// same entity as the first call; the others are skipped, the rest of the frame is
+    /// applied, and the call returns [`Error::InvalidArgument`].
     pub fn push_frame_with<E: From<Error>>(
         &mut self,
         time: f64,
@@ -43,7 +48,7 @@ impl Crowd {
         self.ensure_online("push a frame")?;
         // Check every state first, noting its entity's index while there is room (between
         // steps the grid order's buffer is free, and holds an index per entity), and
-        // whether an entity comes twice (flagged in the push claims, free outside a ranged
+        // whether an entity comes twice (flagged in the push claims, clear outside a ranged
         // push).
         let staged = &mut self.grid_order;
         staged.clear();
@@ -65,15 +70,22 @@ impl Crowd {
         }
         self.pushed.release_alone(staged);
         checked?;
-        if self.shared.recording.is_enabled() {
-            self.shared
-                .recording
-                .record_with(time, count, |i| state(i).ok())?;
-        }
         let shared = &mut *self.shared;
+        let first = |i: usize| staged.get(i).copied();
+        let mut skipped = false;
+        if shared.recording.is_enabled() {
+            let scene = &shared.scene;
+            let skipped_here = std::cell::Cell::new(false);
+            shared.recording.record_with(time, count, |i| {
+                let update = again(&state, i, |u| scene.check_update(u), first(i));
+                skipped_here.set(skipped_here.get() || update.is_none());
+                update.map(|(_, update)| update)
+            })?;
+            skipped = skipped_here.get();
+        }
         if distinct {
             let writer = shared.scene.writer();
-            let update = |i: usize| {
+            let states = (0..count).filter_map(|i| {
                 // Ask for the slots of an entity ahead unless it follows the one before
                 // (then the processor's own prefetcher streams them, and asking slows it).
                 let ahead = i + PREFETCH_AHEAD;
@@ -82,20 +94,29 @@ impl Crowd {
                         writer.prefetch(next as usize);
                     }
                 }
-                Some((staged[i] as usize, state(i).ok()?))
-            };
-            // SAFETY: `check_update` returned each index for its state's id, so they are
-            // in range, and no two alike; `&mut self` keeps every other access out.
-            unsafe { writer.apply_distinct(time, count, update) };
+                let applied = again(&state, i, |u| writer.check(u), first(i));
+                skipped |= applied.is_none();
+                applied
+            });
+            // SAFETY: `again` passes only the index `check` returned for its state's id (in
+            // range) and equal to the first call's, which were distinct: no two alike;
+            // `&mut self` keeps every other access out.
+            unsafe { writer.apply_distinct(time, states) };
         } else {
             // In order, one after the other: an entity listed twice takes both states.
             for i in 0..count {
-                if let Ok(update) = state(i) {
-                    shared.scene.apply_one(time, &update);
+                match again(&state, i, |u| shared.scene.check_update(u), first(i)) {
+                    Some((_, update)) => shared.scene.apply_one(time, &update),
+                    None => skipped = true,
                 }
             }
+            #[cfg(test)]
+            tests::IN_ORDER_PUSHES.with(|pushes| pushes.set(pushes.get() + 1));
         }
         shared.time = time;
+        if skipped {
+            return Err(inconsistent_states().into());
+        }
         Ok(())
     }
 
@@ -135,6 +156,12 @@ impl Crowd {
             ));
         }
         self.pushed.clear();
+        // The grid order's buffer, free between steps, holds the push's claim links: one
+        // per entity (within its room for every entity: no allocation).
+        let entities = self.shared.scene.len();
+        if self.grid_order.len() < entities {
+            self.grid_order.resize(entities, 0);
+        }
         self.open_push = Some(time);
         Ok(())
     }
@@ -154,6 +181,7 @@ impl Crowd {
         Ok(PushRanges {
             writer: self.shared.scene.writer(),
             claims: &self.pushed,
+            links: ClaimLinks::new(&mut self.grid_order),
             time,
         })
     }
@@ -170,9 +198,35 @@ impl Crowd {
             .open_push
             .take()
             .ok_or_else(|| Error::WrongState("no push is open: begin one first".into()))?;
+        // Clear outside a ranged push: a whole frame's push reads them to find repeats.
+        self.pushed.clear();
         self.shared.time = time;
         Ok(())
     }
+}
+
+/// State `i` from a later call of a push's `state`: with its entity's index if it passes
+/// `check` and names the entity `first` (the first call's, when noted); else `None`.
+fn again<E>(
+    state: &impl Fn(usize) -> std::result::Result<EntityUpdate, E>,
+    i: usize,
+    check: impl FnOnce(&EntityUpdate) -> Result<usize>,
+    first: Option<u32>,
+) -> Option<(usize, EntityUpdate)> {
+    let update = state(i).ok()?;
+    let index = check(&update).ok()?;
+    first
+        .is_none_or(|first| first as usize == index)
+        .then_some((index, update))
+}
+
+/// The error of a push whose `state` closure gave different states on two calls.
+fn inconsistent_states() -> Error {
+    Error::InvalidArgument(
+        "the state closure gave a different state for the same index on a later call: \
+         the states it gave the same were applied, the others skipped"
+            .into(),
+    )
 }
 
 /// An open push's ranges: shared with every thread that pushes a part of the frame. Each
@@ -180,7 +234,9 @@ impl Crowd {
 #[derive(Debug, Clone, Copy)]
 pub struct PushRanges<'a> {
     writer: SceneWriter<'a>,
-    claims: &'a super::claims::ClaimSet,
+    claims: &'a ClaimSet,
+    /// Each call's chain of the entities it claimed.
+    links: ClaimLinks<'a>,
     time: f64,
 }
 
@@ -200,21 +256,27 @@ impl PushRanges<'_> {
     }
 
     /// [`push`](Self::push) for states produced on the fly, as
-    /// [`Crowd::push_frame_with`] takes them (`state` may be called more than once per
-    /// state).
+    /// [`Crowd::push_frame_with`] takes them: `state` is called twice per state (to check
+    /// it and claim its entity, then to apply it) and should give the same state both
+    /// times. If it does not, the call stays sound: it writes only the entities it claimed,
+    /// each at most once, and gives back only its own claims. A state whose second call
+    /// names another entity or fails its checks is skipped (its entity stays claimed,
+    /// keeping its last state), the others are applied, and the call returns
+    /// [`Error::InvalidArgument`].
     pub fn push_with<E: From<Error>>(
         &self,
         count: usize,
         state: impl Fn(usize) -> std::result::Result<EntityUpdate, E>,
     ) -> std::result::Result<(), E> {
-        // Check each state and claim its entity, so that no other thread writes it.
-        let mut claimed = 0;
+        // Check each state and claim its entity, so that no other thread writes it; chain
+        // the entities claimed: state k named the chain's k-th.
+        let mut chain = ClaimChain::default();
         let mut failure = None;
-        while claimed < count {
-            let checked = state(claimed).and_then(|update| {
+        for i in 0..count {
+            let checked = state(i).and_then(|update| {
                 let index = self.writer.check(&update)?;
                 if self.claims.claim_one(index) {
-                    Ok(())
+                    Ok(index)
                 } else {
                     Err(Error::WrongState(format!(
                         "entity {} was pushed already in this push",
@@ -223,28 +285,86 @@ impl PushRanges<'_> {
                     .into())
                 }
             });
-            if let Err(error) = checked {
-                failure = Some(error);
-                break;
+            match checked {
+                Ok(index) => self.links.append(&mut chain, index),
+                Err(error) => {
+                    failure = Some(error);
+                    break;
+                }
             }
-            claimed += 1;
         }
         if let Some(error) = failure {
-            // Give back what this call took: states before the failing one checked.
-            for i in 0..claimed {
-                if let Some(index) = state(i).ok().and_then(|u| self.writer.index_of(u.id)) {
-                    self.claims.release_one(index);
-                }
+            // Give back what this call took, and only that.
+            for index in self.links.walk(chain) {
+                self.claims.release_one(index);
             }
             return Err(error);
         }
-        let update = |i: usize| {
-            let update = state(i).ok()?;
-            Some((self.writer.index_of(update.id)?, update))
-        };
-        // SAFETY: the index of a live id is in range, and this call claimed each entity
-        // above: they are distinct, and no other thread writes them in this push.
-        unsafe { self.writer.apply_distinct(self.time, count, update) };
+        let mut skipped = false;
+        let states = self.links.walk(chain).enumerate().filter_map(|(k, index)| {
+            let applied = again(&state, k, |u| self.writer.check(u), Some(index as u32));
+            skipped |= applied.is_none();
+            applied
+        });
+        // SAFETY: every index passed is one of this call's chain: in range (`check`
+        // returned it), claimed by this call above, so no other thread writes it in this
+        // push, and each once (a claim succeeds once); and `again` passes it only with a
+        // state naming it.
+        unsafe { self.writer.apply_distinct(self.time, states) };
+        if skipped {
+            return Err(inconsistent_states().into());
+        }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+pub(super) mod tests {
+    use std::cell::Cell;
+
+    use glam::Vec3;
+
+    use super::super::{CharacterDesc, Crowd, CrowdConfig};
+    use crate::scene::EntityUpdate;
+
+    thread_local! {
+        /// Whole-frame pushes that took the in-order path, on this thread.
+        pub static IN_ORDER_PUSHES: Cell<usize> = const { Cell::new(0) };
+    }
+
+    #[test]
+    fn a_whole_frame_after_a_ranged_push_takes_the_fast_path() {
+        let mut crowd = Crowd::new(CrowdConfig::default()).unwrap();
+        let states: Vec<EntityUpdate> = (0..3)
+            .map(|i| {
+                let desc = CharacterDesc {
+                    position: Vec3::new(i as f32, 0.0, 0.0),
+                    ..CharacterDesc::default()
+                };
+                EntityUpdate {
+                    id: crowd.add_character(&desc).unwrap(),
+                    position: Vec3::new(i as f32, 0.0, 1.0),
+                    heading: 0.0,
+                    heading_from_motion: false,
+                    velocity: None,
+                    talking: false,
+                }
+            })
+            .collect();
+        crowd.begin_push(1.0).unwrap();
+        crowd.push_range(&states).unwrap();
+        crowd.end_push().unwrap();
+        let in_order = || IN_ORDER_PUSHES.with(Cell::get);
+        let before = in_order();
+        crowd.push_frame(2.0, &states).unwrap();
+        assert_eq!(
+            in_order(),
+            before,
+            "distinct states after a ranged push: fast"
+        );
+        crowd.push_frame(3.0, &[states[0], states[0]]).unwrap();
+        assert_eq!(in_order(), before + 1, "an entity twice: in order");
+        crowd.push_frame(4.0, &states).unwrap();
+        assert_eq!(in_order(), before + 1, "distinct states again: fast");
     }
 }

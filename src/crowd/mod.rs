@@ -36,6 +36,7 @@ mod attention_models;
 mod blinks;
 mod claims;
 mod config;
+mod conversation_ids;
 mod conversation_look;
 mod conversation_table;
 mod conversations;

@@ -16,6 +16,11 @@ pub const CG_MAX_CONVERSATION_MEMBERS: u32 = 8;
 /// then, and away between glances. A removed character leaves its group; a group left with
 /// one member ends. The caller keeps `members`.
 ///
+/// Ids are given in turn, never `CG_NO_TARGET` nor a live group's: the id of a removed
+/// group names no group (`CG_STATUS_NOT_FOUND` from `cg_crowd_remove_conversation`) until
+/// at least 2^32 - 1 - `max_conversations` more groups have been formed (4 286 578 687 at
+/// the largest `max_conversations`, 8 388 608), however long other groups last.
+///
 /// Errors (nothing changed): `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_INVALID_ARGUMENT` (fewer
 /// than 2 or more than 8 members, an id listed twice, an object, a character already in a
 /// conversation), `CG_STATUS_NOT_FOUND` (an unknown id),

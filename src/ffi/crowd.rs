@@ -461,7 +461,9 @@ pub struct cg_crowd_config {
     /// `CG_EYE_MOTION_*`. Default `CG_EYE_MOTION_PAPER`.
     pub eye_motion: u32,
     /// Most conversations (`cg_crowd_set_conversation`) at once, 0 to 8 388 608. Each
-    /// takes about 150 bytes, allocated by `cg_crowd_create`. Default 64.
+    /// takes about 170 bytes, reserved by `cg_crowd_create`. Default 64. A removed group's
+    /// id names no group until at least 2^32 - 1 - max_conversations more groups have been
+    /// formed (4 286 578 687 at 8 388 608).
     pub max_conversations: u32,
     /// The crowd model's and the saliency model's score of an entity that talks
     /// (`CG_STATE_TALKING`) is multiplied by this, 0 to 100 (1: talking changes nothing).

@@ -252,10 +252,9 @@ impl SceneWriter<'_> {
         }
     }
 
-    /// [`apply_at`](Self::apply_at) for `count` updates of distinct entities, `update(k)`
-    /// giving the k-th one's entity index and state (or `None` to skip it). The same
-    /// writes, in blocks: each block's motions first, then its writes, so that the
-    /// processor overlaps one entity's trigonometry with the next one's.
+    /// [`apply_at`](Self::apply_at) for updates of distinct entities, each with its entity
+    /// index. The same writes, in blocks: each block's motions first, then its writes, so
+    /// that the processor overlaps one entity's trigonometry with the next one's.
     ///
     /// # Safety
     /// Every index must be below the scene's entity count and the index of its update's id, no
@@ -264,24 +263,27 @@ impl SceneWriter<'_> {
     pub unsafe fn apply_distinct(
         &self,
         time: f64,
-        count: usize,
-        update: impl Fn(usize) -> Option<(usize, EntityUpdate)>,
+        updates: impl IntoIterator<Item = (usize, EntityUpdate)>,
     ) {
         const BLOCK: usize = 16;
         let mut block = [None; BLOCK];
-        for first in (0..count).step_by(BLOCK) {
-            let end = (first + BLOCK).min(count);
-            for (slot, k) in block.iter_mut().zip(first..end) {
-                *slot = update(k).map(|(index, update)| {
-                    // SAFETY: the caller's contract; nothing is written yet, and the
-                    // entities are distinct, so no write of this block precedes its read.
-                    let motion = unsafe { self.motion_at(index, time, &update) };
-                    (index, update, motion)
-                });
+        let mut updates = updates.into_iter();
+        loop {
+            let mut filled = 0;
+            // The block first: no update is taken that the block has no room for.
+            for (slot, (index, update)) in block.iter_mut().zip(updates.by_ref()) {
+                // SAFETY: the caller's contract; nothing is written yet, and the entities
+                // are distinct, so no write of this block precedes its read.
+                let motion = unsafe { self.motion_at(index, time, &update) };
+                *slot = Some((index, update, motion));
+                filled += 1;
             }
-            for (index, update, motion) in block[..end - first].iter().flatten() {
+            for (index, update, motion) in block[..filled].iter().flatten() {
                 // SAFETY: the caller's contract.
                 unsafe { self.write_at(*index, time, update, motion) };
+            }
+            if filled < BLOCK {
+                return;
             }
         }
     }
