@@ -197,15 +197,25 @@ pub unsafe extern "C" fn cg_crowd_begin_push(crowd: *mut cg_crowd, t: f64) -> cg
 /// Pushes `count` entity states into the push opened by `cg_crowd_begin_push`, as
 /// `cg_crowd_push_frame` would. Each entity may be pushed once per push: a state for an
 /// entity that this or another call already pushed in this push is an error. Entities no
-/// call pushes keep their last state. `states` stays yours. Thread-safe: several threads
-/// may call it at once on the same crowd, each with its own entities. `count` 0 does
-/// nothing. Allocates nothing.
+/// call pushes keep their last state. `states` stays yours and must not change during the
+/// call. Thread-safe: several threads may call it at once on the same crowd, each with its
+/// own entities. `count` 0 does nothing. Allocates nothing.
+///
+/// Each call first checks its states and claims their entities, then writes them. Two
+/// calls that race over the same entity: at least one fails with `CG_STATUS_WRONG_STATE`,
+/// and both may (each can meet a claim the other holds until it gives it back on failing);
+/// a call that fails keeps its claims until it returns, and meanwhile refuses other calls'
+/// states for those entities. Give each entity to one call. A call racing with
+/// `cg_crowd_end_push` either runs first (and `cg_crowd_end_push` fails) or fails with
+/// `CG_STATUS_WRONG_STATE`, pushing nothing.
 ///
 /// Errors (and nothing in this call's states is pushed): `CG_STATUS_NULL_ARGUMENT`
 /// (crowd, or states NULL with count > 0), `CG_STATUS_BAD_STRUCT_SIZE`,
 /// `CG_STATUS_NON_FINITE` (any value), `CG_STATUS_NOT_FOUND` (an unknown id),
-/// `CG_STATUS_INVALID_ARGUMENT` (unknown flag bits), `CG_STATUS_WRONG_STATE` (no ranged
-/// push is open, or an entity was pushed already in this push).
+/// `CG_STATUS_INVALID_ARGUMENT` (unknown flag bits; or `states` changed while the call read
+/// them: then each state that still names the entity it first named, with valid values,
+/// is pushed as read the second time, the others skipped), `CG_STATUS_WRONG_STATE` (no ranged push is open, it is being ended, or an
+/// entity was pushed already in this push, by this call or another).
 #[no_mangle]
 pub unsafe extern "C" fn cg_crowd_push_range(
     crowd: *mut cg_crowd,
@@ -231,8 +241,10 @@ pub unsafe extern "C" fn cg_crowd_push_range(
 /// Entities that no `cg_crowd_push_range` call pushed keep their last state.
 ///
 /// Errors: `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_WRONG_STATE` (no ranged push is open, or
-/// `cg_crowd_push_range` calls are still running: then the push stays open). Not
-/// thread-safe: call it after every `cg_crowd_push_range` call has returned.
+/// `cg_crowd_push_range` calls are still running: then the push stays open and nothing
+/// changes; call it again once they have returned). Not thread-safe: call it after every
+/// `cg_crowd_push_range` call has returned; a call that starts while this one runs fails
+/// with `CG_STATUS_WRONG_STATE`.
 #[no_mangle]
 pub unsafe extern "C" fn cg_crowd_end_push(crowd: *mut cg_crowd) -> cg_status {
     ffi_boundary!({
