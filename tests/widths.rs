@@ -71,7 +71,7 @@ fn whole(crowd: &mut Crowd, _: usize) {
 fn split(crowd: &mut Crowd, frame: usize) {
     crowd.begin_step(DT).unwrap();
     let count = crowd.character_count();
-    if frame % 2 == 0 {
+    if frame.is_multiple_of(2) {
         for first in (0..count).rev() {
             crowd.step_range(first, 1).unwrap();
         }

@@ -10,7 +10,7 @@ use glam::{DQuat, DVec3, Quat};
 
 use crate::bvh::Bvh;
 
-pub use crowdgaze::skeleton_map::{parse_axis, BoneRole, DEFAULT_BONE_MAP};
+pub use crowdgaze::skeleton_map::{parse_axis, BoneRole};
 
 /// The joint map: the library's default one with `overrides` (`Name=role,Name=role`, roles
 /// `root`, `spine`, `neck`, `head`, `left_eye`, `right_eye`, `none`) applied on top.
@@ -82,6 +82,7 @@ impl SkeletonChain {
             forward,
             units_per_metre: units_per_metre as f32,
             root_offset: None,
+            crowd_axes: None,
         };
         let mapped = map_skeleton(&bones, map, &options).map_err(|e| match e {
             crowdgaze::Error::InvalidArgument(message) => anyhow!("{message}"),

@@ -265,8 +265,19 @@ impl BoundSkeleton {
             forward: Some(Axis::PositiveZ),
             units_per_metre: 1.0 / scale,
             root_offset: None,
+            crowd_axes: None,
         };
         let mapped = map_skeleton(&bones, map, &options)?;
+        // The adapter composes each joint on its parent joint: a joint under other bones
+        // (eyes under a facial root) is not followed yet.
+        if let Some(k) = (1..mapped.joint_count()).find(|&k| mapped.joint_path(k).len() > 1) {
+            let bone = mapped.bones[k];
+            return Err(Error::InvalidArgument(format!(
+                "bone '{}' hangs from its chain parent through other bones, which the Godot \
+                 addon does not follow yet: leave it out with {}=none",
+                names[bone], names[bone]
+            )));
+        }
         let mut path = vec![mapped.root];
         while let Some(parent) = parents[*path.last().unwrap_or(&0)] {
             path.push(parent);

@@ -367,7 +367,7 @@ fn a_skeleton_without_a_head_is_refused_with_its_bones_named() {
     let text = error.to_string();
     assert!(matches!(error, Error::InvalidArgument(_)));
     assert!(
-        text.contains("no head bone") && text.contains("Hips, Spine, Chest, Neck, Skull"),
+        text.contains("no head bone") && text.contains("'Hips', 'Spine', 'Chest', 'Neck', 'Skull'"),
         "{text}"
     );
     assert_eq!(world.crowd.character_count(), 0);

@@ -81,7 +81,7 @@ func _process(_delta):
 			gaze.name = "Gaze"
 			skeleton.add_child(gaze)
 			root.add_child(skeleton)
-			expect_error("/root/BadInput/Headless/Skeleton/Gaze: invalid argument: no head bone: none of the bones (Hips, Spine, Tail)")
+			expect_error("/root/BadInput/Headless/Skeleton/Gaze: invalid argument: no head bone: none of the 3 bones ('Hips', 'Spine', 'Tail')")
 			add_child(root)
 			expect(crowd.get_character_count() == 0, "the headless skeleton joined")
 			# A character that is not under a skeleton.
