@@ -1,8 +1,8 @@
 //! The rigs people ship, each from its published hierarchy (`tests/data/rigs/*.rig`, sources
 //! in each file and in its README): every one maps with the default rules and no override
 //! to the chain its `expect` line gives — root, spine, neck, head and eyes — facing the way
-//! its `up` and `forward` lines say, found from the rest pose alone; and each frame's
-//! conversions go round on it.
+//! its `up` and `forward` lines say, found from the rest pose alone — also mirrored, as
+//! Unreal's left-handed numbers give it; and each frame's conversions go round on it.
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -102,6 +102,31 @@ fn read_rig(path: &Path) -> Rig {
 }
 
 impl Rig {
+    /// The rig mirrored across its sagittal plane (left and right swapped in space, not in
+    /// name): what a left-handed engine's raw numbers look like in a right-handed reading.
+    fn mirrored(&self) -> Rig {
+        let left = self.up.vector().cross(self.forward.vector());
+        let mirror = |v: Vec3| v - 2.0 * v.dot(left) * left;
+        Rig {
+            file: format!("{} mirrored", self.file),
+            names: self.names.clone(),
+            parents: self.parents.clone(),
+            translations: self.translations.iter().map(|&t| mirror(t)).collect(),
+            rotations: self
+                .rotations
+                .iter()
+                .map(|q| {
+                    let axis = -mirror(Vec3::new(q.x, q.y, q.z));
+                    Quat::from_xyzw(axis.x, axis.y, axis.z, q.w)
+                })
+                .collect(),
+            units_per_metre: self.units_per_metre,
+            up: self.up,
+            forward: self.forward,
+            expect: self.expect.clone(),
+        }
+    }
+
     fn bones(&self) -> Vec<RestBone<'_>> {
         (0..self.names.len())
             .map(|i| RestBone {
@@ -123,8 +148,8 @@ fn every_published_rig_maps_with_the_default_rules() {
     let files = rig_files();
     assert!(files.len() >= 17, "{} rig files", files.len());
     let mut failures = Vec::new();
-    for path in &files {
-        let rig = read_rig(path);
+    let rigs = files.iter().map(|path| read_rig(path));
+    for rig in rigs.flat_map(|rig| [rig.mirrored(), rig]) {
         let bones = rig.bones();
         let options = SkeletonOptions {
             units_per_metre: rig.units_per_metre,

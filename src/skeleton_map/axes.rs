@@ -94,49 +94,69 @@ fn mean_of(bones: &[RestBone<'_>], globals: &[(Quat, Vec3)], words: &[&str]) -> 
     (count > 0).then(|| sum / count as f32)
 }
 
-/// The direction a skeleton faces at rest, and how it was found: `left × up`, left from the
-/// left and right bone pairs; else the way from the head to the eyes; else from the feet to
-/// the toes. Fails with [`Error::InvalidArgument`] asking for the forward axis if none of
-/// them shows it.
+/// The direction a skeleton faces at rest, and how it was found: the way from the head to
+/// the eyes; else from the feet to the toes; else `left × up`, left from the left and right
+/// bone pairs. The eyes and toes come first: they show the facing in a mirrored
+/// (left-handed) space too, such as Unreal's, where the side pairs would give it backwards.
+/// Also says whether the side pairs point the other way (a mirrored space). Fails with
+/// [`Error::InvalidArgument`] asking for the forward axis if none of them shows it, or if
+/// the side pairs say the skeleton faces sideways of where its eyes or toes point.
 pub(super) fn detect_forward(
     bones: &[RestBone<'_>],
     globals: &[(Quat, Vec3)],
     up_axis: Axis,
     eyes: Option<[usize; 2]>,
     head: usize,
-) -> Result<(Axis, FacingFrom)> {
+) -> Result<(Axis, FacingFrom, bool)> {
     let up = up_axis.vector();
-    let left = on_ground(left_from_pairs(bones, globals), up);
     let scale = globals
         .iter()
         .map(|(_, p)| p.length())
         .fold(0.0f32, f32::max)
         .max(1e-6);
-    if left.length() > 1e-4 * scale {
-        return Ok((nearest_axis(left.cross(up)), FacingFrom::SidePairs));
-    }
-    if let Some([left_eye, right_eye]) = eyes {
+    let shows = |v: Vec3| v.length() > 1e-4 * scale;
+    let from_pairs = {
+        let left = on_ground(left_from_pairs(bones, globals), up);
+        shows(left).then(|| nearest_axis(left.cross(up)))
+    };
+    let from_eyes = eyes.and_then(|[left_eye, right_eye]| {
         let middle = 0.5 * (globals[left_eye].1 + globals[right_eye].1);
         let ahead = on_ground(middle - globals[head].1, up);
-        if ahead.length() > 1e-4 * scale {
-            return Ok((nearest_axis(ahead), FacingFrom::Eyes));
-        }
-    }
-    if let (Some(toes), Some(feet)) = (
+        shows(ahead).then(|| nearest_axis(ahead))
+    });
+    let from_toes = match (
         mean_of(bones, globals, &["toe", "toes", "toebase", "ball"]),
         mean_of(bones, globals, &["foot", "ankle"]),
     ) {
-        let ahead = on_ground(toes - feet, up);
-        if ahead.length() > 1e-4 * scale {
-            return Ok((nearest_axis(ahead), FacingFrom::Toes));
+        (Some(toes), Some(feet)) => {
+            let ahead = on_ground(toes - feet, up);
+            shows(ahead).then(|| nearest_axis(ahead))
         }
+        _ => None,
+    };
+    let geometric = from_eyes
+        .map(|axis| (axis, FacingFrom::Eyes))
+        .or(from_toes.map(|axis| (axis, FacingFrom::Toes)));
+    match (geometric, from_pairs) {
+        (Some((axis, how)), Some(pairs)) => {
+            // The same, or mirrored (backwards): fine. Sideways: something is wrong.
+            if pairs.vector().dot(axis.vector()) == 0.0 {
+                return Err(Error::InvalidArgument(format!(
+                    "the skeleton's left and right bones say it faces {pairs:?}, its {} say                      {axis:?}: give the forward axis",
+                    if how == FacingFrom::Eyes { "eyes" } else { "toes" }
+                )));
+            }
+            Ok((axis, how, pairs != axis))
+        }
+        (Some((axis, how)), None) => Ok((axis, how, false)),
+        (None, Some(pairs)) => Ok((pairs, FacingFrom::SidePairs, false)),
+        (None, None) => Err(Error::InvalidArgument(
+            "cannot tell which way the skeleton faces: no eyes in front of the head, no toes \
+             in front of the feet, no bones named as left and right pairs; give the forward \
+             axis (the direction the character faces at rest)"
+                .into(),
+        )),
     }
-    Err(Error::InvalidArgument(
-        "cannot tell which way the skeleton faces: no bones named as left and right pairs, \
-         no eyes in front of the head, no toes in front of the feet; give the forward axis \
-         (the direction the character faces at rest)"
-            .into(),
-    ))
 }
 
 /// The rotation that turns `from`'s up and forward onto `to`'s (both perpendicular pairs).

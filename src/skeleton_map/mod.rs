@@ -639,7 +639,19 @@ pub fn map_skeleton(
     };
     let (forward_axis, facing_from) = match options.forward {
         Some(axis) => (axis, FacingFrom::Given),
-        None => axes::detect_forward(bones, &skeleton_globals, up_axis, eyes, head)?,
+        None => {
+            let (axis, how, mirrored) =
+                axes::detect_forward(bones, &skeleton_globals, up_axis, eyes, head)?;
+            if mirrored {
+                notes.push(
+                    "the bones named left lie on the character's right: a mirrored \
+                     (left-handed) space, such as Unreal's; the facing comes from the eyes or \
+                     toes, and each eye keeps its name"
+                        .to_string(),
+                );
+            }
+            (axis, how)
+        }
     };
     if forward_axis.vector().dot(up_axis.vector()) != 0.0 {
         return Err(Error::InvalidArgument(

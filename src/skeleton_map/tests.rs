@@ -263,7 +263,7 @@ fn eyes_under_a_facial_root_map_and_the_pose_goes_round() {
         (mapped.up, mapped.forward),
         (Axis::PositiveZ, Axis::PositiveY)
     );
-    assert_eq!(mapped.facing_from, FacingFrom::SidePairs);
+    assert_eq!(mapped.facing_from, FacingFrom::Eyes);
     assert!(
         mapped.report().contains("FACIAL_C_FacialRoot"),
         "{}",
@@ -395,19 +395,39 @@ fn a_walk_that_stops_short_is_refused_with_the_fix() {
 #[test]
 fn the_facing_comes_from_sides_eyes_or_toes_or_is_asked_for() {
     let options = centimetres();
-    // The eyes are a left and right pair too.
+    // The eyes in front of the head say +Y.
     let mut bones = unreal_like();
-    bones.truncate(9);
     let mapped = map_skeleton(&bones, &BoneMap::default(), &options).unwrap();
-    assert_eq!(mapped.facing_from, FacingFrom::SidePairs);
-    // Eyes whose names give no side: their place in front of the head says +Y.
-    bones[7].name = "EyeBallA";
-    bones[8].name = "EyeBallB";
-    let eyes = BoneMap::with_overrides("EyeBallA=left_eye,EyeBallB=right_eye").unwrap();
-    let mapped = map_skeleton(&bones, &eyes, &options).unwrap();
     assert_eq!(
         (mapped.forward, mapped.facing_from),
         (Axis::PositiveY, FacingFrom::Eyes)
+    );
+    // Mirrored (Unreal's left-handed numbers): still +Y, and a note says so.
+    for bone in &mut bones {
+        bone.translation.x = -bone.translation.x;
+        bone.rotation = Quat::from_xyzw(
+            bone.rotation.x,
+            -bone.rotation.y,
+            -bone.rotation.z,
+            bone.rotation.w,
+        );
+    }
+    let mapped = map_skeleton(&bones, &BoneMap::default(), &options).unwrap();
+    assert_eq!(
+        (mapped.forward, mapped.facing_from),
+        (Axis::PositiveY, FacingFrom::Eyes)
+    );
+    assert!(mapped.report().contains("mirrored"), "{}", mapped.report());
+    // No eyes, no toes: the left and right thighs.
+    let mut bones = unreal_like();
+    bones.drain(6..9);
+    for thigh in &mut bones[6..] {
+        thigh.parent = Some(1);
+    }
+    let mapped = map_skeleton(&bones, &BoneMap::default(), &options).unwrap();
+    assert_eq!(
+        (mapped.forward, mapped.facing_from),
+        (Axis::PositiveY, FacingFrom::SidePairs)
     );
     // Without eyes either: the toes.
     let mut bones = unreal_like();
