@@ -79,4 +79,6 @@ mod documentation {
     struct Performance;
     #[doc = include_str!("../docs/threads.md")]
     struct Threads;
+    #[doc = include_str!("../docs/your-character.md")]
+    struct YourCharacter;
 }
