@@ -88,6 +88,15 @@ impl SkeletonChain {
             crowdgaze::Error::InvalidArgument(message) => anyhow!("{message}"),
             other => anyhow!("{other}"),
         })?;
+        // Each frame composes a joint on its parent joint: eyes under facial bones are not
+        // followed here.
+        if let Some(k) = (1..mapped.joint_count()).find(|&k| mapped.joint_path(k).len() > 1) {
+            let name = &bvh.joints[mapped.bones[k]].name;
+            bail!(
+                "joint {name} hangs from its chain parent through other joints, which the bvh \
+                 command does not follow: leave it out with --map {name}=none"
+            );
+        }
         for &index in &mapped.bones {
             if bvh.joints[index].euler_order().is_none() {
                 bail!(
