@@ -122,7 +122,8 @@ impl BoneRole {
 /// without a `namespace:` prefix), on top of the default rules ([`default_role`]).
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct BoneMap {
-    overrides: HashMap<String, BoneRole>,
+    /// By lowercase name: the name as given, and its role.
+    overrides: HashMap<String, (String, BoneRole)>,
 }
 
 impl BoneMap {
@@ -162,7 +163,8 @@ impl BoneMap {
 
     /// Maps `name` (case-insensitive) to `role`, replacing what the map said.
     pub fn set(&mut self, name: &str, role: BoneRole) {
-        self.overrides.insert(name.to_lowercase(), role);
+        self.overrides
+            .insert(name.to_lowercase(), (name.to_string(), role));
     }
 
     /// The override for `name`, if there is one: its full name's, else the one of the name
@@ -172,7 +174,7 @@ impl BoneMap {
         self.overrides
             .get(&name.to_lowercase())
             .or_else(|| self.overrides.get(&short.to_lowercase()))
-            .copied()
+            .map(|(_, role)| *role)
     }
 
     /// The role of the bone called `name`: its override, else the default rules'.
@@ -180,9 +182,11 @@ impl BoneMap {
         self.override_of(name).unwrap_or_else(|| default_role(name))
     }
 
-    /// The overridden names (lowercase), for the check that each names a bone.
-    fn override_names(&self) -> impl Iterator<Item = &str> {
-        self.overrides.keys().map(String::as_str)
+    /// The overridden names: (lowercase, as given), for the check that each names a bone.
+    fn override_names(&self) -> impl Iterator<Item = (&str, &str)> {
+        self.overrides
+            .iter()
+            .map(|(lower, (given, _))| (lower.as_str(), given.as_str()))
     }
 }
 
@@ -512,17 +516,22 @@ pub fn map_skeleton(
             )));
         }
     }
-    for name in map.override_names() {
-        let named = bones.iter().any(|b| {
-            let short = b.name.rsplit(':').next().unwrap_or(b.name);
-            b.name.to_lowercase() == name || short.to_lowercase() == name
-        });
-        if !named {
-            return Err(Error::InvalidArgument(format!(
-                "the bone map names '{}', but the skeleton has no bone of that name",
-                shorten(name)
-            )));
-        }
+    let mut stray: Vec<&str> = map
+        .override_names()
+        .filter(|(lower, _)| {
+            !bones.iter().any(|b| {
+                let short = b.name.rsplit(':').next().unwrap_or(b.name);
+                b.name.to_lowercase() == *lower || short.to_lowercase() == *lower
+            })
+        })
+        .map(|(_, given)| given)
+        .collect();
+    stray.sort_unstable();
+    if let Some(name) = stray.first() {
+        return Err(Error::InvalidArgument(format!(
+            "the bone map names '{}', but the skeleton has no bone of that name",
+            shorten(name)
+        )));
     }
     let overridden: Vec<bool> = bones
         .iter()
