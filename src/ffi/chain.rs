@@ -118,6 +118,22 @@ pub struct cg_chain_desc {
 }
 
 impl cg_chain_desc {
+    /// The C description of a core chain in units of which `units_per_metre` make a metre:
+    /// the inverse of [`cg_chain_desc::to_core`] (lengths multiplied where it divides).
+    pub(crate) fn from_core_in_units(chain: &GazeChain, units_per_metre: f32) -> cg_chain_desc {
+        let mut desc = cg_chain_desc::from_core(chain);
+        let scale = |v: cg_vec3| cg_vec3 {
+            x: v.x * units_per_metre,
+            y: v.y * units_per_metre,
+            z: v.z * units_per_metre,
+        };
+        for joint in &mut desc.joints[..chain.joint_count()] {
+            joint.offset = scale(joint.offset);
+        }
+        desc.root_offset = scale(desc.root_offset);
+        desc
+    }
+
     /// The C description of a core chain, lengths in metres.
     fn from_core(chain: &GazeChain) -> cg_chain_desc {
         let mut joints = [cg_chain_joint {
