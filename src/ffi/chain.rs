@@ -328,6 +328,29 @@ mod tests {
     }
 
     #[test]
+    fn a_chain_in_units_reads_back_as_the_chain() {
+        let mut joints = GazeChain::human(Vec3::Z, Vec3::NEG_Y).joints().to_vec();
+        joints[1].rest = glam::Quat::from_rotation_x(0.3);
+        joints[4].rest = glam::Quat::from_euler(glam::EulerRot::YXZ, 0.2, -0.1, 0.05);
+        let chain =
+            GazeChain::new(&joints, Vec3::NEG_Y, Vec3::Z, Vec3::new(0.01, 0.0, 0.93)).unwrap();
+        // Equal to float rounding: reading divides lengths by the units and renormalises
+        // the rotations.
+        for units in [1.0, 100.0, 39.37, 1e-3, 1e6] {
+            let read = cg_chain_desc::from_core_in_units(&chain, units)
+                .to_core(units)
+                .unwrap();
+            for (a, b) in read.joints().iter().zip(chain.joints()) {
+                assert!(a.offset.abs_diff_eq(b.offset, 1e-6), "{units}");
+                assert!(a.rest.abs_diff_eq(b.rest, 1e-6), "{units}");
+                assert_eq!((a.role, a.limits), (b.role, b.limits), "{units}");
+            }
+            let root = read.root_offset();
+            assert!(root.abs_diff_eq(chain.root_offset(), 1e-6), "{units}");
+        }
+    }
+
+    #[test]
     fn init_checks_its_arguments_and_writes_only_on_success() {
         assert_eq!(
             unsafe { cg_chain_desc_init_human(std::ptr::null_mut(), 2, 4) },
