@@ -1,6 +1,7 @@
 //! A Mixamo skeleton for the `cg_rig` tests and benchmarks: 65 bones (`mixamorig:` names,
 //! hips, three spine bones, neck, head, eyes, arms with five four-bone fingers, legs),
 //! centimetres, Y up, facing +Z, with rotated rest rotations as imported FBX rigs have.
+//! Self-contained: the bad-input test includes it by path.
 
 use crowdgaze::ffi::rig::*;
 use crowdgaze::ffi::types::{cg_quat, cg_vec3};
@@ -182,7 +183,19 @@ impl Skeleton {
     /// A `cg_rig_desc` over this skeleton (centimetres, axes detected), for a crowd of
     /// `crowd_units_per_metre`, Y up, +Z forward.
     pub fn desc(&self, crowd_units_per_metre: f32) -> cg_rig_desc {
-        let mut desc = super::init(cg_rig_desc_init);
+        let mut desc = std::mem::MaybeUninit::<cg_rig_desc>::uninit();
+        // SAFETY: a versioned struct starts with its `uint32_t struct_size`, set before the
+        // call that fills the rest.
+        let mut desc = unsafe {
+            desc.as_mut_ptr()
+                .cast::<u32>()
+                .write(std::mem::size_of::<cg_rig_desc>() as u32);
+            assert_eq!(
+                cg_rig_desc_init(desc.as_mut_ptr()),
+                crowdgaze::ffi::status::cg_status::Ok
+            );
+            desc.assume_init()
+        };
         desc.bone_count = self.names.len() as u32;
         desc.bone_names = self.name_pointers.as_ptr();
         desc.parents = self.parents.as_ptr();
@@ -198,7 +211,13 @@ impl Skeleton {
         let desc = self.desc(crowd_units_per_metre);
         let mut rig = std::ptr::null_mut();
         // SAFETY: the desc points into this skeleton's live arrays.
-        super::check(unsafe { cg_rig_create(&desc, &mut rig) }, "cg_rig_create");
+        let status = unsafe { cg_rig_create(&desc, &mut rig) };
+        assert_eq!(
+            status,
+            crowdgaze::ffi::status::cg_status::Ok,
+            "cg_rig_create: {}",
+            crowdgaze::ffi::last_error::last_error_message()
+        );
         Rig(rig)
     }
 
@@ -227,6 +246,15 @@ pub struct Rig(pub *mut cg_rig);
 unsafe impl Send for Rig {}
 // SAFETY: as above.
 unsafe impl Sync for Rig {}
+
+impl Rig {
+    /// The handle, which the caller now destroys.
+    pub fn into_raw(self) -> *mut cg_rig {
+        let rig = self.0;
+        std::mem::forget(self);
+        rig
+    }
+}
 
 impl Drop for Rig {
     fn drop(&mut self) {
