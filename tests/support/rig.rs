@@ -3,6 +3,8 @@
 //! centimetres, Y up, facing +Z, with rotated rest rotations as imported FBX rigs have.
 //! Self-contained: the bad-input test includes it by path.
 
+#![allow(dead_code)]
+
 use crowdgaze::ffi::rig::*;
 use crowdgaze::ffi::types::{cg_quat, cg_vec3};
 use glam::{Quat, Vec3};
