@@ -7,12 +7,14 @@ from __future__ import annotations
 
 import copy
 import pickle
+import textwrap
 import threading
 from pathlib import Path
 
 import numpy as np
 import pytest
 from conftest import REPOSITORY
+from test_hostile import CONCURRENT_CLOSE, check_concurrent_close, run_alone
 
 import crowdgaze as cg
 
@@ -544,6 +546,54 @@ def test_a_closed_rig_refuses_every_call():
     for refused in (copy.copy, copy.deepcopy, pickle.dumps):
         with pytest.raises(TypeError):
             refused(again)
+
+
+def test_closing_a_rig_under_calls_in_child_processes():
+    """Crash-prone: each in a child process (see test_hostile.py). An argument whose
+    conversion closes the rig makes the call raise (closed) instead of using a freed rig;
+    close() from another thread waits for the base poses in flight on four threads."""
+    skeleton_code = f"""
+        names = {[name for name, _, _ in MIXAMO]!r}
+        parents = {[None if p is None else [n for n, _, _ in MIXAMO].index(p)
+                    for _, p, _ in MIXAMO]!r}
+        offsets = {[list(offset) for _, _, offset in MIXAMO]!r}
+        rig = cg.Rig(names, parents, offsets, units_per_metre=100)
+        bones = np.tile(np.float32([0, 0, 0, 1]), (len(names), 1))
+        """
+    result = run_alone(
+        skeleton_code
+        + """
+        class Closer:
+            def __float__(self):
+                rig.close()
+                return 1.0
+        outcomes = []
+        for call in (lambda: rig.base_pose([[0, 0, 0, Closer()]] + [[0, 0, 0, 1]] * 22),
+                     lambda: rig.write_joints([[0, 0, 0, 1]] * 7, bones)):
+            try:
+                call()
+                outcomes.append(["ok", ""])
+            except Exception as error:
+                outcomes.append([outcome(error), str(error)])
+        del rig
+        gc.collect()
+        print(json.dumps({"outcomes": outcomes}))
+        """
+    )
+    for result_outcome, message in result["outcomes"]:
+        assert result_outcome == "ValueError" and "closed" in message, result
+    result = run_alone(
+        textwrap.dedent(skeleton_code)
+        + textwrap.dedent(
+            """
+            outs = [np.zeros((7, 4), np.float32) for _ in range(4)]
+            OBJ, DELAY, CLOSERS = rig, 0.02, 2
+            CALLS = [lambda o=o: rig.base_pose(bones, out=o) for o in outs]
+            """
+        )
+        + CONCURRENT_CLOSE
+    )
+    check_concurrent_close(result)
 
 
 # --- the documentation ----------------------------------------------------------------------
