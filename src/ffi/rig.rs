@@ -638,9 +638,12 @@ impl BoneRotations for CallerBones<'_> {
     fn bone_count(&self) -> usize {
         self.0.len()
     }
+    /// Normalised (each was checked finite and not zero): a product along a long path of
+    /// tiny or huge quaternions cannot underflow or overflow.
     fn rotation(&self, bone: usize) -> Quat {
         let q = self.0[bone];
-        Quat::from_xyzw(q.x, q.y, q.z, q.w)
+        let q = Quat::from_xyzw(q.x, q.y, q.z, q.w);
+        q / q.length()
     }
 }
 
