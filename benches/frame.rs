@@ -12,6 +12,12 @@
 //! On 2 threads it also times the push split in two parts pushed from two threads
 //! (`cg_crowd_begin_push`, `cg_crowd_push_range`, `cg_crowd_end_push`: `push_ranged_2t`).
 //!
+//! Engines with their own skeletons also convert each character's bones every frame: the
+//! 65-bone Mixamo skeleton of `tests/support/rig.rs`, each character with its own bone
+//! array (swayed differently), through `cg_rig_base_pose` (bones to base pose,
+//! `rig_base_pose`) and `cg_rig_write_joints` (joints back into the bones, in place,
+//! `rig_write_joints`), one rig for all, on 1 thread.
+//!
 //! Moving the walkers and writing their `cg_entity_state`s (the engine's own work) happens
 //! before each timed frame and is not timed; nothing is allocated per frame. Each part is
 //! timed as it runs in the engine's frame: the step after a frame whose outputs were read
@@ -37,6 +43,7 @@ use crowdgaze::ffi::frame::{
 use crowdgaze::ffi::gaze::{
     cg_crowd_joint_total, cg_crowd_read_eyes, cg_crowd_read_joints, cg_eye_info,
 };
+use crowdgaze::ffi::rig::{cg_rig_base_pose, cg_rig_write_joints};
 use crowdgaze::ffi::status::cg_status;
 use crowdgaze::ffi::types::cg_quat;
 use crowdgaze::scenario::Scenario;
@@ -304,6 +311,79 @@ impl Engine {
     }
 }
 
+/// Bones of the Mixamo skeleton, and joints of its chain (3 spine, neck, head, 2 eyes).
+const RIG_BONES: usize = 65;
+const RIG_JOINTS: usize = 7;
+
+/// Each character's bone rotations, base pose and joints, converted by one rig.
+struct Rigs {
+    rig: c_api::rig::Rig,
+    bones: Vec<cg_quat>,
+    base: Vec<cg_quat>,
+    joints: Vec<cg_quat>,
+}
+
+impl Rigs {
+    fn new(characters: usize) -> Rigs {
+        let skeleton = c_api::rig::Skeleton::mixamo();
+        assert_eq!(skeleton.names.len(), RIG_BONES);
+        let rig = skeleton.rig(1.0);
+        let mut bones = Vec::with_capacity(characters * RIG_BONES);
+        for character in 0..characters {
+            bones.extend(skeleton.animated(character as f32 * 0.37));
+        }
+        let mut rigs = Rigs {
+            rig,
+            bones,
+            base: vec![cg_quat::IDENTITY; characters * RIG_JOINTS],
+            joints: Vec::new(),
+        };
+        rigs.base_pose();
+        // The crowd's joints: each base pose turned a little, as gaze does.
+        let turn = glam::Quat::from_rotation_y(0.1);
+        rigs.joints = rigs
+            .base
+            .iter()
+            .map(|q| (glam::Quat::from_xyzw(q.x, q.y, q.z, q.w) * turn).into())
+            .collect();
+        rigs
+    }
+
+    fn base_pose(&mut self) {
+        let chunks = self.bones.chunks(RIG_BONES);
+        for (bones, base) in chunks.zip(self.base.chunks_mut(RIG_JOINTS)) {
+            // SAFETY: a live rig; the arrays hold the counts given.
+            let status = unsafe {
+                cg_rig_base_pose(
+                    self.rig.0,
+                    bones.as_ptr(),
+                    RIG_BONES,
+                    base.as_mut_ptr(),
+                    RIG_JOINTS,
+                )
+            };
+            ok(status, "cg_rig_base_pose");
+        }
+    }
+
+    fn write_joints(&mut self) {
+        let chunks = self.joints.chunks(RIG_JOINTS);
+        for (joints, bones) in chunks.zip(self.bones.chunks_mut(RIG_BONES)) {
+            // SAFETY: a live rig; the arrays hold the counts given.
+            let status = unsafe {
+                cg_rig_write_joints(
+                    self.rig.0,
+                    joints.as_ptr(),
+                    RIG_JOINTS,
+                    bones.as_mut_ptr(),
+                    RIG_BONES,
+                )
+            };
+            ok(status, "cg_rig_write_joints");
+        }
+    }
+}
+
 /// The crowd sizes: all three for `cargo bench`; 1 000 only when built as a test
 /// (`cargo test --benches`: debug assertions on, criterion runs each function once).
 fn sizes() -> &'static [usize] {
@@ -377,6 +457,18 @@ fn frame(c: &mut Criterion) {
             group.bench_function(name("read_eyes"), |b| b.iter(|| engine.read_eyes()));
             group.bench_function(name("read_eyelids"), |b| b.iter(|| engine.read_eyelids()));
             drop(engine);
+
+            // Each character's bones through the rig (one thread, whatever the crowd's).
+            if threads == 1 {
+                let mut rigs = Rigs::new(characters);
+                group.bench_function(BenchmarkId::new("rig_base_pose", characters), |b| {
+                    b.iter(|| rigs.base_pose())
+                });
+                group.bench_function(BenchmarkId::new("rig_write_joints", characters), |b| {
+                    b.iter(|| rigs.write_joints())
+                });
+                black_box(&rigs.bones);
+            }
 
             // The same frame with the storage reordered every 32 steps.
             let mut engine = Engine::new(characters, threads, true);

@@ -1,11 +1,13 @@
 // cpp_no_exceptions.cpp: the C++ wrapper built with -fno-exceptions, as engine modules
 // (Unreal's by default) are: only the `try_` forms, which return the cg_status. A crowd of
 // two characters facing each other, each looking at the other; a failing call reports its
-// status and message and changes nothing.
+// status and message and changes nothing. Then a UE5-style skeleton mapped to a gaze
+// chain by a `crowdgaze::Rig`, driven a frame, with the `try_` forms too.
 #include "crowdgaze.hpp"
 
 #include <array>
 #include <cstdio>
+#include <string>
 #include <vector>
 
 namespace {
@@ -18,12 +20,71 @@ bool ok(cg_status status, const char* what) {
     return true;
 }
 
+// A UE5-style skeleton (Z up, facing +Y, centimetres) mapped with no overrides, added to
+// `crowd` (Z up, X forward: the rig turns the chain and the poses into its axes) and
+// driven one frame: bone rotations -> base pose -> step -> joints -> bone rotations.
+bool rig_frame(crowdgaze::Crowd& crowd, const cg_crowd_config& config) {
+    static const char* const names[] = {"root",     "pelvis",     "spine_01",   "spine_02",
+                                        "spine_03", "spine_04",   "spine_05",   "neck_01",
+                                        "neck_02",  "head",       "clavicle_l", "clavicle_r",
+                                        "thigh_l",  "thigh_r"};
+    static const std::int32_t parents[] = {-1, 0, 1, 2, 3, 4, 5, 6, 7, 8, 6, 6, 1, 1};
+    static const cg_vec3 offsets[] = {
+        {0, 0, 0},    {0, 0, 98},  {0, 0, 7},    {0, -0.5f, 8}, {0, -0.5f, 8},
+        {0, -0.5f, 8}, {0, -0.5f, 8}, {0, -1, 9}, {0, 1.5f, 7},  {0, 1.5f, 7},
+        {-2.5f, 2, 6}, {2.5f, 2, 6}, {-9, 0, -5},  {9, 0, -5}};
+    crowdgaze::Rig rig;
+    if (!ok(crowdgaze::Rig::try_create(names, parents, offsets, 100.0f, nullptr, &config, {},
+                                       rig),
+            "rig")) {
+        return false;
+    }
+    std::array<char, 128> line{};
+    rig.report(line);  // cut to the buffer: the first line fits
+    std::uint32_t joint_count = 0;
+    std::array<std::uint32_t, 14> roles{};
+    cg_chain_desc chain{};
+    if (!ok(rig.try_joint_count(joint_count), "joint count") ||
+        !ok(rig.try_bone_roles(roles), "roles") || !ok(rig.try_chain(chain), "chain") ||
+        joint_count != 8 || chain.joint_count != 8 || roles[9] != CG_BONE_ROLE_HEAD) {
+        return false;
+    }
+    std::printf("%.*s\n", static_cast<int>(std::string(line.data()).find('\n')), line.data());
+    cg_character_desc desc = crowdgaze::character_desc(cg_vec3{0.0f, 300.0f, 0.0f});
+    desc.chain = &chain;
+    std::uint32_t id = CG_NO_TARGET;
+    std::size_t row = 0;
+    if (!ok(crowd.try_add_character(desc, id), "add") ||
+        !ok(crowd.try_character_count(row), "count")) {
+        return false;
+    }
+    row -= 1;  // the newest character is the last row
+    std::array<cg_quat, 14> bones{};
+    bones.fill(cg_quat{0.0f, 0.0f, 0.0f, 1.0f});
+    std::array<cg_quat, 8> base{};
+    std::array<cg_quat, 8> joints{};
+    if (!ok(rig.try_base_pose(bones, base), "base pose") ||
+        !ok(crowd.try_set_base_pose(id, base), "set base pose") ||
+        !ok(crowd.try_set_gaze_target(id, crowdgaze::gaze_target_point({300, 300, 160})),
+            "target") ||
+        !ok(crowd.try_step(1.0f / 30.0f), "step") ||
+        !ok(crowd.try_read_joints(static_cast<std::uint32_t>(row), 1, joints), "joints") ||
+        !ok(rig.try_write_joints(joints, bones), "write joints")) {
+        return false;
+    }
+    // Too few bone rotations: a status, and nothing written.
+    const cg_status status =
+        rig.try_base_pose(crowdgaze::Span<const cg_quat>(bones.data(), 3), base);
+    std::printf("try_base_pose(3 bones): %s\n", crowdgaze::status_string(status));
+    return status == CG_STATUS_INVALID_ARGUMENT;
+}
+
 }  // namespace
 
 int main() {
     static_assert(noexcept(std::declval<crowdgaze::Crowd&>().try_step(0.0f)), "try_ is noexcept");
     cg_crowd_config config = crowdgaze::crowd_config();
-    config.max_characters = 2;
+    config.max_characters = 3;  // two walkers, then a rigged character
     config.units_per_metre = 100.0f;  // Unreal: centimetres, Z up, X forward
     config.up_axis = CG_AXIS_POSITIVE_Z;
     config.forward_axis = CG_AXIS_POSITIVE_X;
@@ -98,6 +159,7 @@ int main() {
         blender) {
         return 1;
     }
+    if (!rig_frame(crowd, config)) return 1;
     std::printf("ok\n");
     return 0;
 }

@@ -100,6 +100,12 @@
 // automatic interest point.
 #define CG_GAZE_PRIORITY_WHEN_IDLE 1
 
+// The most bones a rig may have (`cg_rig_desc.bone_count`).
+#define CG_MAX_RIG_BONES 65536
+
+// `cg_rig_desc.up` and `.forward`: detect the axis from the rest pose.
+#define CG_RIG_AXIS_DETECT UINT32_MAX
+
 // Major version of the header. Compare with `cg_version()` at run time to detect a header
 // and library mismatch.
 #define CG_VERSION_MAJOR 0
@@ -303,6 +309,36 @@ typedef uint32_t cg_target_part;
 #endif // __STDC_VERSION__ >= 202311L
 #endif // __cplusplus
 
+// What a bone is for the gaze chain (`cg_rig_bone_roles` writes one per bone, as
+// `uint32_t`). The bone map's role names are given with each.
+enum cg_bone_role
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+    // Not part of the chain (`none`).
+    CG_BONE_ROLE_NONE = 0,
+    // The body root (`root`): not turned by gaze.
+    CG_BONE_ROLE_ROOT = 1,
+    // A spine bone, lumbar or thoracic (`spine`).
+    CG_BONE_ROLE_SPINE = 2,
+    // A neck (cervical) bone (`neck`).
+    CG_BONE_ROLE_NECK = 3,
+    // The head (`head`).
+    CG_BONE_ROLE_HEAD = 4,
+    // The character's left eye, under the head (`left_eye`).
+    CG_BONE_ROLE_LEFT_EYE = 5,
+    // The character's right eye, under the head (`right_eye`).
+    CG_BONE_ROLE_RIGHT_EYE = 6,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum cg_bone_role cg_bone_role;
+#else
+typedef uint32_t cg_bone_role;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
 // A crowd of characters and the objects they may look at (opaque).
 //
 // Created by `cg_crowd_create`, destroyed by `cg_crowd_destroy`. Threading rules: calls
@@ -318,6 +354,16 @@ typedef uint32_t cg_target_part;
 // it is, fails with `CG_STATUS_POISONED`, whose message repeats the first failure's.
 // `cg_crowd_destroy` still frees it.
 typedef struct cg_crowd cg_crowd;
+
+// A skeleton mapped to a gaze chain (opaque): which bones are spine, neck, head and eyes,
+// the chain to give `cg_crowd_add_character`, and each frame's conversions between your
+// engine's bone local rotations and the crowd's base pose and joints.
+//
+// Created by `cg_rig_create` from the skeleton's rest pose, destroyed by `cg_rig_destroy`.
+// Immutable once created: every other call takes a `const cg_rig*`, and may run
+// concurrently with any other on the same rig, so one rig serves every character that
+// shares its skeleton. A rig is never poisoned (no call changes it).
+typedef struct cg_rig cg_rig;
 
 // View-adaptive animation of one character (opaque): key animations, key cameras around the
 // character, and the blend of the key animations by where the viewer stands (Chaudhuri,
@@ -809,6 +855,60 @@ typedef struct cg_eye_info {
     // Right eye gaze direction, unit.
     struct cg_vec3 right_direction;
 } cg_eye_info;
+
+// A skeleton at rest, to map to a gaze chain with `cg_rig_create`. Set `struct_size`, fill
+// it with `cg_rig_desc_init`, then set `bone_count` and the bone arrays (they have no
+// usable default) and change what you need. The arrays are read during `cg_rig_create`
+// only, and stay yours.
+//
+// Bones are listed parents before children; each bone's rest translation and rotation are
+// relative to its parent, in its parent's frame (a bone without a parent: relative to the
+// character, on the ground at heading 0). Roles are found by name (Mixamo, Unreal, Unity,
+// VRM, Daz, Character Creator, Rigify, CMU BVH and other conventions), with `bone_map`
+// overriding them; see docs/your-character.md.
+typedef struct cg_rig_desc {
+    // Size of this struct in bytes: set it to `sizeof(cg_rig_desc)` before every call
+    // taking the struct, `cg_rig_desc_init` included.
+    uint32_t struct_size;
+    // Number of bones, 1 to `CG_MAX_RIG_BONES`. Default 0: must be set.
+    uint32_t bone_count;
+    // `bone_count` bone names: NUL-terminated UTF-8, 1 to 1024 bytes, unique. Default NULL:
+    // must be set.
+    const char *const *bone_names;
+    // `bone_count` parent indices: -1 for a bone without a parent, else the index of a bone
+    // before this one. Default NULL: must be set.
+    const int32_t *parents;
+    // `bone_count` rest translations from the parent, in the parent's frame, in the
+    // skeleton's units (`units_per_metre`). Default NULL: must be set.
+    const struct cg_vec3 *rest_translations;
+    // `bone_count` rest rotations relative to the parent (normalised on reading), or NULL
+    // for all identity. Default NULL.
+    const struct cg_quat *rest_rotations;
+    // How many of the skeleton's length units make a metre, in (0, 1e6]: 100 for
+    // centimetres. Default 1.
+    float units_per_metre;
+    // The skeleton's up axis (a `cg_axis`), or `CG_RIG_AXIS_DETECT` to take the axis
+    // nearest to the rest pose's spine (chain root to head). Default `CG_RIG_AXIS_DETECT`.
+    uint32_t up;
+    // The direction the skeleton faces at rest (a `cg_axis`, perpendicular to `up`), or
+    // `CG_RIG_AXIS_DETECT` to find it from left and right bone pairs, the eyes or the toes.
+    // Default `CG_RIG_AXIS_DETECT`.
+    uint32_t forward;
+    // Role overrides, NUL-terminated UTF-8: `Name=role` entries separated by commas (roles
+    // `root`, `spine`, `neck`, `head`, `left_eye`, `right_eye`, `none`; names
+    // case-insensitive, with or without a `namespace:` prefix), e.g.
+    // `"mixamorig:Spine=none,Jaw=head"`; each must name a bone. NULL for none. Default NULL.
+    const char *bone_map;
+    // The crowd's up axis (its `cg_crowd_config.up_axis`): the chain and the poses are
+    // turned into the crowd's axes. Default `CG_AXIS_POSITIVE_Y`.
+    uint32_t crowd_up;
+    // The crowd's forward axis (its `cg_crowd_config.forward_axis`), perpendicular to
+    // `crowd_up`. Default `CG_AXIS_POSITIVE_Z`.
+    uint32_t crowd_forward;
+    // The crowd's `units_per_metre`: the lengths of the chain `cg_rig_chain` writes are in
+    // the crowd's units. Default 1.
+    float crowd_units_per_metre;
+} cg_rig_desc;
 
 #ifdef __cplusplus
 extern "C" {
@@ -1613,6 +1713,144 @@ cg_status cg_crowd_read_eyes(const struct cg_crowd *crowd,
 // by a NUL; a return value `>= len` means the message was truncated. The caller owns
 // `buf`. Thread-safe (each thread has its own message).
 size_t cg_last_error_message(char *buf, size_t len);
+
+// Fills `desc` with the defaults documented on each field. Set `desc->struct_size =
+// sizeof(cg_rig_desc)` first: only that many bytes are written, and `struct_size` keeps
+// its value. The caller owns `desc`.
+//
+// Errors (nothing written): `CG_STATUS_NULL_ARGUMENT` if `desc` is NULL,
+// `CG_STATUS_BAD_STRUCT_SIZE` if `struct_size` is not a size of this struct the library
+// knows (0 or an unset field included). Thread-safe.
+cg_status cg_rig_desc_init(struct cg_rig_desc *desc);
+
+// Maps the skeleton `desc` describes to a gaze chain, in one call, and stores the rig's
+// handle in `*out_rig`.
+//
+// Each bone gets a role (`cg_bone_role`) from its name or `bone_map`; the chain is the
+// head, the neck and spine bones below it (down to the first bone that is neither: the
+// chain root) and the two eyes under the head, if any; the skeleton's up and forward are
+// given or detected. `cg_rig_report` says what was found and why. The desc's arrays and
+// strings are read during the call only and stay the caller's; the caller owns the new
+// rig and releases it with `cg_rig_destroy`. `*out_rig` is written only on success.
+// Allocates (setup, not per frame). Thread-safe.
+//
+// Errors: `CG_STATUS_NULL_ARGUMENT` (`desc`, `out_rig` or a bone array NULL),
+// `CG_STATUS_BAD_STRUCT_SIZE` (`desc->struct_size` not a size the library knows),
+// `CG_STATUS_NON_FINITE` (a NaN or infinite unit, translation or rotation),
+// `CG_STATUS_INVALID_ARGUMENT` (`bone_count` 0 or above `CG_MAX_RIG_BONES`; a name NULL,
+// empty, longer than 1024 bytes, not UTF-8 or given twice; a parent not -1 nor a bone
+// before its child; a zero rotation; an axis not a `cg_axis` or `CG_RIG_AXIS_DETECT`, or
+// not perpendicular; a unit out of range; a bone longer than 1 km; a `bone_map` that does
+// not parse or names no bone; a skeleton that does not map: no head, a chain that stops at
+// a bone it plainly should go through, one eye, a facing the rest pose does not show —
+// the message names the bone and the `bone_map` entry that fixes it),
+// `CG_STATUS_OUT_OF_MEMORY`.
+cg_status cg_rig_create(const struct cg_rig_desc *desc, struct cg_rig **out_rig);
+
+// Destroys a rig created by `cg_rig_create` and frees everything it owns.
+//
+// NULL is accepted and ignored. The handle must not be used afterwards, and no other call
+// on this rig may be running.
+void cg_rig_destroy(struct cg_rig *rig);
+
+// Writes the rig's gaze chain to `*out_chain`: ready for `cg_character_desc.chain` of a
+// crowd whose axes and `units_per_metre` are the desc's `crowd_up`, `crowd_forward` and
+// `crowd_units_per_metre` (lengths are in those units; the crowd divides them back into
+// the mapped chain). Set `out_chain->struct_size = sizeof(cg_chain_desc)` first: at most
+// that many bytes are written, and `struct_size` keeps its value. The caller owns
+// `out_chain`.
+//
+// Errors (nothing written): `CG_STATUS_NULL_ARGUMENT` (`rig` or `out_chain` NULL),
+// `CG_STATUS_BAD_STRUCT_SIZE` (`struct_size` not a size the library knows). Allocates
+// nothing; may run concurrently with other calls on this rig.
+cg_status cg_rig_chain(const struct cg_rig *rig, struct cg_chain_desc *out_chain);
+
+// Writes the rig's number of bones (the `bone_count` it was created with) to `*out_count`.
+//
+// Errors (nothing written): `CG_STATUS_NULL_ARGUMENT`. Allocates nothing; may run
+// concurrently with other calls on this rig.
+cg_status cg_rig_bone_count(const struct cg_rig *rig, uint32_t *out_count);
+
+// Writes the number of joints of the rig's gaze chain (its `cg_chain_desc.joint_count`,
+// 1 to `CG_MAX_CHAIN_JOINTS`) to `*out_count`.
+//
+// Errors (nothing written): `CG_STATUS_NULL_ARGUMENT`. Allocates nothing; may run
+// concurrently with other calls on this rig.
+cg_status cg_rig_joint_count(const struct cg_rig *rig, uint32_t *out_count);
+
+// Writes the bone index of each chain joint, bottom to top (spine, neck, head, then the
+// left and right eye if the chain has eyes), into `out_bones[0 .. joint count]`
+// (`out_len` at least `cg_rig_joint_count`'s; entries past it are left alone). The caller
+// owns `out_bones`.
+//
+// Errors (nothing written): `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_INVALID_ARGUMENT`
+// (`out_len` below the joint count). Allocates nothing; may run concurrently with other
+// calls on this rig.
+cg_status cg_rig_chain_bones(const struct cg_rig *rig, uint32_t *out_bones, size_t out_len);
+
+// Writes the role (a `cg_bone_role`) of every bone, in the skeleton's order, into
+// `out_roles[0 .. bone count]` (`out_len` at least `cg_rig_bone_count`'s; entries past it
+// are left alone). A bone may have a role without being in the chain (the root, a spine
+// bone below the chain root): `cg_rig_chain_bones` lists the chain's. The caller owns
+// `out_roles`.
+//
+// Errors (nothing written): `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_INVALID_ARGUMENT`
+// (`out_len` below the bone count). Allocates nothing; may run concurrently with other
+// calls on this rig.
+cg_status cg_rig_bone_roles(const struct cg_rig *rig, uint32_t *out_roles, size_t out_len);
+
+// Copies the rig's mapping report into `buffer` and returns its full length in bytes (not
+// counting the terminating NUL), as `cg_last_error_message` does.
+//
+// The report is a few lines of English (each ending with `\n`): the chain (`gaze chain of
+// 10 joints: 5 spine, 2 neck, head, 2 eyes; hangs from 'Hips'`), the skeleton's up and
+// forward and how they were found, the role of each chain bone and whether it came from
+// its name or an override, and notes (a chain without neck, an eye under facial bones).
+//
+// `buffer` may be NULL or `buffer_len` 0: nothing is written and the length is still
+// returned, so a caller can size a buffer. Otherwise at most `buffer_len - 1` bytes are
+// copied, always followed by a NUL; a return value `>= buffer_len` means the report was
+// truncated. The caller owns `buffer`. Returns 0 (and writes nothing) if `rig` is NULL.
+// Allocates nothing; may run concurrently with other calls on this rig.
+size_t cg_rig_report(const struct cg_rig *rig, char *buffer, size_t buffer_len);
+
+// Turns your engine's bone local rotations into the crowd's base pose for one character:
+// `bone_rotations` holds one rotation per bone (`bone_count` = the rig's, the skeleton's
+// order, each relative to its parent, as your animation poses them this frame), and
+// `out_base[0 .. joint count]` receives each chain joint's base rotation, bottom to top,
+// ready for `cg_crowd_set_base_pose` (`out_len` at least `cg_rig_joint_count`'s; entries
+// past it are left alone). Rotations of the chain root's ancestors and of bones between
+// chain joints are folded in; the first joint's is turned into the crowd's axes. Inputs
+// are normalised; both arrays stay the caller's.
+//
+// Errors (nothing written): `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE` (a NaN or
+// infinite rotation, of any bone), `CG_STATUS_INVALID_ARGUMENT` (`bone_count` not the
+// rig's, `out_len` below the joint count, a zero rotation). Allocates nothing; may run
+// concurrently with other calls on this rig.
+cg_status cg_rig_base_pose(const struct cg_rig *rig,
+                           const struct cg_quat *bone_rotations,
+                           size_t bone_count,
+                           struct cg_quat *out_base,
+                           size_t out_len);
+
+// Writes the crowd's gaze result for one character back into your engine's bone local
+// rotations, in place: `joints` holds the character's chain joints' final local rotations
+// (`joint_count` = the rig's, bottom to top, as `cg_crowd_read_joints` gives them for
+// this character), and `bone_rotations` the skeleton's bone local rotations
+// (`bone_count` = the rig's), posed as for `cg_rig_base_pose` this frame. Each chain
+// joint's bone gets the local rotation that, with the other bones as they are, makes the
+// joint's; every other bone is left as it was. Inputs are normalised; both arrays stay
+// the caller's.
+//
+// Errors (nothing written): `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE` (a NaN or
+// infinite rotation), `CG_STATUS_INVALID_ARGUMENT` (`joint_count` or `bone_count` not the
+// rig's, a zero rotation). Allocates nothing; may run concurrently with other calls on
+// this rig.
+cg_status cg_rig_write_joints(const struct cg_rig *rig,
+                              const struct cg_quat *joints,
+                              size_t joint_count,
+                              struct cg_quat *bone_rotations,
+                              size_t bone_count);
 
 // Returns a static, NUL-terminated English description of `status`. Never NULL: a value
 // that is not a `cg_status` gives "unknown status". The string must not be freed.

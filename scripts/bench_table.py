@@ -113,6 +113,17 @@ def main():
             print(f"| {int(characters):,} | {threads} | "
                   + " | ".join(show(cell, 1) for cell in ns) + " |")
     print()
+    # Each character's own skeleton through cg_rig: one line, every crowd size.
+    rig = []
+    for characters in ["1000", "10000", "100000"]:
+        base = per_element("frame", "rig_base_pose", characters)
+        write = per_element("frame", "rig_write_joints", characters)
+        if base is not None and write is not None:
+            rig.append(f"{base * 1000.0:.1f} and {write * 1000.0:.1f} ns at "
+                       f"{int(characters):,}")
+    if rig:
+        print("- A 65-bone Mixamo skeleton per character, 1 thread: cg_rig_base_pose and "
+              "cg_rig_write_joints take " + "; ".join(rig) + " characters (per character).")
     # Two benchmarks of the same frame compared, one line per crowd size.
     pairs = [
         ("push_1t", "push_ranged_2t", "Push, {n} characters: {a:.1f} ns in one "

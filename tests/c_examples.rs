@@ -4,7 +4,8 @@
 //! library, runs each, and checks its exit status and output.
 //!
 //! Each example prints what it checked and ends with the line `ok`. Extra expectations for
-//! particular examples are in [`expected_output`].
+//! particular examples are in [`expected_output`]. Examples that read the development
+//! workspace's data (`../shared/data` beside the repository) get its path in `CG_DATA_DIR`.
 //!
 //! The C and C++ code blocks of the user documentation (`README.md`, `docs/*.md`) are built
 //! and run the same way (C11 for C): each is a whole program that must exit with 0.
@@ -193,6 +194,13 @@ fn expected_output(stem: &str) -> Vec<String> {
             "step(-1) threw: invalid argument: dt is -1, must be >= 0".into(),
             "half-way viewer: weights 0.500 0.500, head yaw 30.00 deg".into(),
         ],
+        "rig" => vec![
+            "Mixamo: gaze chain of 7 joints: 3 spine, 1 neck, head, 2 eyes; hangs from \
+             'mixamorig:Hips'"
+                .into(),
+            "BVH wave_hello.bvh, 27 joints".into(),
+            "BVH: gaze chain of 6 joints: 4 spine, 1 neck, head; hangs from 'Hips'".into(),
+        ],
         "cpp_no_exceptions" => vec![
             "joints 20, eye directions x +1.00 and -1.00".into(),
             "try_step(-1): invalid argument (invalid argument: dt is -1, must be >= 0)".into(),
@@ -281,6 +289,8 @@ fn c_examples_build_and_pass_static_and_shared() {
                 }
                 None => Command::new(&program),
             };
+            // Examples that read the shared data (rig.c's BVH file) find it here.
+            command.env("CG_DATA_DIR", root().join("../shared/data"));
             let run = command.current_dir(root()).output().expect("run example");
             let stdout = String::from_utf8_lossy(&run.stdout);
             assert!(

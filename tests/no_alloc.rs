@@ -506,3 +506,74 @@ fn conversations_step_without_allocating() {
         crowd.set_conversation(&ids[..2]).unwrap();
     });
 }
+
+#[test]
+fn rig_conversions_do_not_allocate_per_frame() {
+    use crowdgaze::ffi::chain::cg_chain_desc;
+    use crowdgaze::ffi::gaze::*;
+    use crowdgaze::ffi::rig::*;
+    use crowdgaze::ffi::types::cg_quat;
+
+    // Setup (allocates): the Mixamo rig, a crowd in centimetres with the character, and a
+    // few seconds of the engine's poses.
+    let skeleton = support::rig::Skeleton::mixamo();
+    let rig = skeleton.rig(100.0);
+    let mut chain: cg_chain_desc = unsafe { std::mem::zeroed() };
+    chain.struct_size = std::mem::size_of::<cg_chain_desc>() as u32;
+    support::check(unsafe { cg_rig_chain(rig.0, &mut chain) }, "cg_rig_chain");
+    let mut config: crowdgaze::ffi::crowd::cg_crowd_config =
+        support::init(crowdgaze::ffi::crowd::cg_crowd_config_init);
+    config.units_per_metre = 100.0;
+    let crowd = support::CrowdHandle::new(&config);
+    let mut desc: crowdgaze::ffi::attention::cg_character_desc =
+        support::init(crowdgaze::ffi::attention::cg_character_desc_init);
+    desc.chain = &chain;
+    let mut id = 0;
+    support::check(
+        unsafe {
+            crowdgaze::ffi::attention::cg_crowd_add_character(crowd.as_mut(), &desc, &mut id)
+        },
+        "cg_crowd_add_character",
+    );
+    let poses: Vec<Vec<cg_quat>> = (0..30).map(|f| skeleton.animated(f as f32 * 0.1)).collect();
+    let mut bones = poses[0].clone();
+    let (mut base, mut joints) = ([cg_quat::IDENTITY; 7], [cg_quat::IDENTITY; 7]);
+    let mut report = [0 as std::ffi::c_char; 64];
+    let state = support::entity_state(id, 0.0, false);
+    let ok = crowdgaze::ffi::status::cg_status::Ok;
+    for (frame, pose) in poses.iter().enumerate() {
+        // The first frame warms up; every later one must not allocate in the rig's calls.
+        let check = |what: &str, work: &mut dyn FnMut()| {
+            if frame == 0 {
+                work();
+            } else {
+                assert_no_alloc(what, work);
+            }
+        };
+        check("cg_rig_base_pose", &mut || {
+            bones.copy_from_slice(pose);
+            let status =
+                unsafe { cg_rig_base_pose(rig.0, bones.as_ptr(), 65, base.as_mut_ptr(), 7) };
+            assert_eq!(status, ok);
+        });
+        assert_eq!(
+            unsafe { cg_crowd_set_base_pose(crowd.as_mut(), id, base.as_ptr(), 7) },
+            ok
+        );
+        crowd.push_and_step(
+            frame as f64 / 30.0,
+            1.0 / 30.0,
+            std::slice::from_ref(&state),
+        );
+        assert_eq!(
+            unsafe { cg_crowd_read_joints(crowd.as_const(), 0, 1, joints.as_mut_ptr(), 7) },
+            ok
+        );
+        check("cg_rig_write_joints and cg_rig_report", &mut || {
+            let status =
+                unsafe { cg_rig_write_joints(rig.0, joints.as_ptr(), 7, bones.as_mut_ptr(), 65) };
+            assert_eq!(status, ok);
+            assert!(unsafe { cg_rig_report(rig.0, report.as_mut_ptr(), 64) } > 64);
+        });
+    }
+}

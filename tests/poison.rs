@@ -3,6 +3,9 @@
 //! reported failed), so every later call on it returns `CG_STATUS_POISONED` with the first
 //! failure's message, and its `_destroy` still frees it.
 //!
+//! A rig is never changed, so never poisoned: a panic inside a call on it is caught, and
+//! the next call works.
+//!
 //! The panics come from the test hooks of `crowdgaze::ffi::testing` (cargo feature
 //! `test-hooks`, enabled for this crate's tests only). A counting allocator (bytes live per
 //! thread) checks that `_destroy` frees a poisoned handle's memory.
@@ -20,11 +23,15 @@ use crowdgaze::ffi::eyelids::*;
 use crowdgaze::ffi::frame::*;
 use crowdgaze::ffi::gaze::*;
 use crowdgaze::ffi::last_error::last_error_message;
+use crowdgaze::ffi::rig::*;
 use crowdgaze::ffi::status::cg_status;
-use crowdgaze::ffi::testing::{panic_next, panic_next_change, PanicAt};
+use crowdgaze::ffi::testing::{panic_next, panic_next_change, panic_next_rig_call, PanicAt};
 use crowdgaze::ffi::types::{cg_dualquat, cg_quat, cg_vec3};
 use crowdgaze::ffi::view_blender::*;
 use std::alloc::{GlobalAlloc, Layout, System};
+
+#[path = "support/rig.rs"]
+mod support_rig;
 use std::cell::Cell;
 use std::mem::{size_of, MaybeUninit};
 use std::ptr::null_mut;
@@ -487,6 +494,86 @@ fn a_panic_in_a_blender_change_poisons_it_and_destroy_still_frees_it() {
     assert!(weights[0].is_nan(), "nothing written");
     assert!(out.iter().all(|q| q.dual.w == 0.0 && q.real.w == 1.0));
     unsafe { cg_view_blender_destroy(blender) };
+    let left = live() - before;
+    assert!(left < SLACK, "{left} bytes left live after destroy");
+}
+
+/// A rig is immutable: a panic inside any call on it is caught and returns
+/// `CG_STATUS_INTERNAL` with nothing written, and it poisons nothing (no call can have left
+/// the rig half-updated): the next call works. Its `_destroy` frees it.
+#[test]
+fn a_panic_in_a_rig_call_is_caught_and_poisons_nothing() {
+    quiet_panics();
+    let skeleton = support_rig::Skeleton::mixamo();
+    let bones = skeleton.animated(0.4);
+    let mut written = bones.clone();
+    let before = live();
+    let mut desc = skeleton.desc(1.0);
+    desc.struct_size = size_of::<cg_rig_desc>() as u32;
+    let mut rig = null_mut();
+    ok(unsafe { cg_rig_create(&desc, &mut rig) });
+    let rig = rig.cast_const();
+    let mut chain: crowdgaze::ffi::chain::cg_chain_desc = unsafe { std::mem::zeroed() };
+    chain.struct_size = size_of::<crowdgaze::ffi::chain::cg_chain_desc>() as u32;
+    let mut count = u32::MAX;
+    let mut list = [u32::MAX; 65];
+    let mut base = [cg_quat::IDENTITY; 7];
+    let mut report = [0x5A as std::ffi::c_char; 16];
+    let (chain_out, count_out, list_out) = (
+        &mut chain as *mut _,
+        &mut count as *mut u32,
+        list.as_mut_ptr(),
+    );
+    let (base_out, written_out, report_out) =
+        (base.as_mut_ptr(), written.as_mut_ptr(), report.as_mut_ptr());
+    let calls: [(&str, &dyn Fn() -> cg_status); 8] = [
+        ("cg_rig_chain", &|| unsafe { cg_rig_chain(rig, chain_out) }),
+        ("cg_rig_bone_count", &|| unsafe {
+            cg_rig_bone_count(rig, count_out)
+        }),
+        ("cg_rig_joint_count", &|| unsafe {
+            cg_rig_joint_count(rig, count_out)
+        }),
+        ("cg_rig_chain_bones", &|| unsafe {
+            cg_rig_chain_bones(rig, list_out, 65)
+        }),
+        ("cg_rig_bone_roles", &|| unsafe {
+            cg_rig_bone_roles(rig, list_out, 65)
+        }),
+        (
+            "cg_rig_report",
+            &|| match unsafe { cg_rig_report(rig, report_out, 16) } {
+                0 => cg_status::Internal,
+                _ => cg_status::Ok,
+            },
+        ),
+        ("cg_rig_base_pose", &|| unsafe {
+            cg_rig_base_pose(rig, bones.as_ptr(), 65, base_out, 7)
+        }),
+        ("cg_rig_write_joints", &|| unsafe {
+            cg_rig_write_joints(rig, base_out, 7, written_out, 65)
+        }),
+    ];
+    for (name, call) in &calls {
+        ok(unsafe { panic_next_rig_call(rig) });
+        assert_eq!(call(), cg_status::Internal, "{name}");
+        assert!(
+            last_error_message().starts_with("internal error: caught panic: test hook"),
+            "{name}: {}",
+            last_error_message()
+        );
+    }
+    assert_eq!(chain.joint_count, 0, "nothing written");
+    assert_eq!((count, list), (u32::MAX, [u32::MAX; 65]));
+    assert_eq!(base, [cg_quat::IDENTITY; 7]);
+    assert!(written == bones && report == [0x5A; 16]);
+    for (name, call) in &calls {
+        assert_eq!(call(), cg_status::Ok, "{name} after a caught panic");
+    }
+    let mut names: Vec<&str> = calls.iter().map(|(name, _)| *name).collect();
+    names.sort();
+    assert_eq!(names, header_functions_on("cg_rig"), "every call on a rig");
+    unsafe { cg_rig_destroy(rig.cast_mut()) };
     let left = live() - before;
     assert!(left < SLACK, "{left} bytes left live after destroy");
 }

@@ -1,6 +1,6 @@
 //! Calls taking a `const` handle may run concurrently with each other (the header says so
 //! on each): four threads make every such call on the same stepped crowd (and view
-//! blender) at once, round after round, and each thread's results must equal the results
+//! blender, and rig) at once, round after round, and each thread's results must equal the results
 //! of one thread alone, bit for bit. Failing calls are included: their messages are the
 //! calling thread's own.
 
@@ -13,12 +13,14 @@ mod support;
 
 use crowdgaze::ffi::attention::*;
 
+use crowdgaze::ffi::chain::cg_chain_desc;
 use crowdgaze::ffi::conversations::*;
 use crowdgaze::ffi::crowd::*;
 use crowdgaze::ffi::eyelids::*;
 use crowdgaze::ffi::frame::*;
 use crowdgaze::ffi::gaze::*;
 use crowdgaze::ffi::last_error::last_error_message;
+use crowdgaze::ffi::rig::*;
 use crowdgaze::ffi::status::cg_status;
 use crowdgaze::ffi::types::{cg_dualquat, cg_quat, cg_vec3};
 use crowdgaze::ffi::view_blender::*;
@@ -33,9 +35,10 @@ use support::{check, init, Street};
 const THREADS: usize = 4;
 const ROUNDS: usize = 100;
 
-/// Every header function that takes a `const` crowd or blender handle, as the transcripts
-/// below call them; `const_functions_are_all_covered` keeps the list equal to the header's.
-const COVERED: [&str; 14] = [
+/// Every header function that takes a `const` crowd, blender or rig handle, as the
+/// transcripts below call them; `const_functions_are_all_covered` keeps the list equal to
+/// the header's.
+const COVERED: [&str; 22] = [
     "cg_crowd_character_count",
     "cg_crowd_get_config",
     "cg_crowd_read_gaze",
@@ -50,6 +53,14 @@ const COVERED: [&str; 14] = [
     "cg_crowd_get_conversation",
     "cg_view_blender_weights",
     "cg_view_blender_evaluate",
+    "cg_rig_chain",
+    "cg_rig_bone_count",
+    "cg_rig_joint_count",
+    "cg_rig_chain_bones",
+    "cg_rig_bone_roles",
+    "cg_rig_report",
+    "cg_rig_base_pose",
+    "cg_rig_write_joints",
 ];
 
 /// A handle shared by the reading threads.
@@ -347,8 +358,67 @@ fn const_view_blender_calls_agree_across_threads() {
     }
 }
 
-/// The header functions whose first parameter is a `const` crowd or blender handle, each
-/// with its doc comment.
+/// Everything the `const` calls say about `rig`: its chain, counts, bones, roles and report,
+/// and the base poses and joints written back over a few seconds of a swaying skeleton.
+fn rig_transcript(rig: *const cg_rig) -> String {
+    let mut out = String::new();
+    let mut chain: cg_chain_desc = unsafe { std::mem::zeroed() };
+    chain.struct_size = std::mem::size_of::<cg_chain_desc>() as u32;
+    status(&mut out, "chain", unsafe { cg_rig_chain(rig, &mut chain) });
+    let (mut bones, mut joints) = (0u32, 0u32);
+    status(&mut out, "bones", unsafe {
+        cg_rig_bone_count(rig, &mut bones)
+    });
+    status(&mut out, "joints", unsafe {
+        cg_rig_joint_count(rig, &mut joints)
+    });
+    let mut list = [0u32; 65];
+    status(&mut out, "chain bones", unsafe {
+        cg_rig_chain_bones(rig, list.as_mut_ptr(), 65)
+    });
+    writeln!(out, "{chain:?} {bones} {joints} {list:?}").unwrap();
+    status(&mut out, "roles", unsafe {
+        cg_rig_bone_roles(rig, list.as_mut_ptr(), 65)
+    });
+    let mut report = [0 as std::ffi::c_char; 4096];
+    let length = unsafe { cg_rig_report(rig, report.as_mut_ptr(), report.len()) };
+    writeln!(out, "{list:?} {length} {:?}", &report[..length]).unwrap();
+    let skeleton = support::rig::Skeleton::mixamo();
+    for step in 0..24 {
+        let mut posed = skeleton.animated(step as f32 * 0.2);
+        let mut base = [cg_quat::IDENTITY; 7];
+        status(&mut out, "base pose", unsafe {
+            cg_rig_base_pose(rig, posed.as_ptr(), 65, base.as_mut_ptr(), 7)
+        });
+        let turned =
+            base.map(|q| (Quat::from_xyzw(q.x, q.y, q.z, q.w) * Quat::from_rotation_y(0.2)).into());
+        status(&mut out, "write joints", unsafe {
+            cg_rig_write_joints(rig, turned.as_ptr(), 7, posed.as_mut_ptr(), 65)
+        });
+        writeln!(out, "{base:?} {posed:?}").unwrap();
+    }
+    let mut posed = skeleton.animated(0.0);
+    status(&mut out, "write joints with a wrong joint count", unsafe {
+        cg_rig_write_joints(
+            rig,
+            [cg_quat::IDENTITY; 6].as_ptr(),
+            6,
+            posed.as_mut_ptr(),
+            65,
+        )
+    });
+    out
+}
+
+#[test]
+fn const_rig_calls_agree_across_threads() {
+    let skeleton = support::rig::Skeleton::mixamo();
+    let rig = skeleton.rig(100.0);
+    same_on_every_thread(rig.0.cast_const(), rig_transcript);
+}
+
+/// The header functions whose first parameter is a `const` crowd, blender or rig handle,
+/// each with its doc comment.
 fn header_const_functions() -> Vec<(String, String)> {
     let header = include_str!("../include/crowdgaze.h");
     let lines: Vec<&str> = header.lines().collect();
@@ -361,7 +431,8 @@ fn header_const_functions() -> Vec<(String, String)> {
             continue;
         };
         let is_const_handle = parameters.starts_with("const struct cg_crowd *")
-            || parameters.starts_with("const struct cg_view_blender *");
+            || parameters.starts_with("const struct cg_view_blender *")
+            || parameters.starts_with("const struct cg_rig *");
         if line.starts_with("//") || !is_const_handle {
             continue;
         }
@@ -396,4 +467,5 @@ const _: fn() = || {
     fn sync<T: Sync>() {}
     sync::<crowdgaze::Crowd>();
     sync::<crowdgaze::ViewBlender>();
+    sync::<crowdgaze::skeleton_map::MappedChain>();
 };

@@ -1,8 +1,9 @@
 // crowdgaze.hpp — header-only C++17 wrapper of the crowdgaze C API (include/crowdgaze.h).
 //
-// - `crowdgaze::Crowd` and `crowdgaze::ViewBlender` own a `cg_crowd*` / `cg_view_blender*`
-//   through one template, `crowdgaze::Owner`: move-only, the destructor calls the matching
-//   `_destroy`; `raw()` lends the handle, `release()` gives it up.
+// - `crowdgaze::Crowd`, `crowdgaze::ViewBlender` and `crowdgaze::Rig` own a `cg_crowd*` /
+//   `cg_view_blender*` / `cg_rig*` through one template, `crowdgaze::Owner`: move-only, the
+//   destructor calls the matching `_destroy`; `raw()` lends the handle, `release()` gives
+//   it up.
 // - Every call exists twice: `name(...)` throws `crowdgaze::Error` (the status and the
 //   library's `cg_last_error_message`), `try_name(...)` is `noexcept` and returns the
 //   `cg_status` (`[[nodiscard]]`). The wrapper allocates nothing in either, except where a
@@ -635,6 +636,267 @@ class Crowd : public Owner<cg_crowd, cg_crowd_destroy> {
         return out;
     }
 
+};
+
+// ---------------------------------------------------------------------------------------
+// Rig: your skeleton mapped to a gaze chain.
+
+// A `cg_rig_desc` with its defaults (up and forward detected, metres, no bone map, the
+// crowd Y up, +Z forward, metres). Set `bone_count` and the bone arrays (they have no
+// default), then what differs.
+inline cg_rig_desc rig_desc() noexcept {
+    cg_rig_desc desc = sized<cg_rig_desc>();
+    (void)cg_rig_desc_init(&desc);
+    return desc;
+}
+// Copies the crowd's axes and units (`up_axis`, `forward_axis`, `units_per_metre` of
+// `config`) into `desc`: the chain and the poses are then in that crowd's axes and units.
+inline void set_rig_crowd(cg_rig_desc& desc, const cg_crowd_config& config) noexcept {
+    desc.crowd_up = config.up_axis;
+    desc.crowd_forward = config.forward_axis;
+    desc.crowd_units_per_metre = config.units_per_metre;
+}
+
+// Owns a `cg_rig*`: a skeleton mapped to a gaze chain (which bones are spine, neck, head
+// and eyes, found by name, `bone_map` overriding), immutable once created: every `const`
+// member function may run on several threads at once. Move-only.
+//
+// Each frame: `base_pose(bone_rotations, base)` then `Crowd::set_base_pose(id, base)`;
+// after the step, `Crowd::read_joints(row, 1, joints)` then
+// `write_joints(joints, bone_rotations)`.
+class Rig : public Owner<cg_rig, cg_rig_destroy> {
+   public:
+    // An empty owner (no rig); `operator bool` is false.
+    Rig() noexcept = default;
+    // Maps the skeleton `desc` describes (see `rig_desc()`); throws `Error`, whose message
+    // names the bone and the `bone_map` entry that fixes a skeleton that does not map.
+    explicit Rig(const cg_rig_desc& desc) { check(try_create(desc, *this)); }
+    // Maps a skeleton in one call: one name, parent (-1: none; parents before children) and
+    // rest translation (relative to the parent, `units_per_metre` units to the metre) per
+    // bone; `bone_map` ("Name=role,...") overrides roles (nullptr: none); `crowd` (nullptr:
+    // Y up, +Z forward, metres) gives the crowd's axes and units; `rotations` the rest
+    // rotations (empty: identity). Up and forward are detected. Throws `Error`.
+    Rig(Span<const char* const> names, Span<const std::int32_t> parents,
+        Span<const cg_vec3> translations, float units_per_metre = 1.0f,
+        const char* bone_map = nullptr, const cg_crowd_config* crowd = nullptr,
+        Span<const cg_quat> rotations = {}) {
+        detail::check_sizes(sizes_match(names.size(), parents, translations, rotations),
+                            "crowdgaze::Rig: names, parents, translations and rotations "
+                            "(if given) differ in size");
+        check(try_create(names, parents, translations, units_per_metre, bone_map, crowd,
+                         rotations, *this));
+    }
+    // The same with `std::string` names (allocates a vector of pointers to them). A name
+    // holding a NUL character is refused (`CG_STATUS_INVALID_ARGUMENT`).
+    Rig(const std::vector<std::string>& names, Span<const std::int32_t> parents,
+        Span<const cg_vec3> translations, float units_per_metre = 1.0f,
+        const std::string& bone_map = std::string(), const cg_crowd_config* crowd = nullptr,
+        Span<const cg_quat> rotations = {}) {
+        detail::check_sizes(sizes_match(names.size(), parents, translations, rotations),
+                            "crowdgaze::Rig: names, parents, translations and rotations "
+                            "(if given) differ in size");
+        detail::check_sizes(no_nul(names, bone_map),
+                            "crowdgaze::Rig: a name or the bone map holds a NUL character");
+        check(try_create(names, parents, translations, units_per_metre, bone_map, crowd,
+                         rotations, *this));
+    }
+    // Takes ownership of a rig created elsewhere (NULL gives an empty owner).
+    explicit Rig(cg_rig* adopted) noexcept : Owner(adopted) {}
+
+    // Creates a rig into `out` (replacing what it held) without throwing.
+    [[nodiscard]] static cg_status try_create(const cg_rig_desc& desc, Rig& out) noexcept {
+        cg_rig* created = nullptr;
+        const cg_status status = cg_rig_create(&desc, &created);
+        if (status == CG_STATUS_OK) {
+            out.reset(created);
+        }
+        return status;
+    }
+    // The one-call form without throwing: `CG_STATUS_INVALID_ARGUMENT` (and `out`
+    // unchanged) if the sizes differ, else `cg_rig_create`'s status.
+    [[nodiscard]] static cg_status try_create(Span<const char* const> names,
+                                              Span<const std::int32_t> parents,
+                                              Span<const cg_vec3> translations,
+                                              float units_per_metre, const char* bone_map,
+                                              const cg_crowd_config* crowd,
+                                              Span<const cg_quat> rotations,
+                                              Rig& out) noexcept {
+        if (!sizes_match(names.size(), parents, translations, rotations)) {
+            return CG_STATUS_INVALID_ARGUMENT;
+        }
+        cg_rig_desc desc = rig_desc();
+        desc.bone_count = static_cast<std::uint32_t>(names.size());
+        desc.bone_names = names.data();
+        desc.parents = parents.data();
+        desc.rest_translations = translations.data();
+        desc.rest_rotations = rotations.empty() ? nullptr : rotations.data();
+        desc.units_per_metre = units_per_metre;
+        desc.bone_map = bone_map;
+        if (crowd != nullptr) {
+            set_rig_crowd(desc, *crowd);
+        }
+        return try_create(desc, out);
+    }
+    // With `std::string` names and bone map (empty: none). Allocates the pointer vector;
+    // `CG_STATUS_OUT_OF_MEMORY` if that fails (built with exceptions),
+    // `CG_STATUS_INVALID_ARGUMENT` for a NUL inside a name or the bone map.
+    [[nodiscard]] static cg_status try_create(const std::vector<std::string>& names,
+                                              Span<const std::int32_t> parents,
+                                              Span<const cg_vec3> translations,
+                                              float units_per_metre, const std::string& bone_map,
+                                              const cg_crowd_config* crowd,
+                                              Span<const cg_quat> rotations,
+                                              Rig& out) noexcept {
+        if (!sizes_match(names.size(), parents, translations, rotations) ||
+            !no_nul(names, bone_map)) {
+            return CG_STATUS_INVALID_ARGUMENT;
+        }
+        std::vector<const char*> pointers;
+#if defined(__cpp_exceptions) || defined(__EXCEPTIONS) || defined(_CPPUNWIND)
+        try {
+            pointers.reserve(names.size());
+        } catch (...) {
+            return CG_STATUS_OUT_OF_MEMORY;
+        }
+#else
+        pointers.reserve(names.size());
+#endif
+        for (const std::string& name : names) {
+            pointers.push_back(name.c_str());
+        }
+        return try_create(Span<const char* const>(pointers.data(), pointers.size()), parents,
+                          translations, units_per_metre,
+                          bone_map.empty() ? nullptr : bone_map.c_str(), crowd, rotations, out);
+    }
+
+    // --- what was mapped ---------------------------------------------------------------
+
+    // The gaze chain (the crowd's axes and units), for `cg_character_desc.chain`. `out` is
+    // written (`struct_size` set) only on success.
+    [[nodiscard]] cg_status try_chain(cg_chain_desc& out) const noexcept {
+        cg_chain_desc chain = sized<cg_chain_desc>();
+        const cg_status status = cg_rig_chain(raw(), &chain);
+        if (status == CG_STATUS_OK) {
+            out = chain;
+        }
+        return status;
+    }
+    cg_chain_desc chain() const {
+        cg_chain_desc out{};
+        check(try_chain(out));
+        return out;
+    }
+
+    // The number of bones (of `bone_rotations`).
+    [[nodiscard]] cg_status try_bone_count(std::uint32_t& out) const noexcept {
+        return cg_rig_bone_count(raw(), &out);
+    }
+    std::uint32_t bone_count() const {
+        std::uint32_t count = 0;
+        check(try_bone_count(count));
+        return count;
+    }
+    // The number of chain joints (of a base pose, and of the joints read for the character).
+    [[nodiscard]] cg_status try_joint_count(std::uint32_t& out) const noexcept {
+        return cg_rig_joint_count(raw(), &out);
+    }
+    std::uint32_t joint_count() const {
+        std::uint32_t count = 0;
+        check(try_joint_count(count));
+        return count;
+    }
+
+    // The bone of each chain joint, bottom to top (spine, neck, head, left and right eye
+    // if any) into `out` (at least `joint_count()` elements).
+    [[nodiscard]] cg_status try_chain_bones(Span<std::uint32_t> out) const noexcept {
+        return cg_rig_chain_bones(raw(), out.data(), out.size());
+    }
+    // Allocates the vector.
+    std::vector<std::uint32_t> chain_bones() const {
+        std::vector<std::uint32_t> out(joint_count());
+        check(try_chain_bones(out));
+        return out;
+    }
+
+    // The role (`cg_bone_role` values) of every bone, the skeleton's order, into `out` (at
+    // least `bone_count()` elements).
+    [[nodiscard]] cg_status try_bone_roles(Span<std::uint32_t> out) const noexcept {
+        return cg_rig_bone_roles(raw(), out.data(), out.size());
+    }
+    // Allocates the vector.
+    std::vector<cg_bone_role> bone_roles() const {
+        std::vector<std::uint32_t> values(bone_count());
+        check(try_bone_roles(values));
+        std::vector<cg_bone_role> out;
+        out.reserve(values.size());
+        for (const std::uint32_t value : values) {
+            out.push_back(static_cast<cg_bone_role>(value));
+        }
+        return out;
+    }
+
+    // The mapping report (what the chain is, the axes and how they were found, the role of
+    // each chain bone and why, notes), copied into `buffer` as `cg_rig_report` does;
+    // returns its full length.
+    std::size_t report(Span<char> buffer) const noexcept {
+        return cg_rig_report(raw(), buffer.data(), buffer.size());
+    }
+    // Allocates the string (empty for an empty owner).
+    std::string report() const {
+        const std::size_t length = cg_rig_report(raw(), nullptr, 0);
+        std::vector<char> buffer(length + 1, '\0');
+        cg_rig_report(raw(), buffer.data(), buffer.size());
+        return std::string(buffer.data(), length);
+    }
+
+    // --- each frame --------------------------------------------------------------------
+
+    // The crowd's base pose (`joint_count()` rotations into `out_base`, at least that many;
+    // for `Crowd::set_base_pose`) from your bone local rotations (`bone_count()` of them,
+    // each relative to its parent, the skeleton's order). Allocates nothing.
+    [[nodiscard]] cg_status try_base_pose(Span<const cg_quat> bone_rotations,
+                                          Span<cg_quat> out_base) const noexcept {
+        return cg_rig_base_pose(raw(), bone_rotations.data(), bone_rotations.size(),
+                                out_base.data(), out_base.size());
+    }
+    void base_pose(Span<const cg_quat> bone_rotations, Span<cg_quat> out_base) const {
+        check(try_base_pose(bone_rotations, out_base));
+    }
+    // Resizes `out` to `joint_count()` first (allocates only if it grows).
+    void base_pose(const std::vector<cg_quat>& bone_rotations, std::vector<cg_quat>& out) const {
+        out.resize(joint_count());
+        base_pose(Span<const cg_quat>(bone_rotations), Span<cg_quat>(out));
+    }
+
+    // Writes the crowd's joints for one character (`joint_count()` rotations, as
+    // `Crowd::read_joints` gives them) into your bone local rotations (`bone_count()`),
+    // in place: each chain bone gets the rotation that, with the other bones as they are,
+    // makes its joint's; other bones are left alone. On an error nothing is written.
+    [[nodiscard]] cg_status try_write_joints(Span<const cg_quat> joints,
+                                             Span<cg_quat> bone_rotations) const noexcept {
+        return cg_rig_write_joints(raw(), joints.data(), joints.size(), bone_rotations.data(),
+                                   bone_rotations.size());
+    }
+    void write_joints(Span<const cg_quat> joints, Span<cg_quat> bone_rotations) const {
+        check(try_write_joints(joints, bone_rotations));
+    }
+
+   private:
+    static bool sizes_match(std::size_t count, Span<const std::int32_t> parents,
+                            Span<const cg_vec3> translations,
+                            Span<const cg_quat> rotations) noexcept {
+        return count <= CG_MAX_RIG_BONES && parents.size() == count &&
+               translations.size() == count && (rotations.empty() || rotations.size() == count);
+    }
+    static bool no_nul(const std::vector<std::string>& names,
+                       const std::string& bone_map) noexcept {
+        for (const std::string& name : names) {
+            if (name.find('\0') != std::string::npos) {
+                return false;
+            }
+        }
+        return bone_map.find('\0') == std::string::npos;
+    }
 };
 
 // ---------------------------------------------------------------------------------------

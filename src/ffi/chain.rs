@@ -118,6 +118,22 @@ pub struct cg_chain_desc {
 }
 
 impl cg_chain_desc {
+    /// The C description of a core chain in units of which `units_per_metre` make a metre:
+    /// the inverse of [`cg_chain_desc::to_core`] (lengths multiplied where it divides).
+    pub(crate) fn from_core_in_units(chain: &GazeChain, units_per_metre: f32) -> cg_chain_desc {
+        let mut desc = cg_chain_desc::from_core(chain);
+        let scale = |v: cg_vec3| cg_vec3 {
+            x: v.x * units_per_metre,
+            y: v.y * units_per_metre,
+            z: v.z * units_per_metre,
+        };
+        for joint in &mut desc.joints[..chain.joint_count()] {
+            joint.offset = scale(joint.offset);
+        }
+        desc.root_offset = scale(desc.root_offset);
+        desc
+    }
+
     /// The C description of a core chain, lengths in metres.
     fn from_core(chain: &GazeChain) -> cg_chain_desc {
         let mut joints = [cg_chain_joint {
@@ -308,6 +324,29 @@ mod tests {
                 assert!(a.offset.abs_diff_eq(b.offset, 1e-6));
             }
             assert!((scaled.look_at_height(up_vector) - 1.62).abs() < 1e-5);
+        }
+    }
+
+    #[test]
+    fn a_chain_in_units_reads_back_as_the_chain() {
+        let mut joints = GazeChain::human(Vec3::Z, Vec3::NEG_Y).joints().to_vec();
+        joints[1].rest = glam::Quat::from_rotation_x(0.3);
+        joints[4].rest = glam::Quat::from_euler(glam::EulerRot::YXZ, 0.2, -0.1, 0.05);
+        let chain =
+            GazeChain::new(&joints, Vec3::NEG_Y, Vec3::Z, Vec3::new(0.01, 0.0, 0.93)).unwrap();
+        // Equal to float rounding: reading divides lengths by the units and renormalises
+        // the rotations.
+        for units in [1.0, 100.0, 39.37, 1e-3, 1e6] {
+            let read = cg_chain_desc::from_core_in_units(&chain, units)
+                .to_core(units)
+                .unwrap();
+            for (a, b) in read.joints().iter().zip(chain.joints()) {
+                assert!(a.offset.abs_diff_eq(b.offset, 1e-6), "{units}");
+                assert!(a.rest.abs_diff_eq(b.rest, 1e-6), "{units}");
+                assert_eq!((a.role, a.limits), (b.role, b.limits), "{units}");
+            }
+            let root = read.root_offset();
+            assert!(root.abs_diff_eq(chain.root_offset(), 1e-6), "{units}");
         }
     }
 

@@ -44,19 +44,28 @@ pub unsafe extern "C" fn cg_last_error_message(
 ) -> libc::size_t {
     let copy = std::panic::catch_unwind(|| {
         LAST_ERROR.with(|slot| {
-            let message = slot.borrow();
-            let bytes = message.as_bytes();
-            if !buf.is_null() && len > 0 {
-                let count = bytes.len().min(len - 1);
-                // SAFETY: the caller promises `buf` points to at least `len` writable bytes;
-                // we write `count + 1 <= len` of them.
-                unsafe {
-                    core::ptr::copy_nonoverlapping(bytes.as_ptr(), buf.cast::<u8>(), count);
-                    *buf.add(count) = 0;
-                }
-            }
-            bytes.len()
+            // SAFETY: the caller's buffer of `len` writable bytes (or NULL).
+            unsafe { copy_text(&slot.borrow(), buf, len) }
         })
     });
     copy.unwrap_or(0)
+}
+
+/// Copies `text` into the caller's `buf` of `len` bytes, truncated to `len - 1` bytes and
+/// NUL-terminated (nothing if `buf` is NULL or `len` 0), and returns its full length.
+///
+/// # Safety
+/// `buf`, if not NULL, must point to at least `len` writable bytes.
+pub(crate) unsafe fn copy_text(text: &str, buf: *mut c_char, len: usize) -> usize {
+    let bytes = text.as_bytes();
+    if !buf.is_null() && len > 0 {
+        let count = bytes.len().min(len - 1);
+        // SAFETY: the caller promises `buf` points to at least `len` writable bytes; we
+        // write `count + 1 <= len` of them.
+        unsafe {
+            core::ptr::copy_nonoverlapping(bytes.as_ptr(), buf.cast::<u8>(), count);
+            *buf.add(count) = 0;
+        }
+    }
+    bytes.len()
 }

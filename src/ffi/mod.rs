@@ -44,6 +44,7 @@ mod handle;
 pub mod last_error;
 mod pointers;
 mod poison;
+pub mod rig;
 pub mod status;
 #[cfg(feature = "test-hooks")]
 pub mod testing;

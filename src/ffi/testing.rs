@@ -5,6 +5,7 @@
 //! cbindgen:ignore
 
 use super::crowd::{cg_crowd, crowd_handle, Hook};
+use super::rig::{cg_rig, rig_handle};
 use super::view_blender::{blender_handle, cg_view_blender};
 use super::{cg_status, ffi_boundary};
 
@@ -54,6 +55,20 @@ pub unsafe fn panic_next_change(blender: *mut cg_view_blender) -> cg_status {
     ffi_boundary!({
         // SAFETY: forwarded contract.
         unsafe { blender_handle(blender) }?.panic_next();
+        Ok(())
+    })
+}
+
+/// Makes the next call on `rig` (any `cg_rig_*` function taking it but `cg_rig_destroy`)
+/// panic inside the library, after the rig is borrowed and before anything is written.
+/// Fails (a status) if `rig` is NULL.
+///
+/// # Safety
+/// `rig`, if not NULL, must be a live handle from `cg_rig_create`.
+pub unsafe fn panic_next_rig_call(rig: *const cg_rig) -> cg_status {
+    ffi_boundary!({
+        // SAFETY: forwarded contract.
+        unsafe { rig_handle(rig) }?.panic_next();
         Ok(())
     })
 }

@@ -46,6 +46,7 @@ use crate::world::Axis;
 
 pub use axes::{nearest_axis, parse_axis};
 pub use names::{default_role, read_name, ReadName, Side};
+pub(crate) use pose::{BoneRotations, BoneRotationsMut};
 
 /// The most bones a skeleton may have.
 pub const MAX_BONES: usize = 65_536;

@@ -31,18 +31,18 @@ impl MappedChain {
     }
 
     /// The product of the local rotations of `path`'s bones.
-    fn product(locals: &[Quat], path: &[u32]) -> Quat {
+    fn product<L: BoneRotations + ?Sized>(locals: &L, path: &[u32]) -> Quat {
         path.iter().fold(Quat::IDENTITY, |rotation, &bone| {
-            rotation * locals[bone as usize]
+            rotation * locals.rotation(bone as usize)
         })
     }
 
     /// Checks a local rotation array against the skeleton.
-    fn check_locals(&self, locals: &[Quat], what: &str) -> Result<()> {
-        if locals.len() != self.bone_count() {
+    fn check_locals<L: BoneRotations + ?Sized>(&self, locals: &L, what: &str) -> Result<()> {
+        if locals.bone_count() != self.bone_count() {
             return Err(Error::InvalidArgument(format!(
                 "{what} has {} rotations, the skeleton {} bones",
-                locals.len(),
+                locals.bone_count(),
                 self.bone_count()
             )));
         }
@@ -60,6 +60,16 @@ impl MappedChain {
     /// Errors (nothing written): [`Error::InvalidArgument`] for arrays of the wrong length,
     /// [`Error::NonFinite`] for a NaN or infinite rotation of a bone the chain reads.
     pub fn base_pose(&self, locals: &[Quat], out: &mut [Quat]) -> Result<()> {
+        self.base_pose_of(locals, out)
+    }
+
+    /// [`MappedChain::base_pose`] over bone rotations of any layout (the C ABI's `cg_quat`
+    /// arrays are read in place).
+    pub(crate) fn base_pose_of<L: BoneRotations + ?Sized>(
+        &self,
+        locals: &L,
+        out: &mut [Quat],
+    ) -> Result<()> {
         self.check_locals(locals, "the local rotations")?;
         if out.len() != self.joint_count() {
             return Err(Error::InvalidArgument(format!(
@@ -69,7 +79,10 @@ impl MappedChain {
             )));
         }
         for &bone in &self.paths {
-            ensure_all_finite(&locals[bone as usize].to_array(), "bone local rotation")?;
+            ensure_all_finite(
+                &locals.rotation(bone as usize).to_array(),
+                "bone local rotation",
+            )?;
         }
         for (joint, slot) in out.iter_mut().enumerate() {
             let rotation = Self::product(locals, self.joint_path(joint));
@@ -91,6 +104,16 @@ impl MappedChain {
     /// Errors (nothing written): [`Error::InvalidArgument`] for arrays of the wrong length,
     /// [`Error::NonFinite`] for a NaN or infinite rotation.
     pub fn write_joints(&self, joints: &[Quat], locals: &mut [Quat]) -> Result<()> {
+        self.write_joints_into(joints, locals)
+    }
+
+    /// [`MappedChain::write_joints`] into bone rotations of any layout (the C ABI's
+    /// `cg_quat` arrays are written in place).
+    pub(crate) fn write_joints_into<L: BoneRotationsMut + ?Sized>(
+        &self,
+        joints: &[Quat],
+        locals: &mut L,
+    ) -> Result<()> {
         self.check_locals(locals, "the local rotations")?;
         if joints.len() != self.joint_count() {
             return Err(Error::InvalidArgument(format!(
@@ -103,7 +126,10 @@ impl MappedChain {
             ensure_all_finite(&joint.to_array(), "joint rotation")?;
         }
         for &bone in &self.paths {
-            ensure_all_finite(&locals[bone as usize].to_array(), "bone local rotation")?;
+            ensure_all_finite(
+                &locals.rotation(bone as usize).to_array(),
+                "bone local rotation",
+            )?;
         }
         for (joint, rotation) in joints.iter().enumerate() {
             let path = self.joint_path(joint);
@@ -114,8 +140,38 @@ impl MappedChain {
             if joint == 0 {
                 parent = self.turn * parent;
             }
-            locals[bone as usize] = (parent.conjugate() * *rotation).normalize();
+            locals.set_rotation(bone as usize, (parent.conjugate() * *rotation).normalize());
         }
         Ok(())
+    }
+}
+
+/// Bone local rotations as the per-frame conversions read them: a slice of glam
+/// quaternions, or a caller's array of another layout read in place (nothing is copied).
+pub(crate) trait BoneRotations {
+    /// Number of bones.
+    fn bone_count(&self) -> usize;
+    /// The local rotation of `bone` (`bone < bone_count()`).
+    fn rotation(&self, bone: usize) -> Quat;
+}
+
+/// Bone local rotations the conversions also write.
+pub(crate) trait BoneRotationsMut: BoneRotations {
+    /// Sets the local rotation of `bone` (`bone < bone_count()`).
+    fn set_rotation(&mut self, bone: usize, rotation: Quat);
+}
+
+impl BoneRotations for [Quat] {
+    fn bone_count(&self) -> usize {
+        self.len()
+    }
+    fn rotation(&self, bone: usize) -> Quat {
+        self[bone]
+    }
+}
+
+impl BoneRotationsMut for [Quat] {
+    fn set_rotation(&mut self, bone: usize, rotation: Quat) {
+        self[bone] = rotation;
     }
 }

@@ -3,7 +3,8 @@
 use crate::{
     frames::MOVERS,
     joints::ALL_JOINTS,
-    snapshot::{blender_snapshot, crowd_snapshot, status, Snapshot},
+    skeleton::Skeleton,
+    snapshot::{blender_snapshot, crowd_snapshot, rig_snapshot, status, Snapshot},
     values::{init, ok, rotation, transform, vec3},
 };
 use crowdgaze::ffi::attention::*;
@@ -13,6 +14,7 @@ use crowdgaze::ffi::crowd::*;
 use crowdgaze::ffi::eyelids::cg_eyelids;
 use crowdgaze::ffi::frame::*;
 use crowdgaze::ffi::gaze::*;
+use crowdgaze::ffi::rig::{cg_rig, cg_rig_destroy};
 use crowdgaze::ffi::types::{cg_axis, cg_dualquat, cg_quat, cg_vec3};
 use crowdgaze::ffi::view_blender::*;
 use std::mem::{size_of, MaybeUninit};
@@ -86,6 +88,9 @@ pub(crate) struct Outputs {
     pub(crate) count: usize,
     pub(crate) crowd: *mut cg_crowd,
     pub(crate) blender: *mut cg_view_blender,
+    pub(crate) rig: *mut cg_rig,
+    /// Bone indices and roles of a rig.
+    pub(crate) bones: [u32; 80],
     pub(crate) crowd_config: cg_crowd_config,
     pub(crate) chain: cg_chain_desc,
     pub(crate) params: cg_character_params,
@@ -137,6 +142,8 @@ pub(crate) struct Harness {
     pub(crate) blender_no_camera: *mut cg_view_blender,
     /// Key cameras, but key 1 has no clip.
     pub(crate) blender_no_clip: *mut cg_view_blender,
+    /// The rig of the Mixamo skeleton (`rig::Skeleton::mixamo`), for a crowd in metres.
+    pub(crate) rig: *mut cg_rig,
     pub(crate) out: Box<Outputs>,
     /// Problems a case found beyond its status (an input changed, …).
     pub(crate) problems: Vec<String>,
@@ -148,6 +155,7 @@ impl Drop for Harness {
         for blender in [self.blender, self.blender_no_camera, self.blender_no_clip] {
             unsafe { cg_view_blender_destroy(blender) };
         }
+        unsafe { cg_rig_destroy(self.rig) };
     }
 }
 
@@ -216,6 +224,7 @@ impl Harness {
             blender: Harness::blender(true, [true; KEYS]),
             blender_no_camera: Harness::blender(false, [true; KEYS]),
             blender_no_clip: Harness::blender(true, [true, false, true]),
+            rig: Skeleton::mixamo().rig(1.0).into_raw(),
             out: Outputs::new(),
             problems: Vec::new(),
         };
@@ -449,6 +458,7 @@ impl Harness {
         ] {
             blender_snapshot(&mut s, name, blender);
         }
+        rig_snapshot(&mut s, self.rig);
         s.section("output buffers").extend(self.out.bytes());
         s
     }

@@ -29,6 +29,9 @@ mod header;
 mod snapshot;
 mod table;
 mod values;
+// The Mixamo skeleton of the rig rows, shared with the other tests.
+#[path = "../support/rig.rs"]
+mod skeleton;
 
 // The rows of the table, by area: each module's `rows_*` functions, which `table::table`
 // calls.
@@ -44,6 +47,7 @@ mod infallible;
 mod init;
 mod joints;
 mod plan;
+mod rig;
 mod view_blender;
 
 // Extreme finite values, which are not bad input.

@@ -5,9 +5,11 @@ use crate::{
     values::{bytes_of, init, sized, transform, vec3, zeroed, ZERO_QUAT},
 };
 use crowdgaze::ffi::attention::*;
+use crowdgaze::ffi::chain::cg_chain_desc;
 use crowdgaze::ffi::conversations::cg_crowd_get_conversation;
 use crowdgaze::ffi::crowd::*;
 use crowdgaze::ffi::gaze::*;
+use crowdgaze::ffi::rig::*;
 use crowdgaze::ffi::status::cg_status;
 use crowdgaze::ffi::types::{cg_dualquat, cg_quat};
 use crowdgaze::ffi::view_blender::*;
@@ -182,3 +184,39 @@ pub(crate) const IDENTITY_DQ: cg_dualquat = cg_dualquat {
     real: cg_quat::IDENTITY,
     dual: ZERO_QUAT,
 };
+
+/// Everything a rig tells: its counts, chain, chain bones, roles, report, and the base
+/// pose and joints written back of a posed skeleton.
+pub(crate) fn rig_snapshot(s: &mut Snapshot, rig: *const cg_rig) {
+    let b = s.section("rig");
+    let (mut bones, mut joints) = (0u32, 0u32);
+    status(b, unsafe { cg_rig_bone_count(rig, &mut bones) });
+    status(b, unsafe { cg_rig_joint_count(rig, &mut joints) });
+    b.extend(bones.to_le_bytes());
+    b.extend(joints.to_le_bytes());
+    let mut chain: cg_chain_desc = unsafe { std::mem::zeroed() };
+    chain.struct_size = size_of::<cg_chain_desc>() as u32;
+    status(b, unsafe { cg_rig_chain(rig, &mut chain) });
+    b.extend(format!("{chain:?}").bytes());
+    let mut list = [0u32; 80];
+    status(b, unsafe { cg_rig_chain_bones(rig, list.as_mut_ptr(), 80) });
+    status(b, unsafe {
+        cg_rig_bone_roles(rig, list[15..].as_mut_ptr(), 65)
+    });
+    list.iter().for_each(|v| b.extend(v.to_le_bytes()));
+    let mut report = vec![0u8; 2048];
+    let length = unsafe { cg_rig_report(rig, report.as_mut_ptr().cast(), report.len()) };
+    count(b, length);
+    b.extend(&report);
+    let skeleton = crate::skeleton::Skeleton::mixamo();
+    let mut posed = skeleton.animated(0.8);
+    let mut base = [ZERO_QUAT; 15];
+    status(b, unsafe {
+        cg_rig_base_pose(rig, posed.as_ptr(), posed.len(), base.as_mut_ptr(), 15)
+    });
+    b.extend(bytes_of(&base));
+    status(b, unsafe {
+        cg_rig_write_joints(rig, base.as_ptr(), joints as usize, posed.as_mut_ptr(), 65)
+    });
+    b.extend(bytes_of(&posed));
+}

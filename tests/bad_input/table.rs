@@ -15,6 +15,7 @@ use crate::{
     init::rows_init,
     joints::rows_joints,
     plan::rows_plan,
+    rig::rows_rig,
     values::{float_elements, Padded, BAD_FLOATS},
     view_blender::rows_view_blender,
     INVALID, NON_FINITE, NOT_FOUND, NULL_ARG,
@@ -320,6 +321,7 @@ pub(crate) fn table() -> Table {
     rows_dual_quaternions(&mut t);
     rows_blends(&mut t);
     rows_view_blender(&mut t);
+    rows_rig(&mut t);
     rows_infallible(&mut t);
     t
 }

@@ -7,6 +7,8 @@
 // must refuse: that is their safety comment, once for the file.
 #![allow(clippy::undocumented_unsafe_blocks)]
 
+pub mod rig;
+
 use crowdgaze::ffi::attention::*;
 
 use crowdgaze::ffi::crowd::*;

@@ -20,7 +20,7 @@ C name. Failures raise ``crowdgaze.Error`` (``status``, ``message``, ``function`
 Arguments are checked before any C call: a wrong type raises ``TypeError``, an integer out
 of its C type's range ``OverflowError``, a wrong shape or layout ``ValueError``, each naming
 the argument; ``out=`` arrays must be writeable, C-contiguous and of the exact dtype and
-shape. A ``Crowd`` or ``ViewBlender`` cannot be copied or pickled, and ``close()`` from
+shape. A ``Crowd``, ``ViewBlender`` or ``Rig`` cannot be copied or pickled; ``close()`` from
 another thread waits for the calls in flight (``crowdgaze._checks``, ``crowdgaze._owner``).
 """
 
@@ -64,6 +64,13 @@ from ._native import (
     CG_AXIS_POSITIVE_Z,
     CG_BLEND_METHOD_DIB,
     CG_BLEND_METHOD_DLB,
+    CG_BONE_ROLE_HEAD,
+    CG_BONE_ROLE_LEFT_EYE,
+    CG_BONE_ROLE_NECK,
+    CG_BONE_ROLE_NONE,
+    CG_BONE_ROLE_RIGHT_EYE,
+    CG_BONE_ROLE_ROOT,
+    CG_BONE_ROLE_SPINE,
     CG_EYE_MOTION_MAIN_SEQUENCE,
     CG_EYE_MOTION_PAPER,
     CG_GAZE_PRIORITY_OVERRIDE,
@@ -77,7 +84,9 @@ from ._native import (
     CG_JOINT_ROLE_SPINE,
     CG_MAX_CHAIN_JOINTS,
     CG_MAX_CONVERSATION_MEMBERS,
+    CG_MAX_RIG_BONES,
     CG_NO_TARGET,
+    CG_RIG_AXIS_DETECT,
     CG_STATE_HAS_VELOCITY,
     CG_STATE_HEADING_FROM_MOTION,
     CG_STATE_TALKING,
@@ -110,6 +119,7 @@ from ._native import (
     AttentionModel,
     Axis,
     BlendMethod,
+    BoneRole,
     ChainDesc,
     ChainJoint,
     CharacterDesc,
@@ -126,6 +136,7 @@ from ._native import (
     JointRole,
     ObjectDesc,
     Quat,
+    RigDesc,
     ScoreBreakdown,
     StateFlag,
     Status,
@@ -158,6 +169,7 @@ from .crowd import (
     gaze_target,
     object_desc,
 )
+from .rig import Rig
 
 
 cg_quat_IDENTITY = _native.cg_quat_IDENTITY
@@ -192,6 +204,7 @@ __all__ = [
     "blend_pose_dib",
     "blend_pose_dlb",
     "BlendMethod",
+    "BoneRole",
     "camera_center_from_projection",
     "CapacityError",
     "cg_quat_IDENTITY",
@@ -247,6 +260,8 @@ __all__ = [
     "OutOfMemoryError",
     "Quat",
     "RECORD_DTYPES",
+    "Rig",
+    "RigDesc",
     "ScoreBreakdown",
     "STATE_HAS_VELOCITY",
     "STATE_HEADING_FROM_MOTION",
@@ -275,6 +290,13 @@ __all__ = [
     "CG_AXIS_POSITIVE_Z",
     "CG_BLEND_METHOD_DIB",
     "CG_BLEND_METHOD_DLB",
+    "CG_BONE_ROLE_HEAD",
+    "CG_BONE_ROLE_LEFT_EYE",
+    "CG_BONE_ROLE_NECK",
+    "CG_BONE_ROLE_NONE",
+    "CG_BONE_ROLE_RIGHT_EYE",
+    "CG_BONE_ROLE_ROOT",
+    "CG_BONE_ROLE_SPINE",
     "CG_EYE_MOTION_MAIN_SEQUENCE",
     "CG_EYE_MOTION_PAPER",
     "CG_GAZE_PRIORITY_OVERRIDE",
@@ -288,7 +310,9 @@ __all__ = [
     "CG_JOINT_ROLE_SPINE",
     "CG_MAX_CHAIN_JOINTS",
     "CG_MAX_CONVERSATION_MEMBERS",
+    "CG_MAX_RIG_BONES",
     "CG_NO_TARGET",
+    "CG_RIG_AXIS_DETECT",
     "CG_STATE_HAS_VELOCITY",
     "CG_STATE_HEADING_FROM_MOTION",
     "CG_STATE_TALKING",

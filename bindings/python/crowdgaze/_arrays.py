@@ -22,7 +22,7 @@ from __future__ import annotations
 import ctypes
 from collections.abc import Sequence
 from typing import Any, Optional, Union
-from ctypes import POINTER, c_double, c_float, c_uint32, c_uint64
+from ctypes import POINTER, c_char_p, c_double, c_float, c_uint32, c_uint64
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -280,36 +280,41 @@ def pointer(array: np.ndarray, ctype):
 FLOAT32 = np.dtype(np.float32)
 
 
-def check_out(out, dtype: np.dtype, where: str, ndim: int | None = None) -> np.ndarray:
+def check_out(
+    out, dtype: np.dtype, where: str, ndim: int | None = None, name: str = "out"
+) -> np.ndarray:
     """Refuses an ``out`` that is not a writeable, C-contiguous, aligned numpy array of
-    ``dtype`` (and ``ndim`` dimensions); its shape is checked by ``check_shape``."""
+    ``dtype`` (and ``ndim`` dimensions); its shape is checked by ``check_shape``. ``name``
+    is the argument's, for an array written in place that is not called ``out``."""
     if not isinstance(out, np.ndarray):
         raise e.type_error(
-            f"{where}: out must be a numpy array of {_DTYPE_NAMES.get(dtype, dtype)}, "
+            f"{where}: {name} must be a numpy array of {_DTYPE_NAMES.get(dtype, dtype)}, "
             f"got {_what(out)}"
         )
     if out.dtype != dtype:
         shown = out.dtype if out.dtype.names is None else "another record dtype"
         raise e.type_error(
-            f"{where}: out must have the dtype {_DTYPE_NAMES.get(dtype, dtype)}, got {shown} "
-            f"(results are never converted)"
+            f"{where}: {name} must have the dtype {_DTYPE_NAMES.get(dtype, dtype)}, got "
+            f"{shown} (results are never converted)"
         )
     if ndim is not None and out.ndim != ndim:
-        raise e.value_error(f"{where}: out must have {ndim} dimension(s), got shape {out.shape}")
+        raise e.value_error(
+            f"{where}: {name} must have {ndim} dimension(s), got shape {out.shape}"
+        )
     flags = out.flags
     if not flags.writeable:
-        raise e.value_error(f"{where}: out is read-only")
+        raise e.value_error(f"{where}: {name} is read-only")
     if not flags.c_contiguous:
-        raise e.value_error(f"{where}: out must be C-contiguous (a strided view is not)")
+        raise e.value_error(f"{where}: {name} must be C-contiguous (a strided view is not)")
     if not flags.aligned:
-        raise e.value_error(f"{where}: out is not aligned for its dtype")
+        raise e.value_error(f"{where}: {name} is not aligned for its dtype")
     return out
 
 
-def check_shape(out: np.ndarray, shape: tuple, where: str) -> np.ndarray:
+def check_shape(out: np.ndarray, shape: tuple, where: str, name: str = "out") -> np.ndarray:
     """Refuses an ``out`` whose shape is not exactly ``shape``."""
     if out.shape != shape:
-        raise e.value_error(f"{where}: out must have the shape {shape}, got {out.shape}")
+        raise e.value_error(f"{where}: {name} must have the shape {shape}, got {out.shape}")
     return out
 
 
@@ -441,6 +446,10 @@ def field_value(field_type, value, where: str, name: str):
         return c.real(value, where, name, single=False)
     if field_type in (n.Vec3, n.Quat):
         return _struct_of_floats(value, field_type, where, name)
+    if field_type is c_char_p:  # a C string: None, or a str (or UTF-8 bytes) without NUL
+        if isinstance(value, bytes):
+            return c.text(value.decode("utf-8", errors="surrogateescape"), where, name)
+        return None if value is None else c.text(value, where, name)
     if issubclass(field_type, ctypes._Pointer):
         target = field_type._type_
         if value is None:

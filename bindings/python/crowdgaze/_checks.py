@@ -17,6 +17,9 @@ Conventions (the same for every function and struct field of the package):
   raises ``OverflowError``; NaN and infinities are passed on, for the C library to refuse
   where its contract does.
 - A flag (C ``bool``) takes ``True``/``False`` (or ``numpy.bool_``) only.
+- A string (C ``const char *``, NUL-terminated UTF-8) takes a ``str`` that encodes to UTF-8
+  (no lone surrogates) and holds no NUL character; anything else raises ``TypeError``, a
+  string C could not read whole ``ValueError``.
 
 Messages start with the Python function (``Crowd.step``) and name the argument or field.
 """
@@ -130,3 +133,26 @@ def instance(value, ctype, where: str, name: str):
             f"({type(value).__name__})"
         )
     return value
+
+
+def text(value, where: str, name: str) -> bytes:
+    """``value`` (a ``str``) as the NUL-terminated UTF-8 a C string holds, without the NUL:
+    ``TypeError`` for anything but a ``str``, ``ValueError`` for a string that does not
+    encode to UTF-8 (a lone surrogate) or holds a NUL character (C would read it cut)."""
+    if not isinstance(value, str):
+        raise e.type_error(
+            f"{where}: {name} must be a str, got {describe(value)} ({type(value).__name__})"
+        )
+    try:
+        encoded = value.encode("utf-8")
+    except UnicodeEncodeError as error:
+        raise e.value_error(
+            f"{where}: {name} is not valid UTF-8 text ({error.reason} at index "
+            f"{error.start}): {describe(value)}"
+        ) from None
+    if b"\0" in encoded:
+        raise e.value_error(
+            f"{where}: {name} holds a NUL character at index {value.index(chr(0))}; C strings "
+            f"end at the first NUL: {describe(value)}"
+        )
+    return encoded

@@ -22,7 +22,7 @@ FieldError             (binding) no such field, or a          AttributeError
 NotFoundError          NOT_FOUND                              LookupError
 CapacityError          CAPACITY                               RuntimeError
 WrongStateError        WRONG_STATE                            RuntimeError
-ClosedError            (binding) a closed crowd or blender    WrongStateError, ValueError
+ClosedError            (binding) a closed crowd, blender, rig  WrongStateError, ValueError
 NotConvergedError      NOT_CONVERGED                          RuntimeError
 InternalError          INTERNAL, POISONED                     RuntimeError
 OutOfMemoryError       OUT_OF_MEMORY                          MemoryError
@@ -118,7 +118,7 @@ class WrongStateError(Error, RuntimeError):
 
 
 class ClosedError(WrongStateError, ValueError):
-    """A call on a closed (or never initialised) ``Crowd`` or ``ViewBlender``; a
+    """A call on a closed (or never initialised) ``Crowd``, ``ViewBlender`` or ``Rig``; a
     ``ValueError`` too, as for a closed file."""
 
 

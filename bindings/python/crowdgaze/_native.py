@@ -19,6 +19,7 @@ from ctypes import (
     c_char_p,
     c_double,
     c_float,
+    c_int32,
     c_size_t,
     c_uint32,
     c_uint64,
@@ -41,6 +42,10 @@ CG_GAZE_PRIORITY_WHEN_IDLE = 1
 CG_VERSION_MAJOR = 0
 CG_VERSION_MINOR = 2
 CG_VERSION_PATCH = 0
+#: The most bones a rig's skeleton may have (``cg_rig_desc.bone_count``).
+CG_MAX_RIG_BONES = 65536
+#: ``cg_rig_desc.up`` and ``forward``: detect the axis from the rest pose (the default).
+CG_RIG_AXIS_DETECT = 0xFFFFFFFF
 #: The identity quaternion (x, y, z, w), as a tuple any quaternion argument takes.
 cg_quat_IDENTITY = (0.0, 0.0, 0.0, 1.0)
 
@@ -84,6 +89,25 @@ class JointRole(enum.IntEnum):
     HEAD = 2
     LEFT_EYE = 3
     RIGHT_EYE = 4
+
+
+class BoneRole(enum.IntEnum):
+    """``cg_bone_role``: what a skeleton's bone is for the gaze chain (``Rig.roles``)."""
+
+    #: Not part of the chain.
+    NONE = 0
+    #: The body root (the chain hangs from the first bone below the spine).
+    ROOT = 1
+    #: A spine bone (lumbar or thoracic).
+    SPINE = 2
+    #: A neck (cervical) bone.
+    NECK = 3
+    #: The head.
+    HEAD = 4
+    #: The character's left eye (under the head).
+    LEFT_EYE = 5
+    #: The character's right eye (under the head).
+    RIGHT_EYE = 6
 
 
 class BlendMethod(enum.IntEnum):
@@ -171,6 +195,7 @@ ENUMS = {
     "cg_status": Status,
     "cg_axis": Axis,
     "cg_joint_role": JointRole,
+    "cg_bone_role": BoneRole,
     "cg_blend_method": BlendMethod,
     "cg_view_distance": ViewDistance,
     "cg_attention_model": AttentionModel,
@@ -202,6 +227,13 @@ CG_JOINT_ROLE_CERVICAL = JointRole.CERVICAL
 CG_JOINT_ROLE_HEAD = JointRole.HEAD
 CG_JOINT_ROLE_LEFT_EYE = JointRole.LEFT_EYE
 CG_JOINT_ROLE_RIGHT_EYE = JointRole.RIGHT_EYE
+CG_BONE_ROLE_NONE = BoneRole.NONE
+CG_BONE_ROLE_ROOT = BoneRole.ROOT
+CG_BONE_ROLE_SPINE = BoneRole.SPINE
+CG_BONE_ROLE_NECK = BoneRole.NECK
+CG_BONE_ROLE_HEAD = BoneRole.HEAD
+CG_BONE_ROLE_LEFT_EYE = BoneRole.LEFT_EYE
+CG_BONE_ROLE_RIGHT_EYE = BoneRole.RIGHT_EYE
 CG_BLEND_METHOD_DLB = BlendMethod.DLB
 CG_BLEND_METHOD_DIB = BlendMethod.DIB
 CG_VIEW_DISTANCE_GEODESIC = ViewDistance.GEODESIC
@@ -577,12 +609,39 @@ class Eyelids(CheckedStructure):
     ]
 
 
+class RigDesc(CheckedStructure):
+    """``cg_rig_desc``: a skeleton at rest and how to map it (see ``crowdgaze.Rig``, which
+    fills one from Python values; the pointers must stay valid for ``cg_rig_create``)."""
+
+    _enums_ = {"up": Axis, "forward": Axis, "crowd_up": Axis, "crowd_forward": Axis}
+
+    _fields_ = [
+        ("struct_size", c_uint32),
+        ("bone_count", c_uint32),
+        ("bone_names", POINTER(c_char_p)),
+        ("parents", POINTER(c_int32)),
+        ("rest_translations", POINTER(Vec3)),
+        ("rest_rotations", POINTER(Quat)),
+        ("units_per_metre", c_float),
+        ("up", c_uint32),
+        ("forward", c_uint32),
+        ("bone_map", c_char_p),
+        ("crowd_up", c_uint32),
+        ("crowd_forward", c_uint32),
+        ("crowd_units_per_metre", c_float),
+    ]
+
+
 class CrowdHandle(Structure):
     """``cg_crowd`` (opaque): only ever used through a pointer."""
 
 
 class ViewBlenderHandle(Structure):
     """``cg_view_blender`` (opaque): only ever used through a pointer."""
+
+
+class RigHandle(Structure):
+    """``cg_rig`` (opaque): only ever used through a pointer."""
 
 
 #: C struct name -> ctypes type (the opaque handles included).
@@ -604,8 +663,10 @@ STRUCTS = {
     "cg_gaze_target": GazeTarget,
     "cg_eye_info": EyeInfo,
     "cg_eyelids": Eyelids,
+    "cg_rig_desc": RigDesc,
     "cg_crowd": CrowdHandle,
     "cg_view_blender": ViewBlenderHandle,
+    "cg_rig": RigHandle,
 }
 
 
@@ -723,6 +784,20 @@ FUNCTIONS = {
     "cg_crowd_read_eyes": (
         _status,
         [_P(CrowdHandle), c_uint32, c_uint32, _P(EyeInfo), c_size_t],
+    ),
+    "cg_rig_desc_init": (_status, [_P(RigDesc)]),
+    "cg_rig_create": (_status, [_P(RigDesc), _P(_P(RigHandle))]),
+    "cg_rig_destroy": (None, [_P(RigHandle)]),
+    "cg_rig_chain": (_status, [_P(RigHandle), _P(ChainDesc)]),
+    "cg_rig_bone_count": (_status, [_P(RigHandle), _P(c_uint32)]),
+    "cg_rig_joint_count": (_status, [_P(RigHandle), _P(c_uint32)]),
+    "cg_rig_chain_bones": (_status, [_P(RigHandle), _P(c_uint32), c_size_t]),
+    "cg_rig_bone_roles": (_status, [_P(RigHandle), _P(c_uint32), c_size_t]),
+    "cg_rig_report": (c_size_t, [_P(RigHandle), c_char_p, c_size_t]),
+    "cg_rig_base_pose": (_status, [_P(RigHandle), _P(Quat), c_size_t, _P(Quat), c_size_t]),
+    "cg_rig_write_joints": (
+        _status,
+        [_P(RigHandle), _P(Quat), c_size_t, _P(Quat), c_size_t],
     ),
     "cg_last_error_message": (c_size_t, [c_char_p, c_size_t]),
     "cg_status_str": (c_char_p, [c_uint32]),

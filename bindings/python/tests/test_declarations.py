@@ -16,6 +16,7 @@ from ctypes import (
     c_char_p,
     c_double,
     c_float,
+    c_int32,
     c_size_t,
     c_uint32,
     c_uint64,
@@ -71,7 +72,9 @@ def parse_structs(header: str) -> dict[str, list[tuple[str, str, str | None]]]:
             line = line.strip()
             if not line:
                 continue
-            field = re.match(r"^((?:const )?(?:struct )?\w+ \*?)(\w+)(?:\[(\w+)\])?;$", line)
+            field = re.match(
+                r"^((?:const )?(?:struct )?\w+ (?:\*const \*|\*)?)(\w+)(?:\[(\w+)\])?;$", line
+            )
             assert field, line
             fields.append((" ".join(field.group(1).split()), field.group(2), field.group(3)))
         structs[name] = fields
@@ -94,6 +97,7 @@ def parse_enums(header: str) -> dict[str, dict[str, int]]:
 BASE_TYPES = {
     "uint32_t": c_uint32,
     "uint64_t": c_uint64,
+    "int32_t": c_int32,
     "size_t": c_size_t,
     "float": c_float,
     "double": c_double,
@@ -104,14 +108,17 @@ BASE_TYPES = {
 
 
 def expected_ctype(c_type: str):
-    """The ctypes type a C type must be declared as."""
+    """The ctypes type a C type must be declared as (``const char *const *``, an array of
+    strings, is a pointer to ``c_char_p``)."""
     stars = c_type.count("*")
     base = c_type.replace("*", "").replace("const ", "").replace("struct ", "").strip()
     if base == "void" and stars == 0:
         return None
-    if base == "char" and stars == 1:
-        return c_char_p
-    result = BASE_TYPES.get(base) or crowdgaze.STRUCTS[base]
+    if base == "char" and stars >= 1:
+        result: object = c_char_p
+        stars -= 1
+    else:
+        result = BASE_TYPES.get(base) or crowdgaze.STRUCTS[base]
     for _ in range(stars):
         result = POINTER(result)
     return result
@@ -127,7 +134,7 @@ def test_the_parser_sees_the_whole_header(header_text):
     assert declared == set(functions)
     assert len(functions) >= 50
     assert len(parse_structs(header_text)) >= 16
-    assert parse_opaque(header_text) == ["cg_crowd", "cg_view_blender"]
+    assert parse_opaque(header_text) == ["cg_crowd", "cg_rig", "cg_view_blender"]
 
 
 def test_every_header_function_is_declared_with_its_types(header_text):
@@ -201,6 +208,7 @@ def test_struct_size_written_by_the_library_matches_ctypes():
         (crowdgaze.lib.cg_entity_state_init, crowdgaze.EntityState),
         (crowdgaze.lib.cg_gaze_target_init, crowdgaze.GazeTarget),
         (crowdgaze.lib.cg_view_blender_config_init, crowdgaze.ViewBlenderConfig),
+        (crowdgaze.lib.cg_rig_desc_init, crowdgaze.RigDesc),
     ]:
         value = ctype(struct_size=ctypes.sizeof(ctype))
         assert init(ctypes.byref(value)) == 0

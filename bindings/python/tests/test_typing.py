@@ -40,6 +40,19 @@ USER_SCRIPT = textwrap.dedent(
         except cg.NotFoundError as error:
             status: cg.Status | int = error.status
             print(status, error.function)
+
+    names = ["Hips", "Spine", "Neck", "Skull", "LeftUpLeg", "RightUpLeg"]
+    offsets = [(0.0, 1.0, 0.0), (0.0, 0.2, 0.0), (0.0, 0.3, 0.0), (0.0, 0.1, 0.0),
+               (0.1, 0.0, 0.0), (-0.1, 0.0, 0.0)]
+    with cg.Rig(names, [None, 0, 1, 2, 0, 0], offsets, up=cg.Axis.POSITIVE_Y,
+                bone_map={"Skull": cg.BoneRole.HEAD}) as rig, cg.Crowd(max_characters=1) as one:
+        bones = np.tile(np.array([0, 0, 0, 1], np.float32), (rig.bone_count, 1))
+        me = one.add_character(chain=rig.chain)
+        one.set_base_pose(me, rig.base_pose(bones))
+        one.step(1 / 30)
+        rig.write_joints(one.read_joints(one.row_of(me), 1), bones)
+        roles: NDArray[np.uint32] = rig.roles
+        print(rig.report.splitlines()[0], cg.BoneRole(int(roles[3])), rig.chain_bones)
     """
 )
 

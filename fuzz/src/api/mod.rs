@@ -1,4 +1,4 @@
-//! Interprets bytes as a sequence of C API calls on one crowd and one view blender, and
+//! Interprets bytes as a sequence of C API calls on one crowd, one view blender and a rig, and
 //! checks every call against the header's documentation.
 //!
 //! Encoding: the input is a list of operations `[op, n, n argument bytes]` (the arguments
@@ -25,6 +25,7 @@ mod crowd_ops;
 mod input;
 mod ops;
 mod outputs;
+mod rig_ops;
 mod statuses;
 mod values;
 
@@ -108,6 +109,10 @@ pub struct State {
     live: Vec<u32>,
     removed: Vec<u32>,
     viewer: Option<u32>,
+    /// The rig of the last successful `cg_rig_create` (NULL before), its bones and joints.
+    rig: *mut crowdgaze::ffi::rig::cg_rig,
+    rig_bones: usize,
+    rig_joints: usize,
     /// Ids of the conversations the crowd returned, live or ended.
     conversations: Vec<u32>,
     /// Time of the last frame pushed successfully.
@@ -124,6 +129,7 @@ impl Drop for State {
     fn drop(&mut self) {
         unsafe { cg_crowd_destroy(self.crowd) };
         unsafe { cg_view_blender_destroy(self.blender) };
+        unsafe { crowdgaze::ffi::rig::cg_rig_destroy(self.rig) };
     }
 }
 
@@ -431,6 +437,9 @@ impl State {
             live: Vec::new(),
             removed: Vec::new(),
             viewer: None,
+            rig: null_mut(),
+            rig_bones: 0,
+            rig_joints: 0,
             conversations: Vec::new(),
             time: 0.0,
             operation: "start",

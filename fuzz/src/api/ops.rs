@@ -2,7 +2,7 @@
 //! 64): the committed seeds keep their meaning.
 
 use super::input::Input;
-use super::{blend_ops, crowd_ops, State};
+use super::{blend_ops, crowd_ops, rig_ops, State};
 use crowdgaze::ffi::last_error::cg_last_error_message;
 use crowdgaze::ffi::status::cg_status_str;
 use crowdgaze::ffi::version::{cg_version, cg_version_string};
@@ -61,6 +61,12 @@ pub const OPS: &[Op] = &[
     ("set_conversation", crowd_ops::set_conversation),
     ("remove_conversation", crowd_ops::remove_conversation),
     ("get_conversation", crowd_ops::get_conversation),
+    ("rig_create", rig_ops::create),
+    ("rig_chain", rig_ops::chain),
+    ("rig_lists", rig_ops::lists),
+    ("rig_report", rig_ops::report),
+    ("rig_base_pose", rig_ops::base_pose),
+    ("rig_write_joints", rig_ops::write_joints),
 ];
 
 /// The functions that return no status: the last error message into a buffer of any
