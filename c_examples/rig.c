@@ -6,7 +6,8 @@
  * joints come back through cg_rig_write_joints into the bones. Forward kinematics over the
  * bones then checks that the head bone turned exactly as the crowd's chain says and that the
  * eye bones look at the target. Last, the hierarchy of a BVH file (the path in argv[1], else
- * $CG_DATA_DIR/bvh/wave_hello.bvh) is mapped too. */
+ * $CG_DATA_DIR/bvh/wave_hello.bvh) is mapped too, and driven from its rest pose to look at
+ * a point: its chain bones turn, no other bone does. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -347,6 +348,62 @@ static int read_bvh(const char *path, bvh_skeleton *out) {
     return out->count > 0 ? 0 : -1;
 }
 
+/* Drives the BVH character for two seconds from its rest pose in a crowd of its units,
+ * looking at a point to its side: the chain bones turn, the others stay. */
+static void drive_bvh(const cg_rig *rig, uint32_t bone_count) {
+    static cg_quat bones[MAX_BVH_BONES];
+    cg_quat base[CG_MAX_CHAIN_JOINTS], joints[CG_MAX_CHAIN_JOINTS];
+    uint32_t joint_count, chain_bones[CG_MAX_CHAIN_JOINTS], b, frame, moved = 0;
+    cg_crowd_config config;
+    cg_crowd *crowd = NULL;
+    cg_chain_desc chain;
+    cg_character_desc character;
+    cg_gaze_target target;
+    cg_entity_state state;
+    uint32_t id;
+    ok(cg_rig_joint_count(rig, &joint_count), "cg_rig_joint_count (BVH)");
+    ok(cg_rig_chain_bones(rig, chain_bones, CG_MAX_CHAIN_JOINTS), "cg_rig_chain_bones (BVH)");
+    config.struct_size = sizeof config;
+    ok(cg_crowd_config_init(&config), "cg_crowd_config_init");
+    config.max_characters = 1;
+    config.max_objects = 0;
+    ok(cg_crowd_create(&config, &crowd), "cg_crowd_create (BVH)");
+    chain.struct_size = sizeof chain;
+    ok(cg_rig_chain(rig, &chain), "cg_rig_chain (BVH)");
+    character.struct_size = sizeof character;
+    ok(cg_character_desc_init(&character), "cg_character_desc_init");
+    character.chain = &chain;
+    ok(cg_crowd_add_character(crowd, &character, &id), "cg_crowd_add_character (BVH)");
+    target.struct_size = sizeof target;
+    ok(cg_gaze_target_init(&target), "cg_gaze_target_init");
+    target.point = vec3(2.0f, 1.5f, 2.0f);
+    ok(cg_crowd_set_gaze_target(crowd, id, &target), "cg_crowd_set_gaze_target (BVH)");
+    state.struct_size = sizeof state;
+    ok(cg_entity_state_init(&state), "cg_entity_state_init");
+    state.id = id;
+    for (frame = 1; frame <= 2 * FPS; frame++) {
+        for (b = 0; b < bone_count; b++) bones[b] = quat(0, 0, 0, 1); /* the rest pose */
+        ok(cg_rig_base_pose(rig, bones, bone_count, base, CG_MAX_CHAIN_JOINTS), "base (BVH)");
+        ok(cg_crowd_set_base_pose(crowd, id, base, joint_count), "set_base_pose (BVH)");
+        ok(cg_crowd_push_frame(crowd, (double)frame / FPS, &state, 1), "push (BVH)");
+        ok(cg_crowd_step(crowd, 1.0f / FPS), "step (BVH)");
+        ok(cg_crowd_read_joints(crowd, 0, 1, joints, CG_MAX_CHAIN_JOINTS), "read (BVH)");
+        ok(cg_rig_write_joints(rig, joints, joint_count, bones, bone_count), "write (BVH)");
+    }
+    for (b = 0; b < bone_count; b++) {
+        uint32_t k, in_chain = 0;
+        for (k = 0; k < joint_count; k++) in_chain |= chain_bones[k] == b;
+        if (rotation_angle(bones[b], quat(0, 0, 0, 1)) > 0.5f) {
+            CHECK(in_chain); /* only chain bones turn */
+            moved++;
+        }
+    }
+    printf("BVH character driven: %u of %u chain bones turned to the target\n", moved,
+           joint_count);
+    CHECK(moved >= 2);
+    cg_crowd_destroy(crowd);
+}
+
 static int bvh_example(const char *path) {
     static bvh_skeleton skeleton;
     const char *slash = strrchr(path, '/');
@@ -369,6 +426,7 @@ static int bvh_example(const char *path) {
     ok(cg_rig_create(&desc, &rig), "cg_rig_create (BVH)");
     printf("BVH %s, %d joints\n", slash ? slash + 1 : path, skeleton.count);
     print_report_line(rig, "BVH");
+    drive_bvh(rig, (uint32_t)skeleton.count);
     cg_rig_destroy(rig);
     return 0;
 }

@@ -200,6 +200,7 @@ fn expected_output(stem: &str) -> Vec<String> {
                 .into(),
             "BVH wave_hello.bvh, 27 joints".into(),
             "BVH: gaze chain of 6 joints: 4 spine, 1 neck, head; hangs from 'Hips'".into(),
+            "BVH character driven:".into(),
         ],
         "cpp_no_exceptions" => vec![
             "joints 20, eye directions x +1.00 and -1.00".into(),
