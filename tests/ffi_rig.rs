@@ -109,7 +109,7 @@ fn a_mixamo_skeleton_maps_in_one_call() {
     assert!(
         text.starts_with(
             "gaze chain of 7 joints: 3 spine, 1 neck, head, 2 eyes; hangs from \
-             'mixamorig:Hips'\nup +Y, forward +Z (from left and right bone pairs)\n"
+             'mixamorig:Hips'\nup +Y, forward +Z (from the eyes in front of the head)\n"
         ),
         "{text}"
     );
@@ -231,7 +231,7 @@ fn overrides_and_failures_name_the_bone() {
     let mut rig = null_mut();
     for (map, named) in [
         (c"mixamorig:Spine1=none", "'mixamorig:Spine1'"),
-        (c"Jaw=head", "'jaw'"),
+        (c"Jaw=head", "'Jaw'"),
         (c"Spine=elbow", "'elbow' is not a role"),
     ] {
         desc.bone_map = map.as_ptr();

@@ -442,7 +442,7 @@ def test_hostile_skeletons_raise_the_right_errors():
          ValueError, "perpendicular"),
         ({"bone_map": "Skull"}, cg.InvalidArgumentError, ValueError, "NAME=ROLE"),
         ({"bone_map": "mixamorig:Head=brain"}, cg.InvalidArgumentError, ValueError, "brain"),
-        ({"bone_map": "Nobody=head"}, cg.InvalidArgumentError, ValueError, "nobody"),
+        ({"bone_map": "Nobody=head"}, cg.InvalidArgumentError, ValueError, "Nobody"),
         ({"bone_map": "Head=head\0"}, cg.InvalidArgumentError, ValueError, "bone_map"),
         ({"bone_map": {"Head": 9}}, cg.ArgumentRangeError, ValueError, "bone_map"),
         ({"bone_map": {"Head": 2.0}}, cg.ArgumentTypeError, TypeError, "bone_map"),
