@@ -2,18 +2,25 @@
 //
 // A pedestrian street (Z up, the street along +Y): walkers go up and down, three bystanders
 // stand by, three friends stand together on the right pavement and talk in turns, lamps and
-// shop windows line it. Every character is a small articulated figure:
-// legs and arms, and the gaze chain of `cg_chain_desc_init_human` — five spine joints, two
-// neck joints and the head as nested osg::MatrixTransforms, and two eyes under the head,
-// each with an upper eyelid (a skin-coloured half shell over the eye ball, also under the
-// head) that follows the eye's pitch and closes when the character blinks.
+// shop windows line it. Every character is a small articulated figure on one skeleton, a
+// table of bones with Mixamo names (`mixamorig:Hips`, `Spine`, `Spine1`, `Spine2`, `Neck`,
+// `Head`, `LeftEye`, `RightEye`, the arms and the legs; rest offsets in metres, Z up, facing
+// +Y): one osg::MatrixTransform per bone, parented as the table says, with the body's boxes,
+// the head, the eyes (a white ball, a dark pupil) and under the head the nose, the mouth
+// and two upper eyelids (skin-coloured half shells over the eye balls) that follow the
+// eyes' pitch and close when the character blinks.
 //
-// Each frame the root node's update callback moves the walkers, pushes their states, steps
-// the crowd once (`cg_crowd_push_frame`, `cg_crowd_step`) and reads every character's
-// eyelids with one call (`cg_crowd_read_eyelids`); then one update callback per character
-// (an osg::NodeCallback on its root transform) reads that character's chain
-// (`cg_crowd_read_joints`), writes the quaternions into its MatrixTransforms and turns its
-// lids.
+// The skeleton is mapped to a gaze chain once (`crowdgaze::Rig`, `cg_rig_create`: spine,
+// neck, head and eyes found by their names, in the crowd's axes and units) and every
+// character is added with the rig's chain. Each frame the root node's update callback moves
+// the walkers, poses each character's bones (legs and arms swinging, the rest at rest),
+// turns the pose into the crowd's base pose (`cg_rig_base_pose`, `cg_crowd_set_base_pose`),
+// pushes the states, steps the crowd once (`cg_crowd_push_frame`, `cg_crowd_step`) and reads
+// every character's eyelids with one call (`cg_crowd_read_eyelids`); then one update
+// callback per character (an osg::NodeCallback on its root transform) reads that
+// character's chain (`cg_crowd_read_joints`), writes it into its bone rotations
+// (`cg_rig_write_joints`), sets every bone's transform from its rotation and rest offset,
+// and turns its lids.
 //
 // The three friends are a conversation of the crowd (`set_conversation`); their
 // turns are scripted by frame — each talks for 2.5 s, then a pause of 0.5 s, then the next —
@@ -28,10 +35,11 @@
 // Env:   OSG_STREET_BLINK_RATE=N: the crowd's mean blink rate, blinks per minute (default
 //        the library's, 17), e.g. 120 to catch closed lids in the frames.
 //        OSG_STREET_SURFACE=pbuffer: render into a GLX pbuffer instead of a window.
-// Prints, for every written frame, its file, each character's head rotation in its body
-// frame (x y z w) and yaw, each character's lid closure and pitch, where the red-nosed
-// bystander's nose is on the image, and for each member of the group whether it talks and
-// the id of what it looks at ("talk" lines); "ok" last.
+// Prints the first line of the rig's report, then for every written frame its file, each
+// character's head rotation in its body frame (x y z w) and yaw, each character's lid
+// closure and pitch, where the red-nosed bystander's nose is on the image, and for each
+// member of the group whether it talks and the id of what it looks at ("talk" lines); "ok"
+// last.
 #include "crowdgaze.hpp"
 
 #include <osg/Geode>
@@ -56,10 +64,40 @@
 
 namespace {
 
-constexpr int kJoints = 10;  // 5 spine, 2 cervical, head, left eye, right eye
-constexpr int kHead = 7;
-constexpr int kLeftEye = 8;
-constexpr int kRightEye = 9;
+// ---------------------------------------------------------------------------------------
+// The figures' skeleton, as an engine would hold it: bones with Mixamo's names, parents before
+// children, rest offsets from the parent in the parent's frame (metres, Z up, facing +Y; the
+// character's left is -X), rest rotations identity. The pelvis, spine, neck, head and eyes
+// sit where the library's human chain (`cg_chain_desc_init_human`) has its joints: pelvis
+// 0.95, spine from 1.00 to 1.40, neck 1.46, head 1.56, eyes 1.62 and 64 mm apart. The rig
+// maps it by the names to a chain of 7 joints: 3 spine, the neck, the head, 2 eyes.
+
+enum Bone : int {
+    kHips, kSpine, kSpine1, kSpine2, kNeck, kHead, kLeftEye, kRightEye,
+    kLeftArm, kRightArm, kLeftUpLeg, kRightUpLeg, kBones
+};
+
+struct BoneDesc {
+    const char* name;
+    int parent;  // -1: none (the character's root)
+    cg_vec3 offset;
+};
+
+const BoneDesc kSkeleton[kBones] = {
+    {"mixamorig:Hips", -1, {0.0f, 0.0f, 0.95f}},
+    {"mixamorig:Spine", kHips, {0.0f, 0.0f, 0.05f}},
+    {"mixamorig:Spine1", kSpine, {0.0f, 0.0f, 0.2f}},
+    {"mixamorig:Spine2", kSpine1, {0.0f, 0.0f, 0.2f}},
+    {"mixamorig:Neck", kSpine2, {0.0f, 0.0f, 0.06f}},
+    {"mixamorig:Head", kNeck, {0.0f, 0.0f, 0.1f}},
+    {"mixamorig:LeftEye", kHead, {-0.032f, 0.085f, 0.06f}},
+    {"mixamorig:RightEye", kHead, {0.032f, 0.085f, 0.06f}},
+    {"mixamorig:LeftArm", kSpine2, {-0.25f, 0.0f, 0.02f}},
+    {"mixamorig:RightArm", kSpine2, {0.25f, 0.0f, 0.02f}},
+    {"mixamorig:LeftUpLeg", kHips, {-0.1f, 0.0f, -0.05f}},
+    {"mixamorig:RightUpLeg", kHips, {0.1f, 0.0f, -0.05f}},
+};
+
 constexpr double kFps = 24.0;
 constexpr float kPi = 3.14159265358979f;
 const osg::Vec3 kNose(0.0f, 0.1f, 0.03f);  // the red nose's centre in the head's frame
@@ -173,18 +211,37 @@ struct Character {
     float speed = 0.0f;       // walkers: metres per second along the heading
     float turn_at = 20.0f;    // walkers turn round at |y| = turn_at
     float phase = 0.0f;       // walk cycle
-    osg::ref_ptr<osg::MatrixTransform> root, leg_left, leg_right, arm_left, arm_right;
+    osg::ref_ptr<osg::MatrixTransform> root;  // the character's place and heading
+    // One transform per bone of kSkeleton, and the bones' local rotations: the animation's
+    // pose before the step, with the crowd's gaze written in after it.
+    std::array<osg::ref_ptr<osg::MatrixTransform>, kBones> bones;
+    std::array<cg_quat, kBones> pose{};
     osg::ref_ptr<osg::MatrixTransform> lid_left, lid_right;  // upper eyelids, under the head
-    std::array<osg::ref_ptr<osg::MatrixTransform>, kJoints> joints;
     // Members of the group: a mouth that opens while talking and a marker above the head.
     osg::ref_ptr<osg::MatrixTransform> mouth;
     osg::ref_ptr<osg::Node> talk_marker;
     bool talking = false;
+
+    // The animation's pose this frame: the legs and arms swing while walking, every other
+    // bone (the chain's included) at rest.
+    void animate() {
+        const float swing = speed > 0.0f ? 0.45f * std::sin(phase) : 0.0f;
+        const auto about_x = [](float angle) {
+            return cg_quat{std::sin(0.5f * angle), 0.0f, 0.0f, std::cos(0.5f * angle)};
+        };
+        pose.fill(cg_quat{0.0f, 0.0f, 0.0f, 1.0f});
+        pose[kLeftUpLeg] = about_x(swing);
+        pose[kRightUpLeg] = about_x(-swing);
+        pose[kLeftArm] = about_x(-0.7f * swing);
+        pose[kRightArm] = about_x(0.7f * swing);
+    }
 };
 
 struct Street {
     crowdgaze::Crowd crowd;
+    crowdgaze::Rig rig;  // kSkeleton mapped to a gaze chain, shared by every character
     cg_chain_desc chain{};
+    std::vector<cg_quat> base, joints;  // one character's chain joints (scratch, per frame)
     std::vector<Character> characters;
     std::vector<cg_entity_state> states;
     std::vector<cg_eyelids> eyelids;  // every character's, in the crowd's order, each frame
@@ -221,6 +278,10 @@ struct Street {
             }
             states[i].position = {c.position.x(), c.position.y(), c.position.z()};
             states[i].heading = c.heading;
+            // The animated pose, as the crowd's base pose of the chain (no allocation).
+            c.animate();
+            rig.base_pose(c.pose, base);
+            crowd.set_base_pose(c.id, base);
         }
         crowd.push_frame(frame / kFps, states);
         crowd.step(dt);
@@ -243,7 +304,8 @@ class CrowdStepCallback : public osg::NodeCallback {
     Street* street_;
 };
 
-// One per character: writes its place, its gaze chain and its walk into its transforms.
+// One per character: writes its place, and its pose with the crowd's gaze in it, into its
+// transforms.
 class GazeCallback : public osg::NodeCallback {
    public:
     GazeCallback(Street* street, std::size_t character) : street_(street), character_(character) {}
@@ -251,24 +313,17 @@ class GazeCallback : public osg::NodeCallback {
         Character& c = street_->characters[character_];
         c.root->setMatrix(osg::Matrix::rotate(c.heading, osg::Z_AXIS) *
                           osg::Matrix::translate(c.position));
-        std::array<cg_quat, kJoints> local{};
-        street_->crowd.read_joints(c.index, 1, local);
-        for (int j = 0; j < kJoints; j++) {
-            c.joints[j]->setMatrix(local_matrix(local[j], street_->chain.joints[j].offset));
+        // The crowd's chain joints into the bones' rotations, then every bone's transform.
+        street_->crowd.read_joints(c.index, 1, street_->joints);
+        street_->rig.write_joints(street_->joints, c.pose);
+        for (int b = 0; b < kBones; b++) {
+            c.bones[b]->setMatrix(local_matrix(c.pose[b], kSkeleton[b].offset));
         }
         const cg_eyelids& lids = street_->eyelids[c.index];
         c.lid_left->setMatrix(eyelid_matrix(lids.left_lid_pitch, lids.left_closure,
-                                            street_->chain.joints[kLeftEye].offset));
+                                            kSkeleton[kLeftEye].offset));
         c.lid_right->setMatrix(eyelid_matrix(lids.right_lid_pitch, lids.right_closure,
-                                             street_->chain.joints[kRightEye].offset));
-        const float swing = c.speed > 0.0f ? 0.45f * std::sin(c.phase) : 0.0f;
-        const auto hinge = [](float angle, const osg::Vec3& at) {
-            return osg::Matrix::rotate(angle, osg::X_AXIS) * osg::Matrix::translate(at);
-        };
-        c.leg_left->setMatrix(hinge(swing, {-0.1f, 0.0f, 0.9f}));
-        c.leg_right->setMatrix(hinge(-swing, {0.1f, 0.0f, 0.9f}));
-        c.arm_left->setMatrix(hinge(-0.7f * swing, {-0.25f, 0.0f, 0.02f}));
-        c.arm_right->setMatrix(hinge(0.7f * swing, {0.25f, 0.0f, 0.02f}));
+                                             kSkeleton[kRightEye].offset));
         if (c.mouth) {  // talking: the mouth opens and closes about four times a second
             const float t = static_cast<float>(street_->frame / kFps);
             const float open = c.talking ? 0.6f + 1.6f * std::fabs(std::sin(12.0f * t)) : 0.3f;
@@ -283,84 +338,97 @@ class GazeCallback : public osg::NodeCallback {
     std::size_t character_;
 };
 
-// The figure of one character: legs and arms, and the gaze chain as nested transforms.
-void build_figure(Character& c, const cg_chain_desc& chain, const osg::Vec4& shirt,
-                  const osg::Vec4& trousers, bool red_nose, bool talker) {
+// The figure of one character: one transform per bone of kSkeleton, at rest, under its
+// parent's (the root bone under the character's), each with its part of the body.
+void build_figure(Character& c, const osg::Vec4& shirt, const osg::Vec4& trousers, bool red_nose,
+                  bool talker) {
     const osg::Vec4 skin(0.93f, 0.76f, 0.62f, 1.0f);
     const osg::Vec4 hair(0.22f, 0.15f, 0.10f, 1.0f);
+    const osg::Vec4 eye_white(0.97f, 0.97f, 0.95f, 1.0f);
+    const osg::Vec4 pupil(0.05f, 0.05f, 0.08f, 1.0f);
+    // A torso slab from `z` up 0.1 in a spine bone's frame.
+    const auto slab = [&](float z, float width) {
+        return box({0.0f, 0.0f, z + 0.05f}, {width, 0.22f, 0.1f}, shirt);
+    };
     c.root = new osg::MatrixTransform;
-    c.leg_left = new osg::MatrixTransform;
-    c.leg_right = new osg::MatrixTransform;
-    for (auto* leg : {c.leg_left.get(), c.leg_right.get()}) {
-        leg->addChild(box({0.0f, 0.0f, -0.45f}, {0.13f, 0.15f, 0.9f}, trousers));
-        c.root->addChild(leg);
-    }
-    // The chain root (pelvis) sits at root_offset; each joint is placed by its offset.
-    osg::ref_ptr<osg::MatrixTransform> pelvis = new osg::MatrixTransform(
-        osg::Matrix::translate(chain.root_offset.x, chain.root_offset.y, chain.root_offset.z));
-    pelvis->addChild(box({0.0f, 0.0f, 0.0f}, {0.34f, 0.2f, 0.12f}, trousers));
-    c.root->addChild(pelvis);
-    osg::MatrixTransform* parent = pelvis.get();
-    for (int j = 0; j < kJoints; j++) {
-        c.joints[j] = new osg::MatrixTransform;
-        const std::uint32_t role = chain.joints[j].role;
-        if (role == CG_JOINT_ROLE_SPINE) {
-            const float width = j == 4 ? 0.46f : 0.36f + 0.02f * static_cast<float>(j);
-            c.joints[j]->addChild(box({0.0f, 0.0f, 0.05f}, {width, 0.22f, 0.1f}, shirt));
-        } else if (role == CG_JOINT_ROLE_CERVICAL) {
-            c.joints[j]->addChild(cylinder({0.0f, 0.0f, 0.03f}, 0.05f, 0.07f, skin));
-        } else if (role == CG_JOINT_ROLE_HEAD) {
-            c.joints[j]->addChild(sphere({0.0f, -0.01f, 0.1f}, 0.1f, skin));
-            c.joints[j]->addChild(sphere({0.0f, -0.035f, 0.125f}, 0.1f, hair));
-            osg::ref_ptr<osg::Geode> nose =
-                red_nose ? sphere(kNose, 0.03f, osg::Vec4(1.0f, 0.0f, 0.0f, 1.0f))
-                         : box({0.0f, 0.1f, 0.03f}, {0.03f, 0.05f, 0.04f}, skin);
-            if (red_nose) {  // a clown's nose, unlit: exactly (255, 0, 0) on the image
-                nose->getOrCreateStateSet()->setMode(GL_LIGHTING, osg::StateAttribute::OFF);
+    c.pose.fill(cg_quat{0.0f, 0.0f, 0.0f, 1.0f});
+    for (int b = 0; b < kBones; b++) {
+        osg::ref_ptr<osg::MatrixTransform> bone =
+            new osg::MatrixTransform(local_matrix(c.pose[b], kSkeleton[b].offset));
+        bone->setName(kSkeleton[b].name);
+        c.bones[b] = bone;
+        const int parent = kSkeleton[b].parent;
+        (parent < 0 ? c.root.get() : c.bones[parent].get())->addChild(bone);
+        switch (b) {
+            case kHips:  // the pelvis
+                bone->addChild(box({0.0f, 0.0f, 0.0f}, {0.34f, 0.2f, 0.12f}, trousers));
+                break;
+            case kSpine:  // the torso, 0.1 slabs from 1.00 to 1.50, the shoulders widest
+                bone->addChild(slab(0.0f, 0.36f));
+                bone->addChild(slab(0.1f, 0.38f));
+                break;
+            case kSpine1:
+                bone->addChild(slab(0.0f, 0.40f));
+                bone->addChild(slab(0.1f, 0.42f));
+                break;
+            case kSpine2:
+                bone->addChild(slab(0.0f, 0.46f));
+                break;
+            case kNeck:
+                bone->addChild(cylinder({0.0f, 0.0f, 0.03f}, 0.05f, 0.07f, skin));
+                bone->addChild(cylinder({0.0f, 0.0f, 0.08f}, 0.05f, 0.07f, skin));
+                break;
+            case kHead: {
+                bone->addChild(sphere({0.0f, -0.01f, 0.1f}, 0.1f, skin));
+                bone->addChild(sphere({0.0f, -0.035f, 0.125f}, 0.1f, hair));
+                osg::ref_ptr<osg::Geode> nose =
+                    red_nose ? sphere(kNose, 0.03f, osg::Vec4(1.0f, 0.0f, 0.0f, 1.0f))
+                             : box(kNose, {0.03f, 0.05f, 0.04f}, skin);
+                if (red_nose) {  // a clown's nose, unlit: exactly (255, 0, 0) on the image
+                    nose->getOrCreateStateSet()->setMode(GL_LIGHTING, osg::StateAttribute::OFF);
+                }
+                bone->addChild(nose);
+                break;
             }
-            c.joints[j]->addChild(nose);
-        } else {  // an eye: white ball, dark pupil along the eye's forward (+Y)
-            c.joints[j]->addChild(sphere({0.0f, 0.0f, 0.0f}, 0.022f, {0.97f, 0.97f, 0.95f, 1.0f}));
-            c.joints[j]->addChild(sphere({0.0f, 0.016f, 0.0f}, 0.011f, {0.05f, 0.05f, 0.08f, 1.0f}));
+            case kLeftEye:
+            case kRightEye:  // a white ball, a dark pupil along the eye's forward (+Y)
+                bone->addChild(sphere({0.0f, 0.0f, 0.0f}, 0.022f, eye_white));
+                bone->addChild(sphere({0.0f, 0.016f, 0.0f}, 0.011f, pupil));
+                break;
+            case kLeftArm:
+            case kRightArm:  // swinging from the shoulder
+                bone->addChild(box({0.0f, 0.0f, -0.3f}, {0.08f, 0.09f, 0.6f}, shirt));
+                bone->addChild(sphere({0.0f, 0.0f, -0.62f}, 0.045f, skin));
+                break;
+            default:  // the legs, swinging from the hip joint
+                bone->addChild(box({0.0f, 0.0f, -0.45f}, {0.13f, 0.15f, 0.9f}, trousers));
+                break;
         }
-        // Body joints hang one under the other; the eyes hang under the head.
-        osg::MatrixTransform* attach_to =
-            (role == CG_JOINT_ROLE_LEFT_EYE || role == CG_JOINT_ROLE_RIGHT_EYE) ? c.joints[kHead].get()
-                                                                                : parent;
-        attach_to->addChild(c.joints[j]);
-        if (role != CG_JOINT_ROLE_LEFT_EYE && role != CG_JOINT_ROLE_RIGHT_EYE) {
-            parent = c.joints[j].get();
-        }
-        c.joints[j]->setMatrix(local_matrix(chain.joints[j].rest, chain.joints[j].offset));
     }
-    // The upper eyelids, open, under the head at the eyes (the eyes turn inside them).
+    // The upper eyelids, open, under the head at the eye bones' places (the eyes turn inside
+    // them).
     const osg::Vec4 lid_skin(0.86f, 0.66f, 0.52f, 1.0f);
-    c.lid_left = new osg::MatrixTransform(eyelid_matrix(0.0f, 0.0f, chain.joints[kLeftEye].offset));
-    c.lid_right = new osg::MatrixTransform(eyelid_matrix(0.0f, 0.0f, chain.joints[kRightEye].offset));
-    for (auto* lid : {c.lid_left.get(), c.lid_right.get()}) {
+    const auto lid_over = [&](Bone eye) {
+        osg::ref_ptr<osg::MatrixTransform> lid =
+            new osg::MatrixTransform(eyelid_matrix(0.0f, 0.0f, kSkeleton[eye].offset));
         lid->addChild(eyelid_shell(kLidRadius, lid_skin));
-        c.joints[kHead]->addChild(lid);
-    }
+        c.bones[kSkeleton[eye].parent]->addChild(lid);
+        return lid;
+    };
+    c.lid_left = lid_over(kLeftEye);
+    c.lid_right = lid_over(kRightEye);
     if (talker) {
         // A dark mouth under the nose (scaled open while talking), and a yellow marker above
         // the head shown while talking (unlit, so it reads from afar).
         c.mouth = new osg::MatrixTransform(osg::Matrix::scale(1.0f, 1.0f, 0.3f) *
                                            osg::Matrix::translate(kMouth));
         c.mouth->addChild(box({0.0f, 0.0f, 0.0f}, {0.06f, 0.024f, 0.016f}, {0.35f, 0.08f, 0.1f, 1.0f}));
-        c.joints[kHead]->addChild(c.mouth);
+        c.bones[kHead]->addChild(c.mouth);
         osg::ref_ptr<osg::Geode> marker = sphere({0.0f, -0.02f, 0.42f}, 0.06f, {1.0f, 0.85f, 0.1f, 1.0f});
         marker->getOrCreateStateSet()->setMode(GL_LIGHTING, osg::StateAttribute::OFF);
         marker->setNodeMask(0u);
         c.talk_marker = marker;
-        c.joints[kHead]->addChild(marker);
-    }
-    // Arms swing from the shoulders, on the top spine joint.
-    c.arm_left = new osg::MatrixTransform;
-    c.arm_right = new osg::MatrixTransform;
-    for (auto* arm : {c.arm_left.get(), c.arm_right.get()}) {
-        arm->addChild(box({0.0f, 0.0f, -0.3f}, {0.08f, 0.09f, 0.6f}, shirt));
-        arm->addChild(sphere({0.0f, 0.0f, -0.62f}, 0.045f, skin));
-        c.joints[4]->addChild(arm);
+        c.bones[kHead]->addChild(marker);
     }
 }
 
@@ -442,7 +510,35 @@ int main(int argc, char** argv) {
             config.blink_rate = static_cast<float>(std::atof(rate));
         }
         street.crowd = crowdgaze::Crowd(config);
-        street.chain = crowdgaze::chain_desc_human(CG_AXIS_POSITIVE_Z, CG_AXIS_POSITIVE_Y);
+
+        // --- the skeleton, mapped once to a gaze chain in the crowd's axes and units ------
+        std::array<const char*, kBones> names{};
+        std::array<std::int32_t, kBones> parents{};
+        std::array<cg_vec3, kBones> offsets{};
+        for (int b = 0; b < kBones; b++) {
+            names[b] = kSkeleton[b].name;
+            parents[b] = kSkeleton[b].parent;
+            offsets[b] = kSkeleton[b].offset;
+        }
+        cg_rig_desc rig_desc = crowdgaze::rig_desc();  // up and forward detected, metres
+        rig_desc.bone_count = kBones;
+        rig_desc.bone_names = names.data();
+        rig_desc.parents = parents.data();
+        rig_desc.rest_translations = offsets.data();
+        crowdgaze::set_rig_crowd(rig_desc, config);
+        street.rig = crowdgaze::Rig(rig_desc);
+        const std::string report = street.rig.report();
+        std::printf("%s\n", report.substr(0, report.find('\n')).c_str());
+        street.chain = street.rig.chain();
+        street.base.resize(street.rig.joint_count());
+        street.joints.resize(street.rig.joint_count());
+        // The chain's head bone (then the two eyes) must be the one the figure's head is on.
+        const std::vector<std::uint32_t> chain_bones = street.rig.chain_bones();
+        if (chain_bones.size() < 3 || chain_bones[chain_bones.size() - 3] != kHead ||
+            chain_bones.back() != kRightEye) {
+            std::fprintf(stderr, "unexpected mapping:\n%s", report.c_str());
+            return 1;
+        }
 
         std::vector<osg::Vec3> lamps;
         for (int i = 0; i < 6; i++) {
@@ -507,7 +603,7 @@ int main(int argc, char** argv) {
             desc.chain = &street.chain;
             c.id = street.crowd.add_character(desc);
             c.index = static_cast<std::uint32_t>(n);
-            build_figure(c, street.chain, shirts[n % 8], trousers[n % 4], red_nose, talker);
+            build_figure(c, shirts[n % 8], trousers[n % 4], red_nose, talker);
             cg_entity_state state = crowdgaze::entity_state();  // explicit headings
             state.id = c.id;
             street.states.push_back(state);
@@ -610,8 +706,6 @@ int main(int argc, char** argv) {
             }
             written++;
             std::printf("frame %d t %.3f png %s\n", frame, frame / kFps, path);
-            std::vector<cg_quat> joints(street.crowd.joint_total(0, static_cast<std::uint32_t>(n)));
-            street.crowd.read_joints(0, static_cast<std::uint32_t>(n), joints);
             std::vector<cg_gaze_info> gaze(n);
             street.crowd.read_gaze(gaze);
             for (std::size_t i = 0; i < n; i++) {
@@ -620,19 +714,24 @@ int main(int argc, char** argv) {
                             lids.right_closure, lids.left_lid_pitch, lids.right_lid_pitch);
             }
             for (std::size_t i = 0; i < n; i++) {
-                osg::Quat head;  // the head in the body's frame: joints 0..7 composed
-                for (int j = kHead; j >= 0; j--) head = to_osg(joints[i * kJoints + static_cast<std::size_t>(j)]) * head;
+                // The head in the body's frame: the bone rotations from the head up to the root.
+                const Character& c = street.characters[i];
+                osg::Quat head = to_osg(c.pose[kHead]);
+                for (int b = kSkeleton[kHead].parent; b >= 0; b = kSkeleton[b].parent) {
+                    head = head * to_osg(c.pose[b]);  // OSG's order: the parent's turn last
+                }
                 std::printf("head %zu q %.5f %.5f %.5f %.5f yaw %.2f target %d\n", i, head.x(),
                             head.y(), head.z(), head.w(), yaw_degrees(head),
                             gaze[i].target == CG_NO_TARGET ? -1 : static_cast<int>(gaze[i].target));
             }
-            // Where the red nose is on the image (x from the left, y from the top).
+            // Where the red nose is on the image (x from the left, y from the top): the head
+            // bone's transform and its ancestors', then the character's place.
             const Character& o = street.characters[street.observer];
-            osg::Matrix world = o.joints[kHead]->getMatrix();
-            for (int j = kHead - 1; j >= 0; j--) world = world * o.joints[j]->getMatrix();
-            world = world * osg::Matrix::translate(street.chain.root_offset.x, street.chain.root_offset.y,
-                                                   street.chain.root_offset.z) *
-                    o.root->getMatrix();
+            osg::Matrix world = o.bones[kHead]->getMatrix();
+            for (int b = kSkeleton[kHead].parent; b >= 0; b = kSkeleton[b].parent) {
+                world = world * o.bones[b]->getMatrix();
+            }
+            world = world * o.root->getMatrix();
             const osg::Matrix to_window = camera->getViewMatrix() * camera->getProjectionMatrix() *
                                           camera->getViewport()->computeWindowMatrix();
             const osg::Vec3 nose = kNose * world * to_window;
