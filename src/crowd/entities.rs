@@ -268,6 +268,20 @@ impl Crowd {
         Ok(())
     }
 
+    /// Sets a scene object's look-at height (metres above its position, where characters
+    /// look). Errors for a character (its chain gives its height) or an unknown id.
+    pub fn set_look_at_height(&mut self, id: u32, height: f32) -> Result<()> {
+        let (kind, index) = self.shared.scene.find(id)?;
+        if kind != EntityKind::Object {
+            return Err(Error::InvalidArgument(format!(
+                "entity {id} is not a scene object: only objects have a settable look-at height"
+            )));
+        }
+        check_range(height, -1e6, 1e6, "look_at_height")?;
+        self.shared.scene.set_look_at_height(index, height);
+        Ok(())
+    }
+
     /// Sets a character's base pose: the local rotation of each chain joint, bottom to top
     /// (the engine's animated pose; the rest pose until set). Rotations are normalised.
     pub fn set_base_pose(&mut self, character_id: u32, local: &[Quat]) -> Result<()> {

@@ -21,6 +21,10 @@ use glam::{Quat, Vec3};
 use crate::skeleton::{
     character_frame, prefetch_bytes, BoundSkeleton, PoseConvention, SkeletonAccess,
 };
+
+/// A character's skeleton hierarchy (chain bones' and the chain root's ancestors' parents)
+/// is checked for changes every this many frames (staggered); its bone count every frame.
+pub const HIERARCHY_PERIOD: u8 = 8;
 use crate::xform::Xform;
 
 /// A node's key: an id that names it for as long as it lives (Godot's instance id).
@@ -33,6 +37,20 @@ pub struct CharacterSettings {
     pub bone_map: BoneMap,
     /// `I_E`, how interesting the character is to others (≥ 0).
     pub impact: f32,
+}
+
+impl CharacterSettings {
+    /// From the node's `bone_map` (overrides, `Name=role,...`) and `impact` as given.
+    pub fn new(bone_map: &str, impact: f64) -> Result<CharacterSettings> {
+        let bone_map = BoneMap::with_overrides(bone_map)?;
+        let impact = impact as f32;
+        if !(impact.is_finite() && (0.0..=1e6).contains(&impact)) {
+            return Err(Error::InvalidArgument(format!(
+                "impact = {impact}: it must be from 0 to 1000000"
+            )));
+        }
+        Ok(CharacterSettings { bone_map, impact })
+    }
 }
 
 impl Default for CharacterSettings {
@@ -57,6 +75,14 @@ struct Character<H> {
     stalled: bool,
     /// True if it was read this frame (and is pushed and written).
     fresh: bool,
+    /// True while its skeleton cannot be mapped since its bones changed: it keeps its last
+    /// state and its bones are left alone.
+    unmapped: bool,
+    /// Frames until its hierarchy is checked again.
+    countdown: u8,
+    /// The bone count of the last mapping that failed (not tried again until it changes).
+    failed_count: Option<usize>,
+    settings: CharacterSettings,
     handle: H,
     skeleton: BoundSkeleton,
 }
@@ -119,6 +145,9 @@ pub struct SceneCrowd<H> {
     /// Scratch for one character's joints.
     joints: [Quat; MAX_CHAIN_JOINTS],
     time: f64,
+    /// `max_characters` as configured (the library's crowd holds one more, so that a
+    /// character can be re-mapped in a full crowd: new chain added before the old removed).
+    max_characters: usize,
 }
 
 impl<H> SceneCrowd<H> {
@@ -131,10 +160,16 @@ impl<H> SceneCrowd<H> {
                 "a Godot crowd's world is Y up, +Z forward, in metres".into(),
             ));
         }
-        let entities = (config.max_characters + config.max_objects) as usize + 1;
+        config.validate()?;
+        let entities = (config.max_characters + config.max_objects) as usize + 2;
         let characters = config.max_characters as usize;
+        let spare = CrowdConfig {
+            max_characters: config.max_characters.saturating_add(1),
+            ..config
+        };
         Ok(SceneCrowd {
-            crowd: Crowd::new(config)?,
+            crowd: Crowd::new(spare)?,
+            max_characters: characters,
             convention,
             characters: Vec::with_capacity(characters),
             targets: Vec::new(),
@@ -226,22 +261,13 @@ impl<H> SceneCrowd<H> {
                 "the node is registered already".into(),
             ));
         }
-        if self.characters.len() >= self.crowd.config().max_characters as usize {
+        if self.characters.len() >= self.max_characters {
             return Err(Error::Capacity(format!(
                 "the crowd already holds max_characters = {} characters",
-                self.crowd.config().max_characters
+                self.max_characters
             )));
         }
-        let (bound, chain) =
-            BoundSkeleton::bind(skeleton, node, &settings.bone_map, self.convention)?;
-        let (position, heading, _) = character_frame(&skeleton.global_transform().mul(node));
-        let id = self.crowd.add_character(&CharacterDesc {
-            position,
-            heading,
-            impact: settings.impact,
-            chain: Some(chain),
-            ..CharacterDesc::default()
-        })?;
+        let (bound, id) = self.add_entity(skeleton, node, settings)?;
         self.by_key.insert(key, id);
         self.slots
             .insert(id, Slot::Character(self.characters.len()));
@@ -252,6 +278,10 @@ impl<H> SceneCrowd<H> {
             skeleton: bound,
             stalled: false,
             fresh: false,
+            unmapped: false,
+            countdown: (self.characters.len() % usize::from(HIERARCHY_PERIOD)) as u8,
+            failed_count: None,
+            settings: settings.clone(),
             target: NO_ENTITY,
         });
         Ok(id)
@@ -333,6 +363,108 @@ impl<H> SceneCrowd<H> {
         Some(handle)
     }
 
+    /// Maps a skeleton to a chain and adds it to the crowd as a character: the binding and
+    /// the entity id.
+    fn add_entity(
+        &mut self,
+        skeleton: &impl SkeletonAccess,
+        node: &Xform,
+        settings: &CharacterSettings,
+    ) -> Result<(BoundSkeleton, u32)> {
+        let (bound, chain) =
+            BoundSkeleton::bind(skeleton, node, &settings.bone_map, self.convention)?;
+        let (position, heading, _) = character_frame(&skeleton.global_transform().mul(node));
+        let id = self.crowd.add_character(&CharacterDesc {
+            position,
+            heading,
+            impact: settings.impact,
+            chain: Some(chain),
+            ..CharacterDesc::default()
+        })?;
+        Ok((bound, id))
+    }
+
+    /// Maps character `slot`'s skeleton again (its bones or its settings changed): a new
+    /// chain, a new entity id (others looking at it look elsewhere). With `settings`, they
+    /// become the character's. On an error nothing changes.
+    fn remap(
+        &mut self,
+        slot: usize,
+        skeleton: &impl SkeletonAccess,
+        node: &Xform,
+        settings: Option<&CharacterSettings>,
+    ) -> Result<()> {
+        let character = self
+            .characters
+            .get(slot)
+            .ok_or_else(|| Error::InvalidArgument(format!("there is no character {slot}")))?;
+        let settings = settings.unwrap_or(&character.settings).clone();
+        // The crowd has room for one more: the new entity first, so that a failure leaves
+        // the old one.
+        let (bound, id) = self.add_entity(skeleton, node, &settings)?;
+        let character = &mut self.characters[slot];
+        let old = character.id;
+        let _ = self.crowd.remove_entity(old);
+        self.slots.remove(&old);
+        self.slots.insert(id, Slot::Character(slot));
+        self.by_key.insert(character.key, id);
+        character.id = id;
+        character.skeleton = bound;
+        character.settings = settings;
+        character.unmapped = false;
+        character.failed_count = None;
+        character.stalled = false;
+        Ok(())
+    }
+
+    /// A registered character's settings changed (its node's `bone_map` or `impact`): a
+    /// new bone map maps the skeleton again, a new impact is set. On an error (a bone map
+    /// that does not parse or map, an impact out of range) the character keeps its
+    /// previous settings. Errors if the node is not a registered character.
+    pub fn update_character(
+        &mut self,
+        key: NodeKey,
+        skeleton: &impl SkeletonAccess,
+        node: &Xform,
+        settings: &CharacterSettings,
+    ) -> Result<()> {
+        let slot = self
+            .character_slot(key)
+            .ok_or_else(|| Error::NotFound("the node is not a character of the crowd".into()))?;
+        let character = &self.characters[slot];
+        if settings.bone_map != character.settings.bone_map || character.unmapped {
+            return self.remap(slot, skeleton, node, Some(settings));
+        }
+        if settings.impact != character.settings.impact {
+            self.crowd.set_impact(character.id, settings.impact)?;
+            self.characters[slot].settings.impact = settings.impact;
+        }
+        Ok(())
+    }
+
+    /// A registered target's settings changed: its look-at height (metres) and impact.
+    /// On an error nothing changes.
+    pub fn update_target(&mut self, key: NodeKey, look_at_height: f32, impact: f32) -> Result<()> {
+        let slot = match self.entity_of(key).and_then(|id| self.slots.get(&id)) {
+            Some(Slot::Target(slot)) => *slot,
+            _ => {
+                return Err(Error::NotFound(
+                    "the node is not a target of the crowd".into(),
+                ))
+            }
+        };
+        let target = &mut self.targets[slot];
+        if !(impact.is_finite() && (0.0..=1e6).contains(&impact)) {
+            return Err(Error::InvalidArgument(format!(
+                "impact = {impact}: it must be from 0 to 1000000"
+            )));
+        }
+        self.crowd.set_look_at_height(target.id, look_at_height)?;
+        self.crowd.set_impact(target.id, impact)?;
+        target.look_at_height = look_at_height;
+        Ok(())
+    }
+
     /// Makes the viewer (the active camera) an entity at `position`, or removes it with
     /// `None`. Its interest is `impact`. Call once per frame before [`step`](Self::step);
     /// its velocity comes from the frames.
@@ -380,6 +512,31 @@ impl<H> SceneCrowd<H> {
             .get_mut(slot)
             .ok_or_else(|| Error::InvalidArgument(format!("there is no character {slot}")))?;
         character.fresh = false;
+        // The skeleton's bones: their count each frame, the chain's parents every
+        // HIERARCHY_PERIOD frames. A change maps the skeleton again.
+        let count = skeleton.bone_count();
+        let due = character.countdown == 0;
+        character.countdown = match character.countdown {
+            0 => HIERARCHY_PERIOD - 1,
+            n => n - 1,
+        };
+        let changed = if character.unmapped {
+            character.failed_count != Some(count)
+        } else {
+            count != character.skeleton.bone_count
+                || (due && character.skeleton.hierarchy_changed(skeleton))
+        };
+        if changed {
+            if let Err(error) = self.remap(slot, skeleton, node, None) {
+                let character = &mut self.characters[slot];
+                character.unmapped = true;
+                character.failed_count = Some(count);
+                return Err(error);
+            }
+        }
+        if self.characters[slot].unmapped {
+            return Ok(());
+        }
         if let Some(next) = self.characters.get(slot + 1) {
             next.prefetch();
         }
@@ -447,12 +604,14 @@ impl<H> SceneCrowd<H> {
     /// Pushes the frame read since the last step (`dt` seconds after it) and steps the
     /// crowd. Characters and targets not read this frame keep their last state.
     pub fn step(&mut self, dt: f32) -> Result<()> {
-        if !(dt.is_finite() && dt >= 0.0) {
+        if !dt.is_finite() {
             self.updates.clear();
-            return Err(Error::InvalidArgument(format!(
-                "the frame's delta is {dt}: it must be finite and ≥ 0"
+            return Err(Error::NonFinite(format!(
+                "the frame's delta is {dt}: it must be finite"
             )));
         }
+        // Godot 3 sometimes hands a negative delta (godotengine/godot#26887): no time passed.
+        let dt = dt.max(0.0);
         if let (Some(id), Some(position)) = (self.viewer, self.viewer_position) {
             self.updates.push(EntityUpdate {
                 id,

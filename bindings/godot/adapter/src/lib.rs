@@ -11,6 +11,9 @@
 //!   (`rest * pose`) or Godot 4's (the pose is the local transform).
 //! - [`crowd`]: one `CrowdGaze` node's crowd — node keys ↔ entity ids, characters, targets
 //!   and the viewer pushed each frame, the step, the gaze written, interest changes.
+//! - [`membership`]: which crowd a node joins, one character per skeleton.
+//! - [`settings`]: the `CrowdGaze` node's settings as given, checked.
+//! - [`report`]: the messages' shape, and each error printed once per node and cause.
 //! - [`xform`]: Godot's transform layout as glam values.
 //!
 //! Godot's conventions are the library's defaults: Y up, metres, characters facing +Z.
@@ -23,10 +26,16 @@
 pub use crowdgaze;
 
 pub mod crowd;
+pub mod membership;
+pub mod report;
+pub mod settings;
 pub mod skeleton;
 pub mod xform;
 
 pub use crowd::{CharacterSettings, EntityNode, NodeKey, SceneCrowd};
+pub use membership::{choose_crowd, claim_skeleton, NamedNode, SkeletonClaim};
+pub use report::{message, Reports};
+pub use settings::CrowdSettings;
 pub use skeleton::{PoseConvention, SkeletonAccess};
 pub use xform::Xform;
 

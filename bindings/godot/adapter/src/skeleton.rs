@@ -62,6 +62,20 @@ pub fn character_frame(node: &Xform) -> (Vec3, f32, Xform) {
     )
 }
 
+/// The error for a mirrored transform (negative determinant): the gaze chain is built for
+/// rotations, and a mirror turns the eyes the wrong way.
+pub fn mirrored(what: &str) -> Error {
+    Error::InvalidArgument(format!(
+        "{what} is mirrored (a negative scale), which would aim the eyes wrong: use positive \
+         scales (turn the model with a rotation instead)"
+    ))
+}
+
+/// True if a transform mirrors (its basis' determinant is negative).
+fn is_mirrored(x: &Xform) -> bool {
+    x.basis.determinant() < 0.0
+}
+
 /// `atan2` that gives 0 for (0, 0) and never a NaN from finite input.
 fn libm_atan2(y: f32, x: f32) -> f32 {
     if y == 0.0 && x == 0.0 {
@@ -124,6 +138,8 @@ pub struct BoundSkeleton {
     root_rests: [Xform; MAX_ROOT_DEPTH],
     /// The name of each chain bone (for messages).
     names: Vec<String>,
+    /// The parent of each chain bone at registration.
+    parents: [Option<usize>; MAX_CHAIN_JOINTS],
 }
 
 /// Asks the processor to fetch the cache lines of the addresses `start .. end` (a hint: no
@@ -214,6 +230,12 @@ impl BoundSkeleton {
                 "the skeleton's or the character's transform is not finite".into(),
             ));
         }
+        if is_mirrored(&skeleton_global) {
+            return Err(mirrored("the skeleton's global transform"));
+        }
+        if is_mirrored(node) {
+            return Err(mirrored("the character node's transform"));
+        }
         let (_, _, frame) = character_frame(&skeleton_global.mul(node));
         // The skeleton in the character frame; its scale makes the length unit.
         let to_character = frame
@@ -289,11 +311,17 @@ impl BoundSkeleton {
             }
         }
         path.reverse();
+        for &bone in mapped.bones.iter().chain(&path) {
+            if is_mirrored(&rests[bone]) {
+                return Err(mirrored(&format!("bone {}'s rest", names[bone])));
+            }
+        }
         let mut bound = BoundSkeleton {
             bone_count: count,
             bones: [0; MAX_CHAIN_JOINTS],
             joint_count: mapped.bones.len(),
             names: mapped.bones.iter().map(|&b| names[b].clone()).collect(),
+            parents: [None; MAX_CHAIN_JOINTS],
             root_path: [0; MAX_ROOT_DEPTH],
             root_depth: path.len(),
             root_rests: [Xform::IDENTITY; MAX_ROOT_DEPTH],
@@ -305,6 +333,7 @@ impl BoundSkeleton {
         };
         for (k, &bone) in mapped.bones.iter().enumerate() {
             bound.bones[k] = bone;
+            bound.parents[k] = parents[bone];
             let rest = rests[bone].rotation();
             // Until the first read, the local rotation is the rest one.
             bound.joints[k] = Joint {
@@ -318,6 +347,28 @@ impl BoundSkeleton {
             bound.root_rests[k] = rests[bone];
         }
         Ok((bound, mapped.chain))
+    }
+
+    /// True if the skeleton's bones changed since the binding in a way that changes the
+    /// chain: another bone count, or a chain bone or one of the chain root's ancestors
+    /// given another parent (a head re-parented). Costs one call per chain bone and
+    /// ancestor.
+    pub fn hierarchy_changed(&self, skeleton: &impl SkeletonAccess) -> bool {
+        if skeleton.bone_count() != self.bone_count {
+            return true;
+        }
+        let chain = self.chain_bones().iter().zip(&self.parents);
+        if chain
+            .into_iter()
+            .any(|(&bone, &parent)| skeleton.bone_parent(bone) != parent)
+        {
+            return true;
+        }
+        let path = &self.root_path[..self.root_depth];
+        path.iter().enumerate().any(|(k, &bone)| {
+            let parent = if k == 0 { None } else { Some(path[k - 1]) };
+            skeleton.bone_parent(bone) != parent
+        })
     }
 
     /// The chain bones, bottom to top.
@@ -375,6 +426,12 @@ impl BoundSkeleton {
                 "the skeleton's global transform is not finite".into(),
             ));
         }
+        if is_mirrored(&skeleton_global) {
+            return Err(mirrored("the skeleton's global transform"));
+        }
+        if is_mirrored(node) {
+            return Err(mirrored("the character node's transform"));
+        }
         // The chain root's global transform, composed from the top bone down.
         let mut root = skeleton_global;
         for k in 0..self.root_depth {
@@ -386,6 +443,9 @@ impl BoundSkeleton {
                 "a pose above the gaze chain is not finite".into(),
             ));
         }
+        if is_mirrored(&root) {
+            return Err(mirrored("a pose above the gaze chain"));
+        }
         let mut poses = [Xform::IDENTITY; MAX_CHAIN_JOINTS];
         for (k, (slot, &bone)) in poses.iter_mut().zip(self.chain_bones()).enumerate() {
             *slot = skeleton.bone_pose(bone);
@@ -394,6 +454,9 @@ impl BoundSkeleton {
                     "bone {}'s pose is not finite",
                     self.names[k]
                 )));
+            }
+            if is_mirrored(slot) {
+                return Err(mirrored(&format!("bone {}'s pose", self.names[k])));
             }
         }
         let (position, heading, frame) = character_frame(&skeleton_global.mul(node));

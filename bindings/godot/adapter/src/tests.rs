@@ -457,13 +457,14 @@ fn non_finite_transforms_stall_the_character_and_are_reported_once() {
         world.skeletons[0].writes = writes;
         assert!(pose_error(&world, 0) < 1e-5);
     }
-    // A skeleton that lost bones is refused the same way.
+    // A skeleton that lost bones is mapped again (a new entity).
+    let before = world.crowd.entity_of(1001).unwrap();
     world.skeletons[1].names.pop();
-    let error = world
+    world
         .crowd
         .read_character(1, &world.skeletons[1], &world.nodes[1])
-        .unwrap_err();
-    assert!(error.to_string().contains("bones"), "{error}");
+        .unwrap();
+    assert_ne!(world.crowd.entity_of(1001).unwrap(), before);
 }
 
 #[test]
@@ -539,7 +540,8 @@ fn an_empty_scene_and_a_lone_viewer_step() {
     world.frame(1.0 / 30.0);
     assert!(world.crowd.viewer().is_none());
     assert!(world.crowd.step(f32::NAN).is_err());
-    assert!(world.crowd.step(-1.0).is_err());
+    // Godot 3's negative deltas are no time passing.
+    assert!(world.crowd.step(-1.0).is_ok());
     world.frame(0.0);
 }
 
@@ -667,4 +669,162 @@ fn scaled_bone_poses_keep_their_scale_and_translation() {
             "{convention:?}"
         );
     }
+}
+
+#[test]
+fn mirrored_transforms_are_refused_by_name() {
+    let mut world = World::new(CrowdConfig::default(), PoseConvention::RestTimesPose);
+    let mut global = placed(Vec3::ZERO, 0.0);
+    global.basis *= Mat3::from_diagonal(Vec3::new(-1.0, 1.0, 1.0));
+    let skeleton = FakeSkeleton::human(PoseConvention::RestTimesPose, global, 1.0);
+    let error = world.add(skeleton).unwrap_err().to_string();
+    assert!(
+        error.contains("mirrored") && error.contains("positive scales"),
+        "{error}"
+    );
+    // Mirrored after registration: stalled, reported, bones left alone.
+    world
+        .add(FakeSkeleton::human(
+            PoseConvention::RestTimesPose,
+            placed(Vec3::ZERO, 0.0),
+            1.0,
+        ))
+        .unwrap();
+    world.frame(1.0 / 30.0);
+    world.skeletons[0].global.basis *= Mat3::from_diagonal(Vec3::new(1.0, 1.0, -1.0));
+    let writes = world.skeletons[0].writes;
+    let error = world
+        .crowd
+        .read_character(0, &world.skeletons[0], &world.nodes[0])
+        .unwrap_err();
+    assert!(error.to_string().contains("mirrored"), "{error}");
+    world.frame(1.0 / 30.0);
+    assert_eq!(world.skeletons[0].writes, writes);
+    // A mirrored chain bone pose too.
+    world.skeletons[0].global = placed(Vec3::ZERO, 0.0);
+    world.frame(1.0 / 30.0);
+    let head = world.skeletons[0].bone("Head");
+    world.skeletons[0].poses[head].basis = Mat3::from_diagonal(Vec3::new(1.0, -1.0, 1.0));
+    let error = world
+        .crowd
+        .read_character(0, &world.skeletons[0], &world.nodes[0])
+        .unwrap_err();
+    assert!(
+        error.to_string().contains("bone Head's pose is mirrored"),
+        "{error}"
+    );
+}
+
+#[test]
+fn a_re_parented_head_and_new_settings_map_the_skeleton_again() {
+    let mut world = World::new(CrowdConfig::default(), PoseConvention::RestTimesPose);
+    world
+        .add(FakeSkeleton::human(
+            PoseConvention::RestTimesPose,
+            placed(Vec3::ZERO, 0.0),
+            1.0,
+        ))
+        .unwrap();
+    world.frame(1.0 / 30.0);
+    let bones = world.crowd.chain_bones(0).unwrap().to_vec();
+    let neck = world.skeletons[0].bone("Neck");
+    assert!(bones.contains(&neck));
+    // The head hung from the chest: within HIERARCHY_PERIOD frames the neck is out.
+    let head = world.skeletons[0].bone("Head");
+    let chest = world.skeletons[0].bone("Chest");
+    world.skeletons[0].parents[head] = Some(chest);
+    for _ in 0..crate::crowd::HIERARCHY_PERIOD {
+        world.frame(1.0 / 30.0);
+    }
+    let bones = world.crowd.chain_bones(0).unwrap().to_vec();
+    assert!(!bones.contains(&neck), "{bones:?}");
+    assert!(pose_error(&world, 0) < 1e-5);
+    // A new bone map: the eyes left out.
+    let skeleton = world.skeletons[0].clone();
+    let settings = CharacterSettings::new("LeftEye=none,RightEye=none", 2.0).unwrap();
+    world
+        .crowd
+        .update_character(1000, &skeleton, &Xform::IDENTITY, &settings)
+        .unwrap();
+    assert_eq!(world.crowd.chain_bones(0).unwrap().len(), bones.len() - 2);
+    // A bone map that does not map: refused, the character keeps its chain.
+    let headless = CharacterSettings::new("Head=none", 2.0).unwrap();
+    let error = world
+        .crowd
+        .update_character(1000, &skeleton, &Xform::IDENTITY, &headless)
+        .unwrap_err();
+    assert!(error.to_string().contains("no head bone"), "{error}");
+    assert_eq!(world.crowd.chain_bones(0).unwrap().len(), bones.len() - 2);
+    assert!(CharacterSettings::new("", -1.0)
+        .unwrap_err()
+        .to_string()
+        .contains("impact = -1"));
+    // A skeleton that loses its head: reported once, the character stalls, bones alone.
+    world.skeletons[0].names[head] = "Skull".into();
+    world.skeletons[0].names.push("Extra".into());
+    world.skeletons[0].parents.push(Some(0));
+    world.skeletons[0].rests.push(Xform::IDENTITY);
+    world.skeletons[0].poses.push(Xform::IDENTITY);
+    let error = world
+        .crowd
+        .read_character(0, &world.skeletons[0], &world.nodes[0])
+        .unwrap_err();
+    assert!(error.to_string().contains("no head bone"), "{error}");
+    assert!(world
+        .crowd
+        .read_character(0, &world.skeletons[0], &world.nodes[0])
+        .is_ok());
+    let writes = world.skeletons[0].writes;
+    world.frame(1.0 / 30.0);
+    assert_eq!(world.skeletons[0].writes, writes);
+}
+
+#[test]
+fn target_settings_change_live() {
+    let mut crowd =
+        SceneCrowd::<u32>::new(CrowdConfig::default(), PoseConvention::RestTimesPose).unwrap();
+    crowd.add_target(7, 0, &Xform::IDENTITY, 1.0, 1.0).unwrap();
+    crowd.update_target(7, 2.5, 4.0).unwrap();
+    assert_eq!(crowd.target_look_at_height(0).unwrap(), 2.5);
+    assert!(crowd.update_target(7, 2.5, -4.0).is_err());
+    assert!(crowd.update_target(8, 2.5, 4.0).is_err());
+}
+
+#[test]
+fn a_3000_bone_skeleton_without_a_head_gives_a_short_message() {
+    let mut skeleton = FakeSkeleton::human(PoseConvention::RestTimesPose, Xform::IDENTITY, 1.0);
+    skeleton.names.clear();
+    skeleton.parents.clear();
+    skeleton.rests.clear();
+    skeleton.poses.clear();
+    for bone in 0..3000_usize {
+        skeleton.names.push(format!(
+            "a_rather_long_bone_name_from_an_exporter_{bone:04}_{}",
+            "x".repeat(150)
+        ));
+        skeleton.parents.push(bone.checked_sub(1));
+        skeleton.rests.push(Xform::from_rotation_translation(
+            Quat::IDENTITY,
+            Vec3::Y * 0.01,
+        ));
+        skeleton.poses.push(Xform::IDENTITY);
+    }
+    let mut crowd =
+        SceneCrowd::<u32>::new(CrowdConfig::default(), PoseConvention::RestTimesPose).unwrap();
+    let error = crowd
+        .add_character(
+            1,
+            0,
+            &skeleton,
+            &Xform::IDENTITY,
+            &CharacterSettings::default(),
+        )
+        .unwrap_err()
+        .to_string();
+    assert!(
+        error.contains("no head bone") && error.contains("more"),
+        "{error}"
+    );
+    let text = crate::report::message("/root/Node", "CrowdGazeCharacter._enter_tree", &error, "");
+    assert!(text.len() < 2000, "{} bytes", text.len());
 }

@@ -81,13 +81,13 @@ func _process(_delta):
 			gaze.name = "Gaze"
 			skeleton.add_child(gaze)
 			root.add_child(skeleton)
-			expect_error("/root/BadInput/Headless/Skeleton/Gaze: invalid argument: no head bone: none of the 3 bones ('Hips', 'Spine', 'Tail')")
+			expect_error("/root/BadInput/Headless/Skeleton/Gaze: CrowdGazeCharacter._enter_tree: invalid argument: no head bone: none of the 3 bones ('Hips', 'Spine', 'Tail')")
 			add_child(root)
 			expect(crowd.get_character_count() == 0, "the headless skeleton joined")
 			# A character that is not under a skeleton.
 			var stray = CharacterScript.new()
 			stray.name = "Stray"
-			expect_error("/root/BadInput/Stray: a CrowdGazeCharacter must be a child of a Skeleton")
+			expect_error("/root/BadInput/Stray: CrowdGazeCharacter._enter_tree: a CrowdGazeCharacter must be a child of a Skeleton")
 			add_child(stray)
 			# A bone map that does not parse.
 			var odd = Spatial.new()
@@ -100,14 +100,14 @@ func _process(_delta):
 			odd_gaze.bone_map = "Head=brain"
 			odd_skeleton.add_child(odd_gaze)
 			odd.add_child(odd_skeleton)
-			expect_error("/root/BadInput/OddMap/Skeleton/Gaze: invalid argument: bone map: 'brain' is not a role")
+			expect_error("/root/BadInput/OddMap/Skeleton/Gaze: CrowdGazeCharacter._enter_tree: invalid argument: bone map: 'brain' is not a role")
 			add_child(odd)
 		5:
 			for k in range(3):
 				people.append(person("Person%d" % k, Vector3(1.5 * k, 0, 0)))
 			expect(crowd.get_character_count() == 3, "3 characters joined, the crowd holds %d" % crowd.get_character_count())
 			# The crowd holds 3 (max_characters): a fourth is refused, once.
-			expect_error("/root/BadInput/Extra/Skeleton/Gaze: capacity exceeded")
+			expect_error("/root/BadInput/Extra/Skeleton/Gaze: CrowdGazeCharacter._enter_tree: capacity exceeded")
 			person("Extra", Vector3(0, 0, 3))
 			target = TargetScript.new()
 			target.name = "Lamp"
@@ -129,10 +129,10 @@ func _process(_delta):
 		15:
 			# NaN position: one error, the character keeps its last state.
 			frozen = chain_poses(people[2])
-			expect_error("/root/BadInput/Person2/Skeleton/Gaze: non-finite value: the skeleton's global transform is not finite; the character keeps its last state")
+			expect_error("/root/BadInput/Person2/Skeleton/Gaze: CrowdGaze._process: non-finite value: the skeleton's global transform is not finite; the character keeps its last state")
 			people[2].translation = Vector3(NAN, 0, 0)
 			# An infinite target: one error, it stays where it was.
-			expect_error("/root/BadInput/Lamp: non-finite value: the target's global transform is not finite; the target stays where it was")
+			expect_error("/root/BadInput/Lamp: CrowdGaze._process: non-finite value: the target's global transform is not finite; the target stays where it was")
 			target.translation = Vector3(0, INF, 2)
 		16, 17, 18, 19:
 			expect(chain_poses(people[2]) == frozen, "a stalled character's bones moved")
@@ -143,7 +143,7 @@ func _process(_delta):
 			# A NaN bone pose: reported once, and the pose is not overwritten by the addon.
 			var skeleton = people[1].get_node("Skeleton")
 			var spine = skeleton.find_bone("Spine1")
-			expect_error("/root/BadInput/Person1/Skeleton/Gaze: non-finite value: bone Spine1's pose is not finite")
+			expect_error("/root/BadInput/Person1/Skeleton/Gaze: CrowdGaze._process: non-finite value: bone Spine1's pose is not finite")
 			skeleton.set_bone_pose(spine, Transform(Basis(Vector3(NAN, 0, 0), Vector3.UP, Vector3.BACK), Vector3.ZERO))
 		24:
 			var skeleton = people[1].get_node("Skeleton")

@@ -7,25 +7,28 @@
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
 
+use crowdgaze_godot_adapter::{choose_crowd, message, NamedNode};
 use gdnative::prelude::*;
 
-use crate::convert::boundary;
+use crate::convert::{boundary, is_main_thread, Data};
 use crate::crowd_gaze::{CrowdGaze, CHARACTER_GROUP, CROWD_GROUP};
 
 /// A character: its parent `Skeleton`'s bones are mapped to a gaze chain by name.
 #[derive(NativeClass)]
 #[inherit(Spatial)]
+#[user_data(Data<CrowdGazeCharacter>)]
 pub struct CrowdGazeCharacter {
-    /// The `CrowdGaze` node to join; empty: the first one in the tree.
+    /// The `CrowdGaze` node to join; empty: the nearest `CrowdGaze` ancestor, else the only
+    /// `CrowdGaze` in the tree.
     #[property]
     crowd: NodePath,
     /// Bone map overrides, `Name=role` comma separated (roles: root, spine, neck, head,
     /// left_eye, right_eye, none), on top of the default map (Hips, Spine…, Neck, Head,
     /// LeftEye, RightEye and the usual variants).
-    #[property]
+    #[property(after_set = "Self::settings_changed")]
     bone_map: GodotString,
     /// How interesting this character is to others (`I_E`, ≥ 0).
-    #[property(default = 1.0)]
+    #[property(default = 1.0, after_set = "Self::settings_changed")]
     impact: f64,
     /// What the crowd knows of the node's life (see [`Presence`]).
     presence: Presence,
@@ -80,6 +83,11 @@ impl CrowdGazeCharacter {
         }
     }
 
+    /// The `crowd` path as set.
+    pub fn crowd_path(&self) -> NodePath {
+        self.crowd.new_ref()
+    }
+
     /// The settings a `CrowdGaze` registers the character with: bone map and impact, and
     /// the node's presence.
     pub fn settings(&self) -> (String, f64, Presence) {
@@ -99,23 +107,66 @@ impl Drop for CrowdGazeCharacter {
     }
 }
 
-/// The `CrowdGaze` node a character or target joins: the one at `path`, or the first one
-/// in the tree.
-pub fn find_crowd<'a>(owner: &'a Spatial, path: &NodePath) -> Option<TRef<'a, Spatial, Shared>> {
-    let node = if path.is_empty() {
-        let tree = owner.get_tree()?;
-        // SAFETY: the scene tree and its nodes live on the main thread for this call.
-        let tree = unsafe { tree.assume_safe() };
-        let nodes = tree.get_nodes_in_group(CROWD_GROUP);
-        (0..nodes.len())
-            .filter_map(|i| nodes.get(i).try_to_object::<Node>())
-            .next()?
-    } else {
-        owner.get_node(path.new_ref())?
+/// The `CrowdGaze` node a character or target joins (see
+/// [`choose_crowd`]): the one its `crowd` path names, else its nearest `CrowdGaze`
+/// ancestor, else the only one in the tree; `Ok(None)` if there is none yet. Errors say
+/// what to set.
+pub fn resolve_crowd<'a>(
+    owner: &'a Spatial,
+    path: &NodePath,
+) -> Result<Option<TRef<'a, Spatial, Shared>>, String> {
+    // SAFETY: the nodes of the tree live on the main thread for this call.
+    let sane = |node: Ref<Node, Shared>| unsafe { node.assume_safe_if_sane() };
+    let is_crowd = |node: TRef<'a, Node, Shared>| {
+        node.cast::<Spatial>()
+            .filter(|spatial| spatial.cast_instance::<CrowdGaze>().is_some())
     };
-    // SAFETY: as above.
-    let node = unsafe { node.assume_safe_if_sane()? };
-    node.cast::<Spatial>()
+    let mut candidates: Vec<TRef<'a, Spatial, Shared>> = Vec::new();
+    let named = if path.is_empty() {
+        NamedNode::Unset
+    } else {
+        match owner.get_node(path.new_ref()).and_then(sane) {
+            None => NamedNode::Missing,
+            Some(node) => match is_crowd(node) {
+                Some(crowd) => {
+                    candidates.push(crowd);
+                    NamedNode::Crowd(0)
+                }
+                None => NamedNode::NotACrowd(format!(
+                    "{} ({})",
+                    node.get_class(),
+                    node.get_path().to_string()
+                )),
+            },
+        }
+    };
+    let mut ancestor = None;
+    let mut parent = owner.get_parent().and_then(sane);
+    while let Some(node) = parent {
+        if let Some(crowd) = is_crowd(node) {
+            ancestor = Some(candidates.len());
+            candidates.push(crowd);
+            break;
+        }
+        parent = node.get_parent().and_then(sane);
+    }
+    let mut in_tree = Vec::new();
+    if let Some(tree) = owner.get_tree() {
+        // SAFETY: the scene tree lives on the main thread for this call.
+        let tree = unsafe { tree.assume_safe() };
+        for node in tree.get_nodes_in_group(CROWD_GROUP).iter() {
+            if let Some(crowd) = node
+                .try_to_object::<Node>()
+                .and_then(sane)
+                .and_then(is_crowd)
+            {
+                in_tree.push(candidates.len());
+                candidates.push(crowd);
+            }
+        }
+    }
+    let text = path.to_string();
+    Ok(choose_crowd(&text, named, ancestor, &in_tree)?.map(|k| candidates[k]))
 }
 
 /// Calls `f` on the `CrowdGaze` behind `crowd`; false if it is not one or is busy.
@@ -148,10 +199,7 @@ impl CrowdGazeCharacter {
         boundary("CrowdGazeCharacter._exit_tree", (), || {
             owner.remove_from_group(CHARACTER_GROUP);
             self.presence.exited();
-            if let Some(crowd) = find_crowd(&owner, &self.crowd) {
-                let key = owner.get_instance_id();
-                with_crowd(crowd, |crowd, _| crowd.unregister(key));
-            }
+            leave(&owner);
         })
     }
 
@@ -165,25 +213,90 @@ impl CrowdGazeCharacter {
     /// The `CrowdGaze` node this character joins (null if there is none).
     #[export]
     fn get_crowd_node(&self, owner: TRef<Spatial>) -> Variant {
-        find_crowd(&owner, &self.crowd).map_or_else(Variant::new, |crowd| crowd.to_variant())
+        boundary("CrowdGazeCharacter.get_crowd_node", Variant::new(), || {
+            resolve_crowd(&owner, &self.crowd)
+                .ok()
+                .flatten()
+                .map_or_else(Variant::new, |crowd| crowd.to_variant())
+        })
+    }
+
+    /// Joins the crowd on the main thread (called deferred when the node entered the tree
+    /// on another thread).
+    #[export]
+    fn _crowdgaze_join(&self, owner: TRef<Spatial>) {
+        boundary("CrowdGazeCharacter._crowdgaze_join", (), || {
+            if owner.is_inside_tree() {
+                self.join(owner, true);
+            }
+        })
+    }
+}
+
+/// Takes a node out of every crowd (it left the tree, or its script goes).
+pub fn leave(owner: &Spatial) {
+    let key = owner.get_instance_id();
+    if let Some(tree) = owner.get_tree() {
+        // SAFETY: the scene tree and its nodes live on the main thread for this call.
+        let tree = unsafe { tree.assume_safe() };
+        for node in tree.get_nodes_in_group(CROWD_GROUP).iter() {
+            let crowd = node
+                .try_to_object::<Spatial>()
+                .and_then(|node| unsafe { node.assume_safe_if_sane() });
+            if let Some(crowd) = crowd {
+                with_crowd(crowd, |crowd, _| crowd.unregister(key));
+            }
+        }
     }
 }
 
 impl CrowdGazeCharacter {
-    fn join(&self, owner: TRef<Spatial>, warn: bool) {
-        match find_crowd(&owner, &self.crowd) {
-            Some(crowd) => {
+    /// Joins its crowd; on another thread than the main one, deferred to it. With `report`
+    /// (in `_ready`), a crowd path or tree that names no crowd is reported.
+    fn join(&self, owner: TRef<Spatial>, report: bool) {
+        if !is_main_thread() {
+            // SAFETY: a deferred call of our own method, run on the main thread.
+            unsafe { owner.call_deferred("_crowdgaze_join", &[]) };
+            return;
+        }
+        let path = owner.get_path().to_string();
+        match resolve_crowd(&owner, &self.crowd) {
+            Ok(Some(crowd)) => {
                 let (bone_map, impact, presence) = self.settings();
                 with_crowd(crowd, |crowd, crowd_owner| {
                     crowd.register_character(&crowd_owner, owner, &bone_map, impact, presence)
                 });
             }
-            None if warn => godot_warn!(
-                "crowdgaze: {}: no CrowdGaze node in the tree yet; the character joins the \
-                 first one that enters",
-                owner.get_path().to_string()
+            Ok(None) if report => godot_warn!(
+                "crowdgaze: {path}: no CrowdGaze node in the tree yet; the character joins the \
+                 first one that enters"
             ),
-            None => {}
+            Ok(None) => {}
+            Err(error) if report => godot_error!(
+                "{}",
+                message(
+                    &path,
+                    "CrowdGazeCharacter._ready",
+                    &error,
+                    "the character joins no crowd"
+                )
+            ),
+            Err(_) => {}
         }
+    }
+
+    /// `bone_map` or `impact` was set: a character in a crowd takes the new values now.
+    fn settings_changed(&mut self, owner: TRef<Spatial>) {
+        boundary("CrowdGazeCharacter.settings_changed", (), || {
+            if !owner.is_inside_tree() {
+                return;
+            }
+            if let Ok(Some(crowd)) = resolve_crowd(&owner, &self.crowd) {
+                let (bone_map, impact, presence) = self.settings();
+                with_crowd(crowd, |crowd, crowd_owner| {
+                    crowd.update_character(&crowd_owner, owner, &bone_map, impact, presence)
+                });
+            }
+        })
     }
 }

@@ -3,9 +3,43 @@
 //! engine.
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::sync::OnceLock;
+use std::thread::ThreadId;
 
 use crowdgaze_godot_adapter::Xform;
+use gdnative::nativescript::user_data::{DeadlockPolicy, LockOptions, MutexData};
 use gdnative::prelude::*;
+
+/// The lock policy of the addon's nodes' data: a call that finds it locked fails at once
+/// (as gdnative's default `LocalCellData` does) instead of waiting.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct NoWait;
+
+impl LockOptions for NoWait {
+    const DEADLOCK_POLICY: DeadlockPolicy = DeadlockPolicy::Pessimistic;
+}
+
+/// The addon's nodes' data: usable from any thread (a node instanced on a loader thread,
+/// then added to the tree on the main thread), unlike gdnative's default, which refuses
+/// every call from another thread than the one that made the node.
+pub type Data<T> = MutexData<T, NoWait>;
+
+/// The main thread: the one the first `CrowdGaze` entered the tree on.
+static MAIN_THREAD: OnceLock<ThreadId> = OnceLock::new();
+
+/// Records the calling thread as the main thread (a `CrowdGaze` entering the tree or
+/// processing: Godot does both on the main thread only).
+pub fn on_main_thread_now() {
+    let _ = MAIN_THREAD.get_or_init(|| std::thread::current().id());
+}
+
+/// True on the main thread (or before any `CrowdGaze` entered the tree: there is nothing
+/// to join yet then).
+pub fn is_main_thread() -> bool {
+    MAIN_THREAD
+        .get()
+        .is_none_or(|main| *main == std::thread::current().id())
+}
 
 /// Godot's `Transform` as the adapter's [`Xform`] (the same twelve floats).
 pub fn xform(transform: &Transform) -> Xform {

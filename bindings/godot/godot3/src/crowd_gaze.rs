@@ -4,19 +4,21 @@
 //! to another target (`null` for none; the active camera when it looks at the player).
 
 use std::collections::HashSet;
+use std::sync::Arc;
 use std::time::Instant;
 
 use crowdgaze_godot_adapter::crowdgaze::crowd::{ExplicitTarget, TargetPriority};
-use crowdgaze_godot_adapter::crowdgaze::skeleton_map::BoneMap;
-use crowdgaze_godot_adapter::crowdgaze::CrowdConfig;
-use crowdgaze_godot_adapter::{CharacterSettings, EntityNode, PoseConvention, SceneCrowd};
+use crowdgaze_godot_adapter::{
+    claim_skeleton, message, CharacterSettings, CrowdSettings, EntityNode, PoseConvention, Reports,
+    SceneCrowd, SkeletonClaim,
+};
 use gdnative::api::Skeleton;
 use gdnative::nativescript::init::{Signal, SignalArgument};
 use gdnative::nativescript::{ExportInfo, PropertyUsage};
 use gdnative::prelude::*;
 
-use crate::character::Presence;
-use crate::convert::{boundary, quat, vec3, vector, xform};
+use crate::character::{resolve_crowd, Presence};
+use crate::convert::{boundary, on_main_thread_now, quat, vec3, vector, xform, Data};
 use crate::skeleton::GodotSkeleton;
 
 /// The group every `CrowdGaze` node joins while in the tree.
@@ -33,6 +35,8 @@ pub struct Handle {
     skeleton: i64,
     /// A character's node and skeleton as registered.
     kept: Option<Kept>,
+    /// A character's hold on its skeleton (released when the handle goes).
+    _claim: Option<Arc<SkeletonClaim>>,
 }
 
 /// A character's node and skeleton, kept at registration to be used each frame without an
@@ -57,6 +61,11 @@ impl Handle {
         &self,
     ) -> Option<(TRef<'a, Spatial, Shared>, TRef<'a, Skeleton, Shared>)> {
         if let Some(kept) = &self.kept {
+            // The script was taken off the node (or the node is being freed): the node is
+            // no character any more, and its skeleton is left alone.
+            if kept.presence.stamp() == Presence::GONE {
+                return None;
+            }
             if kept.presence.stamp() == kept.stamp {
                 // SAFETY: the node has stayed alive in the tree under its skeleton since it
                 // was registered, so both live; used on the main thread within this call.
@@ -75,6 +84,7 @@ impl Handle {
 /// `viewer_impact` are read every frame.
 #[derive(NativeClass)]
 #[inherit(Spatial)]
+#[user_data(Data<CrowdGaze>)]
 #[register_with(Self::register)]
 pub struct CrowdGaze {
     /// Seed of every random choice: the same scene and seed give the same gaze.
@@ -121,6 +131,8 @@ pub struct CrowdGaze {
     scene: Option<SceneCrowd<Handle>>,
     /// Nodes refused (reported once), by instance id.
     refused: HashSet<i64>,
+    /// What was reported: each node's error once per cause.
+    reports: Reports,
     /// True once creating the crowd failed (reported once).
     config_failed: bool,
     /// The last frame's cost, microseconds: reading the scene, stepping, writing bones.
@@ -170,6 +182,19 @@ fn path_of(node: &Node) -> String {
     node.get_path().to_string()
 }
 
+/// A character node's parent `Skeleton`, if it is one.
+fn skeleton_of<'a>(node: &Spatial) -> Option<TRef<'a, Skeleton, Shared>> {
+    node.get_parent()
+        // SAFETY: the parent is in the tree, owned by the main thread, for this call.
+        .and_then(|parent| unsafe { parent.assume_safe_if_sane() })
+        .and_then(|parent| parent.cast::<Skeleton>())
+}
+
+/// True if `node`, whose `crowd` path is `path`, joins the crowd `owner`.
+fn joins(owner: &Spatial, node: &Spatial, path: &NodePath) -> bool {
+    matches!(resolve_crowd(node, path), Ok(Some(crowd)) if crowd.get_instance_id() == owner.get_instance_id())
+}
+
 impl CrowdGaze {
     fn new(_owner: &Spatial) -> Self {
         CrowdGaze {
@@ -188,6 +213,7 @@ impl CrowdGaze {
             viewer_impact: 3.0,
             scene: None,
             refused: HashSet::new(),
+            reports: Reports::new(),
             config_failed: false,
             frame_usec: [0.0; 3],
             skeletons: Vec::new(),
@@ -216,40 +242,46 @@ impl CrowdGaze {
         });
     }
 
-    /// The crowd's settings from the exported fields.
-    fn config(&self) -> CrowdConfig {
-        let count = |value: i64| value.clamp(0, i64::from(u32::MAX)) as u32;
-        let mut config = CrowdConfig {
-            seed: self.seed as u64,
-            max_characters: count(self.max_characters),
-            max_objects: count(self.max_targets),
-            attention_fraction_range: (
-                self.attention_fraction_min as f32,
-                self.attention_fraction_max as f32,
-            ),
-            threads: count(self.threads),
-            attention_period: count(self.attention_period),
-            lod_distance: self.lod_distance as f32,
-            far_attention_period: count(self.far_attention_period),
-            ..CrowdConfig::default()
-        };
-        config.scoring.max_distance = self.max_distance as f32;
-        config.scoring.field_of_view = (self.field_of_view as f32).to_radians();
-        config
+    /// The crowd's settings from the exported fields, as given.
+    fn settings(&self) -> CrowdSettings {
+        CrowdSettings {
+            seed: self.seed,
+            max_characters: self.max_characters,
+            max_targets: self.max_targets,
+            max_distance: self.max_distance,
+            field_of_view: self.field_of_view,
+            attention_fraction_min: self.attention_fraction_min,
+            attention_fraction_max: self.attention_fraction_max,
+            threads: self.threads,
+            attention_period: self.attention_period,
+            lod_distance: self.lod_distance,
+            far_attention_period: self.far_attention_period,
+        }
     }
 
     /// The crowd, created from the settings the first time.
     fn scene(&mut self, owner: &Spatial) -> Option<&mut SceneCrowd<Handle>> {
         if self.scene.is_none() && !self.config_failed {
-            match SceneCrowd::new(self.config(), PoseConvention::RestTimesPose) {
-                Ok(scene) => {
-                    let capacity = self.config().max_characters as usize;
+            let created = self.settings().config().and_then(|config| {
+                let capacity = config.max_characters as usize;
+                SceneCrowd::new(config, PoseConvention::RestTimesPose).map(|s| (s, capacity))
+            });
+            match created {
+                Ok((scene, capacity)) => {
                     self.skeletons = Vec::with_capacity(capacity);
                     self.scene = Some(scene);
                 }
                 Err(error) => {
                     self.config_failed = true;
-                    godot_error!("crowdgaze: {}: {error}", path_of(owner));
+                    godot_error!(
+                        "{}",
+                        message(
+                            &path_of(owner),
+                            "CrowdGaze._enter_tree",
+                            &error,
+                            "no crowd is created"
+                        )
+                    );
                 }
             }
         }
@@ -277,46 +309,131 @@ impl CrowdGaze {
         if scene.entity_of(key).is_some() {
             return;
         }
-        let skeleton = node
-            .get_parent()
-            // SAFETY: the parent is in the tree, owned by the main thread, for this call.
-            .and_then(|parent| unsafe { parent.assume_safe_if_sane() })
-            .and_then(|parent| parent.cast::<Skeleton>());
+        let skeleton = skeleton_of(&node);
+        let path = path_of(&node);
         let result = match skeleton {
-            None => Err("a CrowdGazeCharacter must be a child of a Skeleton".to_string()),
-            Some(skeleton) => BoneMap::with_overrides(bone_map)
-                .and_then(|bone_map| {
-                    let settings = CharacterSettings {
-                        bone_map,
-                        impact: impact as f32,
-                    };
-                    let handle = Handle {
-                        node: key,
-                        skeleton: skeleton.get_instance_id(),
-                        kept: Some(Kept {
-                            stamp: presence.stamp(),
-                            presence,
-                            node: node.claim(),
-                            skeleton: skeleton.claim(),
-                        }),
-                    };
-                    scene.add_character(
-                        key,
-                        handle,
-                        &GodotSkeleton(skeleton),
-                        &xform(&node.transform()),
-                        &settings,
-                    )
+            None => Err(
+                "a CrowdGazeCharacter must be a child of a Skeleton: move it under one".to_string(),
+            ),
+            Some(skeleton) => {
+                claim_skeleton(skeleton.get_instance_id(), key, &path).and_then(|claim| {
+                    CharacterSettings::new(bone_map, impact)
+                        .and_then(|settings| {
+                            let handle = Handle {
+                                node: key,
+                                skeleton: skeleton.get_instance_id(),
+                                kept: Some(Kept {
+                                    stamp: presence.stamp(),
+                                    presence,
+                                    node: node.claim(),
+                                    skeleton: skeleton.claim(),
+                                }),
+                                _claim: Some(Arc::new(claim)),
+                            };
+                            scene.add_character(
+                                key,
+                                handle,
+                                &GodotSkeleton(skeleton),
+                                &xform(&node.transform()),
+                                &settings,
+                            )
+                        })
+                        .map(|_| ())
+                        .map_err(|error| error.to_string())
                 })
-                .map(|_| ())
-                .map_err(|error| error.to_string()),
+            }
         };
         if let Err(error) = result {
             self.refused.insert(key);
             godot_error!(
-                "crowdgaze: {}: {error}; the character is left out of the crowd",
-                path_of(&node)
+                "{}",
+                message(
+                    &path,
+                    "CrowdGazeCharacter._enter_tree",
+                    &error,
+                    "the character is left out of the crowd"
+                )
             );
+        }
+    }
+
+    /// A registered character's `bone_map` or `impact` changed: the crowd takes them (a
+    /// character refused before tries to join again).
+    pub fn update_character(
+        &mut self,
+        owner: &Spatial,
+        node: TRef<Spatial>,
+        bone_map: &str,
+        impact: f64,
+        presence: Presence,
+    ) {
+        let key = node.get_instance_id();
+        let registered = self.scene.as_ref().and_then(|s| s.entity_of(key)).is_some();
+        if !registered {
+            self.refused.remove(&key);
+            self.register_character(owner, node, bone_map, impact, presence);
+            return;
+        }
+        let Some(scene) = self.scene.as_mut() else {
+            return;
+        };
+        let skeleton = skeleton_of(&node);
+        let Some(skeleton) = skeleton else {
+            return;
+        };
+        let result = CharacterSettings::new(bone_map, impact).and_then(|settings| {
+            scene.update_character(
+                key,
+                &GodotSkeleton(skeleton),
+                &xform(&node.transform()),
+                &settings,
+            )
+        });
+        if let Err(error) = result {
+            if self.reports.first(key, "settings", &error) {
+                godot_error!(
+                    "{}",
+                    message(
+                        &path_of(&node),
+                        "CrowdGazeCharacter.set_bone_map/set_impact",
+                        &error,
+                        "the character keeps its previous settings"
+                    )
+                );
+            }
+        }
+    }
+
+    /// A registered target's `look_at_height` or `impact` changed.
+    pub fn update_target(
+        &mut self,
+        owner: &Spatial,
+        node: TRef<Spatial>,
+        look_at_height: f64,
+        impact: f64,
+    ) {
+        let key = node.get_instance_id();
+        let registered = self.scene.as_ref().and_then(|s| s.entity_of(key)).is_some();
+        if !registered {
+            self.refused.remove(&key);
+            self.register_target(owner, node, look_at_height, impact);
+            return;
+        }
+        let Some(scene) = self.scene.as_mut() else {
+            return;
+        };
+        if let Err(error) = scene.update_target(key, look_at_height as f32, impact as f32) {
+            if self.reports.first(key, "settings", &error) {
+                godot_error!(
+                    "{}",
+                    message(
+                        &path_of(&node),
+                        "GazeTarget.set_look_at_height/set_impact",
+                        &error,
+                        "the target keeps its previous settings"
+                    )
+                );
+            }
         }
     }
 
@@ -342,6 +459,7 @@ impl CrowdGaze {
             node: key,
             skeleton: 0,
             kept: None,
+            _claim: None,
         };
         let placed = xform(&node.global_transform());
         if let Err(error) =
@@ -349,8 +467,13 @@ impl CrowdGaze {
         {
             self.refused.insert(key);
             godot_error!(
-                "crowdgaze: {}: {error}; the target is left out of the crowd",
-                path_of(&node)
+                "{}",
+                message(
+                    &path_of(&node),
+                    "GazeTarget._enter_tree",
+                    &error,
+                    "the target is left out of the crowd"
+                )
             );
         }
     }
@@ -358,6 +481,7 @@ impl CrowdGaze {
     /// Removes a node from the crowd (it left the tree).
     pub fn unregister(&mut self, key: i64) {
         self.refused.remove(&key);
+        self.reports.forget(key);
         if let Some(scene) = self.scene.as_mut() {
             scene.remove(key);
         }
@@ -380,9 +504,11 @@ impl CrowdGaze {
             };
             let settings = node
                 .cast_instance::<crate::character::CrowdGazeCharacter>()
-                .and_then(|instance| instance.map(|c, _| c.settings()).ok());
-            if let Some((bone_map, impact, presence)) = settings {
-                self.register_character(owner, node, &bone_map, impact, presence);
+                .and_then(|instance| instance.map(|c, _| (c.settings(), c.crowd_path())).ok());
+            if let Some(((bone_map, impact, presence), path)) = settings {
+                if joins(owner, &node, &path) {
+                    self.register_character(owner, node, &bone_map, impact, presence);
+                }
             }
         }
         for variant in tree.get_nodes_in_group(TARGET_GROUP).iter() {
@@ -395,9 +521,11 @@ impl CrowdGaze {
             };
             let settings = node
                 .cast_instance::<crate::target::GazeTarget>()
-                .and_then(|instance| instance.map(|t, _| t.settings()).ok());
-            if let Some((height, impact)) = settings {
-                self.register_target(owner, node, height, impact);
+                .and_then(|instance| instance.map(|t, _| (t.settings(), t.crowd_path())).ok());
+            if let Some(((height, impact), path)) = settings {
+                if joins(owner, &node, &path) {
+                    self.register_target(owner, node, height, impact);
+                }
             }
         }
     }
@@ -421,6 +549,7 @@ impl CrowdGaze {
         };
         // Read every character; drop those whose node or skeleton is gone.
         let skeletons = &mut self.skeletons;
+        let reports = &mut self.reports;
         skeletons.clear();
         let mut slot = 0;
         while slot < scene.character_count() {
@@ -434,10 +563,18 @@ impl CrowdGaze {
                     if let Err(error) =
                         scene.read_character(slot, &GodotSkeleton(skeleton), &placed)
                     {
-                        godot_error!(
-                            "crowdgaze: {}: {error}; the character keeps its last state",
-                            path_of(&node)
-                        );
+                        if reports.first(node.get_instance_id(), "read", &error) {
+                            godot_error!(
+                                "{}",
+                                message(
+                                    &path_of(&node),
+                                    "CrowdGaze._process",
+                                    &error,
+                                    "the character keeps its last state and its bones are \
+                                     left alone until this is fixed"
+                                )
+                            );
+                        }
                     }
                     skeletons.push(skeleton.claim());
                     slot += 1;
@@ -445,6 +582,7 @@ impl CrowdGaze {
                 None => {
                     let key = handle.node;
                     scene.remove(key);
+                    reports.forget(key);
                 }
             }
         }
@@ -457,10 +595,17 @@ impl CrowdGaze {
             match unsafe { live::<Spatial>(handle.node) } {
                 Some(node) => {
                     if let Err(error) = scene.read_target(slot, &xform(&node.global_transform())) {
-                        godot_error!(
-                            "crowdgaze: {}: {error}; the target stays where it was",
-                            path_of(&node)
-                        );
+                        if reports.first(node.get_instance_id(), "read", &error) {
+                            godot_error!(
+                                "{}",
+                                message(
+                                    &path_of(&node),
+                                    "CrowdGaze._process",
+                                    &error,
+                                    "the target stays where it was"
+                                )
+                            );
+                        }
                     }
                     slot += 1;
                 }
@@ -470,13 +615,30 @@ impl CrowdGaze {
             }
         }
         let viewer = camera.map(|camera| vec3(camera.global_transform().origin));
+        let crowd_key = owner.get_instance_id();
         if let Err(error) = scene.set_viewer(viewer, viewer_impact) {
-            godot_error!("crowdgaze: {}: the viewer: {error}", path_of(owner));
+            if reports.first(crowd_key, "viewer", &error) {
+                let error = format!("the camera as the viewer: {error}");
+                godot_error!(
+                    "{}",
+                    message(&path_of(owner), "CrowdGaze._process", &error, "")
+                );
+            }
         }
         let read = start.elapsed();
         if let Err(error) = scene.step(delta as f32) {
             skeletons.clear();
-            godot_error!("crowdgaze: {}: {error}", path_of(owner));
+            if reports.first(crowd_key, "step", &error) {
+                godot_error!(
+                    "{}",
+                    message(
+                        &path_of(owner),
+                        "CrowdGaze._process",
+                        &error,
+                        "the frame is skipped"
+                    )
+                );
+            }
             return;
         }
         let stepped = start.elapsed();
@@ -485,7 +647,13 @@ impl CrowdGaze {
             // SAFETY: alive (above), used on the main thread within this call.
             let skeleton = unsafe { skeleton.assume_safe() };
             if let Err(error) = scene.write_character(slot, &mut GodotSkeleton(skeleton)) {
-                godot_error!("crowdgaze: writing the gaze: {error}");
+                let key = scene.character_key(slot).unwrap_or_default();
+                if reports.first(key, "write", &error) {
+                    godot_error!(
+                        "{}",
+                        message(&path_of(&skeleton), "CrowdGaze._process", &error, "")
+                    );
+                }
             }
         }
         let written = start.elapsed();
@@ -527,6 +695,7 @@ impl CrowdGaze {
     #[export]
     fn _enter_tree(&mut self, owner: &Spatial) {
         boundary("CrowdGaze._enter_tree", (), || {
+            on_main_thread_now();
             owner.add_to_group(CROWD_GROUP, false);
             // After the scripts that animate in _process (AnimationPlayers run before any).
             if owner.process_priority() == 0 {
@@ -548,6 +717,7 @@ impl CrowdGaze {
             owner.remove_from_group(CROWD_GROUP);
             self.scene = None;
             self.refused.clear();
+            self.reports.clear();
             self.config_failed = false;
         })
     }
@@ -729,7 +899,10 @@ impl CrowdGaze {
             match result {
                 Ok(()) => true,
                 Err(error) => {
-                    godot_error!("crowdgaze: {}: set_gaze_target: {error}", path_of(owner));
+                    godot_error!(
+                        "{}",
+                        message(&path_of(owner), "CrowdGaze.set_gaze_target", &error, "")
+                    );
                     false
                 }
             }

@@ -4,22 +4,26 @@
 
 use gdnative::prelude::*;
 
-use crate::character::{find_crowd, with_crowd};
-use crate::convert::boundary;
+use crowdgaze_godot_adapter::message;
+
+use crate::character::{leave, resolve_crowd, with_crowd};
+use crate::convert::{boundary, Data};
 use crate::crowd_gaze::TARGET_GROUP;
 
 /// A scene object for the characters to look at.
 #[derive(NativeClass)]
 #[inherit(Spatial)]
+#[user_data(Data<GazeTarget>)]
 pub struct GazeTarget {
-    /// The `CrowdGaze` node to join; empty: the first one in the tree.
+    /// The `CrowdGaze` node to join; empty: the nearest `CrowdGaze` ancestor, else the only
+    /// `CrowdGaze` in the tree.
     #[property]
     crowd: NodePath,
     /// How high above the node's origin the characters look, metres.
-    #[property(default = 0.0)]
+    #[property(default = 0.0, after_set = "Self::settings_changed")]
     look_at_height: f64,
     /// How interesting it is (`I_E`, ≥ 0; characters have 1).
-    #[property(default = 1.0)]
+    #[property(default = 1.0, after_set = "Self::settings_changed")]
     impact: f64,
 }
 
@@ -30,6 +34,11 @@ impl GazeTarget {
             look_at_height: 0.0,
             impact: 1.0,
         }
+    }
+
+    /// The `crowd` path as set.
+    pub fn crowd_path(&self) -> NodePath {
+        self.crowd.new_ref()
     }
 
     /// The settings a `CrowdGaze` registers the target with: look-at height and impact.
@@ -57,29 +66,51 @@ impl GazeTarget {
     fn _exit_tree(&self, owner: TRef<Spatial>) {
         boundary("GazeTarget._exit_tree", (), || {
             owner.remove_from_group(TARGET_GROUP);
-            if let Some(crowd) = find_crowd(&owner, &self.crowd) {
-                let key = owner.get_instance_id();
-                with_crowd(crowd, |crowd, _| crowd.unregister(key));
-            }
+            leave(&owner);
         })
     }
 }
 
 impl GazeTarget {
-    fn join(&self, owner: TRef<Spatial>, warn: bool) {
-        match find_crowd(&owner, &self.crowd) {
-            Some(crowd) => {
+    fn join(&self, owner: TRef<Spatial>, report: bool) {
+        let path = owner.get_path().to_string();
+        match resolve_crowd(&owner, &self.crowd) {
+            Ok(Some(crowd)) => {
                 let (height, impact) = self.settings();
                 with_crowd(crowd, |crowd, crowd_owner| {
                     crowd.register_target(&crowd_owner, owner, height, impact)
                 });
             }
-            None if warn => godot_warn!(
-                "crowdgaze: {}: no CrowdGaze node in the tree yet; the target joins the first \
-                 one that enters",
-                owner.get_path().to_string()
+            Ok(None) if report => godot_warn!(
+                "crowdgaze: {path}: no CrowdGaze node in the tree yet; the target joins the \
+                 first one that enters"
             ),
-            None => {}
+            Ok(None) => {}
+            Err(error) if report => godot_error!(
+                "{}",
+                message(
+                    &path,
+                    "GazeTarget._ready",
+                    &error,
+                    "the target joins no crowd"
+                )
+            ),
+            Err(_) => {}
         }
+    }
+
+    /// `look_at_height` or `impact` was set: a target in a crowd takes the new values now.
+    fn settings_changed(&mut self, owner: TRef<Spatial>) {
+        boundary("GazeTarget.settings_changed", (), || {
+            if !owner.is_inside_tree() {
+                return;
+            }
+            if let Ok(Some(crowd)) = resolve_crowd(&owner, &self.crowd) {
+                let (height, impact) = self.settings();
+                with_crowd(crowd, |crowd, crowd_owner| {
+                    crowd.update_target(&crowd_owner, owner, height, impact)
+                });
+            }
+        })
     }
 }

@@ -5,7 +5,8 @@
 //! joins a `CrowdGaze` node when it enters the tree and leaves it when it exits (freed or
 //! removed).
 
-use godot::classes::{ISkeletonModifier3D, Node3D, SkeletonModifier3D};
+use crowdgaze_godot_adapter::{choose_crowd, message, NamedNode};
+use godot::classes::{ISkeletonModifier3D, Node3D, Os, SkeletonModifier3D};
 use godot::prelude::*;
 
 use crate::convert::boundary;
@@ -15,37 +16,90 @@ use crate::crowd_gaze::{CrowdGaze, CHARACTER_GROUP, CROWD_GROUP};
 #[derive(GodotClass)]
 #[class(base = SkeletonModifier3D)]
 pub struct CrowdGazeCharacter {
-    /// The `CrowdGaze` node to join; empty: the first one in the tree.
+    /// The `CrowdGaze` node to join; empty: the nearest `CrowdGaze` ancestor, else the only
+    /// `CrowdGaze` in the tree.
     #[export]
     crowd: NodePath,
     /// Bone map overrides, `Name=role` comma separated (roles: root, spine, neck, head,
     /// left_eye, right_eye, none), on top of the default map (Hips, Spine…, Neck, Head,
     /// LeftEye, RightEye and the usual variants).
     #[export]
+    #[var(set = set_bone_map)]
     bone_map: GString,
     /// How interesting this character is to others (`I_E`, ≥ 0).
     #[export]
+    #[var(set = set_impact)]
     impact: f64,
     /// The `CrowdGaze` node joined (its instance id), for the per-frame write.
     joined: Option<InstanceId>,
     base: Base<SkeletonModifier3D>,
 }
 
-/// The `CrowdGaze` node a character or target joins: the one at `path`, or the first one
-/// in the tree.
-pub fn find_crowd(node: &Gd<Node>, path: &NodePath) -> Option<Gd<CrowdGaze>> {
+/// The `CrowdGaze` node a character or target joins (see [`choose_crowd`]): the one its
+/// `crowd` path names, else its nearest `CrowdGaze` ancestor, else the only one in the
+/// tree; `Ok(None)` if there is none yet. Errors say what to set.
+pub fn resolve_crowd(node: &Gd<Node>, path: &NodePath) -> Result<Option<Gd<CrowdGaze>>, String> {
     if !node.is_inside_tree() {
-        return None;
+        return Ok(None);
     }
-    let found = if path.is_empty() {
-        node.get_tree()
-            .get_nodes_in_group(CROWD_GROUP)
-            .iter_shared()
-            .next()?
+    let mut candidates: Vec<Gd<CrowdGaze>> = Vec::new();
+    let named = if path.is_empty() {
+        NamedNode::Unset
     } else {
-        node.get_node_or_null(path)?
+        match node.get_node_or_null(path) {
+            None => NamedNode::Missing,
+            Some(found) => match found.clone().try_cast::<CrowdGaze>() {
+                Ok(crowd) => {
+                    candidates.push(crowd);
+                    NamedNode::Crowd(0)
+                }
+                Err(other) => {
+                    NamedNode::NotACrowd(format!("{} ({})", other.get_class(), other.get_path()))
+                }
+            },
+        }
     };
-    found.try_cast::<CrowdGaze>().ok()
+    let mut ancestor = None;
+    let mut parent = node.get_parent();
+    while let Some(current) = parent {
+        match current.clone().try_cast::<CrowdGaze>() {
+            Ok(crowd) => {
+                ancestor = Some(candidates.len());
+                candidates.push(crowd);
+                break;
+            }
+            Err(current) => parent = current.get_parent(),
+        }
+    }
+    let mut in_tree = Vec::new();
+    if let Some(tree) = node.get_tree_or_null() {
+        for found in tree.get_nodes_in_group(CROWD_GROUP).iter_shared() {
+            if let Ok(crowd) = found.try_cast::<CrowdGaze>() {
+                in_tree.push(candidates.len());
+                candidates.push(crowd);
+            }
+        }
+    }
+    let text = path.to_string();
+    Ok(choose_crowd(&text, named, ancestor, &in_tree)?.map(|k| candidates[k].clone()))
+}
+
+/// True on Godot's main thread.
+pub fn is_main_thread() -> bool {
+    let os = Os::singleton();
+    os.get_thread_caller_id() == os.get_main_thread_id()
+}
+
+/// Takes a node out of every crowd (it left the tree).
+pub fn leave(node: &Gd<Node>) {
+    let key = node.instance_id().to_i64();
+    if let Some(tree) = node.get_tree_or_null() {
+        for found in tree.get_nodes_in_group(CROWD_GROUP).iter_shared() {
+            if let Ok(mut crowd) = found.try_cast::<CrowdGaze>() {
+                crowd.bind_mut().unregister(key);
+            }
+        }
+    }
 }
 
 #[godot_api]
@@ -75,14 +129,8 @@ impl ISkeletonModifier3D for CrowdGazeCharacter {
         boundary("CrowdGazeCharacter._exit_tree", (), || {
             self.base_mut().remove_from_group(CHARACTER_GROUP);
             let node = self.to_gd().upcast::<Node>();
-            let crowd = self
-                .joined
-                .take()
-                .and_then(|id| Gd::try_from_instance_id(id).ok());
-            if let Some(mut crowd) = crowd.or_else(|| find_crowd(&node, &self.crowd)) {
-                let key = node.instance_id().to_i64();
-                crowd.bind_mut().unregister(key);
-            }
+            self.joined = None;
+            leave(&node);
         })
     }
 
@@ -109,7 +157,35 @@ impl CrowdGazeCharacter {
     #[func]
     fn get_crowd_node(&self) -> Variant {
         let node = self.to_gd().upcast::<Node>();
-        find_crowd(&node, &self.crowd).map_or_else(Variant::nil, |crowd| crowd.to_variant())
+        resolve_crowd(&node, &self.crowd)
+            .ok()
+            .flatten()
+            .map_or_else(Variant::nil, |crowd| crowd.to_variant())
+    }
+
+    /// Sets `bone_map`; a character in a crowd is mapped again at once.
+    #[func]
+    fn set_bone_map(&mut self, bone_map: GString) {
+        self.bone_map = bone_map;
+        self.settings_changed();
+    }
+
+    /// Sets `impact`; a character in a crowd takes it at once.
+    #[func]
+    fn set_impact(&mut self, impact: f64) {
+        self.impact = impact;
+        self.settings_changed();
+    }
+
+    /// Joins the crowd on the main thread (called deferred when the node entered the tree
+    /// on another thread).
+    #[func]
+    fn _crowdgaze_join(&mut self) {
+        boundary("CrowdGazeCharacter._crowdgaze_join", (), || {
+            if self.base().is_inside_tree() {
+                self.join(true);
+            }
+        })
     }
 }
 
@@ -119,27 +195,65 @@ impl CrowdGazeCharacter {
         self.joined = Some(crowd);
     }
 
+    /// The `crowd` path as set.
+    pub fn crowd_path(&self) -> NodePath {
+        self.crowd.clone()
+    }
+
     /// The settings a `CrowdGaze` registers the character with: bone map and impact.
     pub fn settings(&self) -> (String, f64) {
         (self.bone_map.to_string(), self.impact)
     }
 
-    fn join(&mut self, warn: bool) {
+    /// Joins its crowd; on another thread than the main one, deferred to it. With `report`
+    /// (in `_ready`), a crowd path or tree that names no crowd is reported.
+    fn join(&mut self, report: bool) {
+        if !is_main_thread() {
+            self.base_mut().call_deferred("_crowdgaze_join", &[]);
+            return;
+        }
         let node = self.to_gd();
-        match find_crowd(&node.clone().upcast::<Node>(), &self.crowd) {
-            Some(mut crowd) => {
+        let path = node.clone().upcast::<Node>().get_path().to_string();
+        match resolve_crowd(&node.clone().upcast::<Node>(), &self.crowd) {
+            Ok(Some(mut crowd)) => {
                 let (bone_map, impact) = self.settings();
                 self.joined = Some(crowd.instance_id());
                 crowd
                     .bind_mut()
                     .register_character(node.upcast::<Node3D>(), &bone_map, impact);
             }
-            None if warn => godot_warn!(
-                "crowdgaze: {}: no CrowdGaze node in the tree yet; the character joins the \
-                 first one that enters",
-                node.upcast::<Node>().get_path()
+            Ok(None) if report => godot_warn!(
+                "crowdgaze: {path}: no CrowdGaze node in the tree yet; the character joins the \
+                 first one that enters"
             ),
-            None => {}
+            Ok(None) => {}
+            Err(error) if report => godot_error!(
+                "{}",
+                message(
+                    &path,
+                    "CrowdGazeCharacter._ready",
+                    &error,
+                    "the character joins no crowd"
+                )
+            ),
+            Err(_) => {}
         }
+    }
+
+    /// `bone_map` or `impact` was set: a character in a crowd takes the new values now.
+    fn settings_changed(&mut self) {
+        boundary("CrowdGazeCharacter.settings_changed", (), || {
+            let node = self.to_gd();
+            if !node.is_inside_tree() {
+                return;
+            }
+            if let Ok(Some(mut crowd)) = resolve_crowd(&node.clone().upcast::<Node>(), &self.crowd)
+            {
+                let (bone_map, impact) = self.settings();
+                crowd
+                    .bind_mut()
+                    .update_character(node.upcast::<Node3D>(), &bone_map, impact);
+            }
+        })
     }
 }

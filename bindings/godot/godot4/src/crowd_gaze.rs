@@ -5,16 +5,19 @@
 //! (`null` for none; the active camera when it looks at the player).
 
 use std::collections::HashSet;
+use std::sync::Arc;
 use std::time::Instant;
 
 use crowdgaze_godot_adapter::crowdgaze::crowd::{ExplicitTarget, TargetPriority};
 use crowdgaze_godot_adapter::crowdgaze::ik::MAX_CHAIN_JOINTS;
-use crowdgaze_godot_adapter::crowdgaze::skeleton_map::BoneMap;
-use crowdgaze_godot_adapter::crowdgaze::CrowdConfig;
-use crowdgaze_godot_adapter::{CharacterSettings, EntityNode, PoseConvention, SceneCrowd};
+use crowdgaze_godot_adapter::{
+    claim_skeleton, message, CharacterSettings, CrowdSettings, EntityNode, PoseConvention, Reports,
+    SceneCrowd, SkeletonClaim,
+};
 use godot::classes::{Camera3D, INode3D, Node3D, Skeleton3D};
 use godot::prelude::*;
 
+use crate::character::resolve_crowd;
 use crate::convert::{boundary, quaternion, vec3, vector, xform};
 use crate::skeleton::GodotSkeleton;
 
@@ -26,10 +29,23 @@ pub const CHARACTER_GROUP: &str = "crowdgaze_characters";
 pub const TARGET_GROUP: &str = "crowdgaze_targets";
 
 /// A registered node: its instance id, and its skeleton's for a character (0 for a target).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone)]
 pub struct Handle {
     node: i64,
     skeleton: i64,
+    /// A character's hold on its skeleton (released when the handle goes).
+    _claim: Option<Arc<SkeletonClaim>>,
+}
+
+/// True if `node`, whose `crowd` path is `path`, joins the crowd `crowd`.
+fn joins(crowd: InstanceId, node: &Gd<Node>, path: &NodePath) -> bool {
+    matches!(resolve_crowd(node, path), Ok(Some(found)) if found.instance_id() == crowd)
+}
+
+/// A character node's parent `Skeleton3D`, if it is one.
+fn skeleton_of(node: &Gd<Node3D>) -> Option<Gd<Skeleton3D>> {
+    node.get_parent()
+        .and_then(|parent| parent.try_cast::<Skeleton3D>().ok())
 }
 
 /// The live object of an instance id, if it is still there and of class `T`.
@@ -101,6 +117,8 @@ pub struct CrowdGaze {
     scene: Option<SceneCrowd<Handle>>,
     /// Nodes refused (reported once), by instance id.
     refused: HashSet<i64>,
+    /// What was reported: each node's error once per cause.
+    reports: Reports,
     /// True once creating the crowd failed (reported once).
     config_failed: bool,
     /// The last frame's cost, microseconds: reading the scene, stepping.
@@ -127,6 +145,7 @@ impl INode3D for CrowdGaze {
             viewer_impact: 3.0,
             scene: None,
             refused: HashSet::new(),
+            reports: Reports::new(),
             config_failed: false,
             frame_usec: [0.0; 2],
             base,
@@ -154,6 +173,7 @@ impl INode3D for CrowdGaze {
             self.base_mut().remove_from_group(CROWD_GROUP);
             self.scene = None;
             self.refused.clear();
+            self.reports.clear();
             self.config_failed = false;
         })
     }
@@ -164,36 +184,43 @@ impl INode3D for CrowdGaze {
 }
 
 impl CrowdGaze {
-    /// The crowd's settings from the exported fields.
-    fn config(&self) -> CrowdConfig {
-        let count = |value: i64| value.clamp(0, i64::from(u32::MAX)) as u32;
-        let mut config = CrowdConfig {
-            seed: self.seed as u64,
-            max_characters: count(self.max_characters),
-            max_objects: count(self.max_targets),
-            attention_fraction_range: (
-                self.attention_fraction_min as f32,
-                self.attention_fraction_max as f32,
-            ),
-            threads: count(self.threads),
-            attention_period: count(self.attention_period),
-            lod_distance: self.lod_distance as f32,
-            far_attention_period: count(self.far_attention_period),
-            ..CrowdConfig::default()
-        };
-        config.scoring.max_distance = self.max_distance as f32;
-        config.scoring.field_of_view = (self.field_of_view as f32).to_radians();
-        config
+    /// The crowd's settings from the exported fields, as given.
+    fn settings(&self) -> CrowdSettings {
+        CrowdSettings {
+            seed: self.seed,
+            max_characters: self.max_characters,
+            max_targets: self.max_targets,
+            max_distance: self.max_distance,
+            field_of_view: self.field_of_view,
+            attention_fraction_min: self.attention_fraction_min,
+            attention_fraction_max: self.attention_fraction_max,
+            threads: self.threads,
+            attention_period: self.attention_period,
+            lod_distance: self.lod_distance,
+            far_attention_period: self.far_attention_period,
+        }
     }
 
     /// The crowd, created from the settings the first time.
     fn scene(&mut self) -> Option<&mut SceneCrowd<Handle>> {
         if self.scene.is_none() && !self.config_failed {
-            match SceneCrowd::new(self.config(), PoseConvention::PoseIsLocal) {
+            let created = self
+                .settings()
+                .config()
+                .and_then(|config| SceneCrowd::new(config, PoseConvention::PoseIsLocal));
+            match created {
                 Ok(scene) => self.scene = Some(scene),
                 Err(error) => {
                     self.config_failed = true;
-                    godot_error!("crowdgaze: {}: {error}", path_of(&self.to_gd()));
+                    godot_error!(
+                        "{}",
+                        message(
+                            &path_of(&self.to_gd()),
+                            "CrowdGaze._enter_tree",
+                            &error,
+                            "no crowd is created"
+                        )
+                    );
                 }
             }
         }
@@ -221,38 +248,110 @@ impl CrowdGaze {
         if scene.entity_of(key).is_some() {
             return;
         }
-        let skeleton = node
-            .get_parent()
-            .and_then(|parent| parent.try_cast::<Skeleton3D>().ok());
+        let skeleton = skeleton_of(&node);
+        let path = path_of(&node);
         let result = match skeleton {
-            None => Err("a CrowdGazeCharacter must be a child of a Skeleton3D".to_string()),
-            Some(skeleton) => BoneMap::with_overrides(bone_map)
-                .and_then(|bone_map| {
-                    let settings = CharacterSettings {
-                        bone_map,
-                        impact: impact as f32,
-                    };
-                    let handle = Handle {
-                        node: key,
-                        skeleton: skeleton.instance_id().to_i64(),
-                    };
-                    scene.add_character(
-                        key,
-                        handle,
-                        &GodotSkeleton(skeleton),
-                        &xform(&node.get_transform()),
-                        &settings,
-                    )
+            None => Err(
+                "a CrowdGazeCharacter must be a child of a Skeleton3D: move it under one"
+                    .to_string(),
+            ),
+            Some(skeleton) => {
+                let skeleton_key = skeleton.instance_id().to_i64();
+                claim_skeleton(skeleton_key, key, &path).and_then(|claim| {
+                    CharacterSettings::new(bone_map, impact)
+                        .and_then(|settings| {
+                            let handle = Handle {
+                                node: key,
+                                skeleton: skeleton_key,
+                                _claim: Some(Arc::new(claim)),
+                            };
+                            scene.add_character(
+                                key,
+                                handle,
+                                &GodotSkeleton(skeleton),
+                                &xform(&node.get_transform()),
+                                &settings,
+                            )
+                        })
+                        .map(|_| ())
+                        .map_err(|error| error.to_string())
                 })
-                .map(|_| ())
-                .map_err(|error| error.to_string()),
+            }
         };
         if let Err(error) = result {
             self.refused.insert(key);
             godot_error!(
-                "crowdgaze: {}: {error}; the character is left out of the crowd",
-                path_of(&node)
+                "{}",
+                message(
+                    &path,
+                    "CrowdGazeCharacter._enter_tree",
+                    &error,
+                    "the character is left out of the crowd"
+                )
             );
+        }
+    }
+
+    /// A registered character's `bone_map` or `impact` changed: the crowd takes them (a
+    /// character refused before tries to join again).
+    pub fn update_character(&mut self, node: Gd<Node3D>, bone_map: &str, impact: f64) {
+        let key = node.instance_id().to_i64();
+        let registered = self.scene.as_ref().and_then(|s| s.entity_of(key)).is_some();
+        if !registered {
+            self.refused.remove(&key);
+            self.register_character(node, bone_map, impact);
+            return;
+        }
+        let (Some(scene), Some(skeleton)) = (self.scene.as_mut(), skeleton_of(&node)) else {
+            return;
+        };
+        let result = CharacterSettings::new(bone_map, impact).and_then(|settings| {
+            scene.update_character(
+                key,
+                &GodotSkeleton(skeleton),
+                &xform(&node.get_transform()),
+                &settings,
+            )
+        });
+        if let Err(error) = result {
+            if self.reports.first(key, "settings", &error) {
+                godot_error!(
+                    "{}",
+                    message(
+                        &path_of(&node),
+                        "CrowdGazeCharacter.set_bone_map/set_impact",
+                        &error,
+                        "the character keeps its previous settings"
+                    )
+                );
+            }
+        }
+    }
+
+    /// A registered target's `look_at_height` or `impact` changed.
+    pub fn update_target(&mut self, node: Gd<Node3D>, look_at_height: f64, impact: f64) {
+        let key = node.instance_id().to_i64();
+        let registered = self.scene.as_ref().and_then(|s| s.entity_of(key)).is_some();
+        if !registered {
+            self.refused.remove(&key);
+            self.register_target(node, look_at_height, impact);
+            return;
+        }
+        let Some(scene) = self.scene.as_mut() else {
+            return;
+        };
+        if let Err(error) = scene.update_target(key, look_at_height as f32, impact as f32) {
+            if self.reports.first(key, "settings", &error) {
+                godot_error!(
+                    "{}",
+                    message(
+                        &path_of(&node),
+                        "GazeTarget.set_look_at_height/set_impact",
+                        &error,
+                        "the target keeps its previous settings"
+                    )
+                );
+            }
         }
     }
 
@@ -271,6 +370,7 @@ impl CrowdGaze {
         let handle = Handle {
             node: key,
             skeleton: 0,
+            _claim: None,
         };
         let placed = xform(&node.get_global_transform());
         if let Err(error) =
@@ -278,8 +378,13 @@ impl CrowdGaze {
         {
             self.refused.insert(key);
             godot_error!(
-                "crowdgaze: {}: {error}; the target is left out of the crowd",
-                path_of(&node)
+                "{}",
+                message(
+                    &path_of(&node),
+                    "GazeTarget._enter_tree",
+                    &error,
+                    "the target is left out of the crowd"
+                )
             );
         }
     }
@@ -287,6 +392,7 @@ impl CrowdGaze {
     /// Removes a node from the crowd (it left the tree).
     pub fn unregister(&mut self, key: i64) {
         self.refused.remove(&key);
+        self.reports.forget(key);
         if let Some(scene) = self.scene.as_mut() {
             scene.remove(key);
         }
@@ -299,7 +405,18 @@ impl CrowdGaze {
         };
         if let Some(slot) = scene.character_slot(key) {
             if let Err(error) = scene.write_character(slot, &mut GodotSkeleton(skeleton)) {
-                godot_error!("crowdgaze: writing the gaze: {error}");
+                if self.reports.first(key, "write", &error) {
+                    let path = path_of(&self.to_gd());
+                    godot_error!(
+                        "{}",
+                        message(
+                            &path,
+                            "CrowdGazeCharacter._process_modification",
+                            &error,
+                            ""
+                        )
+                    );
+                }
             }
         }
     }
@@ -313,14 +430,25 @@ impl CrowdGaze {
         for node in tree.get_nodes_in_group(CHARACTER_GROUP).iter_shared() {
             if let Ok(mut character) = node.try_cast::<crate::character::CrowdGazeCharacter>() {
                 let (bone_map, impact) = character.bind().settings();
-                character.bind_mut().set_joined(self.to_gd().instance_id());
-                self.register_character(character.upcast(), &bone_map, impact);
+                let path = character.bind().crowd_path();
+                let me = self.to_gd().instance_id();
+                if joins(me, &character.clone().upcast::<Node>(), &path) {
+                    character.bind_mut().set_joined(me);
+                    self.register_character(character.upcast(), &bone_map, impact);
+                }
             }
         }
         for node in tree.get_nodes_in_group(TARGET_GROUP).iter_shared() {
             if let Ok(target) = node.try_cast::<crate::target::GazeTarget>() {
                 let (height, impact) = target.bind().settings();
-                self.register_target(target.upcast(), height, impact);
+                let path = target.bind().crowd_path();
+                if joins(
+                    self.to_gd().instance_id(),
+                    &target.clone().upcast::<Node>(),
+                    &path,
+                ) {
+                    self.register_target(target.upcast(), height, impact);
+                }
             }
         }
     }
@@ -331,12 +459,14 @@ impl CrowdGaze {
         let camera = self.camera();
         let viewer_impact = self.viewer_impact as f32;
         let me = self.to_gd();
+        let crowd_key = me.instance_id().to_i64();
+        let reports = &mut self.reports;
         let Some(scene) = self.scene.as_mut() else {
             return;
         };
         let mut slot = 0;
         while slot < scene.character_count() {
-            let Some(handle) = scene.character_handle(slot).copied() else {
+            let Some(handle) = scene.character_handle(slot).cloned() else {
                 break;
             };
             match (
@@ -348,21 +478,30 @@ impl CrowdGaze {
                     if let Err(error) =
                         scene.read_character(slot, &GodotSkeleton(skeleton), &placed)
                     {
-                        godot_error!(
-                            "crowdgaze: {}: {error}; the character keeps its last state",
-                            path_of(&node)
-                        );
+                        if reports.first(handle.node, "read", &error) {
+                            godot_error!(
+                                "{}",
+                                message(
+                                    &path_of(&node),
+                                    "CrowdGaze._process",
+                                    &error,
+                                    "the character keeps its last state and its bones are \
+                                     left alone until this is fixed"
+                                )
+                            );
+                        }
                     }
                     slot += 1;
                 }
                 _ => {
                     scene.remove(handle.node);
+                    reports.forget(handle.node);
                 }
             }
         }
         let mut slot = 0;
         while slot < scene.target_count() {
-            let Some(handle) = scene.target_handle(slot).copied() else {
+            let Some(handle) = scene.target_handle(slot).cloned() else {
                 break;
             };
             match live::<Node3D>(handle.node) {
@@ -370,10 +509,17 @@ impl CrowdGaze {
                     if let Err(error) =
                         scene.read_target(slot, &xform(&node.get_global_transform()))
                     {
-                        godot_error!(
-                            "crowdgaze: {}: {error}; the target stays where it was",
-                            path_of(&node)
-                        );
+                        if reports.first(handle.node, "read", &error) {
+                            godot_error!(
+                                "{}",
+                                message(
+                                    &path_of(&node),
+                                    "CrowdGaze._process",
+                                    &error,
+                                    "the target stays where it was"
+                                )
+                            );
+                        }
                     }
                     slot += 1;
                 }
@@ -386,11 +532,27 @@ impl CrowdGaze {
             .as_ref()
             .map(|camera| vec3(camera.get_global_transform().origin));
         if let Err(error) = scene.set_viewer(viewer, viewer_impact) {
-            godot_error!("crowdgaze: {}: the viewer: {error}", path_of(&me));
+            if reports.first(crowd_key, "viewer", &error) {
+                let error = format!("the camera as the viewer: {error}");
+                godot_error!(
+                    "{}",
+                    message(&path_of(&me), "CrowdGaze._process", &error, "")
+                );
+            }
         }
         let read = start.elapsed();
         if let Err(error) = scene.step(delta as f32) {
-            godot_error!("crowdgaze: {}: {error}", path_of(&me));
+            if reports.first(crowd_key, "step", &error) {
+                godot_error!(
+                    "{}",
+                    message(
+                        &path_of(&me),
+                        "CrowdGaze._process",
+                        &error,
+                        "the frame is skipped"
+                    )
+                );
+            }
             return;
         }
         self.frame_usec = [
@@ -592,7 +754,7 @@ impl CrowdGaze {
             match result {
                 Ok(()) => true,
                 Err(error) => {
-                    godot_error!("crowdgaze: {me}: set_gaze_target: {error}");
+                    godot_error!("{}", message(&me, "CrowdGaze.set_gaze_target", &error, ""));
                     false
                 }
             }

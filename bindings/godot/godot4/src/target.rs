@@ -2,10 +2,11 @@
 //! `look_at_height` along +Y, as interesting as its `impact`. It joins a `CrowdGaze` node
 //! when it enters the tree and leaves it when it exits.
 
+use crowdgaze_godot_adapter::message;
 use godot::classes::{INode3D, Node3D};
 use godot::prelude::*;
 
-use crate::character::find_crowd;
+use crate::character::{leave, resolve_crowd};
 use crate::convert::boundary;
 use crate::crowd_gaze::TARGET_GROUP;
 
@@ -13,14 +14,17 @@ use crate::crowd_gaze::TARGET_GROUP;
 #[derive(GodotClass)]
 #[class(base = Node3D)]
 pub struct GazeTarget {
-    /// The `CrowdGaze` node to join; empty: the first one in the tree.
+    /// The `CrowdGaze` node to join; empty: the nearest `CrowdGaze` ancestor, else the only
+    /// `CrowdGaze` in the tree.
     #[export]
     crowd: NodePath,
     /// How high above the node's origin the characters look, metres.
     #[export]
+    #[var(set = set_look_at_height)]
     look_at_height: f64,
     /// How interesting it is (`I_E`, ≥ 0; characters have 1).
     #[export]
+    #[var(set = set_impact)]
     impact: f64,
     base: Base<Node3D>,
 }
@@ -51,10 +55,25 @@ impl INode3D for GazeTarget {
         boundary("GazeTarget._exit_tree", (), || {
             self.base_mut().remove_from_group(TARGET_GROUP);
             let node = self.to_gd().upcast::<Node>();
-            if let Some(mut crowd) = find_crowd(&node, &self.crowd) {
-                crowd.bind_mut().unregister(node.instance_id().to_i64());
-            }
+            leave(&node);
         })
+    }
+}
+
+#[godot_api]
+impl GazeTarget {
+    /// Sets `look_at_height`; a target in a crowd takes it at once.
+    #[func]
+    fn set_look_at_height(&mut self, look_at_height: f64) {
+        self.look_at_height = look_at_height;
+        self.settings_changed();
+    }
+
+    /// Sets `impact`; a target in a crowd takes it at once.
+    #[func]
+    fn set_impact(&mut self, impact: f64) {
+        self.impact = impact;
+        self.settings_changed();
     }
 }
 
@@ -64,21 +83,53 @@ impl GazeTarget {
         (self.look_at_height, self.impact)
     }
 
-    fn join(&self, warn: bool) {
+    fn join(&self, report: bool) {
         let node = self.to_gd();
-        match find_crowd(&node.clone().upcast::<Node>(), &self.crowd) {
-            Some(mut crowd) => {
+        let path = node.clone().upcast::<Node>().get_path().to_string();
+        match resolve_crowd(&node.clone().upcast::<Node>(), &self.crowd) {
+            Ok(Some(mut crowd)) => {
                 let (height, impact) = self.settings();
                 crowd
                     .bind_mut()
                     .register_target(node.upcast::<Node3D>(), height, impact);
             }
-            None if warn => godot_warn!(
-                "crowdgaze: {}: no CrowdGaze node in the tree yet; the target joins the first \
-                 one that enters",
-                node.upcast::<Node>().get_path()
+            Ok(None) if report => godot_warn!(
+                "crowdgaze: {path}: no CrowdGaze node in the tree yet; the target joins the \
+                 first one that enters"
             ),
-            None => {}
+            Ok(None) => {}
+            Err(error) if report => godot_error!(
+                "{}",
+                message(
+                    &path,
+                    "GazeTarget._ready",
+                    &error,
+                    "the target joins no crowd"
+                )
+            ),
+            Err(_) => {}
         }
+    }
+
+    /// `look_at_height` or `impact` was set: a target in a crowd takes the new values now.
+    fn settings_changed(&mut self) {
+        boundary("GazeTarget.settings_changed", (), || {
+            let node = self.to_gd();
+            if !node.is_inside_tree() {
+                return;
+            }
+            if let Ok(Some(mut crowd)) = resolve_crowd(&node.clone().upcast::<Node>(), &self.crowd)
+            {
+                let (height, impact) = self.settings();
+                crowd
+                    .bind_mut()
+                    .update_target(node.upcast::<Node3D>(), height, impact);
+            }
+        })
+    }
+
+    /// The `crowd` path as set.
+    pub fn crowd_path(&self) -> NodePath {
+        self.crowd.clone()
     }
 }

@@ -1,0 +1,164 @@
+//! A `CrowdGaze` node's inspector values as Godot holds them (64-bit integers and floats),
+//! checked and turned into the library's [`CrowdConfig`]: a value out of range is reported
+//! as it was given (`max_characters = -5`), never as what a conversion made of it.
+
+use crowdgaze::{CrowdConfig, Error, Result};
+
+/// The `CrowdGaze` node's exported settings, as given.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CrowdSettings {
+    /// Seed of every random choice (any integer; its 64 bits are used).
+    pub seed: i64,
+    /// Most characters.
+    pub max_characters: i64,
+    /// Most targets.
+    pub max_targets: i64,
+    /// `d_m`, metres.
+    pub max_distance: f64,
+    /// Degrees.
+    pub field_of_view: f64,
+    /// Smallest attending share (0 to 1).
+    pub attention_fraction_min: f64,
+    /// Largest attending share (0 to 1).
+    pub attention_fraction_max: f64,
+    /// Threads a step uses (0: one per core).
+    pub threads: i64,
+    /// Frames between attention updates (1 to 64).
+    pub attention_period: i64,
+    /// Metres beyond which `far_attention_period` applies (0: off).
+    pub lod_distance: f64,
+    /// Frames between far attention updates (1 to 64).
+    pub far_attention_period: i64,
+}
+
+impl Default for CrowdSettings {
+    /// The inspector's defaults.
+    fn default() -> Self {
+        CrowdSettings {
+            seed: 1,
+            max_characters: 1024,
+            max_targets: 256,
+            max_distance: 10.0,
+            field_of_view: 180.0,
+            attention_fraction_min: 0.2,
+            attention_fraction_max: 0.6,
+            threads: 1,
+            attention_period: 1,
+            lod_distance: 0.0,
+            far_attention_period: 4,
+        }
+    }
+}
+
+impl CrowdSettings {
+    /// The library's configuration. Errors name the setting and its value as given.
+    pub fn config(&self) -> Result<CrowdConfig> {
+        let count = |value: i64, name: &str| -> Result<u32> {
+            u32::try_from(value).map_err(|_| {
+                Error::InvalidArgument(format!(
+                    "{name} = {value}: it must be a count from 0 to {}; set it in the inspector",
+                    u32::MAX
+                ))
+            })
+        };
+        let real = |value: f64, name: &str| -> Result<f32> {
+            let single = value as f32;
+            if value.is_finite() && !single.is_finite() {
+                return Err(Error::InvalidArgument(format!(
+                    "{name} = {value:?}: too large; set it in the inspector"
+                )));
+            }
+            Ok(single)
+        };
+        let mut config = CrowdConfig {
+            seed: self.seed as u64,
+            max_characters: count(self.max_characters, "max_characters")?,
+            max_objects: count(self.max_targets, "max_targets")?,
+            attention_fraction_range: (
+                real(self.attention_fraction_min, "attention_fraction_min")?,
+                real(self.attention_fraction_max, "attention_fraction_max")?,
+            ),
+            threads: count(self.threads, "threads")?,
+            attention_period: count(self.attention_period, "attention_period")?,
+            lod_distance: real(self.lod_distance, "lod_distance")?,
+            far_attention_period: count(self.far_attention_period, "far_attention_period")?,
+            ..CrowdConfig::default()
+        };
+        config.scoring.max_distance = real(self.max_distance, "max_distance")?;
+        // The library checks radians; the node's value is in degrees.
+        if !(self.field_of_view.is_finite() && (0.6..=360.0).contains(&self.field_of_view)) {
+            return Err(Error::InvalidArgument(format!(
+                "field_of_view = {}: it must be from 0.6 to 360 degrees; set it in the inspector",
+                self.field_of_view
+            )));
+        }
+        config.scoring.field_of_view = real(self.field_of_view, "field_of_view")?.to_radians();
+        config.validate().map_err(|error| match error {
+            // The library names max_objects; the node calls them targets.
+            Error::InvalidArgument(text) => {
+                Error::InvalidArgument(text.replace("max_objects", "max_targets"))
+            }
+            other => other,
+        })?;
+        Ok(config)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn values_are_reported_as_given() {
+        assert!(CrowdSettings::default().config().is_ok());
+        let negative = CrowdSettings {
+            max_characters: -5,
+            ..CrowdSettings::default()
+        };
+        let text = negative.config().unwrap_err().to_string();
+        assert!(text.contains("max_characters = -5"), "{text}");
+        let huge = CrowdSettings {
+            max_targets: 1 << 40,
+            ..CrowdSettings::default()
+        };
+        let text = huge.config().unwrap_err().to_string();
+        assert!(text.contains("max_targets = 1099511627776"), "{text}");
+        let zero = CrowdSettings {
+            max_characters: 0,
+            ..CrowdSettings::default()
+        };
+        let text = zero.config().unwrap_err().to_string();
+        assert!(
+            text.contains("max_characters") && text.contains('0'),
+            "{text}"
+        );
+        let period = CrowdSettings {
+            attention_period: 65,
+            ..CrowdSettings::default()
+        };
+        assert!(period.config().unwrap_err().to_string().contains("65"));
+        let far = CrowdSettings {
+            max_distance: 1e300,
+            ..CrowdSettings::default()
+        };
+        assert!(far
+            .config()
+            .unwrap_err()
+            .to_string()
+            .contains("max_distance = 1e300"));
+        let fov = CrowdSettings {
+            field_of_view: -90.0,
+            ..CrowdSettings::default()
+        };
+        assert!(fov
+            .config()
+            .unwrap_err()
+            .to_string()
+            .contains("field_of_view = -90"));
+        let seed = CrowdSettings {
+            seed: -1,
+            ..CrowdSettings::default()
+        };
+        assert_eq!(seed.config().unwrap().seed, u64::MAX);
+    }
+}
