@@ -298,3 +298,30 @@ fn published_outputs_equal_the_readers_and_go_stale_on_any_change() {
     assert!(published(&crowd));
     assert_eq!(read(&crowd), computed(&crowd), "after a ranged step");
 }
+
+#[test]
+fn an_objects_look_at_height_can_change_and_a_characters_cannot() {
+    let mut crowd = Crowd::new(CrowdConfig::default()).unwrap();
+    let object = crowd
+        .add_object(&crate::crowd::ObjectDesc {
+            position: glam::Vec3::new(1.0, 0.0, 2.0),
+            heading: 0.0,
+            look_at_height: 1.0,
+            impact: 1.0,
+        })
+        .unwrap();
+    let character = crowd.add_character(&CharacterDesc::default()).unwrap();
+    crowd.set_look_at_height(object, 2.5).unwrap();
+    let index = crowd.scene().index_of(object).unwrap();
+    assert_eq!(crowd.scene().look_at_point(index).y, 2.5);
+    assert!(matches!(
+        crowd.set_look_at_height(character, 1.0),
+        Err(Error::InvalidArgument(_))
+    ));
+    assert!(matches!(
+        crowd.set_look_at_height(object, f32::NAN),
+        Err(Error::NonFinite(_))
+    ));
+    assert!(crowd.set_look_at_height(9999, 1.0).is_err());
+    assert_eq!(crowd.scene().look_at_point(index).y, 2.5);
+}
