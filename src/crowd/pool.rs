@@ -21,6 +21,12 @@ const SPINS_BEFORE_PARKING: u32 = 2_000;
 /// build, whose every temporary takes its own stack slot.
 const WORKER_STACK_BYTES: usize = 8 << 20;
 
+/// Pools dropped in a child forked from the process that started their threads: their
+/// thread handles cannot be joined or detached there, so they are kept here, reachable and
+/// never freed (leak checkers see memory still in use, not lost).
+type ForkedPool = (Arc<PoolState>, Vec<JoinHandle<()>>);
+static FORKED_POOLS: std::sync::Mutex<Vec<ForkedPool>> = std::sync::Mutex::new(Vec::new());
+
 /// A task: called once for each index `0..tasks`, from any of the pool's threads.
 type Task<'a> = &'a (dyn Fn(usize) + Sync);
 
@@ -213,10 +219,12 @@ impl Drop for WorkerPool {
     fn drop(&mut self) {
         if self.is_forked() {
             // The threads stayed in the parent: nothing to stop or join here, and joining
-            // or detaching a thread of another process is undefined. Their handles are let
-            // go without their destructors.
-            for worker in self.workers.drain(..) {
-                std::mem::forget(worker);
+            // or detaching a thread of another process is undefined. Their handles and the
+            // shared state are kept, unused, for the child's lifetime.
+            let orphan = (Arc::clone(&self.state), std::mem::take(&mut self.workers));
+            match FORKED_POOLS.lock() {
+                Ok(mut orphans) => orphans.push(orphan),
+                Err(_) => std::mem::forget(orphan),
             }
             return;
         }
