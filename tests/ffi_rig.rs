@@ -225,6 +225,41 @@ fn frame_conversions_agree_with_the_core_and_round_trip() {
 }
 
 #[test]
+fn bones_the_chain_does_not_read_may_hold_anything() {
+    let skeleton = Skeleton::mixamo();
+    let rig = skeleton.rig(100.0);
+    let mut bones = skeleton.animated(0.4);
+    let mut base = [cg_quat::IDENTITY; 7];
+    check(
+        unsafe { cg_rig_base_pose(rig.0, bones.as_ptr(), 65, base.as_mut_ptr(), 7) },
+        "cg_rig_base_pose",
+    );
+    // A finger (read by no joint) NaN, another zero: the same base pose, and they stay.
+    let finger = bone(&skeleton, "LeftHandThumb2");
+    bones[finger] = cg_quat {
+        x: f32::NAN,
+        ..cg_quat::IDENTITY
+    };
+    bones[finger + 1] = cg_quat {
+        x: 0.0,
+        y: 0.0,
+        z: 0.0,
+        w: 0.0,
+    };
+    let mut again = [cg_quat::IDENTITY; 7];
+    check(
+        unsafe { cg_rig_base_pose(rig.0, bones.as_ptr(), 65, again.as_mut_ptr(), 7) },
+        "cg_rig_base_pose with a NaN finger",
+    );
+    assert_eq!(base, again);
+    check(
+        unsafe { cg_rig_write_joints(rig.0, base.as_ptr(), 7, bones.as_mut_ptr(), 65) },
+        "cg_rig_write_joints with a NaN finger",
+    );
+    assert!(bones[finger].x.is_nan() && bones[finger + 1].w == 0.0);
+}
+
+#[test]
 fn overrides_and_failures_name_the_bone() {
     let skeleton = Skeleton::mixamo();
     let mut desc = skeleton.desc(1.0);

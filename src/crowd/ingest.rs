@@ -94,13 +94,13 @@ impl Crowd {
                         writer.prefetch(next as usize);
                     }
                 }
-                let applied = again(&state, i, |u| writer.check(u), first(i));
+                let applied = again_at(&state, i, staged[i] as usize, &writer);
                 skipped |= applied.is_none();
                 applied
             });
-            // SAFETY: `again` passes only the index `check` returned for its state's id (in
-            // range) and equal to the first call's, which were distinct: no two alike;
-            // `&mut self` keeps every other access out.
+            // SAFETY: `again_at` passes only the first call's index (from `check`: in range,
+            // and distinct), with a state that names it; `&mut self` keeps every other
+            // access out.
             unsafe { writer.apply_distinct(time, states) };
         } else {
             // In order, one after the other: an entity listed twice takes both states.
@@ -220,6 +220,19 @@ fn again<E>(
         .then_some((index, update))
 }
 
+/// State `i` from a later call of a push's `state`, with `index`, the entity its first
+/// call named (checked then), if it still names it with valid values; else `None`.
+#[inline(always)]
+fn again_at<E>(
+    state: &impl Fn(usize) -> std::result::Result<EntityUpdate, E>,
+    i: usize,
+    index: usize,
+    writer: &SceneWriter<'_>,
+) -> Option<(usize, EntityUpdate)> {
+    let update = state(i).ok()?;
+    writer.recheck(index, &update).then_some((index, update))
+}
+
 /// The error of a push whose `state` closure gave different states on two calls.
 fn inconsistent_states() -> Error {
     Error::InvalidArgument(
@@ -302,13 +315,13 @@ impl PushRanges<'_> {
         }
         let mut skipped = false;
         let states = self.links.walk(chain).enumerate().filter_map(|(k, index)| {
-            let applied = again(&state, k, |u| self.writer.check(u), Some(index as u32));
+            let applied = again_at(&state, k, index, &self.writer);
             skipped |= applied.is_none();
             applied
         });
         // SAFETY: every index passed is one of this call's chain: in range (`check`
         // returned it), claimed by this call above, so no other thread writes it in this
-        // push, and each once (a claim succeeds once); and `again` passes it only with a
+        // push, and each once (a claim succeeds once); and `again_at` passes it only with a
         // state naming it.
         unsafe { self.writer.apply_distinct(self.time, states) };
         if skipped {

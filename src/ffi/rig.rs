@@ -665,8 +665,8 @@ impl BoneRotationsMut for CallerBonesMut<'_> {
     }
 }
 
-/// Checks the caller's bone rotations: as many as the rig's bones, each finite and not
-/// zero. Allocates only on failure.
+/// Checks the caller's bone rotations: as many as the rig's bones, each that the
+/// conversions read finite and not zero. Allocates only on failure.
 fn check_bones(rig: &RigHandle, bones: &[cg_quat], what: &str) -> Result<()> {
     let expected = rig.mapped.bone_count();
     if bones.len() != expected {
@@ -676,8 +676,10 @@ fn check_bones(rig: &RigHandle, bones: &[cg_quat], what: &str) -> Result<()> {
         ))
         .into());
     }
-    for (index, &q) in bones.iter().enumerate() {
-        element_unit(q, what, index)?;
+    // Only the bones the conversions read: a skeleton's fingers and faces are most of its
+    // bones, and checking them all would cost more than the conversion.
+    for &index in rig.mapped.bones_read() {
+        element_unit(bones[index as usize], what, index as usize)?;
     }
     Ok(())
 }
@@ -691,9 +693,12 @@ fn check_bones(rig: &RigHandle, bones: &[cg_quat], what: &str) -> Result<()> {
 /// chain joints are folded in; the first joint's is turned into the crowd's axes. Inputs
 /// are normalised; both arrays stay the caller's.
 ///
+/// Only the rotations of the chain's bones, the bones between them and the chain root's
+/// ancestors are read: the others (fingers, faces) may hold anything.
+///
 /// Errors (nothing written): `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE` (a NaN or
-/// infinite rotation, of any bone), `CG_STATUS_INVALID_ARGUMENT` (`bone_count` not the
-/// rig's, `out_len` below the joint count, a zero rotation). Allocates nothing; may run
+/// infinite rotation of a bone read), `CG_STATUS_INVALID_ARGUMENT` (`bone_count` not the
+/// rig's, `out_len` below the joint count, a zero rotation of a bone read). Allocates nothing; may run
 /// concurrently with other calls on this rig.
 #[no_mangle]
 pub unsafe extern "C" fn cg_rig_base_pose(
@@ -733,9 +738,11 @@ pub unsafe extern "C" fn cg_rig_base_pose(
 /// joint's; every other bone is left as it was. Inputs are normalised; both arrays stay
 /// the caller's.
 ///
+/// Bones that are not read for `cg_rig_base_pose` are neither read nor written here.
+///
 /// Errors (nothing written): `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE` (a NaN or
-/// infinite rotation), `CG_STATUS_INVALID_ARGUMENT` (`joint_count` or `bone_count` not the
-/// rig's, a zero rotation). Allocates nothing; may run concurrently with other calls on
+/// infinite rotation: of a joint, or of a bone read), `CG_STATUS_INVALID_ARGUMENT`
+/// (`joint_count` or `bone_count` not the rig's, a zero rotation). Allocates nothing; may run concurrently with other calls on
 /// this rig.
 #[no_mangle]
 pub unsafe extern "C" fn cg_rig_write_joints(

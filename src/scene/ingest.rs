@@ -135,6 +135,8 @@ pub(super) fn check(ids: &IdTable, update: &EntityUpdate) -> Result<usize> {
 pub struct SceneWriter<'a> {
     world: World,
     ids: &'a IdTable,
+    /// Each entity's id, by entity index.
+    dense_ids: &'a [u32],
     len: usize,
     position: *mut Vec3,
     ground: *mut Vec2,
@@ -166,8 +168,14 @@ pub(super) struct PushedArrays<'a> {
 }
 
 impl<'a> SceneWriter<'a> {
-    /// A writer into a scene's arrays (all as long as its entities) with its id table.
-    pub(super) fn new(world: World, ids: &'a IdTable, arrays: PushedArrays<'a>) -> Self {
+    /// A writer into a scene's arrays (all as long as its entities) with its id table and
+    /// the ids by entity index.
+    pub(super) fn new(
+        world: World,
+        ids: &'a IdTable,
+        dense_ids: &'a [u32],
+        arrays: PushedArrays<'a>,
+    ) -> Self {
         let len = arrays.position.len();
         assert!(
             [
@@ -180,12 +188,14 @@ impl<'a> SceneWriter<'a> {
                 arrays.talking.len()
             ]
             .iter()
+            .chain([&dense_ids.len()])
             .all(|&other| other == len),
             "a scene's entity arrays differ in length"
         );
         SceneWriter {
             world,
             ids,
+            dense_ids,
             len,
             position: arrays.position.as_mut_ptr(),
             ground: arrays.ground.as_mut_ptr(),
@@ -210,6 +220,18 @@ impl SceneWriter<'_> {
     /// and returns its entity's index, for [`apply_at`](Self::apply_at).
     pub fn check(&self, update: &EntityUpdate) -> Result<usize> {
         check(self.ids, update)
+    }
+
+    /// True if `update` is for entity `index` (below the entity count; its id is the
+    /// entity's) and its values pass [`check`](Self::check): the same verdict as `check`
+    /// returning `index`, without looking the id up. For a state read a second time.
+    #[inline(always)]
+    pub fn recheck(&self, index: usize, update: &EntityUpdate) -> bool {
+        let finite = |v: Vec3| v.is_finite();
+        self.dense_ids.get(index) == Some(&update.id)
+            && finite(update.position)
+            && (update.heading_from_motion || update.heading.is_finite())
+            && update.velocity.is_none_or(finite)
     }
 
     /// The entity index of a live id, if any.

@@ -340,6 +340,7 @@ impl Scene {
         SceneWriter::new(
             self.world,
             &self.ids,
+            &self.id,
             ingest::PushedArrays {
                 position: &mut self.position,
                 ground: &mut self.ground,

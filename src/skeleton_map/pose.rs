@@ -30,6 +30,13 @@ impl MappedChain {
         &self.paths[start..self.path_ends[joint] as usize]
     }
 
+    /// Every bone whose local rotation the per-frame conversions read (the chain's bones,
+    /// the bones between them and the chain root's ancestors), some more than once: the
+    /// others are neither read nor written.
+    pub fn bones_read(&self) -> &[u32] {
+        &self.paths
+    }
+
     /// The product of the local rotations of `path`'s bones.
     fn product<L: BoneRotations + ?Sized>(locals: &L, path: &[u32]) -> Quat {
         path.iter().fold(Quat::IDENTITY, |rotation, &bone| {

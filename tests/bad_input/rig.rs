@@ -350,9 +350,10 @@ fn pose_corruptions(joints_name: &'static str) -> Vec<Corruption<PoseInput>> {
             (p.nulls[2], p.joint_count) = (true, 0)
         }),
     ];
-    // The hips (folded into the first joint), the head, a finger (read by no joint).
+    // The hips (folded into the first joint) and the head; a finger is read by no joint
+    // (tests/ffi_rig.rs: anything there is accepted and left as it is).
     let pick: fn(&mut P) -> &mut [cg_quat] = |p| &mut p.bones;
-    out.extend(bad_rotations("bone_rotations", &[0, 5, 30], pick));
+    out.extend(bad_rotations("bone_rotations", &[0, 5], pick));
     out
 }
 
