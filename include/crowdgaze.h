@@ -1823,9 +1823,12 @@ size_t cg_rig_report(const struct cg_rig *rig, char *buffer, size_t buffer_len);
 // chain joints are folded in; the first joint's is turned into the crowd's axes. Inputs
 // are normalised; both arrays stay the caller's.
 //
+// Only the rotations of the chain's bones, the bones between them and the chain root's
+// ancestors are read: the others (fingers, faces) may hold anything.
+//
 // Errors (nothing written): `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE` (a NaN or
-// infinite rotation, of any bone), `CG_STATUS_INVALID_ARGUMENT` (`bone_count` not the
-// rig's, `out_len` below the joint count, a zero rotation). Allocates nothing; may run
+// infinite rotation of a bone read), `CG_STATUS_INVALID_ARGUMENT` (`bone_count` not the
+// rig's, `out_len` below the joint count, a zero rotation of a bone read). Allocates nothing; may run
 // concurrently with other calls on this rig.
 cg_status cg_rig_base_pose(const struct cg_rig *rig,
                            const struct cg_quat *bone_rotations,
@@ -1842,9 +1845,11 @@ cg_status cg_rig_base_pose(const struct cg_rig *rig,
 // joint's; every other bone is left as it was. Inputs are normalised; both arrays stay
 // the caller's.
 //
+// Bones that are not read for `cg_rig_base_pose` are neither read nor written here.
+//
 // Errors (nothing written): `CG_STATUS_NULL_ARGUMENT`, `CG_STATUS_NON_FINITE` (a NaN or
-// infinite rotation), `CG_STATUS_INVALID_ARGUMENT` (`joint_count` or `bone_count` not the
-// rig's, a zero rotation). Allocates nothing; may run concurrently with other calls on
+// infinite rotation: of a joint, or of a bone read), `CG_STATUS_INVALID_ARGUMENT`
+// (`joint_count` or `bone_count` not the rig's, a zero rotation). Allocates nothing; may run concurrently with other calls on
 // this rig.
 cg_status cg_rig_write_joints(const struct cg_rig *rig,
                               const struct cg_quat *joints,
