@@ -285,7 +285,8 @@ pub fn report(state: &mut State, input: &mut Input) {
     } else {
         assert!(full > 0, "cg_rig_report: an empty report");
     }
-    if !pointer.is_null() && length > 0 {
+    // A NULL rig writes nothing (the header's contract), as a NULL or empty buffer.
+    if !rig.is_null() && !pointer.is_null() && length > 0 {
         let copied = full.min(length - 1);
         assert_eq!(buffer[copied], 0, "cg_rig_report: no NUL at {copied}");
         assert!(
