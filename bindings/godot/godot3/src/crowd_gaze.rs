@@ -197,18 +197,20 @@ fn joins(owner: &Spatial, node: &Spatial, path: &NodePath) -> bool {
 
 impl CrowdGaze {
     fn new(_owner: &Spatial) -> Self {
+        // The inspector's defaults, kept once in the adapter.
+        let defaults = CrowdSettings::default();
         CrowdGaze {
-            seed: 1,
-            max_characters: 1024,
-            max_targets: 256,
-            max_distance: 10.0,
-            field_of_view: 180.0,
-            attention_fraction_min: 0.2,
-            attention_fraction_max: 0.6,
-            threads: 1,
-            attention_period: 1,
-            lod_distance: 0.0,
-            far_attention_period: 4,
+            seed: defaults.seed,
+            max_characters: defaults.max_characters,
+            max_targets: defaults.max_targets,
+            max_distance: defaults.max_distance,
+            field_of_view: defaults.field_of_view,
+            attention_fraction_min: defaults.attention_fraction_min,
+            attention_fraction_max: defaults.attention_fraction_max,
+            threads: defaults.threads,
+            attention_period: defaults.attention_period,
+            lod_distance: defaults.lod_distance,
+            far_attention_period: defaults.far_attention_period,
             camera_is_viewer: true,
             viewer_impact: 3.0,
             scene: None,
