@@ -273,6 +273,11 @@ enum cg_attention_model
     CG_ATTENTION_MODEL_SALIENCY = 1,
     // The stock virtual-world behaviour: glances, and the head turns to people close by.
     CG_ATTENTION_MODEL_BASELINE = 2,
+    // Walkers as measured in the street with eye trackers: each walker coming into view
+    // fixated once with a set probability, after a latency, for about half a second;
+    // close strangers looked at less; the path ahead the rest of the time
+    // (`cg_crowd_config_init_street`, docs/street.md).
+    CG_ATTENTION_MODEL_STREET = 3,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L

@@ -5,15 +5,19 @@
 //! same offline over whole recorded trajectories with the exact percentile, and
 //! [`quantile`](crate::attention::quantile) provides both percentiles. [`saliency`](crate::attention::saliency) is the eye-and-head model of
 //! Kokkinara, Oyekoya & Steed 2011 and [`baseline`](crate::attention::baseline) the stock behaviour it is compared with.
+//! [`street`](crate::attention::street) is a model calibrated on walkers measured with eye trackers, and
+//! [`following`](crate::attention::following) the gaze-following layer every model may use.
 
 pub mod baseline;
 pub mod candidates;
 pub mod conversation;
+pub mod following;
 pub mod interest;
 pub mod plan;
 pub mod quantile;
 pub mod saliency;
 pub mod score;
+pub mod street;
 
 use crate::math::random::Random;
 use score::SubscoreWeights;
@@ -28,6 +32,10 @@ pub enum AttentionModel {
     Saliency,
     /// The stock virtual-world behaviour the saliency paper compares against.
     Baseline,
+    /// Walkers as measured in the street with eye trackers ([`street`]): each walker coming
+    /// into view fixated once with a set probability, after a latency, for about half a
+    /// second; close strangers looked at less; the path ahead the rest of the time.
+    Street,
 }
 
 /// Which part of an entity a character looks at.

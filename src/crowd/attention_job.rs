@@ -150,6 +150,9 @@ impl AttentionJob<'_> {
             return;
         }
         let dt = std::mem::take(&mut state.lod.pending);
+        if config.following.enabled {
+            self.follow(character, dt, state.follow, state.model_random);
+        }
         match self.look.characters.params[character].model {
             AttentionModel::Crowd if self.look.plan.is_some() => {}
             AttentionModel::Crowd => {
@@ -177,6 +180,7 @@ impl AttentionJob<'_> {
             }
             AttentionModel::Saliency => self.attend_saliency(character, dt, state),
             AttentionModel::Baseline => self.attend_baseline(character, dt, state),
+            AttentionModel::Street => self.attend_street(character, dt, state),
         }
     }
 }

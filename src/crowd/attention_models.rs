@@ -1,13 +1,18 @@
-//! The saliency model (Paper 3, Kokkinara et al. 2011) and the proximity baseline, one
-//! character at a time: steps of the attention job for the characters that use them.
+//! The saliency model (Paper 3, Kokkinara et al. 2011), the proximity baseline and the
+//! street model, one character at a time, and gaze following for every model: steps of
+//! the attention job for the characters that use them.
 
 use glam::Vec3;
 
 use super::attention_job::AttentionJob;
 use super::model_state::{Look, LookTarget, ModelState};
 use super::states::CharacterMut;
+use super::values::TargetPriority;
+use crate::attention::following::FollowState;
 use crate::attention::saliency::{saliency, Fixation, FixationChannel, SalientPoint};
+use crate::attention::street::{Noticed, STREET_MEMORY};
 use crate::attention::TargetPart;
+use crate::math::random::Random;
 use crate::scene::ids::{EntityKind, NO_ENTITY};
 
 /// Most points (entity parts) a saliency query considers per frame; beyond, the farthest
@@ -233,4 +238,144 @@ impl AttentionJob<'_> {
         };
         glance.look = Look { eye: head, head };
     }
+}
+
+/// Gaze-following weights are summed in these fixed-point units, so that the sum does not
+/// depend on the order the neighbours are visited in (storage order, threads).
+const WEIGHT_UNITS: f32 = 4096.0;
+
+impl AttentionJob<'_> {
+    /// The street model for one character: the walkers (characters) in view — within
+    /// `max_distance` and the street view's half-angle about the walking direction —
+    /// nearest first, then its fixation update ([`StreetState::update`]).
+    pub(super) fn attend_street(&self, character: usize, dt: f32, state: CharacterMut<'_>) {
+        let scene = self.look.scene;
+        let entity = scene.character_entities()[character] as usize;
+        let centre = scene.ground_positions()[entity];
+        let velocity = scene.velocities()[entity];
+        // The walking direction; the body's heading when standing.
+        let direction = if velocity.length_squared() > 0.04 {
+            velocity.normalize()
+        } else {
+            scene.forwards()[entity]
+        };
+        let street = &self.config.street;
+        let cos_half = street.view_half_angle.cos();
+        let max_distance_squared = self.config.scoring.max_distance.powi(2);
+        // The nearest STREET_MEMORY walkers in view as (distance², id), kept sorted.
+        let mut nearest = [(f32::INFINITY, NO_ENTITY); STREET_MEMORY];
+        self.neighbours
+            .grid()
+            .for_each_near(centre, |other, ground| {
+                let other = other as usize;
+                let offset = ground - centre;
+                let distance_squared = offset.length_squared();
+                if other == entity
+                    || distance_squared > max_distance_squared
+                    || scene.kinds()[other] != EntityKind::Character
+                    || scene.impacts()[other] <= 0.0
+                    || direction.dot(offset) < cos_half * distance_squared.sqrt()
+                {
+                    return;
+                }
+                let candidate = (distance_squared, scene.ids()[other]);
+                let last = STREET_MEMORY - 1;
+                if by_distance_then_id(&candidate, &nearest[last]).is_lt() {
+                    nearest[last] = candidate;
+                    let mut at = last;
+                    while at > 0 && by_distance_then_id(&nearest[at], &nearest[at - 1]).is_lt() {
+                        nearest.swap(at, at - 1);
+                        at -= 1;
+                    }
+                }
+            });
+        let mut noticed = [Noticed {
+            entity: NO_ENTITY,
+            distance: 0.0,
+        }; STREET_MEMORY];
+        let mut count = 0;
+        for &(distance_squared, id) in nearest.iter().take_while(|n| n.1 != NO_ENTITY) {
+            noticed[count] = Noticed {
+                entity: id,
+                distance: distance_squared.sqrt(),
+            };
+            count += 1;
+        }
+        if let ModelState::Street(walkers) = state.model {
+            walkers.update(dt, &noticed[..count], street, state.model_random);
+        }
+    }
+
+    /// Gaze following for one character ([`FollowState::update`]): the lookers in its
+    /// view within the follow distance — characters whose cue this step
+    /// ([`Cue`](crate::attention::following::Cue)) shows them looking at a point — weighed
+    /// by how they walk relative to it, and the point the nearest looks at. A character
+    /// that game logic makes look somewhere (an overriding target) does not follow.
+    pub(super) fn follow(
+        &self,
+        character: usize,
+        dt: f32,
+        follow: &mut FollowState,
+        random: &mut Random,
+    ) {
+        if matches!(
+            self.look.characters.explicit[character].get(),
+            Some((_, TargetPriority::Override))
+        ) {
+            return;
+        }
+        let config = &self.config.following;
+        let scene = self.look.scene;
+        let entity = scene.character_entities()[character] as usize;
+        let centre = scene.ground_positions()[entity];
+        let forward = scene.forwards()[entity];
+        let cos_half = config.view_half_angle.cos();
+        let max_distance_squared = config.distance * config.distance;
+        let oncoming_units = (config.oncoming_weight * WEIGHT_UNITS).round() as u64;
+        let mut total_units = 0u64;
+        // (distance², id, point) of the nearest looker.
+        let mut nearest = (f32::INFINITY, NO_ENTITY, Vec3::ZERO);
+        self.neighbours
+            .grid()
+            .for_each_near(centre, |other, ground| {
+                let other = other as usize;
+                let Some(looker) = scene.character_at(other) else {
+                    return;
+                };
+                let Some(&cue) = self.look.cues.get(looker) else {
+                    return;
+                };
+                let offset = ground - centre;
+                let distance_squared = offset.length_squared();
+                if other == entity
+                    || cue.weight <= 0.0
+                    || distance_squared > max_distance_squared
+                    || forward.dot(offset) < cos_half * distance_squared.sqrt()
+                {
+                    return;
+                }
+                // Walking towards the character (within 60° of straight at it).
+                let velocity = scene.velocities()[other];
+                let speed = velocity.length();
+                let oncoming =
+                    speed > 0.3 && velocity.dot(-offset) > 0.5 * speed * distance_squared.sqrt();
+                let units = (cue.weight * WEIGHT_UNITS).round() as u64;
+                total_units += if oncoming {
+                    units * oncoming_units / WEIGHT_UNITS as u64
+                } else {
+                    units
+                };
+                let id = scene.ids()[other];
+                if (distance_squared, id) < (nearest.0, nearest.1) {
+                    nearest = (distance_squared, id, cue.point);
+                }
+            });
+        let lookers = total_units as f32 / WEIGHT_UNITS;
+        follow.update(dt, lookers, nearest.2, config, random);
+    }
+}
+
+/// Orders (distance², id) pairs by distance, then id.
+fn by_distance_then_id(a: &(f32, u32), b: &(f32, u32)) -> std::cmp::Ordering {
+    a.0.total_cmp(&b.0).then(a.1.cmp(&b.1))
 }

@@ -3,9 +3,11 @@
 
 use crate::attention::baseline::BaselineConfig;
 use crate::attention::conversation::ConversationSettings;
+use crate::attention::following::FollowConfig;
 use crate::attention::interest::InterestConfig;
 use crate::attention::saliency::SaliencyConfig;
 use crate::attention::score::ScoringConfig;
+use crate::attention::street::StreetConfig;
 use crate::error::{ensure_finite, Error, Result};
 use crate::ik::{BlinkSettings, GazeConfig, MotionStyle};
 use crate::world::World;
@@ -87,6 +89,16 @@ pub struct CrowdConfig {
     pub max_conversations: u32,
     /// How members of conversations look at each other.
     pub conversation: ConversationSettings,
+    /// The street model's settings (characters using [`AttentionModel::Street`]; they
+    /// notice walkers within `max_distance`: [`CrowdConfig::street`] sets it as the field
+    /// measured).
+    ///
+    /// [`AttentionModel::Street`]: crate::attention::AttentionModel::Street
+    pub street: StreetConfig,
+    /// Gaze following, for characters of every model: off by default (the crowd then
+    /// behaves exactly as without it). [`FollowConfig::MILGRAM`] and
+    /// [`FollowConfig::GALLUP`] are its two measured strengths.
+    pub following: FollowConfig,
 }
 
 /// How the eyes of the crowd model's and the baseline's characters time a gaze shift (the
@@ -136,7 +148,30 @@ impl Default for CrowdConfig {
             eye_motion: EyeMotion::Paper,
             max_conversations: 64,
             conversation: ConversationSettings::default(),
+            street: StreetConfig::default(),
+            following: FollowConfig::MILGRAM,
         }
+    }
+}
+
+/// How far walkers notice each other in the field street preset: Fotios et al. (2018)
+/// measured fixations on other walkers at a typical 15 m; a walker coming into view at
+/// 17 m, approaching at 2.6 m/s (two walkers at 1.3 m/s), is fixated after the 0.55–0.75 s
+/// latency at about 15 m.
+pub const STREET_VIEW_DISTANCE: f32 = 17.0;
+
+impl CrowdConfig {
+    /// The field-calibrated street: the default configuration with `max_distance` set to
+    /// [`STREET_VIEW_DISTANCE`] (17 m), so that characters using
+    /// [`AttentionModel::Street`](crate::attention::AttentionModel::Street) notice walkers
+    /// as far away as walkers were measured to fixate them, and gaze following on at
+    /// Milgram's strength ([`FollowConfig::MILGRAM`]). Give the characters the street model
+    /// in their description.
+    pub fn street() -> CrowdConfig {
+        let mut config = CrowdConfig::default();
+        config.scoring.max_distance = STREET_VIEW_DISTANCE;
+        config.following.enabled = true;
+        config
     }
 }
 
@@ -252,6 +287,8 @@ impl CrowdConfig {
             "max_conversations",
         )?;
         self.conversation.validate()?;
+        self.street.validate()?;
+        self.following.validate(self.scoring.max_distance)?;
         self.gaze.validate()
     }
 }

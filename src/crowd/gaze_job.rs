@@ -103,7 +103,12 @@ impl GazeJob<'_> {
         for (local, (model, motion)) in slices.models.iter().zip(&*slices.motions).enumerate() {
             let character = first + local;
             self.publish.prefetch(character + PUBLISH_PREFETCH_AHEAD);
-            let view = CharacterView { model, motion };
+            let follow = &slices.follows[local];
+            let view = CharacterView {
+                model,
+                motion,
+                follow,
+            };
             // SAFETY: the caller's contract.
             unsafe {
                 self.publish.write(
@@ -128,6 +133,7 @@ impl GazeJob<'_> {
             motions,
             gaze_randoms,
             blinks,
+            follows,
             ..
         } = slices;
         let count = motions.len();
@@ -153,6 +159,7 @@ impl GazeJob<'_> {
                 let view = CharacterView {
                     model: &models[chunk + local],
                     motion: &chunk_motions[local],
+                    follow: &follows[chunk + local],
                 };
                 self.look.gaze_request(first + chunk + local, view)
             });

@@ -9,13 +9,23 @@ use super::model_state::{Look, LookTarget};
 use super::states::CharacterView;
 use super::tables::{Chains, Characters};
 use super::values::{ExplicitTarget, TargetPriority, EXPLICIT_POINT_KEY};
+use crate::attention::following::Cue;
 use crate::attention::interest::InterestTracker;
 use crate::attention::plan::Plan;
+use crate::attention::street::StreetConfig;
 use crate::attention::{AttentionModel, TargetPart};
 use crate::ik::{CharacterTransform, GazeMotion, GazeRequest, MotionStyle};
 use crate::scene::ids::NO_ENTITY;
 use crate::scene::Scene;
 use crate::world::World;
+
+/// The gaze key of a glance at the point others look at (gaze following).
+const FOLLOW_POINT_KEY: u64 = 1 << 41;
+/// The gaze key of a street character's look down the path ahead.
+const STREET_PATH_KEY: u64 = 1 << 42;
+/// The gaze key of a street character's look nearer down the path, while a stranger is
+/// close (civil inattention).
+const STREET_CIVIL_KEY: u64 = 1 << 42 | 1;
 
 /// What resolving a character's look reads (all shared, read-only during a step).
 #[derive(Debug, Clone, Copy)]
@@ -37,6 +47,12 @@ pub(super) struct LookContext<'a> {
     /// The style of the crowd model's and the baseline's shifts: [`MotionStyle::Eased`],
     /// or [`MotionStyle::MainSequence`] ([`EyeMotion`](super::EyeMotion)).
     pub eased_style: MotionStyle,
+    /// Whether gaze following is on (then a following character looks at the point).
+    pub following: bool,
+    /// Each character's gaze cue this step, for gaze following (empty when it is off).
+    pub cues: &'a [Cue],
+    /// The street model's settings.
+    pub street: &'a StreetConfig,
 }
 
 impl LookContext<'_> {
@@ -108,6 +124,15 @@ impl LookContext<'_> {
     /// one overrides, else its conversation's choice if it is in one, else what its
     /// attention model chose (or an explicit target that fills in), as a gaze request.
     pub fn gaze_request(&self, character: usize, view: CharacterView<'_>) -> Option<GazeRequest> {
+        if let Some(point) = self.followed_point(character, view) {
+            return Some(GazeRequest {
+                target_key: FOLLOW_POINT_KEY,
+                head_target: point,
+                eye_target: point,
+                interest_ratio: 1.0,
+                style: self.eased_style,
+            });
+        }
         let own = self.own_request(character, view);
         match self.conversation_gaze(character) {
             Some(gaze) if !self.overridden(character) => {
@@ -116,6 +141,15 @@ impl LookContext<'_> {
             }
             _ => own,
         }
+    }
+
+    /// The point the character glances at because others look there (gaze following),
+    /// unless an explicit target overrides everything.
+    pub fn followed_point(&self, character: usize, view: CharacterView<'_>) -> Option<Vec3> {
+        if !self.following || self.overridden(character) {
+            return None;
+        }
+        view.follow.following()
     }
 
     /// True if the character has an explicit target that overrides everything else.
@@ -183,6 +217,23 @@ impl LookContext<'_> {
     pub fn model_request(&self, character: usize, view: CharacterView<'_>) -> Option<GazeRequest> {
         let look = view.model.look();
         let entity = self.scene.character_entities()[character] as usize;
+        if let (Some(street), LookTarget::NONE) = (view.model.street(), look.head) {
+            // The path a few steps ahead (nearer, so lower, while a stranger is close).
+            let (distance, key) = if street.is_civil() {
+                (self.street.civil_look_distance, STREET_CIVIL_KEY)
+            } else {
+                (self.street.path_look_distance, STREET_PATH_KEY)
+            };
+            let ahead = self.world.heading_direction(self.scene.headings()[entity]);
+            let point = self.scene.positions()[entity] + ahead * distance;
+            return Some(GazeRequest {
+                target_key: key,
+                head_target: point,
+                eye_target: point,
+                interest_ratio: 1.0,
+                style: self.eased_style,
+            });
+        }
         let eye = self.eye_position(character, view.motion);
         let up = self.world.up;
         let ahead = self.world.heading_direction(self.scene.headings()[entity]);
@@ -227,6 +278,9 @@ impl LookContext<'_> {
     /// The targets a character's eyes and head fixate (dense index), resolving explicit
     /// targets, its conversation and the crowd model's interest point.
     pub fn current_look(&self, character: usize, view: CharacterView<'_>) -> Look {
+        if self.followed_point(character, view).is_some() {
+            return Look::NONE;
+        }
         let own = self.own_look(character, view);
         match self.conversation_gaze(character) {
             Some(gaze) if !self.overridden(character) => {

@@ -68,6 +68,7 @@ pub use values::{
 
 use crate::alloc::{try_with_capacity, Field};
 use crate::attention::candidates::NeighbourIndex;
+use crate::attention::following::Cue;
 use crate::attention::plan::{Plan, Recording};
 use crate::attention::score::Scorer;
 use crate::error::Result;
@@ -152,6 +153,9 @@ struct Shared {
     plan: Option<Plan>,
     /// The groups standing together and talking.
     conversations: Conversations,
+    /// Each character's gaze cue this step (what gaze following sees of it), gathered as
+    /// the step begins; sized at creation when following is on, empty otherwise.
+    cues: Vec<Cue>,
 }
 
 impl Crowd {
@@ -200,6 +204,11 @@ impl Crowd {
                     config.max_conversations,
                     &Field("max_conversations", config.max_conversations.into()),
                 )?,
+                cues: if config.following.enabled {
+                    try_with_capacity(characters, per_character)?
+                } else {
+                    Vec::new()
+                },
                 config,
             }),
             states: Watched::new(CharacterStates::with_capacity(characters, per_character)?),

@@ -4,6 +4,7 @@
 use crate::attention::baseline::BaselineState;
 use crate::attention::interest::{InterestConfig, InterestTracker};
 use crate::attention::saliency::FixationChannel;
+use crate::attention::street::StreetState;
 use crate::attention::{AttentionModel, TargetPart};
 use crate::scene::ids::NO_ENTITY;
 
@@ -73,7 +74,7 @@ pub struct GlanceState {
 }
 
 /// What a character's attention model keeps between frames. Only the model the character
-/// uses has state (a character carries the larger of the two, not both): switching to or
+/// uses has state (a character carries the largest, not all): switching to or
 /// from the crowd model starts the new model afresh; the saliency and baseline models
 /// share theirs.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -82,6 +83,8 @@ pub enum ModelState {
     Crowd(InterestTracker),
     /// The saliency or baseline model's state.
     Glance(GlanceState),
+    /// The street model's walkers in view and fixation.
+    Street(StreetState),
 }
 
 impl ModelState {
@@ -96,6 +99,7 @@ impl ModelState {
                     baseline: BaselineState::default(),
                 })
             }
+            AttentionModel::Street => ModelState::Street(StreetState::default()),
         }
     }
 
@@ -108,6 +112,7 @@ impl ModelState {
                     ModelState::Glance(_),
                     AttentionModel::Saliency | AttentionModel::Baseline
                 )
+                | (ModelState::Street(_), AttentionModel::Street)
         )
     }
 
@@ -115,22 +120,49 @@ impl ModelState {
     pub fn tracker(&self) -> Option<&InterestTracker> {
         match self {
             ModelState::Crowd(tracker) => Some(tracker),
-            ModelState::Glance(_) => None,
+            _ => None,
         }
     }
 
     /// The saliency and baseline models' state, if this is theirs.
     pub fn glance(&self) -> Option<&GlanceState> {
         match self {
-            ModelState::Crowd(_) => None,
             ModelState::Glance(glance) => Some(glance),
+            _ => None,
         }
     }
 
-    /// Where the saliency or baseline model wants the eyes and head (nowhere for the crowd
-    /// model, whose target is its tracker's interest point).
+    /// Where the saliency, baseline or street model wants the eyes and head (nowhere for
+    /// the crowd model, whose target is its tracker's interest point; the street model's
+    /// path ahead is nowhere too: [`LookContext::model_request`](super::look::LookContext)
+    /// places it).
     pub fn look(&self) -> Look {
-        self.glance().map_or(Look::NONE, |glance| glance.look)
+        match self {
+            ModelState::Crowd(_) => Look::NONE,
+            ModelState::Glance(glance) => glance.look,
+            ModelState::Street(street) => {
+                let target = LookTarget {
+                    entity: street.fixated(),
+                    part: TargetPart::Head,
+                };
+                if target.entity == NO_ENTITY {
+                    Look::NONE
+                } else {
+                    Look {
+                        eye: target,
+                        head: target,
+                    }
+                }
+            }
+        }
+    }
+
+    /// The street model's state, if this is its state.
+    pub fn street(&self) -> Option<&StreetState> {
+        match self {
+            ModelState::Street(street) => Some(street),
+            _ => None,
+        }
     }
 
     /// Drops every reference to a removed entity.
@@ -138,6 +170,7 @@ impl ModelState {
         match self {
             ModelState::Crowd(tracker) => tracker.forget(id),
             ModelState::Glance(glance) => glance.look.forget(id),
+            ModelState::Street(street) => street.forget(id),
         }
     }
 }

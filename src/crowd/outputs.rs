@@ -51,9 +51,17 @@ pub(super) fn gaze_info(
                     tracker.interest_count(),
                 )
             }
-            // Characters of the saliency and baseline models report what a fresh tracker
-            // would: no interest point, the initial threshold.
-            None => (NO_ENTITY, 0.0, initial_threshold, 0.0, 0),
+            // Characters of the other models report what a fresh tracker would: no
+            // interest point, the initial threshold; the street model counts its fixations.
+            None => (
+                NO_ENTITY,
+                0.0,
+                initial_threshold,
+                0.0,
+                view.model
+                    .street()
+                    .map_or(0, |street| street.fixation_count()),
+            ),
         },
     };
     let current = look.current_look(character, view);

@@ -52,6 +52,19 @@ impl Crowd {
         Ok(self.gaze_of(self.shared.scene.character_index(character_id)?))
     }
 
+    /// The point a character glances at because others look there (gaze following,
+    /// [`FollowConfig`](crate::attention::following::FollowConfig)), world metres; `None`
+    /// when it does not follow anyone's gaze now (or following is off). Glances started so
+    /// far are the second value.
+    pub fn following(&self, character_id: u32) -> Result<(Option<glam::Vec3>, u32)> {
+        let character = self.shared.scene.character_index(character_id)?;
+        let view = self.states.view(character);
+        Ok((
+            self.shared.look().followed_point(character, view),
+            view.follow.glances,
+        ))
+    }
+
     /// A character's gaze chain.
     pub fn chain(&self, character_id: u32) -> Result<&GazeChain> {
         Ok(self.chain_of(self.shared.scene.character_index(character_id)?))

@@ -5,6 +5,7 @@
 //! lets disjoint ranges of characters be stepped at the same time: [`CharacterSlices`]
 //! borrows a range of every array, and [`RawCharacterSlices`] hands ranges out to threads.
 
+use crate::attention::following::FollowState;
 use crate::ik::{BlinkState, GazeMotion};
 use crate::math::random::Random;
 
@@ -38,6 +39,8 @@ macro_rules! character_arrays {
             gaze_randoms / gaze_random: Random,
             /// Blinks (the eyelids' state).
             blinks / blink: BlinkState,
+            /// Gaze following: the point glanced at and the current encounter.
+            follows / follow: FollowState,
         }
     };
 }
@@ -151,7 +154,7 @@ macro_rules! define_states {
 character_arrays!(define_states);
 
 impl CharacterStates {
-    /// Adds a character's state at the end.
+    /// Adds a character's state at the end (following no one's gaze yet).
     pub fn push(
         &mut self,
         lod: AttentionLod,
@@ -167,6 +170,7 @@ impl CharacterStates {
         self.motions.push(motion);
         self.gaze_randoms.push(gaze_random);
         self.blinks.push(blink);
+        self.follows.push(FollowState::default());
         debug_assert!(self.check_lengths());
     }
 }
@@ -176,6 +180,7 @@ impl CharacterStates {
 pub(super) struct CharacterView<'a> {
     pub model: &'a ModelState,
     pub motion: &'a GazeMotion,
+    pub follow: &'a FollowState,
 }
 
 impl CharacterStates {
@@ -184,6 +189,7 @@ impl CharacterStates {
         CharacterView {
             model: &self.models[index],
             motion: &self.motions[index],
+            follow: &self.follows[index],
         }
     }
 }

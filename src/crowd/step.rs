@@ -11,8 +11,11 @@ use super::pool::WorkerPool;
 use super::published::PublishTarget;
 use super::ranges::StepRanges;
 use super::states::RawCharacterSlices;
+use super::values::{ExplicitTarget, TargetPriority};
 use super::{Crowd, Shared};
+use crate::attention::following::Cue;
 use crate::error::{ensure_finite, Error, Result};
+use crate::scene::ids::EntityKind;
 
 /// Characters per task when [`Crowd::step`] shares a step among its worker threads.
 const CHARACTERS_PER_TASK: usize = 128;
@@ -132,6 +135,7 @@ impl Crowd {
         if period > 0 && self.shared.steps.is_multiple_of(u64::from(period)) {
             self.store_in_grid_order();
         }
+        self.gather_cues();
         let shared = &mut *self.shared;
         let viewer = shared
             .viewer
@@ -213,6 +217,43 @@ impl Crowd {
             .rebuild(&shared.scene, shared.config.scoring.talking_gain);
     }
 
+    /// Gathers what gaze following sees of each character this step (nothing when
+    /// following is off): a stare (weight 1) while game logic has it look at a point or an
+    /// object with an overriding target, a glance (the glance weight) while it follows
+    /// others' gaze. Read-only during the step, so that no character sees another halfway
+    /// through its update, whatever the ranges and threads.
+    fn gather_cues(&mut self) {
+        if !self.shared.config.following.enabled {
+            return;
+        }
+        let glance_weight = self.shared.config.following.glance_cue_weight;
+        let shared = &mut *self.shared;
+        let (scene, characters, cues) = (&shared.scene, &shared.characters, &mut shared.cues);
+        cues.clear();
+        for (character, follow) in self.states.follows.iter().enumerate() {
+            let stare = match characters.explicit[character].get() {
+                Some((ExplicitTarget::Point(point), TargetPriority::Override)) => Some(point),
+                Some((ExplicitTarget::Entity(id), TargetPriority::Override)) => scene
+                    .index_of(id)
+                    .filter(|&index| scene.kinds()[index] != EntityKind::Character)
+                    .map(|index| scene.look_at_point(index)),
+                _ => None,
+            };
+            let cue = match (stare, follow.following()) {
+                (Some(point), _) => Cue { point, weight: 1.0 },
+                (None, Some(point)) => Cue {
+                    point,
+                    weight: glance_weight,
+                },
+                (None, None) => Cue::default(),
+            };
+            // Never past the capacity reserved at creation (one per character).
+            if cues.len() < cues.capacity() {
+                cues.push(cue);
+            }
+        }
+    }
+
     /// True between [`begin_step`](Self::begin_step) and [`end_step`](Self::end_step).
     pub fn is_step_open(&self) -> bool {
         self.open_step.is_some()
@@ -292,6 +333,9 @@ impl Shared {
             eased_style: self.config.eye_motion.eased_style(),
             conversations: &self.conversations,
             seed: self.config.seed,
+            following: self.config.following.enabled,
+            cues: &self.cues,
+            street: &self.config.street,
         }
     }
 

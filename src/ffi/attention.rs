@@ -44,6 +44,11 @@ pub enum cg_attention_model {
     Saliency = 1,
     /// The stock virtual-world behaviour: glances, and the head turns to people close by.
     Baseline = 2,
+    /// Walkers as measured in the street with eye trackers: each walker coming into view
+    /// fixated once with a set probability, after a latency, for about half a second;
+    /// close strangers looked at less; the path ahead the rest of the time
+    /// (`cg_crowd_config_init_street`, docs/street.md).
+    Street = 3,
 }
 
 impl cg_attention_model {
@@ -52,6 +57,7 @@ impl cg_attention_model {
             0 => Ok(AttentionModel::Crowd),
             1 => Ok(AttentionModel::Saliency),
             2 => Ok(AttentionModel::Baseline),
+            3 => Ok(AttentionModel::Street),
             other => Err(Error::InvalidArgument(format!(
                 "attention_model is {other}, not a cg_attention_model"
             ))
@@ -64,6 +70,7 @@ impl cg_attention_model {
             AttentionModel::Crowd => cg_attention_model::Crowd,
             AttentionModel::Saliency => cg_attention_model::Saliency,
             AttentionModel::Baseline => cg_attention_model::Baseline,
+            AttentionModel::Street => cg_attention_model::Street,
         }) as u32
     }
 }

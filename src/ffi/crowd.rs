@@ -688,6 +688,8 @@ impl cg_crowd_config {
                 idle_glance: self.idle_glance_time,
                 turn_start_aversion: self.turn_start_aversion_time,
             },
+            street: crate::attention::street::StreetConfig::default(),
+            following: crate::attention::following::FollowConfig::MILGRAM,
         };
         config.validate()?;
         Ok(config)

@@ -44,7 +44,7 @@ pub(crate) fn invalid<T: 'static>(rows: &[Named<T>]) -> Vec<Corruption<T>> {
 
 /// `attention_model` values that are no `cg_attention_model`: `CG_STATUS_INVALID_ARGUMENT`.
 pub(crate) fn unknown_models<T: 'static>(field: fn(&mut T) -> &mut u32) -> Vec<Corruption<T>> {
-    [3, u32::MAX]
+    [4, u32::MAX]
         .map(|model| {
             change(
                 format!("attention_model {model}"),

@@ -1,0 +1,304 @@
+//! Gaze following: a character notices people in its view looking at something (a point or
+//! an object, not a person) and may glance there too, then goes back to its own attention.
+//! The chance rises with how many look and saturates (Milgram, Bickman & Berkowitz 1969;
+//! Gallup et al. 2012); people walking ahead in the same direction count more than
+//! oncoming ones (Gallup, Chong & Couzin 2012); a passer-by's glance is a weaker cue than a
+//! stare, so following does not cascade through the crowd (no tipping point: Gallup et al.
+//! 2012). docs/street.md gives the figures and crowdgaze's measured ones beside them.
+
+use glam::Vec3;
+
+use crate::error::{ensure_finite, Error, Result};
+use crate::math::random::Random;
+
+/// Settings of gaze following. Distances are metres, durations seconds, angles radians.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FollowConfig {
+    /// Whether characters follow others' gaze. Default off: the crowd behaves exactly as
+    /// without the layer.
+    pub enabled: bool,
+    /// Probability that a passer-by who sees one person staring looks too. Default 0.42
+    /// (Milgram et al. 1969).
+    pub one_looker_probability: f32,
+    /// The probability with many lookers (the curve saturates there). Default 0.87
+    /// (Milgram et al. 1969: 86 % with 15 lookers).
+    pub max_probability: f32,
+    /// Lookers are noticed up to this ground distance; at most the crowd's
+    /// `max_distance`. Default 10 m.
+    pub distance: f32,
+    /// Half-angle of the view in which lookers are noticed, about the character's
+    /// heading. Default 90°.
+    pub view_half_angle: f32,
+    /// Weight of a looker walking towards the character (a stationary one or one walking
+    /// ahead the same way weighs 1). Default 0.5.
+    pub oncoming_weight: f32,
+    /// Weight of a character that is itself only glancing because it follows (a stare
+    /// set by game logic weighs 1). Default 0.25.
+    pub glance_cue_weight: f32,
+    /// Shortest glance of a follower. Default 1 s.
+    pub glance_min: f32,
+    /// Longest glance. Default 2.5 s.
+    pub glance_max: f32,
+    /// Seconds with no looker in view after which an encounter is over: the next lookers
+    /// are a new encounter, decided afresh. Default 10 s.
+    pub forget_time: f32,
+}
+
+impl Default for FollowConfig {
+    fn default() -> Self {
+        FollowConfig::MILGRAM
+    }
+}
+
+impl FollowConfig {
+    /// The default strength: Milgram, Bickman & Berkowitz's street (1969), 42 % of
+    /// passers-by looking up with one looker, 86 % with fifteen. Off until `enabled`.
+    pub const MILGRAM: FollowConfig = FollowConfig {
+        enabled: false,
+        one_looker_probability: 0.42,
+        max_probability: 0.87,
+        distance: 10.0,
+        view_half_angle: std::f32::consts::FRAC_PI_2,
+        oncoming_weight: 0.5,
+        glance_cue_weight: 0.25,
+        glance_min: 1.0,
+        glance_max: 2.5,
+        forget_time: 10.0,
+    };
+
+    /// The weaker response Gallup et al. (2012) measured on an Oxford shopping street
+    /// (about a quarter of passers-by, saturating by five lookers). Off until `enabled`.
+    pub const GALLUP: FollowConfig = FollowConfig {
+        one_looker_probability: 0.12,
+        max_probability: 0.3,
+        ..FollowConfig::MILGRAM
+    };
+
+    /// Probability that a passer-by follows lookers of total weight `lookers`:
+    /// `P(k) = P_max (1 − (1 − p)^k)`, with `p = P(1) / P_max`: rising with `k`,
+    /// saturating at `P_max`.
+    pub fn probability(&self, lookers: f32) -> f32 {
+        if lookers <= 0.0 || self.max_probability <= 0.0 {
+            return 0.0;
+        }
+        let per_looker = (self.one_looker_probability / self.max_probability).min(1.0);
+        self.max_probability * (1.0 - (1.0 - per_looker).powf(lookers))
+    }
+
+    /// Checks every setting; errors name the setting and its value.
+    pub fn validate(&self, max_distance: f32) -> Result<()> {
+        let fields = [
+            (
+                "follow_one_looker_probability",
+                self.one_looker_probability,
+                1.0,
+            ),
+            ("follow_max_probability", self.max_probability, 1.0),
+            ("follow_distance", self.distance, 1000.0),
+            (
+                "follow_view_half_angle",
+                self.view_half_angle,
+                std::f32::consts::PI,
+            ),
+            ("follow_oncoming_weight", self.oncoming_weight, 1.0),
+            ("follow_glance_cue_weight", self.glance_cue_weight, 1.0),
+            ("follow_glance_min", self.glance_min, 600.0),
+            ("follow_glance_max", self.glance_max, 600.0),
+            ("follow_forget_time", self.forget_time, 3600.0),
+        ];
+        for (name, value, high) in fields {
+            ensure_finite(value, name)?;
+            if !(0.0..=high).contains(&value) {
+                return Err(Error::InvalidArgument(format!(
+                    "{name} is {value}, must be in [0, {high}]"
+                )));
+            }
+        }
+        if self.one_looker_probability > self.max_probability {
+            return Err(Error::InvalidArgument(format!(
+                "follow_one_looker_probability ({}) is above follow_max_probability ({}): \
+                 more lookers cannot draw fewer people",
+                self.one_looker_probability, self.max_probability
+            )));
+        }
+        if self.glance_min > self.glance_max {
+            return Err(Error::InvalidArgument(format!(
+                "follow_glance_min ({}) is above follow_glance_max ({}): the range is empty",
+                self.glance_min, self.glance_max
+            )));
+        }
+        if self.enabled && self.distance > max_distance {
+            return Err(Error::InvalidArgument(format!(
+                "follow_distance ({} m) is beyond max_distance ({max_distance} m), the \
+                 farthest anyone is seen: lower follow_distance or raise max_distance",
+                self.distance
+            )));
+        }
+        Ok(())
+    }
+}
+
+/// What a character shows others of its gaze this step: a point it stares or glances at
+/// and how much that counts ([`FollowConfig`]); weight 0 when it looks at no such point.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Cue {
+    /// The point looked at (world, metres).
+    pub point: Vec3,
+    /// How much it counts as a looker: 1 for a stare, the glance weight for a follower,
+    /// 0 for none.
+    pub weight: f32,
+}
+
+/// A character's gaze following: the point it glances at now, if any, and what it has
+/// decided in the current encounter.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct FollowState {
+    /// The point followed now (world, metres), while `remaining > 0`.
+    pub point: Vec3,
+    /// Seconds left of the current glance (0: not following).
+    pub remaining: f32,
+    /// The lookers' weight already decided on in this encounter.
+    pub decided: f32,
+    /// Seconds since the last time a looker was in view.
+    pub unseen: f32,
+    /// Glances started so far.
+    pub glances: u32,
+}
+
+impl FollowState {
+    /// The point followed now, if the character follows someone's gaze.
+    pub fn following(&self) -> Option<Vec3> {
+        (self.remaining > 0.0).then_some(self.point)
+    }
+
+    /// Advances by `dt` seconds, with lookers of total weight `lookers` in view now, the
+    /// nearest looking at `point`. More lookers than already decided on draw again, with
+    /// the chance that makes the whole encounter's probability `P(lookers)`.
+    pub fn update(
+        &mut self,
+        dt: f32,
+        lookers: f32,
+        point: Vec3,
+        config: &FollowConfig,
+        random: &mut Random,
+    ) {
+        if self.remaining > 0.0 {
+            self.remaining = (self.remaining - dt).max(0.0);
+        }
+        if lookers <= 0.0 {
+            self.unseen += dt;
+            if self.unseen > config.forget_time {
+                self.decided = 0.0;
+                self.unseen = config.forget_time;
+            }
+            return;
+        }
+        self.unseen = 0.0;
+        if self.remaining > 0.0 || lookers <= self.decided {
+            return;
+        }
+        let before = config.probability(self.decided);
+        let now = config.probability(lookers);
+        self.decided = lookers;
+        let chance = if before < 1.0 {
+            (now - before) / (1.0 - before)
+        } else {
+            0.0
+        };
+        if random.next_f32() < chance {
+            self.point = point;
+            self.remaining = random.range(config.glance_min, config.glance_max);
+            self.glances += 1;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_milgram_curve_rises_and_saturates() {
+        let config = FollowConfig::MILGRAM;
+        let curve: Vec<f32> = [1.0, 2.0, 3.0, 5.0, 10.0, 15.0]
+            .iter()
+            .map(|&k| config.probability(k))
+            .collect();
+        assert!((curve[0] - 0.42).abs() < 1e-6);
+        assert!((curve[5] - 0.86).abs() < 0.02, "{curve:?}");
+        assert!(curve.windows(2).all(|pair| pair[1] >= pair[0]));
+        // Saturating: each step adds less per looker.
+        assert!(curve[5] - curve[4] < 0.01 && curve[1] - curve[0] > 0.15);
+        let gallup = FollowConfig::GALLUP;
+        assert!(gallup.probability(15.0) < 0.31 && gallup.probability(1.0) > 0.1);
+        assert_eq!(config.probability(0.0), 0.0);
+    }
+
+    #[test]
+    fn an_encounter_follows_with_the_probability_of_its_most_lookers() {
+        let config = FollowConfig::MILGRAM;
+        let mut random = Random::new(4);
+        let trials = 20_000;
+        let mut followed = 0;
+        for _ in 0..trials {
+            let mut state = FollowState::default();
+            // Lookers come into view one by one: 1, 2, 3 — decided as if 3 at once.
+            for lookers in [1.0, 1.0, 2.0, 3.0, 3.0, 2.0] {
+                state.update(0.1, lookers, Vec3::Y, &config, &mut random);
+            }
+            followed += u32::from(state.glances > 0);
+        }
+        let share = followed as f32 / trials as f32;
+        let expected = config.probability(3.0);
+        // A glance under way when the third looker appears defers that draw; the glance
+        // lasts 1–2.5 s, longer than this encounter, so the share is slightly below.
+        assert!((share - expected).abs() < 0.04, "{share} vs {expected}");
+    }
+
+    #[test]
+    fn glances_end_and_encounters_are_forgotten() {
+        let config = FollowConfig {
+            one_looker_probability: 1.0,
+            max_probability: 1.0,
+            ..FollowConfig::MILGRAM
+        };
+        let mut random = Random::new(1);
+        let mut state = FollowState::default();
+        state.update(0.1, 1.0, Vec3::new(0.0, 9.0, 0.0), &config, &mut random);
+        assert_eq!(state.following(), Some(Vec3::new(0.0, 9.0, 0.0)));
+        for _ in 0..30 {
+            state.update(0.1, 1.0, Vec3::ZERO, &config, &mut random);
+        }
+        assert_eq!(state.following(), None, "the glance lasts at most 2.5 s");
+        assert_eq!(state.glances, 1, "the same lookers draw once");
+        for _ in 0..110 {
+            state.update(0.1, 0.0, Vec3::ZERO, &config, &mut random);
+        }
+        state.update(0.1, 1.0, Vec3::ZERO, &config, &mut random);
+        assert_eq!(state.glances, 2, "a new encounter after forget_time");
+    }
+
+    #[test]
+    fn bad_settings_are_refused_by_name() {
+        let too_far = FollowConfig {
+            enabled: true,
+            distance: 12.0,
+            ..FollowConfig::MILGRAM
+        };
+        let message = too_far.validate(10.0).unwrap_err().to_string();
+        assert!(message.contains("follow_distance"), "{message}");
+        let inverted = FollowConfig {
+            one_looker_probability: 0.9,
+            ..FollowConfig::MILGRAM
+        };
+        assert!(inverted.validate(10.0).is_err());
+        let nan = FollowConfig {
+            glance_min: f32::NAN,
+            ..FollowConfig::MILGRAM
+        };
+        let message = nan.validate(10.0).unwrap_err().to_string();
+        assert!(message.contains("follow_glance_min"), "{message}");
+        assert!(FollowConfig::MILGRAM.validate(10.0).is_ok());
+        assert!(FollowConfig::GALLUP.validate(10.0).is_ok());
+    }
+}
