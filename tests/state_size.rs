@@ -45,7 +45,7 @@ fn every_per_character_type_has_its_recorded_size() {
     // the look, saliency and baseline state (76), and a tag.
     assert_eq!(size_of::<GlanceState>(), 76);
     assert_eq!(size_of::<ModelState>(), 220);
-    // The street model's walkers in view (12 × 16 bytes) and fixation: within the
+    // The street model's walkers in view (10 × 20 bytes) and fixation: within the
     // tracker's size, so a character's model state does not grow.
     assert!(size_of::<StreetState>() <= size_of::<InterestTracker>());
     // Gaze following: the point glanced at (12), the glance's time left, the lookers'

@@ -11,7 +11,7 @@ use crate::scene::ids::NO_ENTITY;
 
 /// How many walkers in view a character keeps track of (the nearest; farther ones wait
 /// until one of these leaves the view).
-pub const STREET_MEMORY: usize = 12;
+pub const STREET_MEMORY: usize = 10;
 
 /// Settings of the street model. Distances are metres, durations seconds, angles radians.
 /// The defaults are the field figures: see docs/street.md.
@@ -20,9 +20,11 @@ pub struct StreetConfig {
     /// Half-angle of the part of the view in which walkers are noticed, about the walking
     /// direction. Default 60° (approaching walkers are in the central field).
     pub view_half_angle: f32,
-    /// Probability that a walker coming into view is fixated at least once. Default 0.86
-    /// (Fotios, Uttley & Yang 2015: 86 % of approaching pedestrians; Jovancevic et al.
-    /// 2004: 73 %).
+    /// Probability that a first fixation is planned for a walker coming into view.
+    /// Default 0.95: with the fixations missed while the eyes are busy
+    /// (`miss_after`), walkers on real trajectories are fixated at least once 73–86 % of
+    /// the time, as measured (Jovancevic et al. 2004: 73 %; Fotios, Uttley & Yang 2015:
+    /// 86 %).
     pub first_fixation_probability: f32,
     /// Shortest latency from coming into view to the first fixation. Default 0.55 s
     /// (Jovancevic et al. 2004: 548 ms for a pedestrian on a collision course).
@@ -34,12 +36,16 @@ pub struct StreetConfig {
     /// Spread of fixation durations: the standard deviation of their natural logarithm.
     /// Default 0.35 (most fixations between 0.3 and 0.9 s).
     pub fixation_log_spread: f32,
+    /// A fixation that falls due while the eyes are on someone else and has waited this
+    /// long is missed: attention is limited (Jovancevic et al. 2004: 41 % of pedestrians
+    /// veering onto a collision course for about a second were not fixated). Default 0.5 s.
+    pub miss_after: f32,
     /// Probability that a fixated walker is fixated a second time. Default 0.3
     /// (Jovancevic et al. 2004).
     pub refixation_probability: f32,
-    /// Shortest wait between the end of a fixation and a second one. Default 1 s.
+    /// Shortest wait between the end of a fixation and a second one. Default 0.5 s.
     pub refixation_gap_min: f32,
-    /// Longest wait. Default 3 s.
+    /// Longest wait. Default 2 s.
     pub refixation_gap_max: f32,
     /// Strangers closer than this are looked at less, and the eyes go down the path while
     /// one is there (civil inattention: Goffman 1963; Hessels et al. 2022). Default 3 m.
@@ -58,14 +64,15 @@ impl Default for StreetConfig {
     fn default() -> Self {
         StreetConfig {
             view_half_angle: 60f32.to_radians(),
-            first_fixation_probability: 0.86,
+            first_fixation_probability: 0.95,
             latency_min: 0.55,
             latency_max: 0.75,
             fixation_median: 0.5,
             fixation_log_spread: 0.35,
+            miss_after: 1.0,
             refixation_probability: 0.3,
-            refixation_gap_min: 1.0,
-            refixation_gap_max: 3.0,
+            refixation_gap_min: 0.5,
+            refixation_gap_max: 2.0,
             civil_distance: 3.0,
             civil_look_probability: 0.25,
             path_look_distance: 4.0,
@@ -87,6 +94,7 @@ impl StreetConfig {
             ("street_latency_max", self.latency_max),
             ("street_fixation_median", self.fixation_median),
             ("street_fixation_log_spread", self.fixation_log_spread),
+            ("street_miss_after", self.miss_after),
             ("street_refixation_probability", self.refixation_probability),
             ("street_refixation_gap_min", self.refixation_gap_min),
             ("street_refixation_gap_max", self.refixation_gap_max),
@@ -135,6 +143,7 @@ impl StreetConfig {
         range("street_fixation_log_spread", self.fixation_log_spread, 2.0)?;
         range("street_fixation_median", self.fixation_median, 60.0)?;
         range("street_latency_max", self.latency_max, 60.0)?;
+        range("street_miss_after", self.miss_after, 60.0)?;
         range("street_refixation_gap_max", self.refixation_gap_max, 600.0)?;
         range("street_path_look_distance", self.path_look_distance, 1000.0)?;
         range(
@@ -205,6 +214,8 @@ struct Tracked {
     fixations: u8,
     /// Seen in the current update.
     seen: bool,
+    /// Seconds since it was last seen (it is forgotten after [`FORGET_TIME`]).
+    unseen: f32,
 }
 
 impl Tracked {
@@ -214,8 +225,13 @@ impl Tracked {
         distance: 0.0,
         fixations: 0,
         seen: false,
+        unseen: 0.0,
     };
 }
+
+/// A walker out of view this long is forgotten: one coming back later is a new encounter,
+/// one back sooner (a turn of the head, someone passing between) is the same.
+const FORGET_TIME: f32 = 1.0;
 
 /// A street character's state: the walkers in view it keeps track of, and its current
 /// fixation.
@@ -279,21 +295,38 @@ impl StreetState {
             civil |= walker.distance < config.civil_distance;
             if let Some(tracked) = self.tracked.iter_mut().find(|t| t.entity == walker.entity) {
                 tracked.seen = true;
+                tracked.unseen = 0.0;
                 tracked.distance = walker.distance;
             }
         }
-        // Walkers that left the view are forgotten (one coming back is a new encounter).
+        // Walkers out of view long enough are forgotten (one coming back is a new
+        // encounter).
         for tracked in &mut self.tracked {
-            if !tracked.seen {
-                *tracked = Tracked::FREE;
+            if tracked.entity != NO_ENTITY && !tracked.seen {
+                tracked.unseen += dt;
+                if tracked.unseen > FORGET_TIME {
+                    *tracked = Tracked::FREE;
+                }
             }
         }
-        // Walkers coming into view, each in a free slot (at most STREET_MEMORY are seen).
+        // Walkers coming into view, each in a free slot, else in place of the one unseen
+        // longest (at most STREET_MEMORY are seen at once).
         for walker in noticed {
             if self.tracked.iter().any(|t| t.entity == walker.entity) {
                 continue;
             }
-            let Some(slot) = self.tracked.iter().position(|t| t.entity == NO_ENTITY) else {
+            let free = self.tracked.iter().position(|t| t.entity == NO_ENTITY);
+            let slot = free.or_else(|| {
+                self.tracked
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, t)| !t.seen)
+                    .max_by(|(_, a), (_, b)| {
+                        a.unseen.total_cmp(&b.unseen).then(b.entity.cmp(&a.entity))
+                    })
+                    .map(|(slot, _)| slot)
+            });
+            let Some(slot) = slot else {
                 break;
             };
             let wait = if random.next_f32() < config.first_fixation_probability {
@@ -307,13 +340,17 @@ impl StreetState {
                 distance: walker.distance,
                 fixations: 0,
                 seen: true,
+                unseen: 0.0,
             };
         }
         self.civil = civil;
 
         if self.fixated != NO_ENTITY {
             self.remaining -= dt;
-            let still_seen = self.tracked.iter().any(|t| t.entity == self.fixated);
+            let still_seen = self
+                .tracked
+                .iter()
+                .any(|t| t.entity == self.fixated && t.seen);
             if self.remaining <= 0.0 || !still_seen {
                 self.end_fixation(config, random);
             }
@@ -350,7 +387,7 @@ impl StreetState {
                 .tracked
                 .iter()
                 .enumerate()
-                .filter(|(_, t)| t.entity != NO_ENTITY && t.wait <= 0.0)
+                .filter(|(_, t)| t.seen && t.wait <= 0.0)
                 .min_by(|(_, a), (_, b)| {
                     a.wait
                         .total_cmp(&b.wait)
@@ -362,6 +399,11 @@ impl StreetState {
                 return;
             };
             let tracked = &mut self.tracked[slot];
+            if -tracked.wait > config.miss_after {
+                // Due too long ago, while the eyes were busy: missed.
+                tracked.wait = NEVER;
+                continue;
+            }
             if tracked.distance < config.civil_distance
                 && random.next_f32() >= config.civil_look_probability
             {
@@ -454,8 +496,10 @@ mod tests {
     fn an_approaching_walker_is_fixated_as_in_the_field() {
         let config = StreetConfig::default();
         let (once, twice, mut latencies, mut durations, mut distances) = encounters(2000, &config);
+        // Alone in view, every planned first fixation happens (with others, some are
+        // missed: tests/street.rs measures that on real trajectories).
         let share = once as f32 / 2000.0;
-        assert!((0.82..0.90).contains(&share), "{share}");
+        assert!((0.93..0.97).contains(&share), "{share}");
         let second = twice as f32 / once as f32;
         assert!((0.22..0.34).contains(&second), "{second}");
         let latency = median(&mut latencies);
@@ -518,9 +562,18 @@ mod tests {
             state.update(DT, &crowd, &config, &mut random);
             assert!(state.fixated() == NO_ENTITY || state.fixated() < STREET_MEMORY as u32);
         }
-        assert!(state.fixation_count() > 5);
+        // Ten walkers due at once: a few are fixated, the rest missed while the eyes are
+        // busy (each waits at most `miss_after`).
+        assert!(
+            (2..10).contains(&state.fixation_count()),
+            "{}",
+            state.fixation_count()
+        );
         state.update(DT, &[], &config, &mut random);
         assert_eq!(state.fixated(), NO_ENTITY);
+        for _ in 0..31 {
+            state.update(DT, &[], &config, &mut random);
+        }
         assert!(state.tracked.iter().all(|t| t.entity == NO_ENTITY));
     }
 

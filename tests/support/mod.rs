@@ -7,6 +7,7 @@
 // must refuse: that is their safety comment, once for the file.
 #![allow(clippy::undocumented_unsafe_blocks)]
 
+pub mod field;
 pub mod rig;
 
 use crowdgaze::ffi::attention::*;
