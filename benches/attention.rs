@@ -5,12 +5,15 @@
 //! and 10 000 (the baseline), attention every 4th frame (level of detail) at 10 000, and
 //! at 10 000 the step and the gaze IK with blinks off, to show what blinks and lids cost;
 //! and the paper's street of 1 000 people with a third of them standing in groups that talk
-//! in turns, against the same street without groups.
+//! in turns, against the same street without groups; and gaze following off and on at
+//! 100 000.
 //!
 //! Run: `cargo bench --bench attention`, or `scripts/bench` for the README's table.
 //! Criterion reports time per crowd frame; throughput in elements = characters.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
+use crowdgaze::attention::following::FollowConfig;
+use crowdgaze::crowd::{ExplicitTarget, TargetPriority};
 use crowdgaze::ik::BlinkSettings;
 use crowdgaze::scenario::Scenario;
 use crowdgaze::{Crowd, CrowdConfig};
@@ -167,6 +170,54 @@ fn conversations(c: &mut Criterion) {
     group.finish();
 }
 
+/// Gaze following's cost at 100 000 characters: the plaza with one character in a hundred
+/// staring at a point 8 m up (an overriding gaze target), stepped with following off and
+/// on (off first, as for blinks).
+fn following(c: &mut Criterion) {
+    let mut group = c.benchmark_group("following");
+    group.sample_size(10);
+    let characters = 100_000;
+    group.throughput(Throughput::Elements(characters as u64));
+    for (name, enabled) in [
+        ("step_following_off_1t", false),
+        ("step_following_on_1t", true),
+    ] {
+        let mut crowd = Crowd::new(CrowdConfig {
+            max_characters: characters as u32,
+            max_objects: 0,
+            reorder_period: 32,
+            following: FollowConfig {
+                enabled,
+                ..FollowConfig::MILGRAM
+            },
+            ..CrowdConfig::default()
+        })
+        .expect("crowd");
+        let mut scenario = Scenario::plaza(characters, DENSITY, 7);
+        scenario.populate(&mut crowd).expect("populate");
+        for &id in scenario.character_ids().iter().step_by(100) {
+            crowd
+                .set_gaze_target(
+                    id,
+                    ExplicitTarget::Point(glam::Vec3::new(0.0, 8.0, 0.0)),
+                    TargetPriority::Override,
+                )
+                .expect("stare");
+        }
+        for frame in 0..40 {
+            scenario.advance(DT);
+            scenario
+                .push(&mut crowd, f64::from(frame as f32 * DT))
+                .expect("push");
+            crowd.step(DT).expect("step");
+        }
+        group.bench_function(BenchmarkId::new(name, characters), |b| {
+            b.iter(|| crowd.step(black_box(DT)).expect("step"))
+        });
+    }
+    group.finish();
+}
+
 /// Writes the bytes of state per character beside criterion's results, for the table.
 fn state_bytes(_: &mut Criterion) {
     let directory = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
@@ -181,5 +232,5 @@ fn state_bytes(_: &mut Criterion) {
     .expect("write the state size");
 }
 
-criterion_group!(benches, attention, conversations, state_bytes);
+criterion_group!(benches, attention, conversations, following, state_bytes);
 criterion_main!(benches);

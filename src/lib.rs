@@ -77,6 +77,8 @@ mod documentation {
     struct Install;
     #[doc = include_str!("../docs/performance.md")]
     struct Performance;
+    #[doc = include_str!("../docs/street.md")]
+    struct Street;
     #[doc = include_str!("../docs/threads.md")]
     struct Threads;
     #[doc = include_str!("../docs/your-character.md")]

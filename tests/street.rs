@@ -16,7 +16,7 @@ fn street_stats(file: support::field::SceneFile) -> (FieldStats, FieldStats) {
         CrowdConfig::street(),
         AttentionModel::Street,
         &[],
-        0.0,
+        0.0..0.0,
         None,
     );
     let config = CrowdConfig::street();

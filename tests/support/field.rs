@@ -151,14 +151,14 @@ pub fn world() -> World {
 }
 
 /// Replays `tracks` from their first to their last sample at [`FPS`] through a crowd of
-/// `config` whose walkers use `model`, with `starers` standing still (staring from
-/// `stare_from` seconds after the start). Returns every frame. `seconds` limits the replay.
+/// `config` whose walkers use `model`, with `starers` standing still (staring during
+/// `stare`, seconds after the start). Returns every frame. `seconds` limits the replay.
 pub fn replay(
     tracks: &[Track],
     config: CrowdConfig,
     model: AttentionModel,
     starers: &[Starer],
-    stare_from: f64,
+    stare: std::ops::Range<f64>,
     seconds: Option<f64>,
 ) -> Vec<Frame> {
     let start = tracks
@@ -203,7 +203,13 @@ pub fn replay(
         if time > end {
             break;
         }
-        if !staring && time >= start + stare_from {
+        if staring && time >= start + stare.end {
+            staring = false;
+            for &id in &starer_ids {
+                crowd.clear_gaze_target(id).unwrap();
+            }
+        }
+        if !staring && (start + stare.start..start + stare.end).contains(&time) {
             staring = true;
             for (starer, &id) in starers.iter().zip(&starer_ids) {
                 crowd
@@ -323,7 +329,13 @@ fn median(values: &mut [f64]) -> f64 {
 
 /// Whether `other` is in the view of a walker at `position` moving with `velocity`: within
 /// `distance` and `half_angle` of the walking direction.
-fn in_view(position: Vec2, velocity: Vec2, other: Vec2, distance: f32, half_angle: f32) -> bool {
+pub fn in_view(
+    position: Vec2,
+    velocity: Vec2,
+    other: Vec2,
+    distance: f32,
+    half_angle: f32,
+) -> bool {
     let offset = other - position;
     let length = offset.length();
     if length > distance || velocity.length() < 0.2 {
