@@ -27,7 +27,7 @@ pub struct CrowdConfig {
     pub seed: u64,
     /// Most characters (entities that look) the crowd can hold at once, 1 to
     /// [`MAX_CAPACITY`] (2²⁴). Each takes about
-    /// [`Crowd::state_bytes_per_character`] bytes (under 1 KiB), allocated at creation.
+    /// [`Crowd::state_bytes_per_character`] bytes (about 1 KiB), allocated at creation.
     pub max_characters: u32,
     /// Most scene objects (entities that are only looked at) the crowd can hold at once,
     /// 0 to [`MAX_CAPACITY`] (2²⁴). Each takes about 130 bytes, allocated at creation.
