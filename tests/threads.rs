@@ -578,3 +578,31 @@ fn a_large_crowd_in_grid_order_matches_dense_ranges() {
     assert!(ranged == run(1, false), "grid order, 1 thread");
     assert!(ranged == run(2, false), "grid order, 2 threads");
 }
+
+#[test]
+fn the_mixed_street_steps_every_model_and_follows_gaze() {
+    // What the identity tests above compare includes street-model walkers and gaze
+    // following (three people stare up; passers-by may look too).
+    let (mut crowd, mut scenario) = street(1);
+    for frame in 0..FRAMES * 3 {
+        scenario.advance(DT);
+        scenario
+            .push(&mut crowd, (frame + 1) as f64 * f64::from(DT))
+            .unwrap();
+        crowd.step(DT).unwrap();
+    }
+    let glances: u32 = scenario
+        .character_ids()
+        .iter()
+        .map(|&id| crowd.following(id).unwrap().1)
+        .sum();
+    let street_fixations: u32 = scenario
+        .character_ids()
+        .iter()
+        .skip(3)
+        .step_by(4)
+        .map(|&id| crowd.gaze(id).unwrap().interest_count)
+        .sum();
+    assert!(glances > 0, "nobody followed the starers' gaze");
+    assert!(street_fixations > 0, "the street walkers fixated nobody");
+}

@@ -208,18 +208,19 @@ impl Street {
     }
 }
 
-/// Puts the characters `ids` on the crowd, saliency and baseline models in turn (character
-/// `i` on model `i % 3`), so that a test steps all three side by side.
+/// Puts the characters `ids` on the crowd, saliency, baseline and street models in turn
+/// (character `i` on model `i % 4`), so that a test steps all four side by side.
 pub fn mix_attention_models(crowd: &mut crowdgaze::Crowd, ids: &[u32]) {
     use crowdgaze::attention::{AttentionModel, CharacterParams};
     let models = [
         AttentionModel::Crowd,
         AttentionModel::Saliency,
         AttentionModel::Baseline,
+        AttentionModel::Street,
     ];
     for (i, &id) in ids.iter().enumerate() {
         let params = crowd.character_params(id).unwrap();
-        let model = models[i % 3];
+        let model = models[i % models.len()];
         crowd
             .set_character_params(id, &CharacterParams { model, ..params })
             .unwrap();
@@ -227,11 +228,15 @@ pub fn mix_attention_models(crowd: &mut crowdgaze::Crowd, ids: &[u32]) {
 }
 
 /// The settings of [`mixed_street`]'s crowd but for what a test varies: a level of detail by
-/// distance and attention every second step.
+/// distance, attention every second step, gaze following on.
 pub fn mixed_street_config() -> crowdgaze::CrowdConfig {
     crowdgaze::CrowdConfig {
         lod_distance: 12.0,
         attention_period: 2,
+        following: crowdgaze::attention::following::FollowConfig {
+            enabled: true,
+            ..crowdgaze::attention::following::FollowConfig::MILGRAM
+        },
         ..crowdgaze::CrowdConfig::default()
     }
 }
@@ -295,10 +300,11 @@ pub fn set_base_poses(crowd: &mut crowdgaze::Crowd, ids: &[u32]) {
     }
 }
 
-/// A street crowd of `people` and `props` (seed `seed`) mixing the three attention models,
+/// A street crowd of `people` and `props` (seed `seed`) mixing the four attention models,
 /// the gaze chains of [`varied_chains`] in turn and base poses on every third character,
-/// with an explicit target of each priority: with a viewer set by the test, every path of a
-/// character's step.
+/// with an explicit target of each priority and three people staring up (whom the others
+/// may follow, when the config turns following on): with a viewer set by the test, every
+/// path of a character's step.
 pub fn mixed_street(
     config: crowdgaze::CrowdConfig,
     people: usize,
@@ -327,6 +333,15 @@ pub fn mixed_street(
             TargetPriority::WhenIdle,
         )
         .unwrap();
+    for &starer in ids.iter().skip(15).step_by(8).take(3) {
+        crowd
+            .set_gaze_target(
+                starer,
+                ExplicitTarget::Point(Vec3::new(0.0, 9.0, 20.0)),
+                TargetPriority::Override,
+            )
+            .unwrap();
+    }
     (crowd, scenario)
 }
 
