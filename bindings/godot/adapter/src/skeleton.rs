@@ -148,6 +148,8 @@ pub struct BoundSkeleton {
     /// The library's mapping report (see
     /// [`MappedChain::report`](crowdgaze::skeleton_map::MappedChain::report)).
     pub report: String,
+    /// The mapping's notes (what it guessed, what it left out), one sentence each.
+    pub notes: Vec<String>,
 }
 
 /// A bone between two chain joints (a facial root between the head and the eyes): read
@@ -376,6 +378,7 @@ impl BoundSkeleton {
             between,
             between_ends,
             report,
+            notes: mapped.notes.clone(),
         };
         for (k, &bone) in mapped.bones.iter().enumerate() {
             bound.bones[k] = bone;

@@ -9,8 +9,8 @@ use std::time::Instant;
 
 use crowdgaze_godot_adapter::crowdgaze::crowd::{ExplicitTarget, TargetPriority};
 use crowdgaze_godot_adapter::{
-    claim_skeleton, message, CharacterSettings, CrowdSettings, EntityNode, PoseConvention, Reports,
-    SceneCrowd, SkeletonClaim,
+    check_crowd, claim_skeleton, message, CharacterSettings, CrowdSettings, EntityNode,
+    PoseConvention, Reports, SceneCrowd, SkeletonClaim,
 };
 use gdnative::api::Skeleton;
 use gdnative::nativescript::init::{Signal, SignalArgument};
@@ -18,15 +18,14 @@ use gdnative::nativescript::{ExportInfo, PropertyUsage};
 use gdnative::prelude::*;
 
 use crate::character::{resolve_crowd, Presence};
-use crate::convert::{boundary, on_main_thread_now, quat, vec3, vector, xform, Data};
+use crate::checked_method;
+use crate::convert::{
+    boundary, in_editor, node_path, number, on_main_thread_now, quat, vec3, vector, xform, Data,
+};
 use crate::skeleton::GodotSkeleton;
 
-/// The group every `CrowdGaze` node joins while in the tree.
-pub const CROWD_GROUP: &str = "crowdgaze";
-/// The group every `CrowdGazeCharacter` node joins while in the tree.
-pub const CHARACTER_GROUP: &str = "crowdgaze_characters";
-/// The group every `GazeTarget` node joins while in the tree.
-pub const TARGET_GROUP: &str = "crowdgaze_targets";
+/// The addon's groups (shared with the other front end).
+pub use crowdgaze_godot_adapter::membership::{CHARACTER_GROUP, CROWD_GROUP, TARGET_GROUP};
 
 /// A registered node: its instance id, and its skeleton's for a character (0 for a target).
 #[derive(Debug, Clone)]
@@ -177,13 +176,13 @@ unsafe fn live<'a, T: GodotObject<RefKind = gdnative::ref_kind::ManuallyManaged>
     Some(unsafe { Ref::<T, Shared>::from_sys(object).assume_safe() })
 }
 
-/// A node's path, for messages.
+/// A node's path, for messages (see [`node_path`]).
 fn path_of(node: &Node) -> String {
-    node.get_path().to_string()
+    node_path(node)
 }
 
 /// A character node's parent `Skeleton`, if it is one.
-fn skeleton_of<'a>(node: &Spatial) -> Option<TRef<'a, Skeleton, Shared>> {
+pub fn skeleton_of<'a>(node: &Spatial) -> Option<TRef<'a, Skeleton, Shared>> {
     node.get_parent()
         // SAFETY: the parent is in the tree, owned by the main thread, for this call.
         .and_then(|parent| unsafe { parent.assume_safe_if_sane() })
@@ -242,6 +241,30 @@ impl CrowdGaze {
                 },
             ],
         });
+        Self::register_methods(builder);
+    }
+
+    /// The exported methods, each with its argument count checked (see
+    /// [`methods`](crate::methods)).
+    fn register_methods(builder: &ClassBuilder<Self>) {
+        checked_method!(builder, CrowdGaze, [], fn _enter_tree(&mut self, owner: &Spatial));
+        checked_method!(builder, CrowdGaze, [], fn _ready(&mut self, owner: &Spatial));
+        checked_method!(builder, CrowdGaze, [], fn _exit_tree(&mut self, owner: &Spatial));
+        checked_method!(builder, CrowdGaze, ["delta"], fn _process(&mut self, owner: &Spatial, delta: Variant));
+        checked_method!(builder, CrowdGaze, [], fn _get_configuration_warning(&self, _owner: &Spatial) -> String);
+        checked_method!(builder, CrowdGaze, [], fn get_character_count(&self, _owner: &Spatial) -> i64);
+        checked_method!(builder, CrowdGaze, [], fn get_target_count(&self, _owner: &Spatial) -> i64);
+        checked_method!(builder, CrowdGaze, ["character"], fn get_gaze_target(&self, owner: &Spatial, character: Variant) -> Variant);
+        checked_method!(builder, CrowdGaze, ["character"], fn get_gaze_point(&self, _owner: &Spatial, character: Variant) -> Vector3);
+        checked_method!(builder, CrowdGaze, ["character"], fn is_attending(&self, _owner: &Spatial, character: Variant) -> bool);
+        checked_method!(builder, CrowdGaze, ["character"], fn is_holding(&self, _owner: &Spatial, character: Variant) -> bool);
+        checked_method!(builder, CrowdGaze, ["character"], fn get_chain_bones(&self, _owner: &Spatial, character: Variant) -> VariantArray);
+        checked_method!(builder, CrowdGaze, ["character"], fn get_joint_rotations(&self, _owner: &Spatial, character: Variant) -> VariantArray);
+        checked_method!(builder, CrowdGaze, ["character"], fn get_look_at_height(&self, _owner: &Spatial, character: Variant) -> f64);
+        checked_method!(builder, CrowdGaze, ["character", "target"], fn set_gaze_target(&mut self, owner: &Spatial, character: Variant, target: Variant) -> bool);
+        checked_method!(builder, CrowdGaze, ["character"], fn clear_gaze_target(&mut self, _owner: &Spatial, character: Variant) -> bool);
+        checked_method!(builder, CrowdGaze, [], fn get_frame_usec(&self, _owner: &Spatial) -> f64);
+        checked_method!(builder, CrowdGaze, [], fn get_frame_parts_usec(&self, _owner: &Spatial) -> Vector3);
     }
 
     /// The crowd's settings from the exported fields, as given.
@@ -694,11 +717,15 @@ impl CrowdGaze {
 
 #[methods]
 impl CrowdGaze {
-    #[export]
     fn _enter_tree(&mut self, owner: &Spatial) {
         boundary("CrowdGaze._enter_tree", (), || {
-            on_main_thread_now();
             owner.add_to_group(CROWD_GROUP, false);
+            if in_editor() {
+                // Found by the characters' warnings; nothing runs in the editor.
+                owner.set_process(false);
+                return;
+            }
+            on_main_thread_now();
             // After the scripts that animate in _process (AnimationPlayers run before any).
             if owner.process_priority() == 0 {
                 owner.set_process_priority(100);
@@ -708,12 +735,17 @@ impl CrowdGaze {
         })
     }
 
-    #[export]
     fn _ready(&mut self, owner: &Spatial) {
-        boundary("CrowdGaze._ready", (), || self.adopt(owner))
+        boundary("CrowdGaze._ready", (), || {
+            if in_editor() {
+                // Godot turns processing on after _enter_tree for a script with _process.
+                owner.set_process(false);
+            } else {
+                self.adopt(owner)
+            }
+        })
     }
 
-    #[export]
     fn _exit_tree(&mut self, owner: &Spatial) {
         boundary("CrowdGaze._exit_tree", (), || {
             owner.remove_from_group(CROWD_GROUP);
@@ -724,13 +756,40 @@ impl CrowdGaze {
         })
     }
 
-    #[export]
-    fn _process(&mut self, owner: &Spatial, delta: f64) {
-        boundary("CrowdGaze._process", (), || self.frame(owner, delta))
+    fn _process(&mut self, owner: &Spatial, delta: Variant) {
+        boundary("CrowdGaze._process", (), || {
+            if in_editor() {
+                return;
+            }
+            // Godot passes a float; a script calling it may pass anything.
+            match number(&delta) {
+                Some(delta) => self.frame(owner, delta),
+                None => {
+                    let error = "the delta must be a number of seconds";
+                    if self
+                        .reports
+                        .first(owner.get_instance_id(), "_process", &error)
+                    {
+                        let path = path_of(owner);
+                        let method = "CrowdGaze._process";
+                        godot_error!("{}", message(&path, method, &error, "the frame is skipped"));
+                    }
+                }
+            }
+        })
+    }
+
+    /// The editor's configuration warnings: the settings, checked as when the node enters
+    /// the tree.
+    fn _get_configuration_warning(&self, _owner: &Spatial) -> String {
+        boundary(
+            "CrowdGaze._get_configuration_warning",
+            String::new(),
+            || check_crowd(&self.settings()).join("\n"),
+        )
     }
 
     /// Number of characters in the crowd.
-    #[export]
     fn get_character_count(&self, _owner: &Spatial) -> i64 {
         boundary("CrowdGaze.get_character_count", 0, || {
             self.scene
@@ -740,7 +799,6 @@ impl CrowdGaze {
     }
 
     /// Number of targets in the crowd.
-    #[export]
     fn get_target_count(&self, _owner: &Spatial) -> i64 {
         boundary("CrowdGaze.get_target_count", 0, || {
             self.scene.as_ref().map_or(0, |s| s.target_count() as i64)
@@ -748,7 +806,6 @@ impl CrowdGaze {
     }
 
     /// What a character's eyes look at: a character or target node, the camera, or null.
-    #[export]
     fn get_gaze_target(&self, owner: &Spatial, character: Variant) -> Variant {
         boundary("CrowdGaze.get_gaze_target", Variant::new(), || {
             let (Some(scene), Some(slot)) = (self.scene.as_ref(), self.slot_of(&character)) else {
@@ -772,7 +829,6 @@ impl CrowdGaze {
     }
 
     /// The point a character's eyes are sent to (metres, world).
-    #[export]
     fn get_gaze_point(&self, _owner: &Spatial, character: Variant) -> Vector3 {
         boundary("CrowdGaze.get_gaze_point", Vector3::zero(), || {
             self.slot_of(&character)
@@ -782,7 +838,6 @@ impl CrowdGaze {
     }
 
     /// True if a character attends to something.
-    #[export]
     fn is_attending(&self, _owner: &Spatial, character: Variant) -> bool {
         boundary("CrowdGaze.is_attending", false, || {
             self.slot_of(&character)
@@ -792,7 +847,6 @@ impl CrowdGaze {
     }
 
     /// True once a character's gaze has arrived on its target and follows it.
-    #[export]
     fn is_holding(&self, _owner: &Spatial, character: Variant) -> bool {
         boundary("CrowdGaze.is_holding", false, || {
             self.slot_of(&character)
@@ -802,7 +856,6 @@ impl CrowdGaze {
     }
 
     /// The bones of a character's gaze chain, bottom to top (spine, neck, head, eyes).
-    #[export]
     fn get_chain_bones(&self, _owner: &Spatial, character: Variant) -> VariantArray {
         boundary(
             "CrowdGaze.get_chain_bones",
@@ -824,7 +877,6 @@ impl CrowdGaze {
 
     /// The library's final rotation of each chain joint (`base * delta`): local to its
     /// parent bone, the first one relative to the character node's frame.
-    #[export]
     fn get_joint_rotations(&self, _owner: &Spatial, character: Variant) -> VariantArray {
         boundary(
             "CrowdGaze.get_joint_rotations",
@@ -847,7 +899,6 @@ impl CrowdGaze {
     }
 
     /// How high above a character's node its eyes are at rest (where others look), metres.
-    #[export]
     fn get_look_at_height(&self, _owner: &Spatial, character: Variant) -> f64 {
         boundary("CrowdGaze.get_look_at_height", 0.0, || {
             self.slot_of(&character)
@@ -859,7 +910,6 @@ impl CrowdGaze {
     /// Makes a character look at `target` (a registered character or target node, the
     /// camera, or a `Vector3` point) whatever its attention says, until
     /// `clear_gaze_target`. Returns false (with an error) if either is unknown.
-    #[export]
     fn set_gaze_target(&mut self, owner: &Spatial, character: Variant, target: Variant) -> bool {
         boundary("CrowdGaze.set_gaze_target", false, || {
             let slot = self.slot_of(&character);
@@ -901,10 +951,11 @@ impl CrowdGaze {
             match result {
                 Ok(()) => true,
                 Err(error) => {
-                    godot_error!(
-                        "{}",
-                        message(&path_of(owner), "CrowdGaze.set_gaze_target", &error, "")
-                    );
+                    let key = owner.get_instance_id();
+                    if self.reports.first(key, "set_gaze_target", &error) {
+                        let method = "CrowdGaze.set_gaze_target";
+                        godot_error!("{}", message(&path_of(owner), method, &error, ""));
+                    }
                     false
                 }
             }
@@ -912,7 +963,6 @@ impl CrowdGaze {
     }
 
     /// Gives a character back to its attention.
-    #[export]
     fn clear_gaze_target(&mut self, _owner: &Spatial, character: Variant) -> bool {
         boundary("CrowdGaze.clear_gaze_target", false, || {
             let slot = self.slot_of(&character);
@@ -928,13 +978,11 @@ impl CrowdGaze {
 
     /// The last frame's cost in this node (reading the scene, stepping the crowd and
     /// writing the bones), microseconds.
-    #[export]
     fn get_frame_usec(&self, _owner: &Spatial) -> f64 {
         self.frame_usec.iter().sum()
     }
 
     /// The last frame's cost in this node by part, microseconds: `[read, step, write]`.
-    #[export]
     fn get_frame_parts_usec(&self, _owner: &Spatial) -> Vector3 {
         Vector3::new(
             self.frame_usec[0] as f32,

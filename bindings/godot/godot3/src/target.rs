@@ -4,16 +4,18 @@
 
 use gdnative::prelude::*;
 
-use crowdgaze_godot_adapter::message;
+use crowdgaze_godot_adapter::{check_target, message};
 
-use crate::character::{leave, resolve_crowd, with_crowd};
-use crate::convert::{boundary, Data};
+use crate::character::{crowd_found, leave, resolve_crowd, with_crowd};
+use crate::checked_method;
+use crate::convert::{boundary, in_editor, Data};
 use crate::crowd_gaze::TARGET_GROUP;
 
 /// A scene object for the characters to look at.
 #[derive(NativeClass)]
 #[inherit(Spatial)]
 #[user_data(Data<GazeTarget>)]
+#[register_with(Self::register)]
 pub struct GazeTarget {
     /// The `CrowdGaze` node to join; empty: the nearest `CrowdGaze` ancestor, else the only
     /// `CrowdGaze` in the tree.
@@ -36,6 +38,15 @@ impl GazeTarget {
         }
     }
 
+    /// The exported methods, each with its argument count checked (see
+    /// [`methods`](crate::methods)).
+    fn register(builder: &ClassBuilder<Self>) {
+        checked_method!(builder, GazeTarget, [], fn _enter_tree(&self, owner: TRef<Spatial>));
+        checked_method!(builder, GazeTarget, [], fn _ready(&self, owner: TRef<Spatial>));
+        checked_method!(builder, GazeTarget, [], fn _exit_tree(&self, owner: TRef<Spatial>));
+        checked_method!(builder, GazeTarget, [], fn _get_configuration_warning(&self, owner: TRef<Spatial>) -> String);
+    }
+
     /// The `crowd` path as set.
     pub fn crowd_path(&self) -> NodePath {
         self.crowd.new_ref()
@@ -49,25 +60,45 @@ impl GazeTarget {
 
 #[methods]
 impl GazeTarget {
-    #[export]
     fn _enter_tree(&self, owner: TRef<Spatial>) {
         boundary("GazeTarget._enter_tree", (), || {
             owner.add_to_group(TARGET_GROUP, false);
+            if in_editor() {
+                owner.update_configuration_warning();
+                return;
+            }
             self.join(owner, false);
         })
     }
 
-    #[export]
     fn _ready(&self, owner: TRef<Spatial>) {
-        boundary("GazeTarget._ready", (), || self.join(owner, true))
+        boundary("GazeTarget._ready", (), || {
+            if !in_editor() {
+                self.join(owner, true)
+            }
+        })
     }
 
-    #[export]
     fn _exit_tree(&self, owner: TRef<Spatial>) {
         boundary("GazeTarget._exit_tree", (), || {
             owner.remove_from_group(TARGET_GROUP);
             leave(&owner);
         })
+    }
+
+    /// The editor's configuration warnings, one per line (see [`check_target`]).
+    fn _get_configuration_warning(&self, owner: TRef<Spatial>) -> String {
+        boundary(
+            "GazeTarget._get_configuration_warning",
+            String::new(),
+            || {
+                if !owner.is_inside_tree() {
+                    return String::new();
+                }
+                let crowd = crowd_found(&owner, &self.crowd);
+                check_target(self.look_at_height, self.impact, &crowd).join("\n")
+            },
+        )
     }
 }
 
@@ -103,6 +134,10 @@ impl GazeTarget {
     fn settings_changed(&mut self, owner: TRef<Spatial>) {
         boundary("GazeTarget.settings_changed", (), || {
             if !owner.is_inside_tree() {
+                return;
+            }
+            if in_editor() {
+                owner.update_configuration_warning();
                 return;
             }
             if let Ok(Some(crowd)) = resolve_crowd(&owner, &self.crowd) {
