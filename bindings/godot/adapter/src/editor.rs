@@ -159,49 +159,12 @@ pub fn check_crowd(settings: &CrowdSettings) -> Vec<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use glam::Quat;
+    use crate::tests::{rig_skeleton, FakeSkeleton};
 
-    /// A skeleton of named bones, each 10 cm above its parent (Y up), eyes forward (+Z).
-    struct Bones(Vec<(&'static str, Option<usize>, [f32; 3])>, Xform);
-
-    impl SkeletonAccess for Bones {
-        fn bone_count(&self) -> usize {
-            self.0.len()
-        }
-        fn bone_name(&self, bone: usize) -> String {
-            self.0[bone].0.to_string()
-        }
-        fn bone_parent(&self, bone: usize) -> Option<usize> {
-            self.0[bone].1
-        }
-        fn bone_rest(&self, bone: usize) -> Xform {
-            let offset = glam::Vec3::from_array(self.0[bone].2);
-            Xform::from_rotation_translation(Quat::IDENTITY, offset)
-        }
-        fn bone_pose(&self, _bone: usize) -> Xform {
-            Xform::IDENTITY
-        }
-        fn set_bone_pose(&mut self, _bone: usize, _pose: Xform) {}
-        fn global_transform(&self) -> Xform {
-            self.1
-        }
-    }
-
-    fn human() -> Bones {
-        Bones(
-            vec![
-                ("Hips", None, [0.0, 0.95, 0.0]),
-                ("Spine", Some(0), [0.0, 0.1, 0.0]),
-                ("Chest", Some(1), [0.0, 0.25, 0.02]),
-                ("Neck", Some(2), [0.0, 0.2, 0.0]),
-                ("Head", Some(3), [0.0, 0.08, 0.0]),
-                ("LeftEye", Some(4), [0.032, 0.06, 0.085]),
-                ("RightEye", Some(4), [-0.032, 0.06, 0.085]),
-                ("LeftUpLeg", Some(0), [0.1, -0.05, 0.0]),
-                ("RightUpLeg", Some(0), [-0.1, -0.05, 0.0]),
-            ],
-            Xform::IDENTITY,
-        )
+    /// The adapter tests' standing human (Hips, Spine, Chest, Neck, Head, LeftEye,
+    /// RightEye, LeftUpLeg, RightUpLeg; rests rotated as importers do).
+    fn human() -> FakeSkeleton {
+        FakeSkeleton::human(PoseConvention::RestTimesPose, Xform::IDENTITY, 1.0)
     }
 
     #[test]
@@ -230,7 +193,7 @@ mod tests {
 
     #[test]
     fn each_problem_is_one_warning_saying_what_to_do() {
-        let none: Option<&Bones> = None;
+        let none: Option<&FakeSkeleton> = None;
         let check = check_character(none, &Xform::IDENTITY, "", 1.0, &CrowdFound::NoneYet);
         assert_eq!(check.warnings.len(), 2, "{:?}", check.warnings);
         assert!(check.warnings[0].starts_with("Not under a Skeleton"));
@@ -238,7 +201,7 @@ mod tests {
         assert!(check.report.starts_with("no gaze chain"));
 
         let mut headless = human();
-        headless.0[4].0 = "Skull";
+        headless.names[4] = "Skull".into();
         let check = check_character(
             Some(&headless),
             &Xform::IDENTITY,
@@ -271,10 +234,10 @@ mod tests {
 
         // No eyes, no neck: the parts that do not turn.
         let mut neckless = human();
-        neckless.0[3].0 = "Tail";
-        neckless.0[4].1 = Some(2);
-        neckless.0[5].0 = "Blob1";
-        neckless.0[6].0 = "Blob2";
+        neckless.names[3] = "Tail".into();
+        neckless.parents[4] = Some(2);
+        neckless.names[5] = "Blob1".into();
+        neckless.names[6] = "Blob2".into();
         let check = check_character(
             Some(&neckless),
             &Xform::IDENTITY,
@@ -332,7 +295,7 @@ mod tests {
 
         // Mirrored.
         let mut mirrored = human();
-        mirrored.1 = Xform {
+        mirrored.global = Xform {
             basis: glam::Mat3::from_diagonal(glam::Vec3::new(-1.0, 1.0, 1.0)),
             origin: glam::Vec3::ZERO,
         };
@@ -353,20 +316,15 @@ mod tests {
 
     #[test]
     fn eyes_under_a_facial_bone_are_mapped_and_noted_in_the_report() {
-        let mut facial = human();
-        facial.0.insert(5, ("FacialRoot", Some(4), [0.0, 0.0, 0.0]));
-        for bone in &mut facial.0[6..8] {
-            bone.1 = Some(5);
-        }
-        for bone in &mut facial.0[8..] {
-            bone.1 = Some(0);
-        }
+        // Character Creator 4: the eyes hang from CC_Base_FacialBone under the head.
+        let rig = include_str!("../../../../tests/data/rigs/cc4.rig");
+        let facial = rig_skeleton(rig, PoseConvention::RestTimesPose, Xform::IDENTITY);
         let check = check_character(Some(&facial), &Xform::IDENTITY, "", 1.0, &CrowdFound::Found);
         assert!(check.report.contains("2 eyes"), "{}", check.report);
         assert!(
-            check
-                .report
-                .contains("note: eye 'LeftEye' hangs from the head through 'FacialRoot'"),
+            check.report.contains(
+                "note: eye 'CC_Base_L_Eye' hangs from the head through 'CC_Base_FacialBone'"
+            ),
             "{}",
             check.report
         );

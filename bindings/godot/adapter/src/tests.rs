@@ -13,12 +13,12 @@ use crate::xform::{rotation_of, Xform};
 
 /// A skeleton that poses itself as Godot does.
 #[derive(Debug, Clone)]
-struct FakeSkeleton {
-    names: Vec<String>,
-    parents: Vec<Option<usize>>,
+pub(crate) struct FakeSkeleton {
+    pub(crate) names: Vec<String>,
+    pub(crate) parents: Vec<Option<usize>>,
     rests: Vec<Xform>,
     poses: Vec<Xform>,
-    global: Xform,
+    pub(crate) global: Xform,
     convention: PoseConvention,
     /// How many poses were written.
     writes: usize,
@@ -65,7 +65,7 @@ const HUMAN: &[(&str, Option<usize>, [f32; 3])] = &[
 impl FakeSkeleton {
     /// The human, its rests rotated as importers do (a different turn per bone), `unit`
     /// skeleton units per metre, placed at `global`.
-    fn human(convention: PoseConvention, global: Xform, unit: f32) -> FakeSkeleton {
+    pub(crate) fn human(convention: PoseConvention, global: Xform, unit: f32) -> FakeSkeleton {
         let turns: Vec<Quat> = (0..HUMAN.len())
             .map(|i| Quat::from_euler(EulerRot::YXZ, 0.4 * i as f32, 0.3, -0.2 + 0.1 * i as f32))
             .collect();
@@ -846,7 +846,7 @@ fn a_3000_bone_skeleton_without_a_head_gives_a_short_message() {
 /// A skeleton from one of the repository's rig fixtures (`tests/data/rigs/*.rig`: Z up,
 /// facing -Y, centimetres for the ones used here), turned to Godot's axes (Y up, facing
 /// +Z, metres), rests without rotation, placed at `global`.
-fn rig_skeleton(text: &str, convention: PoseConvention, global: Xform) -> FakeSkeleton {
+pub(crate) fn rig_skeleton(text: &str, convention: PoseConvention, global: Xform) -> FakeSkeleton {
     let mut skeleton = FakeSkeleton::empty(convention, global);
     for line in text.lines() {
         let fields: Vec<&str> = line.split_whitespace().collect();

@@ -10,6 +10,7 @@ extends Spatial
 
 const CharacterScript = preload("res://addons/crowdgaze/CrowdGazeCharacter.gdns")
 const TargetScript = preload("res://addons/crowdgaze/GazeTarget.gdns")
+const Check = preload("res://check.gd")   # its rest_global
 const TOLERANCE_DEGREES = 2.0
 
 # name, parent, rest position relative to the parent (metres, Y up, facing +Z).
@@ -42,16 +43,6 @@ onready var crowd = $CrowdGaze
 func expect(condition, what):
 	if not condition:
 		failures.append("frame %d: %s" % [frame, what])
-
-
-# A bone's rest pose in the skeleton's frame.
-static func rest_global(skeleton, bone):
-	var pose = skeleton.get_bone_rest(bone)
-	var parent = skeleton.get_bone_parent(bone)
-	while parent >= 0:
-		pose = skeleton.get_bone_rest(parent) * pose
-		parent = skeleton.get_bone_parent(parent)
-	return pose
 
 
 func _ready():
@@ -93,7 +84,7 @@ func check_eyes():
 	var point = target.global_transform.origin + Vector3.UP * target.look_at_height
 	for name in ["LeftEye", "RightEye"]:
 		var eye = skeleton.find_bone(name)
-		var forward = rest_global(skeleton, eye).basis.inverse().xform(Vector3.BACK)
+		var forward = Check.rest_global(skeleton, eye).basis.inverse().xform(Vector3.BACK)
 		var pose = skeleton.global_transform * skeleton.get_bone_global_pose(eye)
 		var error = rad2deg(pose.basis.xform(forward).angle_to(point - pose.origin))
 		worst = max(worst, error)
