@@ -13,11 +13,20 @@ const TYPES = [
 ]
 
 
+var bone_inspector = null   # the bone pickers (bone_inspector.gd)
+
+
 func _enter_tree():
 	for type in TYPES:
 		add_custom_type(type[0], type[1], load(type[2]), load(type[3]))
+	bone_inspector = load("res://addons/crowdgaze/bone_inspector.gd").new()
+	bone_inspector.undo_redo = get_undo_redo()
+	add_inspector_plugin(bone_inspector)
 
 
 func _exit_tree():
 	for type in TYPES:
 		remove_custom_type(type[0])
+	if bone_inspector != null:
+		remove_inspector_plugin(bone_inspector)
+		bone_inspector = null

@@ -1,8 +1,9 @@
-# The addon in the Godot 3.2 editor, headless (scripts/godot-check copies this plugin into
-# the demo project as addons/crowdgaze_check, enables it after the crowdgaze plugin and runs
-# `godot3-server --editor`): the crowdgaze plugin is enabled and in the editor's tree; the
+# The addon in the Godot 3.2 editor, headless (scripts/godot-check copies this plugin into a
+# project holding only the addon, as addons/crowdgaze_check, enables it after the crowdgaze
+# plugin and runs `godot3-server --editor`): the crowdgaze plugin is enabled and in the editor's tree; the
 # addon's nodes, in the editor's tree (tool mode), give the configuration warnings and the
-# mapping report, join no crowd, do not process and write no bone. Prints "CROWDGAZE EDITOR
+# mapping report, join no crowd, do not process and write no bone; the bone pickers in a
+# character's inspector write bone_map, undoably. Prints "CROWDGAZE EDITOR
 # PASSED" (or FAILED) and quits the editor.
 tool
 extends EditorPlugin
@@ -53,11 +54,13 @@ func character(name, names):
 func run():
 	expect(Engine.editor_hint, "not in the editor")
 	expect(get_editor_interface().is_plugin_enabled("crowdgaze"), "the crowdgaze plugin is not enabled")
-	var loaded = false
+	var plugin = null
 	for node in get_parent().get_children():
 		if node is EditorPlugin and node.get_script() != null and node.get_script().resource_path == "res://addons/crowdgaze/plugin.gd":
-			loaded = true
-	expect(loaded, "plugin.gd is not in the editor's tree")
+			plugin = node
+	expect(plugin != null, "plugin.gd is not in the editor's tree")
+	var inspector = plugin.bone_inspector if plugin != null else null
+	expect(inspector != null, "the plugin has no bone inspector")
 	# A scene in the editor's tree, as the edited scene is.
 	scene = Spatial.new()
 	scene.name = "CrowdgazeEditorCheck"
@@ -91,8 +94,29 @@ func run():
 	warning = headless._get_configuration_warning()
 	expect(warning.begins_with("No head found: ") and warning.find("'Tail'") >= 0, "the headless skeleton's warning: " + warning)
 	expect(headless.mapping_report.begins_with("no gaze chain: "), "the headless report: " + headless.mapping_report)
-	headless.bone_map = "Tail=head"
+	# The bone pickers: picking Tail as the head writes Tail=head into bone_map (undoably).
+	expect(inspector.can_handle(headless) and not inspector.can_handle(crowd), "the bone inspector's can_handle")
+	var pickers = inspector.make_pickers(headless)
+	var head = pickers.find_node("head", true, false)
+	expect(head is OptionButton and head.get_item_count() == 4 and head.selected == 0, "the head picker lists (by name) and the 3 bones")
+	head.select(3)
+	head.emit_signal("item_selected", 3)
+	pickers.free()
+	expect(headless.bone_map == "Tail=head", "picking the head wrote bone_map = '%s'" % headless.bone_map)
 	expect(headless.mapping_report.find("'Tail' (override)") >= 0, "bone_map did not change the report: " + headless.mapping_report)
+	warning = headless._get_configuration_warning()
+	expect(warning.find("No head") < 0 and warning.find("Tail=head") < 0, "the head is still missing: " + warning)
+	get_undo_redo().undo()
+	expect(headless.bone_map == "", "undo left bone_map = '%s'" % headless.bone_map)
+	get_undo_redo().redo()
+	expect(headless.bone_map == "Tail=head", "redo left bone_map = '%s'" % headless.bone_map)
+	pickers = inspector.make_pickers(headless)
+	expect(pickers.find_node("head", true, false).selected == 3, "the head picker does not show Tail")
+	pickers.free()
+	var Pickers = load("res://addons/crowdgaze/bone_inspector.gd")
+	expect(Pickers.with_role("A=head, B=spine", "C", "head") == "B=spine,C=head", "with_role replaces a role")
+	expect(Pickers.with_role("A=head,B=spine", "", "head") == "B=spine", "with_role clears a role")
+	expect(Pickers.with_role("B=spine", "B", "head") == "B=head", "with_role moves a bone")
 	# Not under a skeleton.
 	var stray = CharacterScript.new()
 	stray.name = "Stray"
