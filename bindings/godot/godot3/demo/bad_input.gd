@@ -341,10 +341,12 @@ func hostile_properties():
 		node.free()
 		k += 1
 	camera.free()
-	# The wrong type: gdnative's own message (no node name), and the value is kept.
-	expect_error("Incorrect type passed to property: invalid variant type: expected I64, got GodotString")
-	crowd.seed = "x"
-	expect(crowd.seed == 1, "a string seed was taken")
+	# Values of the wrong type for every property: one error each naming the node and the
+	# property, the value kept; an int for a float and a whole float for an int are taken.
+	wrong_types(crowd, "/root/BadInput/CrowdGaze: CrowdGaze", CROWD_PROPERTIES)
+	crowd.max_distance = 12
+	expect(crowd.max_distance == 12.0, "an int max_distance was refused")
+	crowd.max_distance = 10.0
 	var gaze = people[2].get_node("Skeleton/Gaze")
 	var path = "/root/BadInput/Person2/Skeleton/Gaze: CrowdGazeCharacter.set_bone_map/set_impact: invalid argument: "
 	expect_error(path + "impact = NaN")
@@ -385,3 +387,40 @@ func hostile_properties():
 	target.crowd = NodePath("/root/Nowhere")
 	target.crowd = NodePath()
 	expect(crowd.get_target_count() == 1, "the target left after hostile properties")
+	wrong_types(gaze, "/root/BadInput/Person2/Skeleton/Gaze: CrowdGazeCharacter", CHARACTER_PROPERTIES)
+	wrong_types(target, "/root/BadInput/Lamp: GazeTarget", TARGET_PROPERTIES)
+	gaze.impact = 2
+	expect(gaze.impact == 2.0, "an int impact was refused")
+	gaze.impact = 1.0
+	expect(crowd.get_character_count() == 2 and crowd.get_chain_bones(gaze).size() == 8, "wrong types changed the character")
+
+
+# Each property's Godot type, and values of other types for it.
+const CROWD_PROPERTIES = [
+	["seed", "int"], ["max_characters", "int"], ["max_targets", "int"], ["max_distance", "float"],
+	["field_of_view", "float"], ["attention_fraction_min", "float"],
+	["attention_fraction_max", "float"], ["threads", "int"], ["attention_period", "int"],
+	["lod_distance", "float"], ["far_attention_period", "int"], ["camera_is_viewer", "bool"],
+	["viewer_impact", "float"],
+]
+const CHARACTER_PROPERTIES = [["crowd", "NodePath"], ["bone_map", "String"], ["impact", "float"]]
+const TARGET_PROPERTIES = [["crowd", "NodePath"], ["look_at_height", "float"], ["impact", "float"]]
+
+
+static func with_article(name):
+	return ("an " if name[0] in ["a", "e", "i", "o", "u"] else "a ") + name
+
+
+# Each property set to a String (a Vector3 for the String ones), then to null: one error
+# each, the value unchanged.
+func wrong_types(node, prefix, properties):
+	for entry in properties:
+		var before = node.get(entry[0])
+		var wrong = Vector3(1, 2, 3) if entry[1] == "String" else "x"
+		var wrong_name = "a Vector3" if entry[1] == "String" else "a String"
+		expect_error("%s.%s: %s is not %s; the value is kept" % [prefix, entry[0], wrong_name, with_article(entry[1])])
+		node.set(entry[0], wrong)
+		node.set(entry[0], wrong)
+		expect_error("%s.%s: null is not %s; the value is kept" % [prefix, entry[0], with_article(entry[1])])
+		node.set(entry[0], null)
+		expect(typeof(node.get(entry[0])) == typeof(before) and str(node.get(entry[0])) == str(before), "%s.%s changed" % [prefix, entry[0]])

@@ -13,10 +13,11 @@ use crowdgaze_godot_adapter::{
 use gdnative::nativescript::init::property::{StringHint, Usage};
 use gdnative::prelude::*;
 
-use crate::checked_method;
 use crate::convert::{boundary, first_report, in_editor, is_main_thread, node_path, xform, Data};
 use crate::crowd_gaze::{skeleton_of, CrowdGaze, CHARACTER_GROUP, CROWD_GROUP};
+use crate::props::Given;
 use crate::skeleton::GodotSkeleton;
+use crate::{checked_method, checked_property};
 
 /// A character: its parent `Skeleton`'s bones are mapped to a gaze chain by name.
 #[derive(NativeClass)]
@@ -26,15 +27,12 @@ use crate::skeleton::GodotSkeleton;
 pub struct CrowdGazeCharacter {
     /// The `CrowdGaze` node to join; empty: the nearest `CrowdGaze` ancestor, else the only
     /// `CrowdGaze` in the tree.
-    #[property]
     crowd: NodePath,
     /// Bone map overrides, `Name=role` comma separated (roles: root, spine, neck, head,
     /// left_eye, right_eye, none), on top of the default map (Hips, Spine…, Neck, Head,
     /// LeftEye, RightEye and the usual variants).
-    #[property(after_set = "Self::settings_changed")]
     bone_map: GodotString,
     /// How interesting this character is to others (`I_E`, ≥ 0).
-    #[property(default = 1.0, after_set = "Self::settings_changed")]
     impact: f64,
     /// What the crowd knows of the node's life (see [`Presence`]).
     presence: Presence,
@@ -97,29 +95,40 @@ impl CrowdGazeCharacter {
     /// The read-only `mapping_report` property (shown multiline in the inspector, not
     /// saved): how the parent skeleton's bones map to the gaze chain.
     fn register(builder: &ClassBuilder<Self>) {
+        // The exported properties, each with its value's type checked (see
+        // [`props`](crate::props)).
+        checked_property!(builder, CrowdGazeCharacter, crowd: NodePath);
+        checked_property!(builder, CrowdGazeCharacter, bone_map: GodotString, then Self::settings_changed);
+        checked_property!(builder, CrowdGazeCharacter, impact: f64 = 1.0, then Self::settings_changed);
         builder
-            .add_property::<String>("mapping_report")
+            .add_property::<Given<String>>("mapping_report")
             .with_getter(|this: &Self, owner: TRef<Spatial>| {
-                boundary(
+                Given(Ok(boundary(
                     "CrowdGazeCharacter.get_mapping_report",
                     String::new(),
                     || this.check(&owner).report,
-                )
+                )))
             })
-            .with_shr_setter(|_this: &Self, owner: TRef<Spatial>, _value: String| {
-                boundary("CrowdGazeCharacter.set_mapping_report", (), || {
-                    let error = "mapping_report is read-only: it shows how the skeleton's bones \
+            .with_shr_setter(
+                |_this: &Self, owner: TRef<Spatial>, _value: Given<String>| {
+                    boundary("CrowdGazeCharacter.set_mapping_report", (), || {
+                        let error =
+                            "mapping_report is read-only: it shows how the skeleton's bones \
                                  are mapped; set bone_map to change the mapping";
-                    // The editor's text box may send edits: it shows the report again.
-                    if !in_editor()
-                        && first_report(owner.get_instance_id(), "set_mapping_report", &error)
-                    {
-                        let path = node_path(&owner);
-                        let method = "CrowdGazeCharacter.set_mapping_report";
-                        godot_error!("{}", message(&path, method, &error, "nothing is changed"));
-                    }
-                })
-            })
+                        // The editor's text box may send edits: it shows the report again.
+                        if !in_editor()
+                            && first_report(owner.get_instance_id(), "set_mapping_report", &error)
+                        {
+                            let path = node_path(&owner);
+                            let method = "CrowdGazeCharacter.set_mapping_report";
+                            godot_error!(
+                                "{}",
+                                message(&path, method, &error, "nothing is changed")
+                            );
+                        }
+                    })
+                },
+            )
             .with_hint(StringHint::Multiline)
             .with_usage(Usage::EDITOR)
             .done();

@@ -18,11 +18,11 @@ use gdnative::nativescript::{ExportInfo, PropertyUsage};
 use gdnative::prelude::*;
 
 use crate::character::{resolve_crowd, Presence};
-use crate::checked_method;
 use crate::convert::{
     boundary, in_editor, node_path, number, on_main_thread_now, quat, vec3, vector, xform, Data,
 };
 use crate::skeleton::GodotSkeleton;
+use crate::{checked_method, checked_property};
 
 /// The addon's groups (shared with the other front end).
 pub use crowdgaze_godot_adapter::membership::{CHARACTER_GROUP, CROWD_GROUP, TARGET_GROUP};
@@ -87,45 +87,32 @@ impl Handle {
 #[register_with(Self::register)]
 pub struct CrowdGaze {
     /// Seed of every random choice: the same scene and seed give the same gaze.
-    #[property(default = 1)]
     seed: i64,
     /// Most characters the crowd holds.
-    #[property(default = 1024)]
     max_characters: i64,
     /// Most targets (`GazeTarget` nodes) the crowd holds.
-    #[property(default = 256)]
     max_targets: i64,
     /// How far characters notice others (`d_m`, metres).
-    #[property(default = 10.0)]
     max_distance: f64,
     /// The characters' field of view, degrees.
-    #[property(default = 180.0)]
     field_of_view: f64,
     /// Smallest share of the time a character spends attending (0 to 1).
-    #[property(default = 0.2)]
     attention_fraction_min: f64,
     /// Largest share of the time a character spends attending (0 to 1).
-    #[property(default = 0.6)]
     attention_fraction_max: f64,
     /// Threads a step uses (1: the main thread only; 0: one per core).
-    #[property(default = 1)]
     threads: i64,
     /// Level of detail: each character's attention is updated every `attention_period`
     /// frames (1 to 64, staggered; gaze IK runs every frame).
-    #[property(default = 1)]
     attention_period: i64,
     /// Level of detail by distance: beyond `lod_distance` metres from the camera,
     /// attention is updated every `far_attention_period` frames (0: off).
-    #[property(default = 0.0)]
     lod_distance: f64,
     /// See `lod_distance` (1 to 64).
-    #[property(default = 4)]
     far_attention_period: i64,
     /// Make the active camera an entity the characters may look at.
-    #[property(default = true)]
     camera_is_viewer: bool,
     /// How interesting the camera is (`I_E`, ≥ 0).
-    #[property(default = 3.0)]
     viewer_impact: f64,
     scene: Option<SceneCrowd<Handle>>,
     /// Nodes refused (reported once), by instance id.
@@ -241,7 +228,27 @@ impl CrowdGaze {
                 },
             ],
         });
+        Self::register_properties(builder);
         Self::register_methods(builder);
+    }
+
+    /// The exported properties, each with its value's type checked (see
+    /// [`props`](crate::props)); the defaults are the adapter's.
+    fn register_properties(builder: &ClassBuilder<Self>) {
+        let d = CrowdSettings::default();
+        checked_property!(builder, CrowdGaze, seed: i64 = d.seed);
+        checked_property!(builder, CrowdGaze, max_characters: i64 = d.max_characters);
+        checked_property!(builder, CrowdGaze, max_targets: i64 = d.max_targets);
+        checked_property!(builder, CrowdGaze, max_distance: f64 = d.max_distance);
+        checked_property!(builder, CrowdGaze, field_of_view: f64 = d.field_of_view);
+        checked_property!(builder, CrowdGaze, attention_fraction_min: f64 = d.attention_fraction_min);
+        checked_property!(builder, CrowdGaze, attention_fraction_max: f64 = d.attention_fraction_max);
+        checked_property!(builder, CrowdGaze, threads: i64 = d.threads);
+        checked_property!(builder, CrowdGaze, attention_period: i64 = d.attention_period);
+        checked_property!(builder, CrowdGaze, lod_distance: f64 = d.lod_distance);
+        checked_property!(builder, CrowdGaze, far_attention_period: i64 = d.far_attention_period);
+        checked_property!(builder, CrowdGaze, camera_is_viewer: bool = true);
+        checked_property!(builder, CrowdGaze, viewer_impact: f64 = 3.0);
     }
 
     /// The exported methods, each with its argument count checked (see

@@ -18,6 +18,7 @@ pub mod character;
 pub mod convert;
 pub mod crowd_gaze;
 pub mod methods;
+pub mod props;
 pub mod skeleton;
 pub mod target;
 

@@ -7,9 +7,9 @@ use gdnative::prelude::*;
 use crowdgaze_godot_adapter::{check_target, message};
 
 use crate::character::{crowd_found, leave, resolve_crowd, with_crowd};
-use crate::checked_method;
 use crate::convert::{boundary, in_editor, Data};
 use crate::crowd_gaze::TARGET_GROUP;
+use crate::{checked_method, checked_property};
 
 /// A scene object for the characters to look at.
 #[derive(NativeClass)]
@@ -19,13 +19,10 @@ use crate::crowd_gaze::TARGET_GROUP;
 pub struct GazeTarget {
     /// The `CrowdGaze` node to join; empty: the nearest `CrowdGaze` ancestor, else the only
     /// `CrowdGaze` in the tree.
-    #[property]
     crowd: NodePath,
     /// How high above the node's origin the characters look, metres.
-    #[property(default = 0.0, after_set = "Self::settings_changed")]
     look_at_height: f64,
     /// How interesting it is (`I_E`, ≥ 0; characters have 1).
-    #[property(default = 1.0, after_set = "Self::settings_changed")]
     impact: f64,
 }
 
@@ -41,6 +38,11 @@ impl GazeTarget {
     /// The exported methods, each with its argument count checked (see
     /// [`methods`](crate::methods)).
     fn register(builder: &ClassBuilder<Self>) {
+        // The exported properties, each with its value's type checked (see
+        // [`props`](crate::props)).
+        checked_property!(builder, GazeTarget, crowd: NodePath);
+        checked_property!(builder, GazeTarget, look_at_height: f64 = 0.0, then Self::settings_changed);
+        checked_property!(builder, GazeTarget, impact: f64 = 1.0, then Self::settings_changed);
         checked_method!(builder, GazeTarget, [], fn _enter_tree(&self, owner: TRef<Spatial>));
         checked_method!(builder, GazeTarget, [], fn _ready(&self, owner: TRef<Spatial>));
         checked_method!(builder, GazeTarget, [], fn _exit_tree(&self, owner: TRef<Spatial>));
