@@ -92,8 +92,10 @@ impl CrowdGazeCharacter {
         self.crowd.new_ref()
     }
 
-    /// The read-only `mapping_report` property (shown multiline in the inspector, not
-    /// saved): how the parent skeleton's bones map to the gaze chain.
+    /// Registers the node's properties (each value's type checked), the read-only
+    /// `mapping_report` (shown multiline in the inspector, not saved: how the parent
+    /// skeleton's bones map to the gaze chain), and its methods (each call's argument count
+    /// checked).
     fn register(builder: &ClassBuilder<Self>) {
         // The exported properties, each with its value's type checked (see
         // [`props`](crate::props)).

@@ -6,6 +6,10 @@
 //! [`checked_method!`](crate::checked_method) registers one method: gdnative's own wrapper
 //! ([`godot_wrap_method!`](gdnative::godot_wrap_method)) does the conversions and the call,
 //! behind [`call_checked`], which checks the count.
+//!
+//! To add a method to a node: write it in the node's `#[methods]` block without `#[export]`
+//! and add one `checked_method!` line to the node's `register` function (an `#[export]`
+//! still works, with gdnative's unchecked count).
 
 use std::ffi::c_void;
 

@@ -4,6 +4,10 @@
 //! the addon takes any value ([`Given`]), and reports a refused one with its own message
 //! (`crowdgaze: <node>: CrowdGaze.seed: a String is not an int; the value is kept`) once per
 //! node, property and cause.
+//!
+//! To add a property to a node: declare the field without `#[property]` and add one
+//! `checked_property!` line to the node's `register` function (a `#[property]` still works,
+//! with gdnative's unchecked type).
 
 use crowdgaze_godot_adapter::message;
 use gdnative::nativescript::init::property::{Export, ExportInfo};

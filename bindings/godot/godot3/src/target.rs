@@ -35,7 +35,8 @@ impl GazeTarget {
         }
     }
 
-    /// The exported methods, each with its argument count checked (see
+    /// Registers the node's properties (each value's type checked, see
+    /// [`props`](crate::props)) and methods (each call's argument count checked, see
     /// [`methods`](crate::methods)).
     fn register(builder: &ClassBuilder<Self>) {
         // The exported properties, each with its value's type checked (see
