@@ -135,7 +135,7 @@ impl CrowdGazeCharacter {
             .with_usage(Usage::EDITOR)
             .done();
         // The exported methods, each with its argument count checked (see
-        // [`methods`](crate::methods)).
+        // [`methods`](mod@crate::methods)).
         checked_method!(builder, CrowdGazeCharacter, [], fn _enter_tree(&self, owner: TRef<Spatial>));
         checked_method!(builder, CrowdGazeCharacter, [], fn _ready(&self, owner: TRef<Spatial>));
         checked_method!(builder, CrowdGazeCharacter, [], fn _exit_tree(&self, owner: TRef<Spatial>));

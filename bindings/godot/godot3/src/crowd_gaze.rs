@@ -252,7 +252,7 @@ impl CrowdGaze {
     }
 
     /// The exported methods, each with its argument count checked (see
-    /// [`methods`](crate::methods)).
+    /// [`methods`](mod@crate::methods)).
     fn register_methods(builder: &ClassBuilder<Self>) {
         checked_method!(builder, CrowdGaze, [], fn _enter_tree(&mut self, owner: &Spatial));
         checked_method!(builder, CrowdGaze, [], fn _ready(&mut self, owner: &Spatial));

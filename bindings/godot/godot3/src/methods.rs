@@ -5,7 +5,7 @@
 //!
 //! [`checked_method!`](crate::checked_method) registers one method: gdnative's own wrapper
 //! ([`godot_wrap_method!`](gdnative::godot_wrap_method)) does the conversions and the call,
-//! behind [`call_checked`], which checks the count.
+//! behind `call_checked`, which checks the count.
 //!
 //! To add a method to a node: write it in the node's `#[methods]` block without `#[export]`
 //! and add one `checked_method!` line to the node's `register` function (an `#[export]`
@@ -135,7 +135,7 @@ unsafe extern "C" fn free_checked(method_data: *mut c_void) {
 }
 
 /// Registers a method of a class with its argument count checked by the addon (see the
-/// [module](crate::methods)): `checked_method!(builder, Class, [names of the arguments],
+/// [module](mod@crate::methods)): `checked_method!(builder, Class, [names of the arguments],
 /// fn name(&self, owner: &Spatial, a: Variant) -> Type)`, the signature as written on
 /// the method (without `#[export]`, which would register it again unchecked).
 #[macro_export]

@@ -98,7 +98,7 @@ pub fn type_name(kind: VariantType) -> String {
     }
 }
 
-/// Godot's name of a property's Rust type (as written in [`checked_property!`]).
+/// Godot's name of a property's Rust type (as written in [`checked_property!`](crate::checked_property!)).
 pub fn rust_type_name(rust: &str) -> &str {
     match rust {
         "i64" => "int",

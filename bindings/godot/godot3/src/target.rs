@@ -37,7 +37,7 @@ impl GazeTarget {
 
     /// Registers the node's properties (each value's type checked, see
     /// [`props`](crate::props)) and methods (each call's argument count checked, see
-    /// [`methods`](crate::methods)).
+    /// [`methods`](mod@crate::methods)).
     fn register(builder: &ClassBuilder<Self>) {
         // The exported properties, each with its value's type checked (see
         // [`props`](crate::props)).
