@@ -537,7 +537,14 @@ impl Observer for BvhGaze<'_> {
         self.base.clear();
         for (k, &joint) in self.skeleton.joints.iter().enumerate() {
             let local = self.bvh.joints[joint].rotation(clip);
-            let base = if k == 0 { root * local } else { local };
+            // Joints between this one and the chain joint before it (an eye under a facial
+            // joint) turn it too.
+            let above = self.skeleton.between[k]
+                .iter()
+                .fold(DQuat::IDENTITY, |q, &b| {
+                    q * self.bvh.joints[b].rotation(clip)
+                });
+            let base = if k == 0 { root * local } else { above * local };
             self.base.push(base.as_quat());
         }
         crowd.set_base_pose(person.id, &self.base)?;

@@ -26,6 +26,9 @@ pub fn joint_map(overrides: Option<&str>) -> Result<BoneMap> {
 pub struct SkeletonChain {
     /// BVH joint index of each chain joint, bottom to top.
     pub joints: Vec<usize>,
+    /// For each chain joint, the BVH joints between it and the chain joint before it, top
+    /// down (a facial joint between the head and the eyes; empty for most).
+    pub between: Vec<Vec<usize>>,
     /// BVH joint index of the chain root (the parent of the first chain joint).
     pub root: usize,
     /// The gaze chain (metres, world axes).
@@ -88,15 +91,17 @@ impl SkeletonChain {
             crowdgaze::Error::InvalidArgument(message) => anyhow!("{message}"),
             other => anyhow!("{other}"),
         })?;
-        // Each frame composes a joint on its parent joint: eyes under facial bones are not
-        // followed here.
-        if let Some(k) = (1..mapped.joint_count()).find(|&k| mapped.joint_path(k).len() > 1) {
-            let name = &bvh.joints[mapped.bones[k]].name;
-            bail!(
-                "joint {name} hangs from its chain parent through other joints, which the bvh \
-                 command does not follow: leave it out with --map {name}=none"
-            );
-        }
+        // The joints between each chain joint and the one before it (eyes under facial
+        // joints): their rotations are folded into the joint's base rotation each frame.
+        let between = (0..mapped.joint_count())
+            .map(|k| match k {
+                0 => Vec::new(),
+                _ => {
+                    let path = mapped.joint_path(k);
+                    path[..path.len() - 1].iter().map(|&b| b as usize).collect()
+                }
+            })
+            .collect();
         for &index in &mapped.bones {
             if bvh.joints[index].euler_order().is_none() {
                 bail!(
@@ -125,6 +130,7 @@ impl SkeletonChain {
         .map_err(|e| anyhow!("building the gaze chain: {e}"))?;
         Ok(SkeletonChain {
             joints: mapped.bones,
+            between,
             root: mapped.root,
             chain,
             up: mapped.up,

@@ -448,17 +448,13 @@ fn small_scene(path: &Path) {
     std::fs::write(path, csv).unwrap();
 }
 
-#[test]
-fn bvh_adds_gaze_to_a_real_clip_walking_a_trajectory() {
-    let clip_path = data("bvh/zombie.bvh");
-    let directory = tempfile::tempdir().unwrap();
-    let trajectory = directory.path().join("walk.csv");
-    small_scene(&trajectory);
-    let out = directory.path().join("out.bvh");
-    let stdout = succeed(&[
+/// `crowdgaze bvh` with `clip` walking person 1's path of `trajectory` into `out`; its
+/// output.
+fn bvh_walk(clip: &Path, trajectory: &Path, out: &Path) -> String {
+    succeed(&[
         "bvh",
         "--skeleton",
-        clip_path.to_str().unwrap(),
+        clip.to_str().unwrap(),
         "--trajectory",
         trajectory.to_str().unwrap(),
         "--id",
@@ -467,7 +463,17 @@ fn bvh_adds_gaze_to_a_real_clip_walking_a_trajectory() {
         out.to_str().unwrap(),
         "--seed",
         "3",
-    ]);
+    ])
+}
+
+#[test]
+fn bvh_adds_gaze_to_a_real_clip_walking_a_trajectory() {
+    let clip_path = data("bvh/zombie.bvh");
+    let directory = tempfile::tempdir().unwrap();
+    let trajectory = directory.path().join("walk.csv");
+    small_scene(&trajectory);
+    let out = directory.path().join("out.bvh");
+    let stdout = bvh_walk(&clip_path, &trajectory, &out);
     println!("{stdout}");
     assert!(
         stdout.contains("Hips > Spine > Spine1 > Spine2 > Spine3 > Neck > Head"),
@@ -534,6 +540,79 @@ fn bvh_adds_gaze_to_a_real_clip_walking_a_trajectory() {
         let range = arm.first_channel..arm.first_channel + arm.channels.len();
         assert_eq!(&frame[range.clone()], &original[range]);
     }
+}
+
+/// zombie.bvh with eyes under a facial joint (as Character Creator's and MetaHuman's hang
+/// from a facial root): `FacialRoot` under `Head`, turned 6° in every frame, and `LeftEye`,
+/// `RightEye` under it.
+fn clip_with_facial_eyes(path: &Path) {
+    let text = std::fs::read_to_string(data("bvh/zombie.bvh")).unwrap();
+    let head_end = "\t\t\t\t\t\t\tEnd Site\n\t\t\t\t\t\t\t{\n\t\t\t\t\t\t\t\tOFFSET 0.00000 0.00000 3.73175\n\t\t\t\t\t\t\t}\n";
+    assert!(text.contains(head_end), "zombie.bvh's head changed");
+    let eye = |name: &str, x: f64| {
+        format!(
+            "JOINT {name}\n{{\nOFFSET {x} -3.0 2.5\nCHANNELS 3 Xrotation Yrotation Zrotation\n\
+             End Site\n{{\nOFFSET 0 -0.5 0\n}}\n}}\n"
+        )
+    };
+    let facial = format!(
+        "JOINT FacialRoot\n{{\nOFFSET 0 0 0.5\nCHANNELS 3 Xrotation Yrotation Zrotation\n{}{}}}\n",
+        eye("LeftEye", 1.2),
+        eye("RightEye", -1.2)
+    );
+    let (hierarchy, motion) = text.split_once("MOTION").unwrap();
+    let mut out = hierarchy.replacen(head_end, &facial, 1) + "MOTION";
+    for line in motion.lines().skip(1) {
+        let values: Vec<&str> = line.split_whitespace().collect();
+        if values.len() > 24 && !line.starts_with("Frame") {
+            // Hips (6 channels) and Spine..Head (6 x 3) come first; the new joints follow.
+            out += &format!(
+                "\n{} 6.0 0.0 0.0 0.0 0.0 0.0 0.0 0.0 0.0 {}",
+                values[..24].join(" "),
+                values[24..].join(" ")
+            );
+        } else {
+            out += "\n";
+            out += line;
+        }
+    }
+    out += "\n";
+    std::fs::write(path, out).unwrap();
+}
+
+#[test]
+fn bvh_turns_eyes_under_a_facial_joint() {
+    let directory = tempfile::tempdir().unwrap();
+    let clip_path = directory.path().join("facial.bvh");
+    clip_with_facial_eyes(&clip_path);
+    let trajectory = directory.path().join("walk.csv");
+    small_scene(&trajectory);
+    let out = directory.path().join("out.bvh");
+    let stdout = bvh_walk(&clip_path, &trajectory, &out);
+    assert!(
+        stdout.contains("Neck > Head > LeftEye > RightEye"),
+        "{stdout}"
+    );
+    let clip = Bvh::read(&clip_path).unwrap();
+    let result = Bvh::read(&out).unwrap();
+    assert_eq!(result.joints, clip.joints);
+    let facial = &clip.joints[clip.joint("FacialRoot").unwrap()];
+    let eye = &clip.joints[clip.joint("LeftEye").unwrap()];
+    let mut eye_turned = 0;
+    for (k, frame) in result.frames.iter().enumerate() {
+        let original = &clip.frames[k % clip.frames.len()];
+        // The facial joint is read, never written.
+        let range = facial.first_channel..facial.first_channel + 3;
+        assert_eq!(&frame[range.clone()], &original[range]);
+        let angle = eye
+            .rotation(original)
+            .angle_between(eye.rotation(frame))
+            .to_degrees();
+        if angle > 1.0 {
+            eye_turned += 1;
+        }
+    }
+    assert!(eye_turned > 10, "the eyes turned on {eye_turned} frames");
 }
 
 #[test]

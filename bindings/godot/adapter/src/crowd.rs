@@ -695,6 +695,13 @@ impl<H> SceneCrowd<H> {
         Ok(self.character(slot)?.skeleton.chain_bones())
     }
 
+    /// The mapping report of character `slot`'s skeleton: its chain, the role of each chain
+    /// bone and the mapping's notes (see
+    /// [`MappedChain::report`](crowdgaze::skeleton_map::MappedChain::report)).
+    pub fn mapping_report(&self, slot: usize) -> Result<&str> {
+        Ok(&self.character(slot)?.skeleton.report)
+    }
+
     /// How high above its node's origin character `slot` is looked at (its rest eye
     /// height), metres.
     pub fn look_at_height(&self, slot: usize) -> Result<f32> {

@@ -13,6 +13,7 @@
 //!   and the viewer pushed each frame, the step, the gaze written, interest changes.
 //! - [`membership`]: which crowd a node joins, one character per skeleton.
 //! - [`settings`]: the `CrowdGaze` node's settings as given, checked.
+//! - [`editor`]: what the editor shows: configuration warnings, the mapping report.
 //! - [`report`]: the messages' shape, and each error printed once per node and cause.
 //! - [`xform`]: Godot's transform layout as glam values.
 //!
@@ -26,6 +27,7 @@
 pub use crowdgaze;
 
 pub mod crowd;
+pub mod editor;
 pub mod membership;
 pub mod report;
 pub mod settings;
@@ -33,6 +35,7 @@ pub mod skeleton;
 pub mod xform;
 
 pub use crowd::{CharacterSettings, EntityNode, NodeKey, SceneCrowd};
+pub use editor::{check_character, check_crowd, check_target, CharacterCheck, CrowdFound};
 pub use membership::{choose_crowd, claim_skeleton, NamedNode, SkeletonClaim};
 pub use report::{message, Reports};
 pub use settings::CrowdSettings;

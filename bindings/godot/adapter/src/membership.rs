@@ -14,6 +14,15 @@ use std::sync::Mutex;
 
 use crate::crowd::NodeKey;
 
+/// The group every `CrowdGaze` node is in while in the tree. The addon's groups start with
+/// an underscore so that they cannot clash with a game's own; read them, do not add nodes
+/// to them.
+pub const CROWD_GROUP: &str = "_crowdgaze_crowds";
+/// The group every `CrowdGazeCharacter` node is in while in the tree.
+pub const CHARACTER_GROUP: &str = "_crowdgaze_characters";
+/// The group every `GazeTarget` node is in while in the tree.
+pub const TARGET_GROUP: &str = "_crowdgaze_targets";
+
 /// What a node's `crowd` path names, as the front end found it.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum NamedNode<K> {

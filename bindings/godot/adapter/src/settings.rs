@@ -88,7 +88,7 @@ impl CrowdSettings {
         // The library checks radians; the node's value is in degrees.
         if !(self.field_of_view.is_finite() && (0.6..=360.0).contains(&self.field_of_view)) {
             return Err(Error::InvalidArgument(format!(
-                "field_of_view = {}: it must be from 0.6 to 360 degrees; set it in the inspector",
+                "field_of_view = {:?}: it must be from 0.6 to 360 degrees; set it in the inspector",
                 self.field_of_view
             )));
         }

@@ -140,6 +140,28 @@ pub struct BoundSkeleton {
     names: Vec<String>,
     /// The parent of each chain bone at registration.
     parents: [Option<usize>; MAX_CHAIN_JOINTS],
+    /// The bones between chain joints (eyes under a facial root), joint after joint.
+    between: Vec<Between>,
+    /// Joint `k`'s bones between it and the joint before it are
+    /// `between[between_ends[k - 1]..between_ends[k]]` (none for the first joint).
+    between_ends: [usize; MAX_CHAIN_JOINTS],
+    /// The library's mapping report (see
+    /// [`MappedChain::report`](crowdgaze::skeleton_map::MappedChain::report)).
+    pub report: String,
+    /// The mapping's notes (what it guessed, what it left out), one sentence each.
+    pub notes: Vec<String>,
+}
+
+/// A bone between two chain joints (a facial root between the head and the eyes): read
+/// each frame, never written.
+#[derive(Debug, Clone, Copy)]
+struct Between {
+    /// The bone.
+    bone: usize,
+    /// Its rest transform.
+    rest: Xform,
+    /// Its parent at registration.
+    parent: Option<usize>,
 }
 
 /// Asks the processor to fetch the cache lines of the addresses `start .. end` (a hint: no
@@ -171,6 +193,9 @@ struct Joint {
     /// The rotation of the pose last written: that pose is
     /// `Xform { basis: basis_of(written, scale), origin }` (recomputed, not stored).
     written: Quat,
+    /// The rotation of the bones between this joint and the joint before it, this frame
+    /// (identity when there are none).
+    above: Quat,
     /// The translation of the pose, as the animation last set it.
     origin: Vec3,
     /// The scale of the pose, as the animation last set it (1 within 10⁻⁵ is taken as
@@ -184,6 +209,7 @@ impl Joint {
         rest: Quat::IDENTITY,
         local: Quat::IDENTITY,
         written: Quat::IDENTITY,
+        above: Quat::IDENTITY,
         origin: Vec3::ZERO,
         scale: Vec3::ONE,
     };
@@ -290,28 +316,47 @@ impl BoundSkeleton {
             crowd_axes: None,
         };
         let mapped = map_skeleton(&bones, map, &options)?;
-        // The adapter composes each joint on its parent joint: a joint under other bones
-        // (eyes under a facial root) is not followed yet.
-        if let Some(k) = (1..mapped.joint_count()).find(|&k| mapped.joint_path(k).len() > 1) {
-            let bone = mapped.bones[k];
+        let report = mapped.report();
+        // The first joint's ancestors, from the top bone down (the chain root last).
+        let first = mapped.joint_path(0);
+        let path: Vec<usize> = first[..first.len().saturating_sub(1)]
+            .iter()
+            .map(|&bone| bone as usize)
+            .collect();
+        if path.len() > MAX_ROOT_DEPTH {
             return Err(Error::InvalidArgument(format!(
-                "bone '{}' hangs from its chain parent through other bones, which the Godot \
-                 addon does not follow yet: leave it out with {}=none",
-                names[bone], names[bone]
+                "the chain root {} has more than {MAX_ROOT_DEPTH} ancestors",
+                names[mapped.root]
             )));
         }
-        let mut path = vec![mapped.root];
-        while let Some(parent) = parents[*path.last().unwrap_or(&0)] {
-            path.push(parent);
-            if path.len() > MAX_ROOT_DEPTH {
-                return Err(Error::InvalidArgument(format!(
-                    "the chain root {} has more than {MAX_ROOT_DEPTH} ancestors",
-                    names[mapped.root]
-                )));
+        // The bones between each later joint and the joint before it (eyes under a facial
+        // root): their rotations are folded into the joint's, as the library's own
+        // conversions do.
+        let mut between = Vec::new();
+        let mut between_ends = [0; MAX_CHAIN_JOINTS];
+        for (k, end) in between_ends
+            .iter_mut()
+            .enumerate()
+            .take(mapped.joint_count())
+            .skip(1)
+        {
+            let joint_path = mapped.joint_path(k);
+            for &bone in &joint_path[..joint_path.len().saturating_sub(1)] {
+                let bone = bone as usize;
+                between.push(Between {
+                    bone,
+                    rest: rests[bone],
+                    parent: parents[bone],
+                });
             }
+            *end = between.len();
         }
-        path.reverse();
-        for &bone in mapped.bones.iter().chain(&path) {
+        for &bone in mapped
+            .bones
+            .iter()
+            .chain(&path)
+            .chain(between.iter().map(|b| &b.bone))
+        {
             if is_mirrored(&rests[bone]) {
                 return Err(mirrored(&format!("bone {}'s rest", names[bone])));
             }
@@ -330,6 +375,10 @@ impl BoundSkeleton {
             unchanged: 0,
             root_rotation: Quat::IDENTITY,
             convention,
+            between,
+            between_ends,
+            report,
+            notes: mapped.notes.clone(),
         };
         for (k, &bone) in mapped.bones.iter().enumerate() {
             bound.bones[k] = bone;
@@ -364,11 +413,50 @@ impl BoundSkeleton {
         {
             return true;
         }
+        if self
+            .between
+            .iter()
+            .any(|between| skeleton.bone_parent(between.bone) != between.parent)
+        {
+            return true;
+        }
         let path = &self.root_path[..self.root_depth];
         path.iter().enumerate().any(|(k, &bone)| {
             let parent = if k == 0 { None } else { Some(path[k - 1]) };
             skeleton.bone_parent(bone) != parent
         })
+    }
+
+    /// The rotation of the bones between chain joint `k` and the joint before it (a
+    /// facial root between the head and an eye), from their current poses; identity when
+    /// there are none.
+    fn above(&self, skeleton: &impl SkeletonAccess, k: usize) -> Result<Quat> {
+        if k == 0 || k >= self.joint_count {
+            return Ok(Quat::IDENTITY);
+        }
+        let bones = self
+            .between
+            .get(self.between_ends[k - 1]..self.between_ends[k])
+            .unwrap_or_default();
+        let mut rotation = Quat::IDENTITY;
+        for between in bones {
+            let pose = skeleton.bone_pose(between.bone);
+            let local = self.local(&between.rest, &pose);
+            if !local.is_finite() {
+                return Err(Error::NonFinite(format!(
+                    "the pose of bone {} (between chain bones) is not finite",
+                    skeleton.bone_name(between.bone)
+                )));
+            }
+            if is_mirrored(&local) {
+                return Err(mirrored(&format!(
+                    "bone {}'s pose",
+                    skeleton.bone_name(between.bone)
+                )));
+            }
+            rotation = (rotation * rotation_of(&local.basis)).normalize();
+        }
+        Ok(rotation)
     }
 
     /// The chain bones, bottom to top.
@@ -459,6 +547,12 @@ impl BoundSkeleton {
                 return Err(mirrored(&format!("bone {}'s pose", self.names[k])));
             }
         }
+        let mut above = [Quat::IDENTITY; MAX_CHAIN_JOINTS];
+        if !self.between.is_empty() {
+            for (k, slot) in above.iter_mut().enumerate().take(self.joint_count) {
+                *slot = self.above(skeleton, k)?;
+            }
+        }
         let (position, heading, frame) = character_frame(&skeleton_global.mul(node));
         let mut read = PoseRead {
             position,
@@ -486,10 +580,13 @@ impl BoundSkeleton {
                     PoseConvention::PoseIsLocal => rotation,
                 };
             }
+            joint.above = above[k];
             read.base[k] = if k == 0 {
                 (self.root_rotation * joint.local).normalize()
-            } else {
+            } else if self.between.is_empty() {
                 joint.local
+            } else {
+                (joint.above * joint.local).normalize()
             };
         }
         Ok(read)
@@ -506,7 +603,7 @@ impl BoundSkeleton {
             let local = if k == 0 {
                 self.root_rotation.conjugate() * *rotation
             } else {
-                *rotation
+                joint.above.conjugate() * *rotation
             };
             let pose_rotation = match self.convention {
                 PoseConvention::RestTimesPose => joint.rest.conjugate() * local,

@@ -13,12 +13,12 @@ use crate::xform::{rotation_of, Xform};
 
 /// A skeleton that poses itself as Godot does.
 #[derive(Debug, Clone)]
-struct FakeSkeleton {
-    names: Vec<String>,
-    parents: Vec<Option<usize>>,
+pub(crate) struct FakeSkeleton {
+    pub(crate) names: Vec<String>,
+    pub(crate) parents: Vec<Option<usize>>,
     rests: Vec<Xform>,
     poses: Vec<Xform>,
-    global: Xform,
+    pub(crate) global: Xform,
     convention: PoseConvention,
     /// How many poses were written.
     writes: usize,
@@ -65,19 +65,11 @@ const HUMAN: &[(&str, Option<usize>, [f32; 3])] = &[
 impl FakeSkeleton {
     /// The human, its rests rotated as importers do (a different turn per bone), `unit`
     /// skeleton units per metre, placed at `global`.
-    fn human(convention: PoseConvention, global: Xform, unit: f32) -> FakeSkeleton {
+    pub(crate) fn human(convention: PoseConvention, global: Xform, unit: f32) -> FakeSkeleton {
         let turns: Vec<Quat> = (0..HUMAN.len())
             .map(|i| Quat::from_euler(EulerRot::YXZ, 0.4 * i as f32, 0.3, -0.2 + 0.1 * i as f32))
             .collect();
-        let mut skeleton = FakeSkeleton {
-            names: Vec::new(),
-            parents: Vec::new(),
-            rests: Vec::new(),
-            poses: Vec::new(),
-            global,
-            convention,
-            writes: 0,
-        };
+        let mut skeleton = FakeSkeleton::empty(convention, global);
         for (i, (name, parent, position)) in HUMAN.iter().enumerate() {
             let world = Vec3::from_array(*position) * unit;
             let (parent_turn, parent_world) = match parent {
@@ -88,15 +80,33 @@ impl FakeSkeleton {
                 parent_turn.conjugate() * turns[i],
                 parent_turn.conjugate() * (world - parent_world),
             );
-            skeleton.names.push(name.to_string());
-            skeleton.parents.push(*parent);
-            skeleton.rests.push(rest);
-            skeleton.poses.push(match convention {
-                PoseConvention::RestTimesPose => Xform::IDENTITY,
-                PoseConvention::PoseIsLocal => rest,
-            });
+            skeleton.push(name, *parent, rest);
         }
         skeleton
+    }
+
+    /// No bone yet, placed at `global`.
+    fn empty(convention: PoseConvention, global: Xform) -> FakeSkeleton {
+        FakeSkeleton {
+            names: Vec::new(),
+            parents: Vec::new(),
+            rests: Vec::new(),
+            poses: Vec::new(),
+            global,
+            convention,
+            writes: 0,
+        }
+    }
+
+    /// Adds a bone at rest.
+    fn push(&mut self, name: &str, parent: Option<usize>, rest: Xform) {
+        self.names.push(name.to_string());
+        self.parents.push(parent);
+        self.rests.push(rest);
+        self.poses.push(match self.convention {
+            PoseConvention::RestTimesPose => Xform::IDENTITY,
+            PoseConvention::PoseIsLocal => rest,
+        });
     }
 
     fn local(&self, bone: usize) -> Xform {
@@ -239,8 +249,12 @@ fn pose_error(world: &World, slot: usize) -> f32 {
 
 /// The angle between each eye's forward and the direction to `point`, radians (largest).
 fn eye_error(skeleton: &FakeSkeleton, point: Vec3) -> f32 {
-    ["LeftEye", "RightEye"]
-        .iter()
+    eyes_error(skeleton, ["LeftEye", "RightEye"], point)
+}
+
+/// [`eye_error`] for eyes of other names.
+fn eyes_error(skeleton: &FakeSkeleton, eyes: [&str; 2], point: Vec3) -> f32 {
+    eyes.iter()
         .map(|name| {
             let eye = skeleton.bone(name);
             let pose = skeleton.world_pose(eye);
@@ -827,4 +841,78 @@ fn a_3000_bone_skeleton_without_a_head_gives_a_short_message() {
     );
     let text = crate::report::message("/root/Node", "CrowdGazeCharacter._enter_tree", &error, "");
     assert!(text.len() < 2000, "{} bytes", text.len());
+}
+
+/// A skeleton from one of the repository's rig fixtures (`tests/data/rigs/*.rig`: Z up,
+/// facing -Y, centimetres for the ones used here), turned to Godot's axes (Y up, facing
+/// +Z, metres), rests without rotation, placed at `global`.
+pub(crate) fn rig_skeleton(text: &str, convention: PoseConvention, global: Xform) -> FakeSkeleton {
+    let mut skeleton = FakeSkeleton::empty(convention, global);
+    for line in text.lines() {
+        let fields: Vec<&str> = line.split_whitespace().collect();
+        if fields.first() != Some(&"bone") {
+            continue;
+        }
+        let [x, y, z] = [fields[3], fields[4], fields[5]].map(|v| v.parse::<f32>().unwrap());
+        let parent = skeleton.names.iter().position(|n| n == fields[2]);
+        let rest = Xform::from_rotation_translation(Quat::IDENTITY, Vec3::new(x, z, -y) * 0.01);
+        skeleton.push(fields[1], parent, rest);
+    }
+    skeleton
+}
+
+#[test]
+fn eyes_under_a_facial_bone_look_at_the_target() {
+    // Character Creator 4: the eyes hang from CC_Base_FacialBone under the head.
+    let rig = include_str!("../../../../tests/data/rigs/cc4.rig");
+    assert!(rig.contains("# up: +z") && rig.contains("# forward: -y"));
+    for convention in [PoseConvention::RestTimesPose, PoseConvention::PoseIsLocal] {
+        let mut world = World::new(CrowdConfig::default(), convention);
+        let place = placed(Vec3::new(-1.0, 0.0, 0.5), -0.4);
+        let mut skeleton = rig_skeleton(rig, convention, place);
+        let facial = skeleton.bone("CC_Base_FacialBone");
+        // The face rig turns the facial bone: the eyes must still find the target.
+        skeleton.animate(facial, Quat::from_euler(EulerRot::YXZ, 0.15, -0.1, 0.05));
+        let id = world.add(skeleton).unwrap();
+        let report = world.crowd.mapping_report(0).unwrap().to_string();
+        assert!(
+            report.contains("'CC_Base_L_Eye'") && report.contains("2 eyes"),
+            "{report}"
+        );
+        let names: Vec<&str> = world
+            .crowd
+            .chain_bones(0)
+            .unwrap()
+            .iter()
+            .map(|&b| world.skeletons[0].names[b].as_str())
+            .collect();
+        assert_eq!(
+            &names[names.len() - 2..],
+            ["CC_Base_L_Eye", "CC_Base_R_Eye"]
+        );
+        let point = place.transform_point(Vec3::new(0.8, 1.9, 2.0));
+        world
+            .crowd
+            .crowd_mut()
+            .set_gaze_target(id, ExplicitTarget::Point(point), TargetPriority::Override)
+            .unwrap();
+        let mut held = 0;
+        for frame in 0..120 {
+            // The facial bone keeps moving under the gaze.
+            let turn = Quat::from_rotation_x(0.05 * (frame as f32 * 0.3).sin());
+            world.skeletons[0].animate(facial, turn);
+            world.frame(1.0 / 30.0);
+            if world.crowd.is_holding(0).unwrap() {
+                held += 1;
+                let eyes = ["CC_Base_L_Eye", "CC_Base_R_Eye"];
+                let error = eyes_error(&world.skeletons[0], eyes, point).to_degrees();
+                assert!(error < 0.5, "{convention:?}: the eyes are {error}° off");
+            }
+        }
+        assert!(held > 30, "{convention:?}: held for {held} frames");
+        // The facial bone is read, never written.
+        let mut s = world.skeletons[0].clone();
+        s.animate(facial, Quat::from_rotation_x(0.05 * (119.0f32 * 0.3).sin()));
+        assert_eq!(world.skeletons[0].poses[facial], s.poses[facial]);
+    }
 }

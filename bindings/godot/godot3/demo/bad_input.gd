@@ -1,7 +1,9 @@
 # Bad input for the addon, headless (scripts/godot-check runs res://bad_input.tscn): an empty
 # crowd, a skeleton without a head, a character that is not under a skeleton, a bad bone
 # map, a full crowd, characters freed and removed mid-run, NaN and infinite transforms, and
-# bad arguments to every query. Each case that must report prints "EXPECT ERROR <text>"
+# bad arguments to every query; then every exported method of the three nodes called with
+# too few and too many arguments, wrong types, null, a freed object, NaN, infinite and huge
+# values, and every property set to them (hostile_calls, hostile_properties). Each case that must report prints "EXPECT ERROR <text>"
 # first: scripts/godot-check checks that exactly those errors appear, once each, and no
 # others. Prints "CROWDGAZE BAD INPUT PASSED" (or FAILED) and quits with 0 (or 1).
 extends Spatial
@@ -9,6 +11,7 @@ extends Spatial
 const Builder = preload("res://lib/bvh_skeleton.gd")
 const CharacterScript = preload("res://addons/crowdgaze/CrowdGazeCharacter.gdns")
 const TargetScript = preload("res://addons/crowdgaze/GazeTarget.gdns")
+const CrowdScript = preload("res://addons/crowdgaze/CrowdGaze.gdns")
 
 var builder
 var frame = 0
@@ -166,6 +169,9 @@ func _process(_delta):
 			expect(crowd.set_gaze_target(gaze, Vector3(1, 1.5, 3)), "looking at a point")
 			expect(crowd.set_gaze_target(gaze, target), "looking at the target")
 			expect(crowd.clear_gaze_target(gaze), "clearing the target")
+		28:
+			hostile_calls()
+			hostile_properties()
 		30:
 			expect(crowd.get_character_count() == 2, "the crowd holds %d characters at the end" % crowd.get_character_count())
 			for root in [people[1], people[2]]:
@@ -188,3 +194,233 @@ static func is_finite_quat(q):
 		if is_nan(v) or is_inf(v):
 			return false
 	return true
+
+
+# Every exported method of the three nodes, with their argument counts (the callbacks
+# Godot calls too: a script may call them).
+const CROWD_METHODS = [
+	["_enter_tree", 0], ["_ready", 0], ["_exit_tree", 0], ["_process", 1],
+	["_get_configuration_warning", 0], ["get_character_count", 0], ["get_target_count", 0],
+	["get_gaze_target", 1], ["get_gaze_point", 1], ["is_attending", 1], ["is_holding", 1],
+	["get_chain_bones", 1], ["get_joint_rotations", 1], ["get_look_at_height", 1],
+	["set_gaze_target", 2], ["clear_gaze_target", 1], ["get_frame_usec", 0],
+	["get_frame_parts_usec", 0],
+]
+const CHARACTER_METHODS = [
+	["_enter_tree", 0], ["_ready", 0], ["_exit_tree", 0], ["_notification", 1],
+	["_get_configuration_warning", 0], ["get_crowd_node", 0], ["_crowdgaze_join", 0],
+]
+const TARGET_METHODS = [["_enter_tree", 0], ["_ready", 0], ["_exit_tree", 0], ["_get_configuration_warning", 0]]
+
+
+func nulls(count):
+	var args = []
+	for _k in range(count):
+		args.append(null)
+	return args
+
+
+# Each method with one argument too many (and one too few when it takes any): one error
+# each naming the node, method and arguments expected, nothing done; the same wrong call
+# again is not reported again.
+func wrong_counts(node, node_path, kind, methods):
+	for entry in methods:
+		var method = entry[0]
+		var count = entry[1]
+		expect_error("%s: %s.%s: too many arguments: it takes " % [node_path, kind, method])
+		node.callv(method, nulls(count + 1))
+		node.callv(method, nulls(count + 2))
+		if count > 0:
+			expect_error("%s: %s.%s: too few arguments: it takes " % [node_path, kind, method])
+			node.callv(method, nulls(count - 1))
+
+
+func hostile_calls():
+	var gaze = people[1].get_node("Skeleton/Gaze")
+	wrong_counts(crowd, "/root/BadInput/CrowdGaze", "CrowdGaze", CROWD_METHODS)
+	wrong_counts(gaze, "/root/BadInput/Person1/Skeleton/Gaze", "CrowdGazeCharacter", CHARACTER_METHODS)
+	wrong_counts(target, "/root/BadInput/Lamp", "GazeTarget", TARGET_METHODS)
+	# Every value a script may pass where a character or target is expected: empty answers,
+	# no crash; set_gaze_target says why once per cause.
+	var freed = Spatial.new()
+	freed.free()
+	var values = [null, 0, -1, 1 << 62, NAN, INF, "x", "x".repeat(100000), freed, self, crowd,
+		target, Vector3(NAN, 0, 0), Vector3(INF, 0, 0), Vector3(1e30, 1e30, 1e30), [], {},
+		Transform(), PoolByteArray()]
+	expect_error("CrowdGaze.set_gaze_target: the character is not in the crowd")
+	# ("the target is neither a point nor in the crowd" was reported at frame 26: not again.)
+	expect_error("CrowdGaze.set_gaze_target: non-finite value: target point contains NaN")
+	expect_error("CrowdGaze.set_gaze_target: non-finite value: target point contains inf")
+	for value in values:
+		expect(crowd.get_gaze_target(value) == null, "the gaze target of %s" % [value])
+		expect(crowd.get_gaze_point(value) == Vector3.ZERO, "the gaze point of %s" % [value])
+		expect(not crowd.is_attending(value), "%s attends" % [value])
+		expect(not crowd.is_holding(value), "%s holds" % [value])
+		expect(crowd.get_chain_bones(value).size() == 0, "the chain bones of %s" % [value])
+		expect(crowd.get_joint_rotations(value).size() == 0, "the rotations of %s" % [value])
+		expect(crowd.get_look_at_height(value) == 0.0, "the look-at height of %s" % [value])
+		expect(not crowd.clear_gaze_target(value), "clearing the target of %s" % [value])
+		expect(not crowd.set_gaze_target(value, target), "%s looking at the target" % [value])
+		if not (typeof(value) == TYPE_OBJECT and is_instance_valid(value) and value == target):
+			var point = typeof(value) == TYPE_VECTOR3 and is_finite_vector(value)
+			expect(crowd.set_gaze_target(gaze, value) == point, "%s as a gaze target" % [value])
+	expect(crowd.clear_gaze_target(gaze), "clearing the character's target")
+	# Frame deltas of every kind: a number steps (a huge one is clamped by the library or
+	# refused), anything else is reported once and skips the frame.
+	expect_error("/root/BadInput/CrowdGaze: CrowdGaze._process: the delta must be a number of seconds")
+	for delta in ["x", null, Vector3.ZERO]:
+		crowd._process(delta)
+	crowd._process(0)
+	crowd._process(-1e30)
+	crowd._process(1e30)
+	expect(crowd.get_character_count() == 2, "hostile calls changed the crowd")
+	for value in [null, "x", NAN, 1 << 62]:
+		gaze._notification(value)
+	expect(gaze.get_crowd_node() == crowd, "the character's crowd after hostile calls")
+
+
+static func is_finite_vector(v):
+	return not (is_nan(v.x) or is_nan(v.y) or is_nan(v.z) or is_inf(v.x) or is_inf(v.y) or is_inf(v.z))
+
+
+# Every property of the three nodes set to hostile values: the crowd's settings on new
+# crowds entering the tree (each refused value reported once, naming the node and the value
+# as given), the character's and the target's on nodes in the crowd (reported once, the old
+# value kept).
+# [property, value, the error it gives a crowd entering the tree ("" for none)]
+const CROWD_SETTINGS = [
+	["seed", 1 << 62, ""], ["seed", -1, ""],
+	["max_characters", -5, "invalid argument: max_characters = -5: it must be a count"],
+	["max_characters", 1 << 40, "invalid argument: max_characters = 1099511627776: it must be a count"],
+	["max_targets", -1, "invalid argument: max_targets = -1: it must be a count"],
+	["max_distance", NAN, "non-finite value: max_distance is NaN"],
+	["max_distance", INF, "non-finite value: max_distance is inf"],
+	["max_distance", 1e300, "invalid argument: max_distance = 1e300: too large"],
+	["max_distance", -1.0, "invalid argument: max_distance is -1, must be in"],
+	["field_of_view", NAN, "invalid argument: field_of_view = NaN: it must be from 0.6 to 360 degrees"],
+	["field_of_view", 1e300, "invalid argument: field_of_view = 1e300: it must be from 0.6 to 360 degrees"],
+	["attention_fraction_min", NAN, "non-finite value: attention_fraction_min is NaN"],
+	["attention_fraction_max", INF, "non-finite value: attention_fraction_max is inf"],
+	["attention_fraction_min", 2.0, "invalid argument: attention_fraction_min is 2, must be in [0, 1]"],
+	["threads", -1, "invalid argument: threads = -1: it must be a count"],
+	["threads", 1 << 40, "invalid argument: threads = 1099511627776: it must be a count"],
+	["attention_period", 0, "invalid argument: attention_period is 0, must be 1..=64"],
+	["attention_period", 65, "invalid argument: attention_period is 65, must be 1..=64"],
+	["lod_distance", NAN, "non-finite value: lod_distance is NaN"],
+	["lod_distance", -INF, "non-finite value: lod_distance is -inf"],
+	["far_attention_period", 1 << 62, "invalid argument: far_attention_period = 4611686018427387904: it must be a count"],
+	["viewer_impact", NAN, "CrowdGaze._process: the camera as the viewer: "],
+	["viewer_impact", -1e300, "CrowdGaze._process: the camera as the viewer: "],
+	["camera_is_viewer", false, ""],
+]
+
+
+# Every property of the three nodes set to hostile values: the crowd's settings on new
+# crowds entering the tree, with a camera as the viewer (each refused value reported once,
+# naming the node and the value as given), the character's and the target's on nodes in the
+# crowd (reported once per cause, the old value kept). A value of the wrong type is refused
+# by gdnative before the addon sees it: its message names no node (one case, below).
+func hostile_properties():
+	var camera = Camera.new()
+	camera.name = "Camera"
+	add_child(camera)
+	camera.make_current()
+	var k = 0
+	for entry in CROWD_SETTINGS:
+		var node = CrowdScript.new()
+		node.name = "Settings%d" % k
+		node.set(entry[0], entry[1])
+		var expected = entry[2]
+		if expected != "":
+			if not expected.begins_with("CrowdGaze."):
+				expected = "CrowdGaze._enter_tree: " + expected
+			expect_error("/root/BadInput/Settings%d: %s" % [k, expected])
+		add_child(node)
+		for _frame in range(2):
+			node._process(1.0 / 30.0)
+		node.free()
+		k += 1
+	camera.free()
+	# Values of the wrong type for every property: one error each naming the node and the
+	# property, the value kept; an int for a float and a whole float for an int are taken.
+	wrong_types(crowd, "/root/BadInput/CrowdGaze: CrowdGaze", CROWD_PROPERTIES)
+	crowd.max_distance = 12
+	expect(crowd.max_distance == 12.0, "an int max_distance was refused")
+	crowd.max_distance = 10.0
+	var gaze = people[2].get_node("Skeleton/Gaze")
+	var path = "/root/BadInput/Person2/Skeleton/Gaze: CrowdGazeCharacter.set_bone_map/set_impact: invalid argument: "
+	expect_error(path + "impact = NaN")
+	expect_error(path + "impact = inf")
+	expect_error(path + "impact = -1")
+	expect_error(path + "impact = -inf")
+	for value in [NAN, INF, -1.0, 1e300, -INF, -0.0]:
+		gaze.impact = value
+	gaze.impact = 1.0
+	expect_error(path + "bone map: 'xxxxxxxx")
+	expect_error(path + "bone map: '' is not a role")
+	expect_error(path + "bone map: 'head=head' is not a role")
+	expect_error(path + "bone map: 'Head' is not NAME=ROLE")
+	expect_error(path + "bone map: bone 'Spine1' is given twice")
+	for value in ["x".repeat(100000), "=", ",,,", "Head=head=head", "Head", "Spine1=neck,Spine1=spine"]:
+		gaze.bone_map = value
+	gaze.bone_map = ""
+	expect(crowd.get_chain_bones(gaze).size() == 8, "the character's chain after hostile bone maps")
+	gaze.crowd = NodePath("/root/Nowhere")
+	gaze.crowd = NodePath()
+	expect_error("/root/BadInput/Person2/Skeleton/Gaze: CrowdGazeCharacter.set_mapping_report: mapping_report is read-only")
+	gaze.mapping_report = "x"
+	gaze.mapping_report = "y"
+	expect(gaze.mapping_report.begins_with("gaze chain of 8 joints"), "the mapping report: " + gaze.mapping_report)
+	path = "/root/BadInput/Lamp: GazeTarget.set_look_at_height/set_impact: "
+	expect_error(path + "non-finite value: look_at_height is NaN")
+	expect_error(path + "non-finite value: look_at_height is inf")
+	expect_error(path + "invalid argument: look_at_height is -1000000000000000000000000000000, must be in")
+	for value in [NAN, INF, 1e300, -1e30]:
+		target.look_at_height = value
+	target.look_at_height = 0.0
+	expect_error(path + "invalid argument: impact = NaN")
+	expect_error(path + "invalid argument: impact = -1")
+	expect_error(path + "invalid argument: impact = inf")
+	for value in [NAN, -1.0, 1e300]:
+		target.impact = value
+	target.impact = 1.0
+	target.crowd = NodePath("/root/Nowhere")
+	target.crowd = NodePath()
+	expect(crowd.get_target_count() == 1, "the target left after hostile properties")
+	wrong_types(gaze, "/root/BadInput/Person2/Skeleton/Gaze: CrowdGazeCharacter", CHARACTER_PROPERTIES)
+	wrong_types(target, "/root/BadInput/Lamp: GazeTarget", TARGET_PROPERTIES)
+	gaze.impact = 2
+	expect(gaze.impact == 2.0, "an int impact was refused")
+	gaze.impact = 1.0
+	expect(crowd.get_character_count() == 2 and crowd.get_chain_bones(gaze).size() == 8, "wrong types changed the character")
+
+
+# Each property's Godot type, and values of other types for it.
+const CROWD_PROPERTIES = [
+	["seed", "int"], ["max_characters", "int"], ["max_targets", "int"], ["max_distance", "float"],
+	["field_of_view", "float"], ["attention_fraction_min", "float"],
+	["attention_fraction_max", "float"], ["threads", "int"], ["attention_period", "int"],
+	["lod_distance", "float"], ["far_attention_period", "int"], ["camera_is_viewer", "bool"],
+	["viewer_impact", "float"],
+]
+const CHARACTER_PROPERTIES = [["crowd", "NodePath"], ["bone_map", "String"], ["impact", "float"]]
+const TARGET_PROPERTIES = [["crowd", "NodePath"], ["look_at_height", "float"], ["impact", "float"]]
+
+
+static func with_article(name):
+	return ("an " if name[0] in ["a", "e", "i", "o", "u"] else "a ") + name
+
+
+# Each property set to a String (a Vector3 for the String ones), then to null: one error
+# each, the value unchanged.
+func wrong_types(node, prefix, properties):
+	for entry in properties:
+		var before = node.get(entry[0])
+		var wrong = Vector3(1, 2, 3) if entry[1] == "String" else "x"
+		var wrong_name = "a Vector3" if entry[1] == "String" else "a String"
+		expect_error("%s.%s: %s is not %s; the value is kept" % [prefix, entry[0], wrong_name, with_article(entry[1])])
+		node.set(entry[0], wrong)
+		node.set(entry[0], wrong)
+		expect_error("%s.%s: null is not %s; the value is kept" % [prefix, entry[0], with_article(entry[1])])
+		node.set(entry[0], null)
+		expect(typeof(node.get(entry[0])) == typeof(before) and str(node.get(entry[0])) == str(before), "%s.%s changed" % [prefix, entry[0]])

@@ -7,28 +7,32 @@
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
 
-use crowdgaze_godot_adapter::{choose_crowd, message, NamedNode};
+use crowdgaze_godot_adapter::{
+    check_character, choose_crowd, message, CharacterCheck, CrowdFound, NamedNode,
+};
+use gdnative::nativescript::init::property::{StringHint, Usage};
 use gdnative::prelude::*;
 
-use crate::convert::{boundary, is_main_thread, Data};
-use crate::crowd_gaze::{CrowdGaze, CHARACTER_GROUP, CROWD_GROUP};
+use crate::convert::{boundary, first_report, in_editor, is_main_thread, node_path, xform, Data};
+use crate::crowd_gaze::{skeleton_of, CrowdGaze, CHARACTER_GROUP, CROWD_GROUP};
+use crate::props::Given;
+use crate::skeleton::GodotSkeleton;
+use crate::{checked_method, checked_property};
 
 /// A character: its parent `Skeleton`'s bones are mapped to a gaze chain by name.
 #[derive(NativeClass)]
 #[inherit(Spatial)]
 #[user_data(Data<CrowdGazeCharacter>)]
+#[register_with(Self::register)]
 pub struct CrowdGazeCharacter {
     /// The `CrowdGaze` node to join; empty: the nearest `CrowdGaze` ancestor, else the only
     /// `CrowdGaze` in the tree.
-    #[property]
     crowd: NodePath,
     /// Bone map overrides, `Name=role` comma separated (roles: root, spine, neck, head,
     /// left_eye, right_eye, none), on top of the default map (Hips, Spine…, Neck, Head,
     /// LeftEye, RightEye and the usual variants).
-    #[property(after_set = "Self::settings_changed")]
     bone_map: GodotString,
     /// How interesting this character is to others (`I_E`, ≥ 0).
-    #[property(default = 1.0, after_set = "Self::settings_changed")]
     impact: f64,
     /// What the crowd knows of the node's life (see [`Presence`]).
     presence: Presence,
@@ -88,6 +92,78 @@ impl CrowdGazeCharacter {
         self.crowd.new_ref()
     }
 
+    /// Registers the node's properties (each value's type checked), the read-only
+    /// `mapping_report` (shown multiline in the inspector, not saved: how the parent
+    /// skeleton's bones map to the gaze chain), and its methods (each call's argument count
+    /// checked).
+    fn register(builder: &ClassBuilder<Self>) {
+        // The exported properties, each with its value's type checked (see
+        // [`props`](crate::props)).
+        checked_property!(builder, CrowdGazeCharacter, crowd: NodePath);
+        checked_property!(builder, CrowdGazeCharacter, bone_map: GodotString, then Self::settings_changed);
+        checked_property!(builder, CrowdGazeCharacter, impact: f64 = 1.0, then Self::settings_changed);
+        builder
+            .add_property::<Given<String>>("mapping_report")
+            .with_getter(|this: &Self, owner: TRef<Spatial>| {
+                Given(Ok(boundary(
+                    "CrowdGazeCharacter.get_mapping_report",
+                    String::new(),
+                    || this.check(&owner).report,
+                )))
+            })
+            .with_shr_setter(
+                |_this: &Self, owner: TRef<Spatial>, _value: Given<String>| {
+                    boundary("CrowdGazeCharacter.set_mapping_report", (), || {
+                        let error =
+                            "mapping_report is read-only: it shows how the skeleton's bones \
+                                 are mapped; set bone_map to change the mapping";
+                        // The editor's text box may send edits: it shows the report again.
+                        if !in_editor()
+                            && first_report(owner.get_instance_id(), "set_mapping_report", &error)
+                        {
+                            let path = node_path(&owner);
+                            let method = "CrowdGazeCharacter.set_mapping_report";
+                            godot_error!(
+                                "{}",
+                                message(&path, method, &error, "nothing is changed")
+                            );
+                        }
+                    })
+                },
+            )
+            .with_hint(StringHint::Multiline)
+            .with_usage(Usage::EDITOR)
+            .done();
+        // The exported methods, each with its argument count checked (see
+        // [`methods`](mod@crate::methods)).
+        checked_method!(builder, CrowdGazeCharacter, [], fn _enter_tree(&self, owner: TRef<Spatial>));
+        checked_method!(builder, CrowdGazeCharacter, [], fn _ready(&self, owner: TRef<Spatial>));
+        checked_method!(builder, CrowdGazeCharacter, [], fn _exit_tree(&self, owner: TRef<Spatial>));
+        checked_method!(builder, CrowdGazeCharacter, ["what"], fn _notification(&self, _owner: TRef<Spatial>, what: Variant));
+        checked_method!(builder, CrowdGazeCharacter, [], fn _get_configuration_warning(&self, owner: TRef<Spatial>) -> String);
+        checked_method!(builder, CrowdGazeCharacter, [], fn get_crowd_node(&self, owner: TRef<Spatial>) -> Variant);
+        checked_method!(builder, CrowdGazeCharacter, [], fn _crowdgaze_join(&self, owner: TRef<Spatial>));
+    }
+
+    /// The mapping report and configuration warnings of the node as it is now (see
+    /// [`check_character`]).
+    fn check(&self, owner: &Spatial) -> CharacterCheck {
+        if !owner.is_inside_tree() {
+            return CharacterCheck {
+                report: "no gaze chain yet: the node is not in the scene tree".into(),
+                warnings: Vec::new(),
+            };
+        }
+        let crowd = crowd_found(owner, &self.crowd);
+        check_character(
+            skeleton_of(owner).map(GodotSkeleton).as_ref(),
+            &xform(&owner.transform()),
+            &self.bone_map.to_string(),
+            self.impact,
+            &crowd,
+        )
+    }
+
     /// The settings a `CrowdGaze` registers the character with: bone map and impact, and
     /// the node's presence.
     pub fn settings(&self) -> (String, f64, Presence) {
@@ -125,7 +201,7 @@ pub fn resolve_crowd<'a>(
     let named = if path.is_empty() {
         NamedNode::Unset
     } else {
-        match owner.get_node(path.new_ref()).and_then(sane) {
+        match owner.get_node_or_null(path.new_ref()).and_then(sane) {
             None => NamedNode::Missing,
             Some(node) => match is_crowd(node) {
                 Some(crowd) => {
@@ -169,6 +245,15 @@ pub fn resolve_crowd<'a>(
     Ok(choose_crowd(&text, named, ancestor, &in_tree)?.map(|k| candidates[k]))
 }
 
+/// What [`resolve_crowd`] finds, for the editor's warnings.
+pub fn crowd_found(owner: &Spatial, path: &NodePath) -> CrowdFound {
+    match resolve_crowd(owner, path) {
+        Ok(Some(_)) => CrowdFound::Found,
+        Ok(None) => CrowdFound::NoneYet,
+        Err(error) => CrowdFound::Wrong(error),
+    }
+}
+
 /// Calls `f` on the `CrowdGaze` behind `crowd`; false if it is not one or is busy.
 pub fn with_crowd(
     crowd: TRef<Spatial, Shared>,
@@ -181,20 +266,25 @@ pub fn with_crowd(
 
 #[methods]
 impl CrowdGazeCharacter {
-    #[export]
     fn _enter_tree(&self, owner: TRef<Spatial>) {
         boundary("CrowdGazeCharacter._enter_tree", (), || {
             owner.add_to_group(CHARACTER_GROUP, false);
+            if in_editor() {
+                owner.update_configuration_warning();
+                return;
+            }
             self.join(owner, false);
         })
     }
 
-    #[export]
     fn _ready(&self, owner: TRef<Spatial>) {
-        boundary("CrowdGazeCharacter._ready", (), || self.join(owner, true))
+        boundary("CrowdGazeCharacter._ready", (), || {
+            if !in_editor() {
+                self.join(owner, true)
+            }
+        })
     }
 
-    #[export]
     fn _exit_tree(&self, owner: TRef<Spatial>) {
         boundary("CrowdGazeCharacter._exit_tree", (), || {
             owner.remove_from_group(CHARACTER_GROUP);
@@ -203,15 +293,23 @@ impl CrowdGazeCharacter {
         })
     }
 
-    #[export]
-    fn _notification(&self, _owner: TRef<Spatial>, what: i64) {
-        if what == Object::NOTIFICATION_PREDELETE {
+    fn _notification(&self, _owner: TRef<Spatial>, what: Variant) {
+        // Godot passes an integer; anything else a script passes is no notification.
+        if what.try_to_i64() == Some(Object::NOTIFICATION_PREDELETE) {
             self.presence.gone();
         }
     }
 
+    /// The editor's configuration warnings, one per line (see [`check_character`]).
+    fn _get_configuration_warning(&self, owner: TRef<Spatial>) -> String {
+        boundary(
+            "CrowdGazeCharacter._get_configuration_warning",
+            String::new(),
+            || self.check(&owner).warnings.join("\n"),
+        )
+    }
+
     /// The `CrowdGaze` node this character joins (null if there is none).
-    #[export]
     fn get_crowd_node(&self, owner: TRef<Spatial>) -> Variant {
         boundary("CrowdGazeCharacter.get_crowd_node", Variant::new(), || {
             resolve_crowd(&owner, &self.crowd)
@@ -223,7 +321,6 @@ impl CrowdGazeCharacter {
 
     /// Joins the crowd on the main thread (called deferred when the node entered the tree
     /// on another thread).
-    #[export]
     fn _crowdgaze_join(&self, owner: TRef<Spatial>) {
         boundary("CrowdGazeCharacter._crowdgaze_join", (), || {
             if owner.is_inside_tree() {
@@ -289,6 +386,10 @@ impl CrowdGazeCharacter {
     fn settings_changed(&mut self, owner: TRef<Spatial>) {
         boundary("CrowdGazeCharacter.settings_changed", (), || {
             if !owner.is_inside_tree() {
+                return;
+            }
+            if in_editor() {
+                owner.update_configuration_warning();
                 return;
             }
             if let Ok(Some(crowd)) = resolve_crowd(&owner, &self.crowd) {

@@ -6,7 +6,7 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::OnceLock;
 use std::thread::ThreadId;
 
-use crowdgaze_godot_adapter::Xform;
+use crowdgaze_godot_adapter::{Reports, Xform};
 use gdnative::nativescript::user_data::{DeadlockPolicy, LockOptions, MutexData};
 use gdnative::prelude::*;
 
@@ -76,6 +76,41 @@ pub fn vec3(v: Vector3) -> glam::Vec3 {
 /// A glam quaternion as Godot's `Quat` (x, y, z, w).
 pub fn quat(q: glam::Quat) -> Quat {
     Quat::quaternion(q.x, q.y, q.z, q.w)
+}
+
+/// True in the editor (the addon's classes are tool classes: the editor runs them for their
+/// configuration warnings and mapping report, and nothing else).
+pub fn in_editor() -> bool {
+    gdnative::api::Engine::godot_singleton().is_editor_hint()
+}
+
+/// A script's number (an integer or a float) as a float; `None` for anything else.
+pub fn number(value: &Variant) -> Option<f64> {
+    match value.get_type() {
+        VariantType::F64 => value.try_to_f64(),
+        VariantType::I64 => value.try_to_i64().map(|v| v as f64),
+        _ => None,
+    }
+}
+
+/// A node's path for messages: its path in the tree, else its class and name (Godot prints
+/// an error of its own when asked the path of a node out of the tree).
+pub fn node_path(node: &Node) -> String {
+    if node.is_inside_tree() {
+        node.get_path().to_string()
+    } else {
+        format!("{} '{}' (not in the tree)", node.get_class(), node.name())
+    }
+}
+
+/// True the first time `node`'s `method` reports `error` outside a crowd's own reports
+/// (a wrong call from a script), false after: print it then.
+pub fn first_report(node: i64, method: &str, error: &dyn std::fmt::Display) -> bool {
+    static REPORTS: std::sync::Mutex<Option<Reports>> = std::sync::Mutex::new(None);
+    let mut reports = REPORTS.lock().unwrap_or_else(|e| e.into_inner());
+    reports
+        .get_or_insert_with(Reports::new)
+        .first(node, method, error)
 }
 
 /// Runs an exported method's body; a panic becomes one Godot error naming `what`, and the

@@ -9,8 +9,8 @@ use std::time::Instant;
 
 use crowdgaze_godot_adapter::crowdgaze::crowd::{ExplicitTarget, TargetPriority};
 use crowdgaze_godot_adapter::{
-    claim_skeleton, message, CharacterSettings, CrowdSettings, EntityNode, PoseConvention, Reports,
-    SceneCrowd, SkeletonClaim,
+    check_crowd, claim_skeleton, message, CharacterSettings, CrowdSettings, EntityNode,
+    PoseConvention, Reports, SceneCrowd, SkeletonClaim,
 };
 use gdnative::api::Skeleton;
 use gdnative::nativescript::init::{Signal, SignalArgument};
@@ -18,15 +18,14 @@ use gdnative::nativescript::{ExportInfo, PropertyUsage};
 use gdnative::prelude::*;
 
 use crate::character::{resolve_crowd, Presence};
-use crate::convert::{boundary, on_main_thread_now, quat, vec3, vector, xform, Data};
+use crate::convert::{
+    boundary, in_editor, node_path, number, on_main_thread_now, quat, vec3, vector, xform, Data,
+};
 use crate::skeleton::GodotSkeleton;
+use crate::{checked_method, checked_property};
 
-/// The group every `CrowdGaze` node joins while in the tree.
-pub const CROWD_GROUP: &str = "crowdgaze";
-/// The group every `CrowdGazeCharacter` node joins while in the tree.
-pub const CHARACTER_GROUP: &str = "crowdgaze_characters";
-/// The group every `GazeTarget` node joins while in the tree.
-pub const TARGET_GROUP: &str = "crowdgaze_targets";
+/// The addon's groups (shared with the other front end).
+pub use crowdgaze_godot_adapter::membership::{CHARACTER_GROUP, CROWD_GROUP, TARGET_GROUP};
 
 /// A registered node: its instance id, and its skeleton's for a character (0 for a target).
 #[derive(Debug, Clone)]
@@ -88,45 +87,32 @@ impl Handle {
 #[register_with(Self::register)]
 pub struct CrowdGaze {
     /// Seed of every random choice: the same scene and seed give the same gaze.
-    #[property(default = 1)]
     seed: i64,
     /// Most characters the crowd holds.
-    #[property(default = 1024)]
     max_characters: i64,
     /// Most targets (`GazeTarget` nodes) the crowd holds.
-    #[property(default = 256)]
     max_targets: i64,
     /// How far characters notice others (`d_m`, metres).
-    #[property(default = 10.0)]
     max_distance: f64,
     /// The characters' field of view, degrees.
-    #[property(default = 180.0)]
     field_of_view: f64,
     /// Smallest share of the time a character spends attending (0 to 1).
-    #[property(default = 0.2)]
     attention_fraction_min: f64,
     /// Largest share of the time a character spends attending (0 to 1).
-    #[property(default = 0.6)]
     attention_fraction_max: f64,
     /// Threads a step uses (1: the main thread only; 0: one per core).
-    #[property(default = 1)]
     threads: i64,
     /// Level of detail: each character's attention is updated every `attention_period`
     /// frames (1 to 64, staggered; gaze IK runs every frame).
-    #[property(default = 1)]
     attention_period: i64,
     /// Level of detail by distance: beyond `lod_distance` metres from the camera,
     /// attention is updated every `far_attention_period` frames (0: off).
-    #[property(default = 0.0)]
     lod_distance: f64,
     /// See `lod_distance` (1 to 64).
-    #[property(default = 4)]
     far_attention_period: i64,
     /// Make the active camera an entity the characters may look at.
-    #[property(default = true)]
     camera_is_viewer: bool,
     /// How interesting the camera is (`I_E`, ≥ 0).
-    #[property(default = 3.0)]
     viewer_impact: f64,
     scene: Option<SceneCrowd<Handle>>,
     /// Nodes refused (reported once), by instance id.
@@ -177,13 +163,13 @@ unsafe fn live<'a, T: GodotObject<RefKind = gdnative::ref_kind::ManuallyManaged>
     Some(unsafe { Ref::<T, Shared>::from_sys(object).assume_safe() })
 }
 
-/// A node's path, for messages.
+/// A node's path, for messages (see [`node_path`]).
 fn path_of(node: &Node) -> String {
-    node.get_path().to_string()
+    node_path(node)
 }
 
 /// A character node's parent `Skeleton`, if it is one.
-fn skeleton_of<'a>(node: &Spatial) -> Option<TRef<'a, Skeleton, Shared>> {
+pub fn skeleton_of<'a>(node: &Spatial) -> Option<TRef<'a, Skeleton, Shared>> {
     node.get_parent()
         // SAFETY: the parent is in the tree, owned by the main thread, for this call.
         .and_then(|parent| unsafe { parent.assume_safe_if_sane() })
@@ -242,6 +228,50 @@ impl CrowdGaze {
                 },
             ],
         });
+        Self::register_properties(builder);
+        Self::register_methods(builder);
+    }
+
+    /// The exported properties, each with its value's type checked (see
+    /// [`props`](crate::props)); the defaults are the adapter's.
+    fn register_properties(builder: &ClassBuilder<Self>) {
+        let d = CrowdSettings::default();
+        checked_property!(builder, CrowdGaze, seed: i64 = d.seed);
+        checked_property!(builder, CrowdGaze, max_characters: i64 = d.max_characters);
+        checked_property!(builder, CrowdGaze, max_targets: i64 = d.max_targets);
+        checked_property!(builder, CrowdGaze, max_distance: f64 = d.max_distance);
+        checked_property!(builder, CrowdGaze, field_of_view: f64 = d.field_of_view);
+        checked_property!(builder, CrowdGaze, attention_fraction_min: f64 = d.attention_fraction_min);
+        checked_property!(builder, CrowdGaze, attention_fraction_max: f64 = d.attention_fraction_max);
+        checked_property!(builder, CrowdGaze, threads: i64 = d.threads);
+        checked_property!(builder, CrowdGaze, attention_period: i64 = d.attention_period);
+        checked_property!(builder, CrowdGaze, lod_distance: f64 = d.lod_distance);
+        checked_property!(builder, CrowdGaze, far_attention_period: i64 = d.far_attention_period);
+        checked_property!(builder, CrowdGaze, camera_is_viewer: bool = true);
+        checked_property!(builder, CrowdGaze, viewer_impact: f64 = 3.0);
+    }
+
+    /// The exported methods, each with its argument count checked (see
+    /// [`methods`](mod@crate::methods)).
+    fn register_methods(builder: &ClassBuilder<Self>) {
+        checked_method!(builder, CrowdGaze, [], fn _enter_tree(&mut self, owner: &Spatial));
+        checked_method!(builder, CrowdGaze, [], fn _ready(&mut self, owner: &Spatial));
+        checked_method!(builder, CrowdGaze, [], fn _exit_tree(&mut self, owner: &Spatial));
+        checked_method!(builder, CrowdGaze, ["delta"], fn _process(&mut self, owner: &Spatial, delta: Variant));
+        checked_method!(builder, CrowdGaze, [], fn _get_configuration_warning(&self, _owner: &Spatial) -> String);
+        checked_method!(builder, CrowdGaze, [], fn get_character_count(&self, _owner: &Spatial) -> i64);
+        checked_method!(builder, CrowdGaze, [], fn get_target_count(&self, _owner: &Spatial) -> i64);
+        checked_method!(builder, CrowdGaze, ["character"], fn get_gaze_target(&self, owner: &Spatial, character: Variant) -> Variant);
+        checked_method!(builder, CrowdGaze, ["character"], fn get_gaze_point(&self, _owner: &Spatial, character: Variant) -> Vector3);
+        checked_method!(builder, CrowdGaze, ["character"], fn is_attending(&self, _owner: &Spatial, character: Variant) -> bool);
+        checked_method!(builder, CrowdGaze, ["character"], fn is_holding(&self, _owner: &Spatial, character: Variant) -> bool);
+        checked_method!(builder, CrowdGaze, ["character"], fn get_chain_bones(&self, _owner: &Spatial, character: Variant) -> VariantArray);
+        checked_method!(builder, CrowdGaze, ["character"], fn get_joint_rotations(&self, _owner: &Spatial, character: Variant) -> VariantArray);
+        checked_method!(builder, CrowdGaze, ["character"], fn get_look_at_height(&self, _owner: &Spatial, character: Variant) -> f64);
+        checked_method!(builder, CrowdGaze, ["character", "target"], fn set_gaze_target(&mut self, owner: &Spatial, character: Variant, target: Variant) -> bool);
+        checked_method!(builder, CrowdGaze, ["character"], fn clear_gaze_target(&mut self, _owner: &Spatial, character: Variant) -> bool);
+        checked_method!(builder, CrowdGaze, [], fn get_frame_usec(&self, _owner: &Spatial) -> f64);
+        checked_method!(builder, CrowdGaze, [], fn get_frame_parts_usec(&self, _owner: &Spatial) -> Vector3);
     }
 
     /// The crowd's settings from the exported fields, as given.
@@ -694,11 +724,15 @@ impl CrowdGaze {
 
 #[methods]
 impl CrowdGaze {
-    #[export]
     fn _enter_tree(&mut self, owner: &Spatial) {
         boundary("CrowdGaze._enter_tree", (), || {
-            on_main_thread_now();
             owner.add_to_group(CROWD_GROUP, false);
+            if in_editor() {
+                // Found by the characters' warnings; nothing runs in the editor.
+                owner.set_process(false);
+                return;
+            }
+            on_main_thread_now();
             // After the scripts that animate in _process (AnimationPlayers run before any).
             if owner.process_priority() == 0 {
                 owner.set_process_priority(100);
@@ -708,12 +742,17 @@ impl CrowdGaze {
         })
     }
 
-    #[export]
     fn _ready(&mut self, owner: &Spatial) {
-        boundary("CrowdGaze._ready", (), || self.adopt(owner))
+        boundary("CrowdGaze._ready", (), || {
+            if in_editor() {
+                // Godot turns processing on after _enter_tree for a script with _process.
+                owner.set_process(false);
+            } else {
+                self.adopt(owner)
+            }
+        })
     }
 
-    #[export]
     fn _exit_tree(&mut self, owner: &Spatial) {
         boundary("CrowdGaze._exit_tree", (), || {
             owner.remove_from_group(CROWD_GROUP);
@@ -724,13 +763,40 @@ impl CrowdGaze {
         })
     }
 
-    #[export]
-    fn _process(&mut self, owner: &Spatial, delta: f64) {
-        boundary("CrowdGaze._process", (), || self.frame(owner, delta))
+    fn _process(&mut self, owner: &Spatial, delta: Variant) {
+        boundary("CrowdGaze._process", (), || {
+            if in_editor() {
+                return;
+            }
+            // Godot passes a float; a script calling it may pass anything.
+            match number(&delta) {
+                Some(delta) => self.frame(owner, delta),
+                None => {
+                    let error = "the delta must be a number of seconds";
+                    if self
+                        .reports
+                        .first(owner.get_instance_id(), "_process", &error)
+                    {
+                        let path = path_of(owner);
+                        let method = "CrowdGaze._process";
+                        godot_error!("{}", message(&path, method, &error, "the frame is skipped"));
+                    }
+                }
+            }
+        })
+    }
+
+    /// The editor's configuration warnings: the settings, checked as when the node enters
+    /// the tree.
+    fn _get_configuration_warning(&self, _owner: &Spatial) -> String {
+        boundary(
+            "CrowdGaze._get_configuration_warning",
+            String::new(),
+            || check_crowd(&self.settings()).join("\n"),
+        )
     }
 
     /// Number of characters in the crowd.
-    #[export]
     fn get_character_count(&self, _owner: &Spatial) -> i64 {
         boundary("CrowdGaze.get_character_count", 0, || {
             self.scene
@@ -740,7 +806,6 @@ impl CrowdGaze {
     }
 
     /// Number of targets in the crowd.
-    #[export]
     fn get_target_count(&self, _owner: &Spatial) -> i64 {
         boundary("CrowdGaze.get_target_count", 0, || {
             self.scene.as_ref().map_or(0, |s| s.target_count() as i64)
@@ -748,7 +813,6 @@ impl CrowdGaze {
     }
 
     /// What a character's eyes look at: a character or target node, the camera, or null.
-    #[export]
     fn get_gaze_target(&self, owner: &Spatial, character: Variant) -> Variant {
         boundary("CrowdGaze.get_gaze_target", Variant::new(), || {
             let (Some(scene), Some(slot)) = (self.scene.as_ref(), self.slot_of(&character)) else {
@@ -772,7 +836,6 @@ impl CrowdGaze {
     }
 
     /// The point a character's eyes are sent to (metres, world).
-    #[export]
     fn get_gaze_point(&self, _owner: &Spatial, character: Variant) -> Vector3 {
         boundary("CrowdGaze.get_gaze_point", Vector3::zero(), || {
             self.slot_of(&character)
@@ -782,7 +845,6 @@ impl CrowdGaze {
     }
 
     /// True if a character attends to something.
-    #[export]
     fn is_attending(&self, _owner: &Spatial, character: Variant) -> bool {
         boundary("CrowdGaze.is_attending", false, || {
             self.slot_of(&character)
@@ -792,7 +854,6 @@ impl CrowdGaze {
     }
 
     /// True once a character's gaze has arrived on its target and follows it.
-    #[export]
     fn is_holding(&self, _owner: &Spatial, character: Variant) -> bool {
         boundary("CrowdGaze.is_holding", false, || {
             self.slot_of(&character)
@@ -802,7 +863,6 @@ impl CrowdGaze {
     }
 
     /// The bones of a character's gaze chain, bottom to top (spine, neck, head, eyes).
-    #[export]
     fn get_chain_bones(&self, _owner: &Spatial, character: Variant) -> VariantArray {
         boundary(
             "CrowdGaze.get_chain_bones",
@@ -824,7 +884,6 @@ impl CrowdGaze {
 
     /// The library's final rotation of each chain joint (`base * delta`): local to its
     /// parent bone, the first one relative to the character node's frame.
-    #[export]
     fn get_joint_rotations(&self, _owner: &Spatial, character: Variant) -> VariantArray {
         boundary(
             "CrowdGaze.get_joint_rotations",
@@ -847,7 +906,6 @@ impl CrowdGaze {
     }
 
     /// How high above a character's node its eyes are at rest (where others look), metres.
-    #[export]
     fn get_look_at_height(&self, _owner: &Spatial, character: Variant) -> f64 {
         boundary("CrowdGaze.get_look_at_height", 0.0, || {
             self.slot_of(&character)
@@ -859,7 +917,6 @@ impl CrowdGaze {
     /// Makes a character look at `target` (a registered character or target node, the
     /// camera, or a `Vector3` point) whatever its attention says, until
     /// `clear_gaze_target`. Returns false (with an error) if either is unknown.
-    #[export]
     fn set_gaze_target(&mut self, owner: &Spatial, character: Variant, target: Variant) -> bool {
         boundary("CrowdGaze.set_gaze_target", false, || {
             let slot = self.slot_of(&character);
@@ -901,10 +958,11 @@ impl CrowdGaze {
             match result {
                 Ok(()) => true,
                 Err(error) => {
-                    godot_error!(
-                        "{}",
-                        message(&path_of(owner), "CrowdGaze.set_gaze_target", &error, "")
-                    );
+                    let key = owner.get_instance_id();
+                    if self.reports.first(key, "set_gaze_target", &error) {
+                        let method = "CrowdGaze.set_gaze_target";
+                        godot_error!("{}", message(&path_of(owner), method, &error, ""));
+                    }
                     false
                 }
             }
@@ -912,7 +970,6 @@ impl CrowdGaze {
     }
 
     /// Gives a character back to its attention.
-    #[export]
     fn clear_gaze_target(&mut self, _owner: &Spatial, character: Variant) -> bool {
         boundary("CrowdGaze.clear_gaze_target", false, || {
             let slot = self.slot_of(&character);
@@ -928,13 +985,11 @@ impl CrowdGaze {
 
     /// The last frame's cost in this node (reading the scene, stepping the crowd and
     /// writing the bones), microseconds.
-    #[export]
     fn get_frame_usec(&self, _owner: &Spatial) -> f64 {
         self.frame_usec.iter().sum()
     }
 
     /// The last frame's cost in this node by part, microseconds: `[read, step, write]`.
-    #[export]
     fn get_frame_parts_usec(&self, _owner: &Spatial) -> Vector3 {
         Vector3::new(
             self.frame_usec[0] as f32,

@@ -17,15 +17,19 @@
 pub mod character;
 pub mod convert;
 pub mod crowd_gaze;
+pub mod methods;
+pub mod props;
 pub mod skeleton;
 pub mod target;
 
 use gdnative::prelude::*;
 
 fn init(handle: InitHandle) {
-    handle.add_class::<crowd_gaze::CrowdGaze>();
-    handle.add_class::<character::CrowdGazeCharacter>();
-    handle.add_class::<target::GazeTarget>();
+    // Tool classes: the editor runs them for their configuration warnings and the
+    // character's mapping report; in the editor they join no crowd and write no bone.
+    handle.add_tool_class::<crowd_gaze::CrowdGaze>();
+    handle.add_tool_class::<character::CrowdGazeCharacter>();
+    handle.add_tool_class::<target::GazeTarget>();
 }
 
 godot_init!(init);

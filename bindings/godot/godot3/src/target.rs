@@ -4,26 +4,25 @@
 
 use gdnative::prelude::*;
 
-use crowdgaze_godot_adapter::message;
+use crowdgaze_godot_adapter::{check_target, message};
 
-use crate::character::{leave, resolve_crowd, with_crowd};
-use crate::convert::{boundary, Data};
+use crate::character::{crowd_found, leave, resolve_crowd, with_crowd};
+use crate::convert::{boundary, in_editor, Data};
 use crate::crowd_gaze::TARGET_GROUP;
+use crate::{checked_method, checked_property};
 
 /// A scene object for the characters to look at.
 #[derive(NativeClass)]
 #[inherit(Spatial)]
 #[user_data(Data<GazeTarget>)]
+#[register_with(Self::register)]
 pub struct GazeTarget {
     /// The `CrowdGaze` node to join; empty: the nearest `CrowdGaze` ancestor, else the only
     /// `CrowdGaze` in the tree.
-    #[property]
     crowd: NodePath,
     /// How high above the node's origin the characters look, metres.
-    #[property(default = 0.0, after_set = "Self::settings_changed")]
     look_at_height: f64,
     /// How interesting it is (`I_E`, ≥ 0; characters have 1).
-    #[property(default = 1.0, after_set = "Self::settings_changed")]
     impact: f64,
 }
 
@@ -34,6 +33,21 @@ impl GazeTarget {
             look_at_height: 0.0,
             impact: 1.0,
         }
+    }
+
+    /// Registers the node's properties (each value's type checked, see
+    /// [`props`](crate::props)) and methods (each call's argument count checked, see
+    /// [`methods`](mod@crate::methods)).
+    fn register(builder: &ClassBuilder<Self>) {
+        // The exported properties, each with its value's type checked (see
+        // [`props`](crate::props)).
+        checked_property!(builder, GazeTarget, crowd: NodePath);
+        checked_property!(builder, GazeTarget, look_at_height: f64 = 0.0, then Self::settings_changed);
+        checked_property!(builder, GazeTarget, impact: f64 = 1.0, then Self::settings_changed);
+        checked_method!(builder, GazeTarget, [], fn _enter_tree(&self, owner: TRef<Spatial>));
+        checked_method!(builder, GazeTarget, [], fn _ready(&self, owner: TRef<Spatial>));
+        checked_method!(builder, GazeTarget, [], fn _exit_tree(&self, owner: TRef<Spatial>));
+        checked_method!(builder, GazeTarget, [], fn _get_configuration_warning(&self, owner: TRef<Spatial>) -> String);
     }
 
     /// The `crowd` path as set.
@@ -49,25 +63,45 @@ impl GazeTarget {
 
 #[methods]
 impl GazeTarget {
-    #[export]
     fn _enter_tree(&self, owner: TRef<Spatial>) {
         boundary("GazeTarget._enter_tree", (), || {
             owner.add_to_group(TARGET_GROUP, false);
+            if in_editor() {
+                owner.update_configuration_warning();
+                return;
+            }
             self.join(owner, false);
         })
     }
 
-    #[export]
     fn _ready(&self, owner: TRef<Spatial>) {
-        boundary("GazeTarget._ready", (), || self.join(owner, true))
+        boundary("GazeTarget._ready", (), || {
+            if !in_editor() {
+                self.join(owner, true)
+            }
+        })
     }
 
-    #[export]
     fn _exit_tree(&self, owner: TRef<Spatial>) {
         boundary("GazeTarget._exit_tree", (), || {
             owner.remove_from_group(TARGET_GROUP);
             leave(&owner);
         })
+    }
+
+    /// The editor's configuration warnings, one per line (see [`check_target`]).
+    fn _get_configuration_warning(&self, owner: TRef<Spatial>) -> String {
+        boundary(
+            "GazeTarget._get_configuration_warning",
+            String::new(),
+            || {
+                if !owner.is_inside_tree() {
+                    return String::new();
+                }
+                let crowd = crowd_found(&owner, &self.crowd);
+                check_target(self.look_at_height, self.impact, &crowd).join("\n")
+            },
+        )
     }
 }
 
@@ -103,6 +137,10 @@ impl GazeTarget {
     fn settings_changed(&mut self, owner: TRef<Spatial>) {
         boundary("GazeTarget.settings_changed", (), || {
             if !owner.is_inside_tree() {
+                return;
+            }
+            if in_editor() {
+                owner.update_configuration_warning();
                 return;
             }
             if let Ok(Some(crowd)) = resolve_crowd(&owner, &self.crowd) {

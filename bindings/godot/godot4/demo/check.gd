@@ -64,7 +64,7 @@ func fail(message):
 func _process(_delta):
 	frames += 1
 	var crowd = demo.crowd
-	var characters = get_tree().get_nodes_in_group("crowdgaze_characters")
+	var characters = get_tree().get_nodes_in_group("_crowdgaze_characters")
 	if crowd.get_character_count() != characters.size():
 		fail("the crowd holds %d characters, the tree %d" % [crowd.get_character_count(), characters.size()])
 	# Godot 4 applies the modifiers (the gaze) at the end of the frame: each character is

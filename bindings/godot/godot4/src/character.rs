@@ -5,16 +5,19 @@
 //! joins a `CrowdGaze` node when it enters the tree and leaves it when it exits (freed or
 //! removed).
 
-use crowdgaze_godot_adapter::{choose_crowd, message, NamedNode};
+use crowdgaze_godot_adapter::{
+    check_character, choose_crowd, message, CharacterCheck, CrowdFound, NamedNode,
+};
 use godot::classes::{ISkeletonModifier3D, Node3D, Os, SkeletonModifier3D};
 use godot::prelude::*;
 
-use crate::convert::boundary;
-use crate::crowd_gaze::{CrowdGaze, CHARACTER_GROUP, CROWD_GROUP};
+use crate::convert::{boundary, in_editor, strings, xform};
+use crate::crowd_gaze::{skeleton_of, CrowdGaze, CHARACTER_GROUP, CROWD_GROUP};
+use crate::skeleton::GodotSkeleton;
 
 /// A character: its parent `Skeleton3D`'s bones are mapped to a gaze chain by name.
 #[derive(GodotClass)]
-#[class(base = SkeletonModifier3D)]
+#[class(tool, base = SkeletonModifier3D)]
 pub struct CrowdGazeCharacter {
     /// The `CrowdGaze` node to join; empty: the nearest `CrowdGaze` ancestor, else the only
     /// `CrowdGaze` in the tree.
@@ -30,6 +33,14 @@ pub struct CrowdGazeCharacter {
     #[export]
     #[var(set = set_impact)]
     impact: f64,
+    /// How the parent skeleton's bones map to the gaze chain (read-only, not saved): the
+    /// library's mapping report, or why there is no chain.
+    #[var(get = get_mapping_report, no_set, hint = MULTILINE_TEXT, usage_flags = [EDITOR, READ_ONLY])]
+    #[allow(
+        dead_code,
+        reason = "the property's field: its getter computes the report"
+    )]
+    mapping_report: GString,
     /// The `CrowdGaze` node joined (its instance id), for the per-frame write.
     joined: Option<InstanceId>,
     base: Base<SkeletonModifier3D>,
@@ -84,6 +95,15 @@ pub fn resolve_crowd(node: &Gd<Node>, path: &NodePath) -> Result<Option<Gd<Crowd
     Ok(choose_crowd(&text, named, ancestor, &in_tree)?.map(|k| candidates[k].clone()))
 }
 
+/// What [`resolve_crowd`] finds, for the editor's warnings.
+pub fn crowd_found(node: &Gd<Node>, path: &NodePath) -> CrowdFound {
+    match resolve_crowd(node, path) {
+        Ok(Some(_)) => CrowdFound::Found,
+        Ok(None) => CrowdFound::NoneYet,
+        Err(error) => CrowdFound::Wrong(error),
+    }
+}
+
 /// True on Godot's main thread.
 pub fn is_main_thread() -> bool {
     let os = Os::singleton();
@@ -109,6 +129,7 @@ impl ISkeletonModifier3D for CrowdGazeCharacter {
             crowd: NodePath::default(),
             bone_map: GString::new(),
             impact: 1.0,
+            mapping_report: GString::new(),
             joined: None,
             base,
         }
@@ -117,12 +138,20 @@ impl ISkeletonModifier3D for CrowdGazeCharacter {
     fn enter_tree(&mut self) {
         boundary("CrowdGazeCharacter._enter_tree", (), || {
             self.base_mut().add_to_group(CHARACTER_GROUP);
+            if in_editor() {
+                self.base_mut().update_configuration_warnings();
+                return;
+            }
             self.join(false);
         })
     }
 
     fn ready(&mut self) {
-        boundary("CrowdGazeCharacter._ready", (), || self.join(true))
+        boundary("CrowdGazeCharacter._ready", (), || {
+            if !in_editor() {
+                self.join(true)
+            }
+        })
     }
 
     fn exit_tree(&mut self) {
@@ -132,6 +161,14 @@ impl ISkeletonModifier3D for CrowdGazeCharacter {
             self.joined = None;
             leave(&node);
         })
+    }
+
+    fn get_configuration_warnings(&self) -> PackedStringArray {
+        boundary(
+            "CrowdGazeCharacter._get_configuration_warnings",
+            PackedStringArray::new(),
+            || strings(&self.check().warnings),
+        )
     }
 
     fn process_modification(&mut self) {
@@ -163,6 +200,16 @@ impl CrowdGazeCharacter {
             .map_or_else(Variant::nil, |crowd| crowd.to_variant())
     }
 
+    /// The mapping report (see [`check_character`]).
+    #[func]
+    fn get_mapping_report(&self) -> GString {
+        boundary(
+            "CrowdGazeCharacter.get_mapping_report",
+            GString::new(),
+            || GString::from(self.check().report.as_str()),
+        )
+    }
+
     /// Sets `bone_map`; a character in a crowd is mapped again at once.
     #[func]
     fn set_bone_map(&mut self, bone_map: GString) {
@@ -190,6 +237,26 @@ impl CrowdGazeCharacter {
 }
 
 impl CrowdGazeCharacter {
+    /// The mapping report and configuration warnings of the node as it is now (see
+    /// [`check_character`]).
+    fn check(&self) -> CharacterCheck {
+        let node = self.to_gd().upcast::<Node3D>();
+        if !node.is_inside_tree() {
+            return CharacterCheck {
+                report: "no gaze chain yet: the node is not in the scene tree".into(),
+                warnings: Vec::new(),
+            };
+        }
+        let crowd = crowd_found(&node.clone().upcast::<Node>(), &self.crowd);
+        check_character(
+            skeleton_of(&node).map(GodotSkeleton).as_ref(),
+            &xform(&node.get_transform()),
+            &self.bone_map.to_string(),
+            self.impact,
+            &crowd,
+        )
+    }
+
     /// Records the `CrowdGaze` node that registered the character (it writes through it).
     pub fn set_joined(&mut self, crowd: InstanceId) {
         self.joined = Some(crowd);
@@ -243,8 +310,12 @@ impl CrowdGazeCharacter {
     /// `bone_map` or `impact` was set: a character in a crowd takes the new values now.
     fn settings_changed(&mut self) {
         boundary("CrowdGazeCharacter.settings_changed", (), || {
-            let node = self.to_gd();
+            let mut node = self.to_gd();
             if !node.is_inside_tree() {
+                return;
+            }
+            if in_editor() {
+                node.update_configuration_warnings();
                 return;
             }
             if let Ok(Some(mut crowd)) = resolve_crowd(&node.clone().upcast::<Node>(), &self.crowd)

@@ -42,6 +42,20 @@ pub fn quaternion(q: glam::Quat) -> Quaternion {
     Quaternion::new(q.x, q.y, q.z, q.w)
 }
 
+/// Lines of text as Godot's `PackedStringArray` (configuration warnings).
+pub fn strings(lines: &[String]) -> PackedStringArray {
+    lines
+        .iter()
+        .map(|line| GString::from(line.as_str()))
+        .collect()
+}
+
+/// True in the editor (the addon's classes are tool classes: the editor runs them for their
+/// configuration warnings and mapping report, and nothing else).
+pub fn in_editor() -> bool {
+    godot::classes::Engine::singleton().is_editor_hint()
+}
+
 /// Runs an entry point's body; a panic becomes one Godot error naming `what`, and the
 /// entry point returns `fallback`.
 pub fn boundary<T>(what: &str, fallback: T, body: impl FnOnce() -> T) -> T {

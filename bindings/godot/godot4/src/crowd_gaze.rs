@@ -11,22 +11,18 @@ use std::time::Instant;
 use crowdgaze_godot_adapter::crowdgaze::crowd::{ExplicitTarget, TargetPriority};
 use crowdgaze_godot_adapter::crowdgaze::ik::MAX_CHAIN_JOINTS;
 use crowdgaze_godot_adapter::{
-    claim_skeleton, message, CharacterSettings, CrowdSettings, EntityNode, PoseConvention, Reports,
-    SceneCrowd, SkeletonClaim,
+    check_crowd, claim_skeleton, message, CharacterSettings, CrowdSettings, EntityNode,
+    PoseConvention, Reports, SceneCrowd, SkeletonClaim,
 };
 use godot::classes::{Camera3D, INode3D, Node3D, Skeleton3D};
 use godot::prelude::*;
 
 use crate::character::resolve_crowd;
-use crate::convert::{boundary, quaternion, vec3, vector, xform};
+use crate::convert::{boundary, in_editor, quaternion, strings, vec3, vector, xform};
 use crate::skeleton::GodotSkeleton;
 
-/// The group every `CrowdGaze` node joins while in the tree.
-pub const CROWD_GROUP: &str = "crowdgaze";
-/// The group every `CrowdGazeCharacter` node joins while in the tree.
-pub const CHARACTER_GROUP: &str = "crowdgaze_characters";
-/// The group every `GazeTarget` node joins while in the tree.
-pub const TARGET_GROUP: &str = "crowdgaze_targets";
+/// The addon's groups (shared with the other front end).
+pub use crowdgaze_godot_adapter::membership::{CHARACTER_GROUP, CROWD_GROUP, TARGET_GROUP};
 
 /// A registered node: its instance id, and its skeleton's for a character (0 for a target).
 #[derive(Debug, Clone)]
@@ -43,7 +39,7 @@ fn joins(crowd: InstanceId, node: &Gd<Node>, path: &NodePath) -> bool {
 }
 
 /// A character node's parent `Skeleton3D`, if it is one.
-fn skeleton_of(node: &Gd<Node3D>) -> Option<Gd<Skeleton3D>> {
+pub fn skeleton_of(node: &Gd<Node3D>) -> Option<Gd<Skeleton3D>> {
     node.get_parent()
         .and_then(|parent| parent.try_cast::<Skeleton3D>().ok())
 }
@@ -71,7 +67,7 @@ fn instance_id(node: &Variant) -> Option<i64> {
 /// crowd is created (when the node enters the tree); `camera_is_viewer` and
 /// `viewer_impact` are read every frame.
 #[derive(GodotClass)]
-#[class(base = Node3D)]
+#[class(tool, base = Node3D)]
 pub struct CrowdGaze {
     /// Seed of every random choice: the same scene and seed give the same gaze.
     #[export]
@@ -157,6 +153,10 @@ impl INode3D for CrowdGaze {
     fn enter_tree(&mut self) {
         boundary("CrowdGaze._enter_tree", (), || {
             self.base_mut().add_to_group(CROWD_GROUP);
+            if in_editor() {
+                // Found by the characters' warnings; nothing runs in the editor.
+                return;
+            }
             // After the scripts that animate in _process (AnimationMixers run before any).
             if self.base().get_process_priority() == 0 {
                 self.base_mut().set_process_priority(100);
@@ -167,7 +167,13 @@ impl INode3D for CrowdGaze {
     }
 
     fn ready(&mut self) {
-        boundary("CrowdGaze._ready", (), || self.adopt())
+        boundary("CrowdGaze._ready", (), || {
+            if in_editor() {
+                self.base_mut().set_process(false);
+            } else {
+                self.adopt()
+            }
+        })
     }
 
     fn exit_tree(&mut self) {
@@ -181,7 +187,19 @@ impl INode3D for CrowdGaze {
     }
 
     fn process(&mut self, delta: f64) {
-        boundary("CrowdGaze._process", (), || self.frame(delta))
+        boundary("CrowdGaze._process", (), || {
+            if !in_editor() {
+                self.frame(delta)
+            }
+        })
+    }
+
+    fn get_configuration_warnings(&self) -> PackedStringArray {
+        boundary(
+            "CrowdGaze._get_configuration_warnings",
+            PackedStringArray::new(),
+            || strings(&check_crowd(&self.settings())),
+        )
     }
 }
 

@@ -2,17 +2,17 @@
 //! `look_at_height` along +Y, as interesting as its `impact`. It joins a `CrowdGaze` node
 //! when it enters the tree and leaves it when it exits.
 
-use crowdgaze_godot_adapter::message;
+use crowdgaze_godot_adapter::{check_target, message};
 use godot::classes::{INode3D, Node3D};
 use godot::prelude::*;
 
-use crate::character::{leave, resolve_crowd};
-use crate::convert::boundary;
+use crate::character::{crowd_found, leave, resolve_crowd};
+use crate::convert::{boundary, in_editor, strings};
 use crate::crowd_gaze::TARGET_GROUP;
 
 /// A scene object for the characters to look at.
 #[derive(GodotClass)]
-#[class(base = Node3D)]
+#[class(tool, base = Node3D)]
 pub struct GazeTarget {
     /// The `CrowdGaze` node to join; empty: the nearest `CrowdGaze` ancestor, else the only
     /// `CrowdGaze` in the tree.
@@ -43,12 +43,20 @@ impl INode3D for GazeTarget {
     fn enter_tree(&mut self) {
         boundary("GazeTarget._enter_tree", (), || {
             self.base_mut().add_to_group(TARGET_GROUP);
+            if in_editor() {
+                self.base_mut().update_configuration_warnings();
+                return;
+            }
             self.join(false);
         })
     }
 
     fn ready(&mut self) {
-        boundary("GazeTarget._ready", (), || self.join(true))
+        boundary("GazeTarget._ready", (), || {
+            if !in_editor() {
+                self.join(true)
+            }
+        })
     }
 
     fn exit_tree(&mut self) {
@@ -57,6 +65,21 @@ impl INode3D for GazeTarget {
             let node = self.to_gd().upcast::<Node>();
             leave(&node);
         })
+    }
+
+    fn get_configuration_warnings(&self) -> PackedStringArray {
+        boundary(
+            "GazeTarget._get_configuration_warnings",
+            PackedStringArray::new(),
+            || {
+                let node = self.to_gd().upcast::<Node>();
+                if !node.is_inside_tree() {
+                    return PackedStringArray::new();
+                }
+                let crowd = crowd_found(&node, &self.crowd);
+                strings(&check_target(self.look_at_height, self.impact, &crowd))
+            },
+        )
     }
 }
 
@@ -114,8 +137,12 @@ impl GazeTarget {
     /// `look_at_height` or `impact` was set: a target in a crowd takes the new values now.
     fn settings_changed(&mut self) {
         boundary("GazeTarget.settings_changed", (), || {
-            let node = self.to_gd();
+            let mut node = self.to_gd();
             if !node.is_inside_tree() {
+                return;
+            }
+            if in_editor() {
+                node.update_configuration_warnings();
                 return;
             }
             if let Ok(Some(mut crowd)) = resolve_crowd(&node.clone().upcast::<Node>(), &self.crowd)
