@@ -323,13 +323,14 @@ pub fn print_summary(result: &LookUp, run: &LookUpRun) {
         result.witnesses.len(),
         seen_walking
     );
-    let share = result.followers.len() as f64 / result.witnesses.len().max(1) as f64;
+    let unseen = result.followers_unseen();
+    let seen = result.followers.len() - unseen;
     println!(
-        "  looked up:   {} of them ({:.0}%), {} glances in all; {} followed only followers",
+        "  looked up:   {} people: {seen} of the {} who saw them ({:.0}%), {unseen} who saw only others looking up; {} glances in all",
         result.followers.len(),
-        100.0 * share,
-        result.glances,
-        result.followers_unseen()
+        result.witnesses.len(),
+        100.0 * seen as f64 / result.witnesses.len().max(1) as f64,
+        result.glances
     );
     if !result.followers.is_empty() {
         // Followers are recorded in time order.
@@ -363,12 +364,12 @@ const HALF_VIEW: f32 = 22.0;
 
 impl Figure for LookUp {
     fn size(&self) -> (u32, u32) {
-        (1100, 700)
+        (960, 620)
     }
 
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<()> {
         root.fill(&WHITE).map_err(drawing)?;
-        let (top, bottom) = root.split_vertically(430);
+        let (top, bottom) = root.split_vertically(380);
         let (x0, x1) = (self.point.x - HALF_VIEW, self.point.x + HALF_VIEW);
         // The street is 14 m across; the far facade above it leaves room for the legend.
         let (y0, width, y1) = (-1.5f32, 14.0f32, 21.5f32);
