@@ -1045,24 +1045,23 @@ fn demo_look_up_shows_passers_by_following_a_group_looking_up() {
     }
 }
 
-/// Annotates zara01's first 40 s at 10 fps with `extra` arguments; returns the header's
-/// names and the rows.
-fn annotate_zara(out: &Path, extra: &[&str]) -> (Vec<String>, Vec<Vec<String>>, String) {
-    let input = data("pedestrians/ucy_zara01.csv");
-    let mut args = vec![
+/// `annotate --input INPUT --out OUT`.
+fn annotate_args<'a>(input: &'a Path, out: &'a Path) -> Vec<&'a str> {
+    vec![
         "annotate",
         "--input",
         input.to_str().unwrap(),
         "--out",
         out.to_str().unwrap(),
-        "--start",
-        "0",
-        "--end",
-        "40",
-        "--fps",
-        "10",
-        "-q",
-    ];
+    ]
+}
+
+/// Annotates zara01's first 40 s at 10 fps with `extra` arguments; returns the header's
+/// names and the rows.
+fn annotate_zara(out: &Path, extra: &[&str]) -> (Vec<String>, Vec<Vec<String>>, String) {
+    let input = data("pedestrians/ucy_zara01.csv");
+    let mut args = annotate_args(&input, out);
+    args.extend_from_slice(&["--start", "0", "--end", "40", "--fps", "10", "-q"]);
     args.extend_from_slice(extra);
     let stdout = succeed(&args);
     let text = std::fs::read_to_string(out).unwrap();
@@ -1165,6 +1164,7 @@ fn annotate_refuses_bad_stares_by_name_and_leaves_nothing() {
     let input = data("pedestrians/ucy_zara01.csv");
     let directory = tempfile::tempdir().unwrap();
     let out = directory.path().join("gaze.csv");
+    let base = annotate_args(&input, &out);
     for (stare, why) in [
         ("1:5,5", "3"),
         ("x:1,2,3", "person id"),
@@ -1174,15 +1174,7 @@ fn annotate_refuses_bad_stares_by_name_and_leaves_nothing() {
         ("1:1,2,3:4-5:6", "too many"),
         ("999999:1,2,3", "no person 999999"),
     ] {
-        let output = crowdgaze(&[
-            "annotate",
-            "--input",
-            input.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-            "--stare",
-            stare,
-        ]);
+        let output = crowdgaze(&[&base[..], &["--stare", stare]].concat());
         let stderr = text(&output.stderr);
         assert!(!output.status.success(), "{stare} accepted");
         assert!(stderr.contains("--stare"), "{stare}: {stderr}");
@@ -1191,15 +1183,7 @@ fn annotate_refuses_bad_stares_by_name_and_leaves_nothing() {
         println!("{}", stderr.lines().next().unwrap_or(""));
     }
     // --follow-strength without --follow is refused, naming --follow.
-    let output = crowdgaze(&[
-        "annotate",
-        "--input",
-        input.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-        "--follow-strength",
-        "gallup",
-    ]);
+    let output = crowdgaze(&[&base[..], &["--follow-strength", "gallup"]].concat());
     assert!(!output.status.success());
     assert!(text(&output.stderr).contains("--follow"));
 }
