@@ -20,7 +20,8 @@ pub struct Cli {
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// The paper's street scene (130 characters walking, standing, sitting or talking in
-    /// groups, 60 scene objects): prints a summary and writes pictures.
+    /// groups, 60 scene objects): prints a summary and writes pictures. --scene look-up: a
+    /// group stops and looks up, and passers-by follow their gaze.
     Demo(DemoArgs),
     /// Adds gaze to pedestrian trajectories: who each person looks at, and the joint
     /// rotations of their gaze chain, per output frame.
