@@ -8,7 +8,7 @@
 
 use glam::{Vec2, Vec3};
 
-use crate::crowd::{CharacterDesc, Crowd, ObjectDesc};
+use crate::crowd::{CharacterDesc, Crowd, ExplicitTarget, ObjectDesc, TargetPriority};
 use crate::error::Result;
 use crate::ik::GazeChain;
 use crate::math::random::{stream, Purpose, Random};
@@ -356,6 +356,33 @@ impl Scenario {
         &self.ids
     }
 
+    /// The world point at ground coordinates `ground` (metres along forward and side, as
+    /// [`Person::position`]) and `height` metres above the ground, in `world`'s axes.
+    pub fn world_point(world: &World, ground: Vec2, height: f32) -> Vec3 {
+        Self::to_world(world, ground) + world.up * height
+    }
+
+    /// Makes person `i` stop where it is, turn to face `point` (world, metres) and stare at
+    /// it: it stands from now on ([`Activity::Standing`]) and has `point` as an overriding
+    /// explicit gaze target in `crowd` (after [`populate`](Self::populate)) until the
+    /// caller clears it. A scripted stimulus, e.g. for gaze following: the scenario only
+    /// moves people; where the others look is the crowd's business.
+    pub fn stop_and_look(&mut self, crowd: &mut Crowd, i: usize, point: Vec3) -> Result<()> {
+        let world = crowd.config().world;
+        let person = &mut self.people[i];
+        let to_point = world.ground(point) - person.position;
+        person.activity = Activity::Standing;
+        person.velocity = Vec2::ZERO;
+        if to_point.length_squared() > 1e-6 {
+            person.heading = to_point.y.atan2(to_point.x);
+        }
+        crowd.set_gaze_target(
+            self.ids[i],
+            ExplicitTarget::Point(point),
+            TargetPriority::Override,
+        )
+    }
+
     /// Moves every walker by `dt` seconds; walkers turn back at the ends and drift a
     /// little sideways, staying inside the rectangle. Groups go on with their turns.
     pub fn advance(&mut self, dt: f32) {
@@ -479,6 +506,31 @@ mod tests {
             .count();
         assert!((80..115).contains(&walking), "{walking}");
         assert_ne!(a.people, Scenario::street(130, 60, 10).people);
+    }
+
+    #[test]
+    fn a_stopped_person_stands_facing_the_point_and_stares_at_it() {
+        let mut scenario = Scenario::street(20, 4, 2);
+        let mut crowd = Crowd::new(CrowdConfig::default()).unwrap();
+        scenario.populate(&mut crowd).unwrap();
+        let walker = (0..20)
+            .find(|&i| scenario.people[i].activity == Activity::Walking)
+            .unwrap();
+        let world = crowd.config().world;
+        let ground = scenario.people[walker].position + Vec2::new(0.0, 3.0);
+        let point = Scenario::world_point(&world, ground, 10.0);
+        assert!((world.height(point) - 10.0).abs() < 1e-5);
+        scenario.stop_and_look(&mut crowd, walker, point).unwrap();
+        let before = scenario.people[walker].position;
+        scenario.play(&mut crowd, 30, 1.0 / 30.0, |_| {}).unwrap();
+        let person = scenario.people[walker];
+        assert_eq!(person.position, before);
+        assert_eq!(person.activity, Activity::Standing);
+        assert!((person.heading - std::f32::consts::FRAC_PI_2).abs() < 1e-5);
+        let id = scenario.character_ids()[walker];
+        let head = crowd.gaze_motion(id).unwrap().gaze_ray();
+        let to_point = (point - head.0).normalize();
+        assert!(head.1.dot(to_point) > 0.9, "{:?} vs {to_point:?}", head.1);
     }
 
     #[test]

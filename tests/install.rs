@@ -8,7 +8,7 @@
 //! Needs cmake, pkg-config, OpenSceneGraph 3.6, xvfb-run and Mesa (`scripts/setup` installs
 //! them): where one is missing, the test that needs it fails and names it.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::sync::OnceLock;
@@ -328,9 +328,8 @@ fn read_png(path: &Path) -> Image {
     Image { width, height, rgb }
 }
 
-#[test]
-#[cfg_attr(miri, ignore)]
-fn osg_street_renders_heads_turning() {
+/// Configures and builds `c_examples/osg` against the install; returns its build directory.
+fn build_osg_street() -> PathBuf {
     need("cmake", &["--version"]);
     need("xvfb-run", &["--help"]);
     let build = work().join("osg");
@@ -353,8 +352,17 @@ fn osg_street_renders_heads_turning() {
         panic!("configuring c_examples/osg failed:\n{error}");
     }
     run(Command::new("cmake").arg("--build").arg(&build));
+    build
+}
 
-    let frames_dir = build.join("frames");
+/// Builds `c_examples/osg` (once for the tests of this file) and runs it under Xvfb with
+/// the environment `env`, writing 960x540 frames for `seconds` into `frames` of its build
+/// directory; returns its log, checked to end with "ok".
+fn run_osg_street(env: &[(&str, &str)], frames: &str, seconds: &str) -> String {
+    static BUILD: OnceLock<PathBuf> = OnceLock::new();
+    let build = BUILD.get_or_init(build_osg_street);
+    let frames_dir = build.join(frames);
+    let _ = std::fs::remove_dir_all(&frames_dir);
     std::fs::create_dir_all(&frames_dir).unwrap();
     let output = run(Command::new("timeout")
         .arg("600")
@@ -362,10 +370,63 @@ fn osg_street_renders_heads_turning() {
         .args(["-a", "-s", "-screen 0 1280x1024x24"])
         .arg(build.join("osg_street"))
         .arg(&frames_dir)
+        .args(["960x540", seconds])
+        .envs(env.iter().copied())
         .env("LIBGL_ALWAYS_SOFTWARE", "1"));
     let log = stdout(&output);
     assert!(log.contains("OpenSceneGraph 3.6"), "{log}");
     assert_eq!(log.lines().last(), Some("ok"), "{log}");
+    log
+}
+
+#[test]
+#[cfg_attr(miri, ignore)]
+fn osg_street_look_up_shows_the_group_staring_up() {
+    let log = run_osg_street(&[("OSG_STREET_SCENE", "look-up")], "look_up", "5");
+    let lookers: Vec<usize> = log
+        .lines()
+        .find_map(|l| l.strip_prefix("lookers "))
+        .expect("a lookers line")
+        .split_whitespace()
+        .map(|w| w.parse().unwrap())
+        .collect();
+    assert_eq!(lookers.len(), 4, "{log}");
+    // (frame's second, looker, pitch) of every "look" line, in order.
+    let (_, frames) = parse_log(&log);
+    assert_eq!(frames.len(), 5, "one frame per second for 5 s:\n{log}");
+    let pitches: Vec<f64> = log
+        .lines()
+        .filter_map(|l| l.strip_prefix("look "))
+        .filter(|l| !l.starts_with("point"))
+        .map(|l| l.split_whitespace().nth(2).unwrap().parse().unwrap())
+        .collect();
+    assert_eq!(pitches.len(), 4 * frames.len(), "{log}");
+    // Before 2 s they look about them; from 3 s they all look well up at the point.
+    eprintln!("looker head pitches per second: {pitches:?}");
+    assert!(pitches[..4].iter().all(|&p| p < 10.0), "{pitches:?}");
+    assert!(pitches[8..].iter().all(|&p| p > 15.0), "{pitches:?}");
+    // The point's mark is on every image, and so are the people (not blank).
+    for frame in &frames {
+        let image = read_png(&frame.path);
+        let marks = image
+            .rgb
+            .chunks(3)
+            .filter(|p| p[0] == 255 && (130..=150).contains(&p[1]) && p[2] <= 10)
+            .count();
+        assert!(
+            marks >= 12,
+            "{}: {marks} px of the mark",
+            frame.path.display()
+        );
+        let colours: BTreeSet<&[u8]> = image.rgb.chunks(3).collect();
+        assert!(colours.len() > 200, "{} colours only", colours.len());
+    }
+}
+
+#[test]
+#[cfg_attr(miri, ignore)]
+fn osg_street_renders_heads_turning() {
+    let log = run_osg_street(&[], "frames", "8");
     let (observer, frames) = parse_log(&log);
     assert_eq!(frames.len(), 8, "one frame per second for 8 s:\n{log}");
 

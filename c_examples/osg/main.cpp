@@ -35,11 +35,16 @@
 // Env:   OSG_STREET_BLINK_RATE=N: the crowd's mean blink rate, blinks per minute (default
 //        the library's, 17), e.g. 120 to catch closed lids in the frames.
 //        OSG_STREET_SURFACE=pbuffer: render into a GLX pbuffer instead of a window.
+//        OSG_STREET_SCENE=look-up: four more people stand on the left pavement and, from
+//        2 s on, stare at a point 9 m up the facade across the street (an orange mark),
+//        each with an overriding point target (`cg_crowd_set_gaze_target`), seen by a
+//        camera that frames them and the point.
 // Prints the first line of the rig's report, then for every written frame its file, each
 // character's head rotation in its body frame (x y z w) and yaw, each character's lid
 // closure and pitch, where the red-nosed bystander's nose is on the image, and for each
-// member of the group whether it talks and the id of what it looks at ("talk" lines); "ok"
-// last.
+// member of the group whether it talks and the id of what it looks at ("talk" lines); with
+// the look-up scene, the lookers and the point, then every frame each looker's head pitch in
+// its body frame, degrees, up positive ("look" lines); "ok" last.
 #include "crowdgaze.hpp"
 
 #include <osg/Geode>
@@ -110,6 +115,10 @@ constexpr float kLidClosed = -1.1f;  // the closed lid's edge: below the pupil, 
 // The group's turns: each member talks kTalkFrames frames, then nobody for kPauseFrames.
 constexpr int kTalkFrames = 60;   // 2.5 s at 24 fps
 constexpr int kPauseFrames = 12;  // 0.5 s
+// The look-up scene: the lookers stare from this frame on (2 s), at this point (metres, on
+// the right facade, x = 7, of the 11 m block at y = -15).
+constexpr int kLookFrame = 48;
+const cg_vec3 kLookPoint = {6.95f, -12.0f, 9.0f};
 const osg::Vec3 kMouth(0.0f, 0.045f, 0.008f);  // the mouth's centre in the head's frame
 
 // ---------------------------------------------------------------------------------------
@@ -250,6 +259,7 @@ struct Street {
     std::uint32_t observed_walker = 0;
     std::vector<std::size_t> group;  // the friends talking together (character indices)
     std::uint32_t conversation = 0;  // their conversation's id
+    std::vector<std::size_t> lookers;  // the look-up scene's group (character indices)
 
     // The member of the group talking at frame `f` (an index into `group`), or -1 in a pause.
     int speaker_at(int f) const {
@@ -261,6 +271,12 @@ struct Street {
     void advance() {
         frame++;
         const float dt = static_cast<float>(1.0 / kFps);
+        if (frame == kLookFrame) {
+            // The group looks up: game logic gives each an overriding point target.
+            for (const std::size_t i : lookers) {
+                crowd.set_gaze_target(characters[i].id, crowdgaze::gaze_target_point(kLookPoint));
+            }
+        }
         const int speaker = speaker_at(frame);
         for (std::size_t k = 0; k < group.size(); k++) {
             Character& c = characters[group[k]];
@@ -289,6 +305,15 @@ struct Street {
         crowd.read_eyelids(0, static_cast<std::uint32_t>(characters.size()), eyelids);
     }
 };
+
+// The head in the body's frame: the bone rotations from the head up to the root.
+osg::Quat head_in_body(const Character& c) {
+    osg::Quat head = to_osg(c.pose[kHead]);
+    for (int b = kSkeleton[kHead].parent; b >= 0; b = kSkeleton[b].parent) {
+        head = head * to_osg(c.pose[b]);  // OSG's order: the parent's turn last
+    }
+    return head;
+}
 
 // The root's update callback: the crowd is stepped once per frame, before any character
 // reads its joints.
@@ -500,6 +525,8 @@ int main(int argc, char** argv) {
     try {
         // --- the crowd: Z up, heading 0 along +Y, metres ----------------------------------
         Street street;
+        const char* scene = std::getenv("OSG_STREET_SCENE");
+        const bool look_up = scene != nullptr && std::string(scene) == "look-up";
         cg_crowd_config config = crowdgaze::crowd_config();
         config.seed = 2009;
         config.max_characters = 32;
@@ -631,6 +658,24 @@ int main(int argc, char** argv) {
                                      crowdgaze::gaze_target_entity(street.observed_walker));
 
         std::printf("observer %zu follows %u\n", street.observer, street.characters[0].index);
+        // The look-up scene: four people on the left pavement, turned towards the facade
+        // across the street; at kLookFrame they stare at kLookPoint (Street::advance).
+        if (look_up) {
+            const osg::Vec3 point(kLookPoint.x, kLookPoint.y, kLookPoint.z);
+            osg::ref_ptr<osg::Geode> mark = sphere(point, 0.25f, {1.0f, 0.55f, 0.0f, 1.0f});
+            mark->getOrCreateStateSet()->setMode(GL_LIGHTING, osg::StateAttribute::OFF);
+            root->addChild(mark);  // unlit: exactly (255, 140, 0) on the image
+            std::printf("lookers");
+            for (const osg::Vec3& at : {osg::Vec3(-4.7f, -13.0f, 0.0f), osg::Vec3(-4.0f, -12.3f, 0.0f),
+                                        osg::Vec3(-4.8f, -11.5f, 0.0f), osg::Vec3(-4.1f, -10.8f, 0.0f)}) {
+                const osg::Vec3 to_point = point - at;
+                street.lookers.push_back(n);
+                std::printf(" %zu", n);
+                add({at.x(), at.y(), std::atan2(-to_point.x(), to_point.y()), 0.0f}, false, false);
+            }
+            std::printf("\nlook point %.2f %.2f %.2f from frame %d\n", kLookPoint.x, kLookPoint.y,
+                        kLookPoint.z, kLookFrame);
+        }
         for (std::size_t i = 0; i < street.characters.size(); i++) {
             Character& c = street.characters[i];
             c.root->setUpdateCallback(new GazeCallback(&street, i));
@@ -682,8 +727,14 @@ int main(int argc, char** argv) {
         camera->setReadBuffer(buffer);
         camera->setClearColor(osg::Vec4(0.62f, 0.76f, 0.90f, 1.0f));
         camera->setProjectionMatrixAsPerspective(42.0, static_cast<double>(width) / height, 0.3, 200.0);
-        camera->setViewMatrixAsLookAt(osg::Vec3d(-1.0, -18.5, 2.2), osg::Vec3d(1.6, -9.0, 1.4),
-                                      osg::Vec3d(0.0, 0.0, 1.0));
+        if (look_up) {  // wider, the lookers from their right and the point above the street
+            camera->setProjectionMatrixAsPerspective(60.0, static_cast<double>(width) / height, 0.3, 200.0);
+            camera->setViewMatrixAsLookAt(osg::Vec3d(-1.0, -20.0, 1.5), osg::Vec3d(0.2, -12.0, 3.8),
+                                          osg::Vec3d(0.0, 0.0, 1.0));
+        } else {
+            camera->setViewMatrixAsLookAt(osg::Vec3d(-1.0, -18.5, 2.2), osg::Vec3d(1.6, -9.0, 1.4),
+                                          osg::Vec3d(0.0, 0.0, 1.0));
+        }
         osg::ref_ptr<Capture> capture = new Capture(width, height);
         camera->setFinalDrawCallback(capture.get());
         viewer.realize();
@@ -714,15 +765,17 @@ int main(int argc, char** argv) {
                             lids.right_closure, lids.left_lid_pitch, lids.right_lid_pitch);
             }
             for (std::size_t i = 0; i < n; i++) {
-                // The head in the body's frame: the bone rotations from the head up to the root.
-                const Character& c = street.characters[i];
-                osg::Quat head = to_osg(c.pose[kHead]);
-                for (int b = kSkeleton[kHead].parent; b >= 0; b = kSkeleton[b].parent) {
-                    head = head * to_osg(c.pose[b]);  // OSG's order: the parent's turn last
-                }
+                const osg::Quat head = head_in_body(street.characters[i]);
                 std::printf("head %zu q %.5f %.5f %.5f %.5f yaw %.2f target %d\n", i, head.x(),
                             head.y(), head.z(), head.w(), yaw_degrees(head),
                             gaze[i].target == CG_NO_TARGET ? -1 : static_cast<int>(gaze[i].target));
+            }
+            for (const std::size_t i : street.lookers) {
+                // The head's pitch in the body frame: its forward (+Y) turned up (+Z).
+                const osg::Vec3d forward = head_in_body(street.characters[i]) * osg::Vec3d(0.0, 1.0, 0.0);
+                const double pitch =
+                    std::atan2(forward.z(), std::hypot(forward.x(), forward.y())) * 180.0 / kPi;
+                std::printf("look %zu pitch %.2f staring %d\n", i, pitch, frame >= kLookFrame ? 1 : 0);
             }
             // Where the red nose is on the image (x from the left, y from the top): the head
             // bone's transform and its ancestors', then the character's place.

@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand};
 
-use crate::sim::Model;
+use crate::sim::{FollowStrength, Model, Stare};
 
 /// Believable gaze for crowd characters: attention (who looks at what, Grillon & Thalmann
 /// 2009), gaze IK with human timing, from the command line.
@@ -20,7 +20,8 @@ pub struct Cli {
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// The paper's street scene (130 characters walking, standing, sitting or talking in
-    /// groups, 60 scene objects): prints a summary and writes pictures.
+    /// groups, 60 scene objects): prints a summary and writes pictures. --scene look-up: a
+    /// group stops and looks up, and passers-by follow their gaze.
     Demo(DemoArgs),
     /// Adds gaze to pedestrian trajectories: who each person looks at, and the joint
     /// rotations of their gaze chain, per output frame.
@@ -56,6 +57,23 @@ pub struct StreetArgs {
 /// `crowdgaze demo`.
 #[derive(Debug, Args)]
 pub struct DemoArgs {
+    /// The scene: the street (default), or look-up, the street where a group of
+    /// people stops and stares at a point high on a facade and passers-by may look too
+    /// (gaze following, Milgram et al. 1969).
+    #[arg(long, value_enum, default_value_t = DemoScene::Street)]
+    pub scene: DemoScene,
+    /// look-up: how many people stop and look up.
+    #[arg(long, value_name = "K", default_value_t = 5)]
+    pub lookers: usize,
+    /// look-up: when they stop (seconds from the start).
+    #[arg(long, value_name = "S", default_value_t = 10.0)]
+    pub look_at: f64,
+    /// look-up: how strongly passers-by follow their gaze.
+    #[arg(long, value_enum, value_name = "STRENGTH", default_value_t = FollowStrength::Milgram)]
+    pub follow_strength: FollowStrength,
+    /// look-up: turn gaze following off (the lookers are still there; nobody follows).
+    #[arg(long)]
+    pub no_follow: bool,
     /// The street.
     #[command(flatten)]
     pub street: StreetArgs,
@@ -68,6 +86,16 @@ pub struct DemoArgs {
     /// Hide the progress bar.
     #[arg(long, short)]
     pub quiet: bool,
+}
+
+/// The scenes of `demo`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum DemoScene {
+    /// The paper's street: attention, groups talking, the paper's figures.
+    Street,
+    /// The street where a group stops and looks up at a point 10 m up a facade: who of the
+    /// passers-by saw them, who looked up too, and when.
+    LookUp,
 }
 
 /// How frame numbers of a trajectory file become seconds.
@@ -106,7 +134,13 @@ eye_r: final local rotations, base * delta), then left_closure,right_closure: ho
 eye's lids are, 0 open to 1 closed (blinks), then talking (0 or 1, from the input) and group \
 (the group id while the person is in a conversation, else empty). target is the id of the \
 person looked at (empty when looking ahead); the gaze direction is in the file's (x, y, up) \
-axes."
+axes. With --follow, three more columns: follow_x,follow_y,follow_z, the point the person \
+glances at because others look there (gaze following; the file's axes, metres), empty when \
+not following.\n\nGaze following: --stare ID:X,Y,Z[:T0-T1] makes person ID stare at the \
+point (X, Y on the ground, Z up, metres) from T0 to T1 seconds on the file's clock (default: \
+while present), as game logic would; repeat it for several people. With --follow, people who \
+see starers within 10 m in front of them may glance at the point for 1-2.5 s (followers \
+count as weaker cues for others)."
 )]
 pub struct AnnotateArgs {
     /// The trajectory file (frame,id,x,y[,z][,talking][,group]).
@@ -131,6 +165,17 @@ pub struct AnnotateArgs {
     /// Seed of every random choice.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// Turn gaze following on: people glance where the starers they see look; adds the
+    /// columns follow_x,follow_y,follow_z.
+    #[arg(long)]
+    pub follow: bool,
+    /// How strongly people follow (with --follow).
+    #[arg(long, value_enum, value_name = "STRENGTH", default_value_t = FollowStrength::Milgram, requires = "follow")]
+    pub follow_strength: FollowStrength,
+    /// Make person ID stare at the point X,Y,Z (metres, the file's axes, Z up), from T0 to
+    /// T1 seconds (default: while present); repeatable.
+    #[arg(long, value_name = "ID:X,Y,Z[:T0-T1]", value_parser = Stare::parse)]
+    pub stare: Vec<Stare>,
     /// Hide the progress bar.
     #[arg(long, short)]
     pub quiet: bool,

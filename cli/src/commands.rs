@@ -1,6 +1,6 @@
 //! What each command does.
 
-use std::collections::HashMap;
+use std::collections::{BTreeSet, HashMap};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -13,7 +13,10 @@ use crowdgaze::{Crowd, World};
 use glam::{DQuat, Quat};
 
 use crate::bvh::Bvh;
-use crate::cli::{AnnotateArgs, BvhArgs, DemoArgs, PlotArgs, PlotKind, StreetArgs, TimeArgs};
+use crate::cli::{
+    AnnotateArgs, BvhArgs, DemoArgs, DemoScene, PlotArgs, PlotKind, StreetArgs, TimeArgs,
+};
+use crate::lookup::{print_summary, run_look_up, LookUpRun};
 use crate::output::AtomicFile;
 use crate::plot::{save, Collector, Figure3};
 use crate::sim::{
@@ -83,6 +86,9 @@ fn describe_time(trajectories: &Trajectories, args: &TimeArgs) -> String {
 
 /// `crowdgaze demo`.
 pub fn demo(args: &DemoArgs) -> Result<()> {
+    if args.scene == DemoScene::LookUp {
+        return demo_look_up(args);
+    }
     let run = street_run(&args.street, false, args.quiet);
     let seconds = run.frame_count() as f64 / run.fps;
     let mut collector = Collector {
@@ -146,6 +152,24 @@ pub fn demo(args: &DemoArgs) -> Result<()> {
     Ok(())
 }
 
+/// `crowdgaze demo --scene look-up`.
+fn demo_look_up(args: &DemoArgs) -> Result<()> {
+    let run = LookUpRun {
+        street: street_run(&args.street, false, args.quiet),
+        lookers: args.lookers,
+        start: args.look_at,
+        follow: (!args.no_follow).then_some(args.follow_strength),
+    };
+    let result = run_look_up(&run)?;
+    print_summary(&result, &run);
+    if args.no_plots {
+        return Ok(());
+    }
+    let written = save(&result, &args.out.join("look_up"))?;
+    print_written(&written);
+    Ok(())
+}
+
 /// The summary line of the conversations, if there were any.
 fn print_groups(stats: &RunStats, gaze: &GazeStats, who: &str) {
     if stats.groups == 0 {
@@ -196,6 +220,12 @@ struct AnnotateWriter {
     line: String,
     /// Each person's group (the input's `group` column).
     groups: HashMap<u64, Option<u64>>,
+    /// Whether to write the followed point (gaze following on).
+    follow: bool,
+    /// The world of the file.
+    world: World,
+    /// Glances each person started because others looked somewhere (gaze following).
+    glances: HashMap<u64, u32>,
 }
 
 impl Observer for AnnotateWriter {
@@ -255,6 +285,18 @@ impl Observer for AnnotateWriter {
                     let _ = write!(line, "{group}");
                 }
             }
+            if self.follow {
+                let (point, glances) = crowd.following(person.id)?;
+                let total = self.glances.entry(person.label).or_default();
+                *total = (*total).max(glances);
+                match point {
+                    Some(p) => {
+                        let ground = self.world.ground(p);
+                        let _ = write!(line, ",{},{},{}", ground.x, ground.y, self.world.height(p));
+                    }
+                    None => line.push_str(",,,"),
+                }
+            }
             line.push('\n');
             self.out
                 .write_all(line.as_bytes())
@@ -277,7 +319,12 @@ pub fn annotate(args: &AnnotateArgs) -> Result<()> {
             header.push_str(&format!(",{name}_{component}"));
         }
     }
-    header.push_str(",left_closure,right_closure,talking,group\n");
+    header.push_str(",left_closure,right_closure,talking,group");
+    if args.follow {
+        header.push_str(",follow_x,follow_y,follow_z");
+    }
+    header.push('\n');
+    let stares = args.stare.clone();
     out.write_all(header.as_bytes())
         .with_context(|| format!("{}: cannot write", args.out.display()))?;
     let mut writer = AnnotateWriter {
@@ -291,6 +338,9 @@ pub fn annotate(args: &AnnotateArgs) -> Result<()> {
             .iter()
             .map(|track| (track.person, track.group))
             .collect(),
+        follow: args.follow,
+        world,
+        glances: HashMap::new(),
     };
     let run = TrackRun {
         world,
@@ -301,12 +351,15 @@ pub fn annotate(args: &AnnotateArgs) -> Result<()> {
         model: args.model,
         seed: args.seed,
         quiet: args.quiet,
+        follow: args.follow.then_some(args.follow_strength),
+        stares,
     };
     let stats = run_tracks(&trajectories, &run, &mut writer)?;
     let AnnotateWriter {
         out,
         stats: gaze,
         rows,
+        glances,
         ..
     } = writer;
     out.commit()?;
@@ -362,6 +415,26 @@ pub fn annotate(args: &AnnotateArgs) -> Result<()> {
         );
     }
     print_groups(&stats, &gaze, "people");
+    if !args.stare.is_empty() {
+        let starers: BTreeSet<u64> = args.stare.iter().map(|s| s.person).collect();
+        println!(
+            "  staring:     {} people stare at a point (--stare): {}",
+            starers.len(),
+            starers
+                .iter()
+                .map(u64::to_string)
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
+    if args.follow {
+        let followers = glances.values().filter(|&&g| g > 0).count();
+        println!(
+            "  following:   {followers} people glanced where others looked ({} glances, strength {}; columns follow_x,follow_y,follow_z)",
+            glances.values().sum::<u32>(),
+            args.follow_strength.name()
+        );
+    }
     println!(
         "  cost:        {:.2} µs per person-frame",
         stats.crowd_time.as_secs_f64() * 1e6 / stats.character_frames.max(1) as f64
@@ -407,6 +480,8 @@ pub fn plot(args: &PlotArgs) -> Result<()> {
                     model: Model::Crowd,
                     seed: args.street.seed,
                     quiet: args.quiet,
+                    follow: None,
+                    stares: Vec::new(),
                 },
                 &mut collector,
             )?;
@@ -652,6 +727,8 @@ pub fn bvh(args: &BvhArgs) -> Result<()> {
         model: Model::Crowd,
         seed: args.seed,
         quiet: args.quiet,
+        follow: None,
+        stares: Vec::new(),
     };
     run_tracks(&trajectories, &run, &mut observer)?;
     let frames = observer.frames.len();

@@ -5,6 +5,7 @@
 pub mod bvh;
 pub mod cli;
 pub mod commands;
+pub mod lookup;
 pub mod output;
 pub mod plot;
 pub mod sim;

@@ -25,7 +25,8 @@ use plotters::prelude::*;
 use crate::output::write_file;
 use crate::sim::{Frame, Observer};
 
-fn drawing<E: std::fmt::Debug>(error: E) -> anyhow::Error {
+/// A plotters error as an `anyhow` error.
+pub(crate) fn drawing<E: std::fmt::Debug>(error: E) -> anyhow::Error {
     anyhow!("drawing failed: {error:?}")
 }
 
@@ -34,9 +35,17 @@ fn drawing<E: std::fmt::Debug>(error: E) -> anyhow::Error {
 fn draw_legend<'a, DB: DrawingBackend + 'a, CT: plotters::coord::CoordTranslate>(
     chart: &mut ChartContext<'a, DB, CT>,
 ) -> Result<()> {
+    draw_legend_at(chart, SeriesLabelPosition::UpperRight)
+}
+
+/// Draws a chart's series legend at `position`, in the style of every figure.
+pub(crate) fn draw_legend_at<'a, DB: DrawingBackend + 'a, CT: plotters::coord::CoordTranslate>(
+    chart: &mut ChartContext<'a, DB, CT>,
+    position: SeriesLabelPosition,
+) -> Result<()> {
     chart
         .configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
+        .position(position)
         .background_style(WHITE.mix(0.85))
         .border_style(BLACK)
         .label_font(("sans-serif", 14))

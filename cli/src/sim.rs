@@ -13,7 +13,9 @@ use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::time::{Duration, Instant};
 
 use anyhow::{bail, Context, Result};
+use crowdgaze::attention::following::FollowConfig;
 use crowdgaze::attention::{AttentionModel, CharacterParams};
+use crowdgaze::crowd::{ExplicitTarget, TargetPriority};
 use crowdgaze::ik::GazeChain;
 use crowdgaze::scenario::Scenario;
 use crowdgaze::scene::EntityUpdate;
@@ -33,6 +35,11 @@ pub enum Model {
     Saliency,
     /// The stock behaviour the papers compare against.
     Baseline,
+    /// Walkers as measured in the street with eye trackers: each walker coming into view
+    /// fixated once with a set probability, after ~0.65 s, for ~0.5 s; close strangers
+    /// looked at less; the path a few metres ahead the rest of the time. The crowd sees
+    /// 17 m far with it (`CrowdConfig::street`).
+    Street,
 }
 
 impl Model {
@@ -42,6 +49,7 @@ impl Model {
             Model::Crowd => "crowd",
             Model::Saliency => "saliency",
             Model::Baseline => "baseline",
+            Model::Street => "street",
         }
     }
 }
@@ -53,12 +61,123 @@ pub fn configure_model(crowd: &mut Crowd, ids: &[u32], model: Model) -> Result<(
         Model::Crowd => AttentionModel::Crowd,
         Model::Saliency => AttentionModel::Saliency,
         Model::Baseline => AttentionModel::Baseline,
+        Model::Street => AttentionModel::Street,
     };
     for &id in ids {
         let params = crowd.character_params(id)?;
         crowd.set_character_params(id, &CharacterParams { model, ..params })?;
     }
     Ok(())
+}
+
+/// How strongly characters follow others' gaze (gaze following).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
+pub enum FollowStrength {
+    /// Milgram, Bickman & Berkowitz 1969: 42 % of passers-by look up with one looker,
+    /// 86 % with fifteen.
+    #[default]
+    Milgram,
+    /// Gallup et al. 2012, an Oxford shopping street: about a quarter at most.
+    Gallup,
+}
+
+impl FollowStrength {
+    /// The name on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            FollowStrength::Milgram => "milgram",
+            FollowStrength::Gallup => "gallup",
+        }
+    }
+
+    /// Gaze following on at this strength, noticing lookers at most `max_distance` away
+    /// (the crowd's view).
+    pub fn config(self, max_distance: f32) -> FollowConfig {
+        let base = match self {
+            FollowStrength::Milgram => FollowConfig::MILGRAM,
+            FollowStrength::Gallup => FollowConfig::GALLUP,
+        };
+        FollowConfig {
+            enabled: true,
+            distance: base.distance.min(max_distance),
+            ..base
+        }
+    }
+}
+
+/// A person of a trajectory file made to stare at a point (`annotate --stare`): an
+/// overriding explicit target while the window lasts.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Stare {
+    /// The person's id in the file.
+    pub person: u64,
+    /// The point, in the file's axes (x, y on the ground, z up), metres.
+    pub point: DVec3,
+    /// From and to when (s, the file's clock); `None`: while the person is present.
+    pub window: Option<(f64, f64)>,
+}
+
+impl Stare {
+    /// Parses `ID:X,Y,Z[:T0-T1]`.
+    pub fn parse(text: &str) -> std::result::Result<Stare, String> {
+        let usage = "expected ID:X,Y,Z or ID:X,Y,Z:T0-T1 (a person's id, a point in metres \
+                     in the file's axes, z up; optionally from T0 to T1 seconds)";
+        let fail = |why: String| Err(format!("--stare '{text}': {why}; {usage}"));
+        let mut parts = text.split(':');
+        let (Some(id), Some(point)) = (parts.next(), parts.next()) else {
+            return fail("no point".into());
+        };
+        let window = parts.next();
+        if parts.next().is_some() {
+            return fail("too many ':'".into());
+        }
+        let Ok(person) = id.trim().parse::<u64>() else {
+            return fail(format!(
+                "'{id}' is not a person id (a non-negative integer)"
+            ));
+        };
+        let mut coordinates = Vec::new();
+        for value in point.split(',') {
+            match value.trim().parse::<f64>() {
+                Ok(v) if v.is_finite() => coordinates.push(v),
+                _ => return fail(format!("'{value}' is not a coordinate")),
+            }
+        }
+        let [x, y, z] = coordinates[..] else {
+            return fail(format!(
+                "the point has {} coordinates, not 3",
+                coordinates.len()
+            ));
+        };
+        let window = match window {
+            None => None,
+            Some(span) => {
+                let times = span
+                    .split_once('-')
+                    .map(|(a, b)| (a.trim().parse::<f64>(), b.trim().parse::<f64>()));
+                match times {
+                    Some((Ok(from), Ok(to))) if from.is_finite() && to.is_finite() => {
+                        if from > to {
+                            return fail(format!("the window '{span}' ends before it starts"));
+                        }
+                        Some((from, to))
+                    }
+                    _ => return fail(format!("'{span}' is not a window T0-T1")),
+                }
+            }
+        };
+        Ok(Stare {
+            person,
+            point: DVec3::new(x, y, z),
+            window,
+        })
+    }
+
+    /// Whether the stare holds at time `t`.
+    pub fn holds_at(&self, t: f64) -> bool {
+        self.window
+            .is_none_or(|(from, to)| from - TIME_EPSILON <= t && t <= to + TIME_EPSILON)
+    }
 }
 
 /// A character present in a frame.
@@ -138,6 +257,46 @@ pub struct TrackRun {
     pub seed: u64,
     /// Hide the progress bar.
     pub quiet: bool,
+    /// Gaze following (`None`: off).
+    pub follow: Option<FollowStrength>,
+    /// People made to stare at points.
+    pub stares: Vec<Stare>,
+}
+
+/// Gives the people present their stares that hold at `frame.time` (an overriding point
+/// target) and takes them back from those whose stare has ended; `staring` holds the crowd
+/// ids staring now.
+fn apply_stares(
+    crowd: &mut Crowd,
+    run: &TrackRun,
+    frame: &Frame,
+    staring: &mut BTreeSet<u32>,
+) -> Result<()> {
+    if run.stares.is_empty() {
+        return Ok(());
+    }
+    for person in frame.people {
+        let stare = run
+            .stares
+            .iter()
+            .find(|s| s.person == person.label && s.holds_at(frame.time));
+        match stare {
+            Some(stare) => {
+                crowd.set_gaze_target(
+                    person.id,
+                    ExplicitTarget::Point(world_point(&run.world, stare.point)),
+                    TargetPriority::Override,
+                )?;
+                staring.insert(person.id);
+            }
+            None => {
+                if staring.remove(&person.id) {
+                    crowd.clear_gaze_target(person.id)?;
+                }
+            }
+        }
+    }
+    Ok(())
 }
 
 fn world_point(world: &World, p: DVec3) -> Vec3 {
@@ -260,6 +419,28 @@ pub fn run_tracks(
         .filter_map(|track| track.group)
         .collect::<BTreeSet<u64>>()
         .len();
+    for stare in &run.stares {
+        if !trajectories.tracks.iter().any(|t| t.person == stare.person) {
+            bail!(
+                "--stare {}: {} has no person {}",
+                stare.person,
+                trajectories.path.display(),
+                stare.person
+            );
+        }
+    }
+    let mut base = if run.model == Model::Street {
+        CrowdConfig::street()
+    } else {
+        CrowdConfig::default()
+    };
+    base.following = match run.follow {
+        Some(strength) => strength.config(base.scoring.max_distance),
+        None => FollowConfig {
+            enabled: false,
+            ..base.following
+        },
+    };
     let config = CrowdConfig {
         seed: run.seed,
         max_characters: tracks.len().max(1) as u32,
@@ -271,10 +452,11 @@ pub fn run_tracks(
         } else {
             0
         },
-        ..CrowdConfig::default()
+        ..base
     };
     let mut crowd = Crowd::new(config).context("creating the crowd")?;
     let world = run.world;
+    let mut staring = BTreeSet::new();
     let mut labels: HashMap<u32, u64> = HashMap::new();
     let mut stats = RunStats::default();
     let dt_of = |k: usize| -> f32 {
@@ -361,6 +543,7 @@ pub fn run_tracks(
             let started = Instant::now();
             crowd.push_frame(t, &updates).context("pushing a frame")?;
             stats.crowd_time += started.elapsed();
+            apply_stares(&mut crowd, run, &frame, &mut staring)?;
             observer.before_step(&mut crowd, &frame)?;
             let started = Instant::now();
             crowd.step(frame.dt).context("stepping the crowd")?;
@@ -439,6 +622,7 @@ pub fn run_tracks(
             people: &present,
             labels: &labels,
         };
+        apply_stares(&mut crowd, run, &frame, &mut staring)?;
         step_observed(&mut crowd, observer, &frame, dt, &mut stats)?;
         bar.inc(1);
     }

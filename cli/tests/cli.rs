@@ -1009,3 +1009,260 @@ fn bvh_command_rejects_bad_input() {
     assert!(stderr.contains(&format!("broken.bvh:{line}:")), "{stderr}");
     assert!(!out.exists());
 }
+
+/// The numbers of a summary line `  <key>  ...`, in order.
+fn numbers_of(stdout: &str, key: &str) -> Vec<f64> {
+    let line = stdout
+        .lines()
+        .find_map(|l| l.trim().strip_prefix(key))
+        .unwrap_or_else(|| panic!("no '{key}' line in {stdout}"));
+    line.split(|c: char| !(c.is_ascii_digit() || c == '.'))
+        .filter_map(|w| w.trim_matches('.').parse().ok())
+        .collect()
+}
+
+/// The summary without the lines that vary from run to run (timing) or name files.
+fn stable_summary(stdout: &str) -> String {
+    stdout
+        .lines()
+        .filter(|l| !l.contains("cost:") && !l.contains("pictures:"))
+        .filter(|l| !l.contains(".png") && !l.contains(".svg"))
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+#[test]
+fn demo_look_up_shows_passers_by_following_a_group_looking_up() {
+    let directory = tempfile::tempdir().unwrap();
+    let out = directory.path().join("look-up");
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "demo",
+            "--scene",
+            "look-up",
+            "--seconds",
+            "20",
+            "--look-at",
+            "5",
+            "-q",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        succeed(&args)
+    };
+    // The default seed and five lookers.
+    let stdout = run(&[]);
+    println!("{stdout}");
+    let lookers = numbers_of(&stdout, "lookers:");
+    assert_eq!(lookers[0], 5.0, "{stdout}");
+    assert_eq!(lookers[1], 5.0, "they stop at 5 s: {stdout}");
+    assert_eq!(lookers[2], 10.0, "10 m up: {stdout}");
+    let saw = numbers_of(&stdout, "saw them:")[0];
+    let looked = numbers_of(&stdout, "looked up:");
+    let (followers, of_seen, seen, unseen) = (looked[0], looked[1], looked[2], looked[4]);
+    assert!(followers >= 1.0, "nobody followed: {stdout}");
+    assert_eq!(seen, saw, "{stdout}");
+    assert!(of_seen <= saw, "{stdout}");
+    assert_eq!(of_seen + unseen, followers, "{stdout}");
+    let at_once = numbers_of(&stdout, "at once:")[0];
+    assert!(at_once >= 1.0 && at_once <= followers, "{stdout}");
+    // The picture: a top-down view with the followers and a timeline.
+    let files = entries(&out);
+    assert!(
+        files.contains("look_up.png") && files.contains("look_up.svg"),
+        "{files:?}"
+    );
+    check_png(&out.join("look_up.png"));
+    check_svg(&out.join("look_up.svg"));
+    let svg = std::fs::read_to_string(out.join("look_up.svg")).unwrap();
+    assert!(svg.contains("looked up too"), "no followers' legend");
+    assert!(svg.contains("people looking up because others do"));
+    // Deterministic: the same summary again.
+    let again = run(&["--no-plots"]);
+    assert_eq!(stable_summary(&stdout), stable_summary(&again));
+    // Following off: the same people stop and the same passers-by see them; nobody looks up.
+    let off = run(&["--no-follow", "--no-plots"]);
+    println!("{off}");
+    assert!(off.contains("following off"), "{off}");
+    let line = |s: &str, key: &str| {
+        s.lines()
+            .find(|l| l.trim().starts_with(key))
+            .map(str::to_string)
+    };
+    assert_eq!(line(&off, "lookers:"), line(&stdout, "lookers:"));
+    assert_eq!(line(&off, "saw them:"), line(&stdout, "saw them:"));
+    let looked_off = numbers_of(&off, "looked up:");
+    assert_eq!(looked_off[0], 0.0, "{off}");
+    assert!(off.contains("0 glances in all"), "{off}");
+    assert!(!off.contains("at once:"), "{off}");
+    // The weaker strength draws fewer.
+    let gallup = run(&["--follow-strength", "gallup", "--no-plots"]);
+    assert!(gallup.contains("following on (gallup)"), "{gallup}");
+    assert!(numbers_of(&gallup, "looked up:")[0] < followers, "{gallup}");
+    // The plain demo is still the default scene.
+    let plain = succeed(&["demo", "--seconds", "1", "--no-plots", "-q"]);
+    assert!(plain.contains("attentive:") && !plain.contains("lookers:"));
+    // Bad settings are refused by name.
+    for (args, flag) in [
+        (vec!["--lookers", "0"], "--lookers"),
+        (vec!["--look-at", "30"], "--look-at"),
+    ] {
+        let mut all = vec![
+            "demo",
+            "--scene",
+            "look-up",
+            "--seconds",
+            "20",
+            "--no-plots",
+        ];
+        all.extend_from_slice(&args);
+        let output = crowdgaze(&all);
+        let stderr = text(&output.stderr);
+        assert!(!output.status.success(), "{all:?}");
+        assert!(stderr.contains(flag), "{all:?}: {stderr}");
+    }
+}
+
+/// `annotate --input INPUT --out OUT`.
+fn annotate_args<'a>(input: &'a Path, out: &'a Path) -> Vec<&'a str> {
+    vec![
+        "annotate",
+        "--input",
+        input.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]
+}
+
+/// Annotates zara01's first 40 s at 10 fps with `extra` arguments; returns the header's
+/// names and the rows.
+fn annotate_zara(out: &Path, extra: &[&str]) -> (Vec<String>, Vec<Vec<String>>, String) {
+    let input = data("pedestrians/ucy_zara01.csv");
+    let mut args = annotate_args(&input, out);
+    args.extend_from_slice(&["--start", "0", "--end", "40", "--fps", "10", "-q"]);
+    args.extend_from_slice(extra);
+    let stdout = succeed(&args);
+    let text = std::fs::read_to_string(out).unwrap();
+    let mut lines = text.lines();
+    let header = lines
+        .next()
+        .unwrap()
+        .split(',')
+        .map(str::to_string)
+        .collect();
+    let rows = lines
+        .map(|l| l.split(',').map(str::to_string).collect())
+        .collect();
+    (header, rows, stdout)
+}
+
+#[test]
+fn annotate_follows_people_made_to_stare_and_writes_the_followed_point() {
+    let directory = tempfile::tempdir().unwrap();
+    let out = directory.path().join("gaze.csv");
+    let (plain_header, plain_rows, _) = annotate_zara(&out, &[]);
+    assert_eq!(plain_header.last().map(String::as_str), Some("group"));
+    // Following on, nobody staring: the three columns are there and empty.
+    let (header, rows, stdout) = annotate_zara(&out, &["--follow"]);
+    assert_eq!(header[..plain_header.len()], plain_header[..]);
+    assert_eq!(
+        header[plain_header.len()..],
+        ["follow_x", "follow_y", "follow_z"]
+    );
+    assert_eq!(rows.len(), plain_rows.len());
+    assert!(rows.iter().all(|row| row.len() == header.len()));
+    assert!(rows
+        .iter()
+        .all(|row| row[plain_header.len()..].iter().all(String::is_empty)));
+    assert!(stdout.contains("following:   0 people"), "{stdout}");
+    // Two people stare at a point 8 m up: others near them glance at it.
+    let stares = [
+        "--follow",
+        "--model",
+        "street",
+        "--stare",
+        "1:5,5,8",
+        "--stare",
+        "2:5,5,8:0-5",
+    ];
+    let (header, rows, stdout) = annotate_zara(&out, &stares);
+    println!("{stdout}");
+    assert!(stdout.contains("staring:     2 people"), "{stdout}");
+    let column = |name: &str| header.iter().position(|h| h == name).unwrap();
+    let (id, time, gaze_z) = (column("id"), column("time"), column("gaze_z"));
+    let follow = column("follow_x");
+    let following: Vec<&Vec<String>> = rows.iter().filter(|r| !r[follow].is_empty()).collect();
+    assert!(!following.is_empty(), "nobody followed: {stdout}");
+    for row in &following {
+        let point: Vec<f64> = row[follow..follow + 3]
+            .iter()
+            .map(|v| v.parse().unwrap())
+            .collect();
+        assert!(
+            (point[0] - 5.0).abs() < 1e-4
+                && (point[1] - 5.0).abs() < 1e-4
+                && (point[2] - 8.0).abs() < 1e-4,
+            "{row:?}"
+        );
+        // A starer does not follow while it stares (person 2 may after 5 s).
+        let t: f64 = row[time].parse().unwrap();
+        assert!(
+            row[id] != "1" && (row[id] != "2" || t > 5.0),
+            "a starer follows: {row:?}"
+        );
+    }
+    // Following is a glance, not a stare: most person-frames follow nobody.
+    assert!(following.len() * 4 < rows.len(), "{}", following.len());
+    // The starers look up, person 2 only until 5 s (its track ends at 10.44 s).
+    let up = |who: &str, from: f64, to: f64| -> (usize, usize) {
+        let mine: Vec<&Vec<String>> = rows
+            .iter()
+            .filter(|r| r[id] == who)
+            .filter(|r| (from..to).contains(&r[time].parse::<f64>().unwrap()))
+            .collect();
+        let up = mine
+            .iter()
+            .filter(|r| r[gaze_z].parse::<f64>().unwrap() > 0.3)
+            .count();
+        (up, mine.len())
+    };
+    let (one_up, one) = up("1", 1.0, 40.0);
+    assert!(one > 0 && one_up * 10 >= one * 9, "{one_up} of {one}");
+    let (two_up, two) = up("2", 6.0, 40.0);
+    assert!(
+        two >= 30 && two_up * 2 < two,
+        "person 2 still looks up: {two_up} of {two}"
+    );
+    let (two_up, two) = up("2", 1.0, 5.0);
+    assert!(two > 0 && two_up * 10 >= two * 9, "{two_up} of {two}");
+}
+
+#[test]
+fn annotate_refuses_bad_stares_by_name_and_leaves_nothing() {
+    let input = data("pedestrians/ucy_zara01.csv");
+    let directory = tempfile::tempdir().unwrap();
+    let out = directory.path().join("gaze.csv");
+    let base = annotate_args(&input, &out);
+    for (stare, why) in [
+        ("1:5,5", "3"),
+        ("x:1,2,3", "person id"),
+        ("1:1,2,nan", "coordinate"),
+        ("1:1,2,3:5-2", "ends before it starts"),
+        ("1:1,2,3:a-b", "window"),
+        ("1:1,2,3:4-5:6", "too many"),
+        ("999999:1,2,3", "no person 999999"),
+    ] {
+        let output = crowdgaze(&[&base[..], &["--stare", stare]].concat());
+        let stderr = text(&output.stderr);
+        assert!(!output.status.success(), "{stare} accepted");
+        assert!(stderr.contains("--stare"), "{stare}: {stderr}");
+        assert!(stderr.contains(why), "{stare}: '{why}' not in {stderr}");
+        assert!(entries(directory.path()).is_empty(), "{stare}: output left");
+        println!("{}", stderr.lines().next().unwrap_or(""));
+    }
+    // --follow-strength without --follow is refused, naming --follow.
+    let output = crowdgaze(&[&base[..], &["--follow-strength", "gallup"]].concat());
+    assert!(!output.status.success());
+    assert!(text(&output.stderr).contains("--follow"));
+}
