@@ -201,3 +201,92 @@ fn following_does_not_tip_the_crowd() {
     // Once the stimulus is gone, following dies out.
     assert_eq!(late, 0);
 }
+
+#[test]
+fn following_does_not_tip_the_papers_busy_street() {
+    use crowdgaze::scenario::{Activity, Scenario};
+    use crowdgaze::Crowd;
+    // The paper's street (130 people, twice ETH's density), with one walker stopping to
+    // stare 10 m up for 40 s.
+    let dt = 1.0 / 30.0;
+    let mut scenario = Scenario::street(130, 60, 1);
+    let mut crowd = Crowd::new(CrowdConfig {
+        max_characters: 130,
+        max_objects: 60,
+        ..street_config(FollowConfig::MILGRAM)
+    })
+    .unwrap();
+    scenario.populate(&mut crowd).unwrap();
+    let ids = scenario.character_ids().to_vec();
+    let world = crowd.config().world;
+    let point = Scenario::world_point(&world, Vec2::new(0.5 * scenario.length, 0.0), 10.0);
+    let spot = Vec2::new(0.5 * scenario.length, 2.5);
+    let looker = (0..ids.len())
+        .filter(|&i| scenario.people[i].activity == Activity::Walking)
+        .min_by(|&a, &b| {
+            let distance = |i: usize| scenario.people[i].position.distance(spot);
+            distance(a).total_cmp(&distance(b))
+        })
+        .unwrap();
+    let follow = crowd.config().following;
+    let (mut saw, mut first_hand, mut second_hand, mut late) = (0, 0, 0, 0);
+    let mut seen = vec![false; ids.len()];
+    let mut glanced = vec![false; ids.len()];
+    for frame in 0..100 * 30 {
+        let time = f64::from(frame) / 30.0;
+        if frame == 10 * 30 {
+            scenario.stop_and_look(&mut crowd, looker, point).unwrap();
+        }
+        if frame == 50 * 30 {
+            crowd.clear_gaze_target(ids[looker]).unwrap();
+        }
+        scenario.advance(dt);
+        scenario.push(&mut crowd, time).unwrap();
+        crowd.step(dt).unwrap();
+        let staring = (10 * 30..50 * 30).contains(&frame);
+        let looker_at = scenario.people[looker].position;
+        for (i, &id) in ids.iter().enumerate() {
+            if i == looker {
+                continue;
+            }
+            let scene = crowd.scene();
+            let index = scene.index_of(id).unwrap();
+            let forward = world.ground(world.heading_direction(scene.headings()[index]));
+            let here = scenario.people[i].position;
+            if staring
+                && !seen[i]
+                && in_view(
+                    here,
+                    forward,
+                    looker_at,
+                    follow.distance,
+                    follow.view_half_angle,
+                )
+            {
+                seen[i] = true;
+                saw += 1;
+            }
+            if crowd.following(id).unwrap().1 > 0 && !glanced[i] {
+                glanced[i] = true;
+                if seen[i] {
+                    first_hand += 1;
+                } else {
+                    second_hand += 1;
+                }
+                late += usize::from(frame > 60 * 30);
+            }
+        }
+    }
+    println!(
+        "busy street: {saw} saw the starer, {first_hand} of them looked up; {second_hand} \
+         looked up having seen only followers; {late} started more than 10 s after the \
+         starer stopped"
+    );
+    assert!(first_hand > 0);
+    // Followers draw some more (attention does spread: Gallup et al. 2012), but fewer
+    // than they are — below one new follower each, so no cascade — and the street as a
+    // whole does not turn to look.
+    assert!(second_hand < first_hand, "{second_hand} vs {first_hand}");
+    assert!(first_hand + second_hand < ids.len() / 2);
+    assert_eq!(late, 0);
+}

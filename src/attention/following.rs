@@ -33,8 +33,14 @@ pub struct FollowConfig {
     /// ahead the same way weighs 1). Default 0.5.
     pub oncoming_weight: f32,
     /// Weight of a character that is itself only glancing because it follows (a stare
-    /// set by game logic weighs 1). Default 0.25.
+    /// set by game logic weighs 1). Default 0.1: a glance is a weak cue, so following does
+    /// not cascade.
     pub glance_cue_weight: f32,
+    /// Shortest time from deciding to follow to the glance: noticing where others look
+    /// and turning there. Default 0.3 s.
+    pub reaction_min: f32,
+    /// Longest. Default 1 s.
+    pub reaction_max: f32,
     /// Shortest glance of a follower. Default 1 s.
     pub glance_min: f32,
     /// Longest glance. Default 2.5 s.
@@ -60,7 +66,9 @@ impl FollowConfig {
         distance: 10.0,
         view_half_angle: std::f32::consts::FRAC_PI_2,
         oncoming_weight: 0.5,
-        glance_cue_weight: 0.25,
+        glance_cue_weight: 0.1,
+        reaction_min: 0.3,
+        reaction_max: 1.0,
         glance_min: 1.0,
         glance_max: 2.5,
         forget_time: 10.0,
@@ -102,6 +110,8 @@ impl FollowConfig {
             ),
             ("follow_oncoming_weight", self.oncoming_weight, 1.0),
             ("follow_glance_cue_weight", self.glance_cue_weight, 1.0),
+            ("follow_reaction_min", self.reaction_min, 60.0),
+            ("follow_reaction_max", self.reaction_max, 60.0),
             ("follow_glance_min", self.glance_min, 600.0),
             ("follow_glance_max", self.glance_max, 600.0),
             ("follow_forget_time", self.forget_time, 3600.0),
@@ -119,6 +129,13 @@ impl FollowConfig {
                 "follow_one_looker_probability ({}) is above follow_max_probability ({}): \
                  more lookers cannot draw fewer people",
                 self.one_looker_probability, self.max_probability
+            )));
+        }
+        if self.reaction_min > self.reaction_max {
+            return Err(Error::InvalidArgument(format!(
+                "follow_reaction_min ({}) is above follow_reaction_max ({}): the range is \
+                 empty",
+                self.reaction_min, self.reaction_max
             )));
         }
         if self.glance_min > self.glance_max {
@@ -155,6 +172,8 @@ pub struct Cue {
 pub struct FollowState {
     /// The point followed now (world, metres), while `remaining > 0`.
     pub point: Vec3,
+    /// Seconds until the decided glance starts (0: none waiting).
+    pub delay: f32,
     /// Seconds left of the current glance (0: not following).
     pub remaining: f32,
     /// The lookers' weight already decided on in this encounter.
@@ -168,7 +187,7 @@ pub struct FollowState {
 impl FollowState {
     /// The point followed now, if the character follows someone's gaze.
     pub fn following(&self) -> Option<Vec3> {
-        (self.remaining > 0.0).then_some(self.point)
+        (self.remaining > 0.0 && self.delay <= 0.0).then_some(self.point)
     }
 
     /// Advances by `dt` seconds, with lookers of total weight `lookers` in view now, the
@@ -182,7 +201,10 @@ impl FollowState {
         config: &FollowConfig,
         random: &mut Random,
     ) {
-        if self.remaining > 0.0 {
+        if self.delay > 0.0 {
+            // Turning towards the point: the glance starts when the delay runs out.
+            self.delay = (self.delay - dt).max(0.0);
+        } else if self.remaining > 0.0 {
             self.remaining = (self.remaining - dt).max(0.0);
         }
         if lookers <= 0.0 {
@@ -207,6 +229,7 @@ impl FollowState {
         };
         if random.next_f32() < chance {
             self.point = point;
+            self.delay = random.range(config.reaction_min, config.reaction_max);
             self.remaining = random.range(config.glance_min, config.glance_max);
             self.glances += 1;
         }
@@ -265,6 +288,14 @@ mod tests {
         let mut random = Random::new(1);
         let mut state = FollowState::default();
         state.update(0.1, 1.0, Vec3::new(0.0, 9.0, 0.0), &config, &mut random);
+        assert_eq!(
+            state.following(),
+            None,
+            "the glance starts after a reaction time"
+        );
+        for _ in 0..10 {
+            state.update(0.1, 1.0, Vec3::ZERO, &config, &mut random);
+        }
         assert_eq!(state.following(), Some(Vec3::new(0.0, 9.0, 0.0)));
         for _ in 0..30 {
             state.update(0.1, 1.0, Vec3::ZERO, &config, &mut random);
