@@ -6,7 +6,7 @@
 //! stare, so following does not cascade through the crowd (no tipping point: Gallup et al.
 //! 2012). docs/street.md gives the figures and crowdgaze's measured ones beside them.
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
 use crate::error::{ensure_finite, Error, Result};
 use crate::math::random::Random;
@@ -155,15 +155,49 @@ impl FollowConfig {
     }
 }
 
-/// What a character shows others of its gaze this step: a point it stares or glances at
-/// and how much that counts ([`FollowConfig`]); weight 0 when it looks at no such point.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+/// The smallest side of the cells lookers are sorted into (metres), for a follow distance
+/// of 0.
+pub const CUE_CELL_MIN: f32 = 0.5;
+
+/// A character that shows others a gaze worth following this step: it stares or glances
+/// at a point ([`FollowConfig`]). The crowd keeps them sorted by [`Cue::cell`], so that a
+/// character finds the lookers near it without visiting every neighbour.
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Cue {
+    /// The ground cell it stands in ([`Cue::cell_of`]).
+    pub cell: u64,
+    /// Its entity id.
+    pub id: u32,
+    /// Its ground position (the crowd's ground coordinates, metres).
+    pub ground: Vec2,
+    /// Its ground velocity (m/s).
+    pub velocity: Vec2,
     /// The point looked at (world, metres).
     pub point: Vec3,
-    /// How much it counts as a looker: 1 for a stare, the glance weight for a follower,
-    /// 0 for none.
+    /// How much it counts as a looker: 1 for a stare, the glance weight for a follower.
     pub weight: f32,
+}
+
+impl Cue {
+    /// The key of the ground cell of side `cell_size` holding `ground`: rows (the second
+    /// coordinate) in the high half, columns in the low half, both offset to be positive,
+    /// so that the three cells of a row side by side have consecutive keys.
+    pub fn cell_of(ground: Vec2, cell_size: f32) -> u64 {
+        let (column, row) = Self::coordinates(ground, cell_size);
+        Self::key(column, row)
+    }
+
+    /// The key of cell (`column`, `row`).
+    pub fn key(column: i64, row: i64) -> u64 {
+        let offset = |value: i64| (value + (1 << 31)).clamp(0, (1 << 32) - 1) as u64;
+        offset(row) << 32 | offset(column)
+    }
+
+    /// The cell (`column`, `row`) holding `ground` for cells of side `cell_size`.
+    pub fn coordinates(ground: Vec2, cell_size: f32) -> (i64, i64) {
+        let cell = |value: f32| (value / cell_size).floor().clamp(-1e9, 1e9) as i64;
+        (cell(ground.x), cell(ground.y))
+    }
 }
 
 /// A character's gaze following: the point it glances at now, if any, and what it has

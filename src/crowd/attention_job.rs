@@ -10,6 +10,7 @@
 
 use glam::Vec2;
 
+use super::attention_models::CueRuns;
 use super::config::CrowdConfig;
 use super::look::LookContext;
 use super::model_state::ModelState;
@@ -73,10 +74,16 @@ impl AttentionJob<'_> {
     /// these characters' entries meanwhile: concurrent calls take disjoint ranges.
     pub unsafe fn run(&self, first: usize, count: usize) {
         let mut batch = CandidateBatch::default();
+        let mut runs = CueRuns::default();
         // SAFETY: the caller's contract.
         let mut slices = unsafe { self.states.range(first, count) };
         for local in 0..count {
-            self.attend_one(first + local, slices.character(local), &mut batch);
+            self.attend_one(
+                first + local,
+                slices.character(local),
+                &mut batch,
+                &mut runs,
+            );
         }
     }
 
@@ -88,6 +95,7 @@ impl AttentionJob<'_> {
     /// concurrent calls take disjoint parts of one permutation.
     pub unsafe fn run_in_order(&self, order: &[u32]) {
         let mut batch = CandidateBatch::default();
+        let mut runs = CueRuns::default();
         for (position, &character) in order.iter().enumerate() {
             // Characters come in grid order, not memory order: start loading the state of
             // the one a few steps ahead (its neighbours are in cache already).
@@ -98,7 +106,7 @@ impl AttentionJob<'_> {
             let character = character as usize;
             // SAFETY: the caller's contract: no one else touches this character.
             let mut slices = unsafe { self.states.range(character, 1) };
-            self.attend_one(character, slices.character(0), &mut batch);
+            self.attend_one(character, slices.character(0), &mut batch, &mut runs);
         }
     }
 
@@ -126,7 +134,13 @@ impl AttentionJob<'_> {
     /// Attention for one character by its model, every `period` steps (level of detail):
     /// the crowd model's best entities, threshold and interest point (online; a plan
     /// replaces them), or the saliency and baseline models' eye and head targets.
-    fn attend_one(&self, character: usize, state: CharacterMut<'_>, batch: &mut CandidateBatch) {
+    fn attend_one(
+        &self,
+        character: usize,
+        state: CharacterMut<'_>,
+        batch: &mut CandidateBatch,
+        runs: &mut CueRuns,
+    ) {
         let config = self.config;
         let period = match u32::from(state.lod.period) {
             0 => {
@@ -151,7 +165,7 @@ impl AttentionJob<'_> {
         }
         let dt = std::mem::take(&mut state.lod.pending);
         if config.following.enabled {
-            self.follow(character, dt, state.follow, state.model_random);
+            self.follow(character, dt, state.follow, state.model_random, runs);
         }
         match self.look.characters.params[character].model {
             AttentionModel::Crowd if self.look.plan.is_some() => {}

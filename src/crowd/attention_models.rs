@@ -8,7 +8,7 @@ use super::attention_job::AttentionJob;
 use super::model_state::{Look, LookTarget, ModelState};
 use super::states::CharacterMut;
 use super::values::TargetPriority;
-use crate::attention::following::FollowState;
+use crate::attention::following::{Cue, FollowState, CUE_CELL_MIN};
 use crate::attention::saliency::{saliency, Fixation, FixationChannel, SalientPoint};
 use crate::attention::street::{Noticed, STREET_MEMORY};
 use crate::attention::TargetPart;
@@ -307,9 +307,9 @@ impl AttentionJob<'_> {
     }
 
     /// Gaze following for one character ([`FollowState::update`]): the lookers in its
-    /// view within the follow distance — characters whose cue this step
-    /// ([`Cue`](crate::attention::following::Cue)) shows them looking at a point — weighed
-    /// by how they walk relative to it, and the point the nearest looks at. A character
+    /// view within the follow distance — the characters whose [`Cue`] this step shows
+    /// them looking at a point, found by ground cell — weighed by how they walk relative
+    /// to it, and the point the nearest looks at. A character
     /// that game logic makes look somewhere (an overriding target) does not follow.
     pub(super) fn follow(
         &self,
@@ -317,6 +317,7 @@ impl AttentionJob<'_> {
         dt: f32,
         follow: &mut FollowState,
         random: &mut Random,
+        runs: &mut CueRuns,
     ) {
         if matches!(
             self.look.characters.explicit[character].get(),
@@ -327,6 +328,7 @@ impl AttentionJob<'_> {
         let config = &self.config.following;
         let scene = self.look.scene;
         let entity = scene.character_entities()[character] as usize;
+        let own_id = scene.ids()[entity];
         let centre = scene.ground_positions()[entity];
         let forward = scene.forwards()[entity];
         let cos_half = config.view_half_angle.cos();
@@ -335,43 +337,66 @@ impl AttentionJob<'_> {
         let mut total_units = 0u64;
         // (distance², id, point) of the nearest looker.
         let mut nearest = (f32::INFINITY, NO_ENTITY, Vec3::ZERO);
-        self.neighbours
-            .grid()
-            .for_each_near(centre, |other, ground| {
-                let other = other as usize;
-                let Some(looker) = scene.character_at(other) else {
-                    return;
-                };
-                let Some(&cue) = self.look.cues.get(looker) else {
-                    return;
-                };
-                let offset = ground - centre;
+        // The lookers within the follow distance are in this cell's row and the rows
+        // beside it, each three cells wide: three runs of the cell-sorted cues.
+        let cues = self.look.cues;
+        let cell_size = config.distance.max(CUE_CELL_MIN);
+        let cell = Cue::coordinates(centre, cell_size);
+        for run in runs.around(cell, cues) {
+            for cue in &cues[run] {
+                let offset = cue.ground - centre;
                 let distance_squared = offset.length_squared();
-                if other == entity
-                    || cue.weight <= 0.0
+                if cue.id == own_id
                     || distance_squared > max_distance_squared
                     || forward.dot(offset) < cos_half * distance_squared.sqrt()
                 {
-                    return;
+                    continue;
                 }
                 // Walking towards the character (within 60° of straight at it).
-                let velocity = scene.velocities()[other];
-                let speed = velocity.length();
-                let oncoming =
-                    speed > 0.3 && velocity.dot(-offset) > 0.5 * speed * distance_squared.sqrt();
+                let speed = cue.velocity.length();
+                let oncoming = speed > 0.3
+                    && cue.velocity.dot(-offset) > 0.5 * speed * distance_squared.sqrt();
                 let units = (cue.weight * WEIGHT_UNITS).round() as u64;
                 total_units += if oncoming {
                     units * oncoming_units / WEIGHT_UNITS as u64
                 } else {
                     units
                 };
-                let id = scene.ids()[other];
-                if (distance_squared, id) < (nearest.0, nearest.1) {
-                    nearest = (distance_squared, id, cue.point);
+                if (distance_squared, cue.id) < (nearest.0, nearest.1) {
+                    nearest = (distance_squared, cue.id, cue.point);
                 }
-            });
+            }
+        }
         let lookers = total_units as f32 / WEIGHT_UNITS;
         follow.update(dt, lookers, nearest.2, config, random);
+    }
+}
+
+/// The runs of the cell-sorted cues around one cell — its row and the rows beside it,
+/// three cells wide each — kept for the next character: attention visits characters in
+/// spatial order, so the next one is most often in the same cell.
+#[derive(Debug, Clone, Default)]
+pub(super) struct CueRuns {
+    /// The cell (column, row) the runs are for.
+    cell: Option<(i64, i64)>,
+    /// Cue index ranges, one per row.
+    runs: [std::ops::Range<usize>; 3],
+}
+
+impl CueRuns {
+    /// The runs of `cues` (sorted by cell) around `cell`.
+    fn around(&mut self, cell: (i64, i64), cues: &[Cue]) -> [std::ops::Range<usize>; 3] {
+        if self.cell != Some(cell) {
+            let (column, row) = cell;
+            self.runs = [row - 1, row, row + 1].map(|row| {
+                let (first, last) = (Cue::key(column - 1, row), Cue::key(column + 1, row));
+                let start = cues.partition_point(|cue| cue.cell < first);
+                let end = start + cues[start..].partition_point(|cue| cue.cell <= last);
+                start..end
+            });
+            self.cell = Some(cell);
+        }
+        self.runs.clone()
     }
 }
 

@@ -13,7 +13,7 @@ use super::ranges::StepRanges;
 use super::states::RawCharacterSlices;
 use super::values::{ExplicitTarget, TargetPriority};
 use super::{Crowd, Shared};
-use crate::attention::following::Cue;
+use crate::attention::following::{Cue, CUE_CELL_MIN};
 use crate::error::{ensure_finite, Error, Result};
 use crate::scene::ids::EntityKind;
 
@@ -217,20 +217,23 @@ impl Crowd {
             .rebuild(&shared.scene, shared.config.scoring.talking_gain);
     }
 
-    /// Gathers what gaze following sees of each character this step (nothing when
-    /// following is off): a stare (weight 1) while game logic has it look at a point or an
-    /// object with an overriding target, a glance (the glance weight) while it follows
-    /// others' gaze. Read-only during the step, so that no character sees another halfway
-    /// through its update, whatever the ranges and threads.
+    /// Gathers the characters that show a gaze worth following this step (nothing when
+    /// following is off): a stare (weight 1) while game logic has one look at a point or
+    /// an object with an overriding target, a glance (the glance weight) while one follows
+    /// others' gaze; sorted by ground cell of the follow distance's size. Read-only during
+    /// the step, so that no character sees another halfway through its update, whatever
+    /// the ranges and threads.
     fn gather_cues(&mut self) {
         if !self.shared.config.following.enabled {
             return;
         }
-        let glance_weight = self.shared.config.following.glance_cue_weight;
+        let following = self.shared.config.following;
+        let cell_size = following.distance.max(CUE_CELL_MIN);
         let shared = &mut *self.shared;
         let (scene, characters, cues) = (&shared.scene, &shared.characters, &mut shared.cues);
         cues.clear();
         for (character, follow) in self.states.follows.iter().enumerate() {
+            let entity = scene.character_entities()[character] as usize;
             let stare = match characters.explicit[character].get() {
                 Some((ExplicitTarget::Point(point), TargetPriority::Override)) => Some(point),
                 Some((ExplicitTarget::Entity(id), TargetPriority::Override)) => scene
@@ -239,19 +242,26 @@ impl Crowd {
                     .map(|index| scene.look_at_point(index)),
                 _ => None,
             };
-            let cue = match (stare, follow.following()) {
-                (Some(point), _) => Cue { point, weight: 1.0 },
-                (None, Some(point)) => Cue {
-                    point,
-                    weight: glance_weight,
-                },
-                (None, None) => Cue::default(),
+            let (point, weight) = match (stare, follow.following()) {
+                (Some(point), _) => (point, 1.0),
+                (None, Some(point)) => (point, following.glance_cue_weight),
+                (None, None) => continue,
             };
-            // Never past the capacity reserved at creation (one per character).
-            if cues.len() < cues.capacity() {
-                cues.push(cue);
+            if weight <= 0.0 || cues.len() == cues.capacity() {
+                // (Never full: one per character at most, reserved at creation.)
+                continue;
             }
+            let ground = scene.ground_positions()[entity];
+            cues.push(Cue {
+                cell: Cue::cell_of(ground, cell_size),
+                id: scene.ids()[entity],
+                ground,
+                velocity: scene.velocities()[entity],
+                point,
+                weight,
+            });
         }
+        cues.sort_unstable_by(|a, b| a.cell.cmp(&b.cell).then(a.id.cmp(&b.id)));
     }
 
     /// True between [`begin_step`](Self::begin_step) and [`end_step`](Self::end_step).
