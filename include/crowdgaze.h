@@ -1703,7 +1703,7 @@ cg_status cg_crowd_read_eyelids(const struct cg_crowd *crowd,
 //
 // Errors (nothing written): `CG_STATUS_NULL_ARGUMENT` (a NULL pointer),
 // `CG_STATUS_NOT_FOUND` (no such entity), `CG_STATUS_INVALID_ARGUMENT` (an object's or the
-// viewer's id). Safe to call concurrently with other `const` calls.
+// viewer's id, a misaligned output). Safe to call concurrently with other `const` calls.
 cg_status cg_crowd_read_following(const struct cg_crowd *crowd,
                                   uint32_t character,
                                   struct cg_vec3 *out_point,

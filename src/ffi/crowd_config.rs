@@ -303,7 +303,14 @@ impl cg_crowd_config {
                 if matches!(error, Error::NonFinite(_)) && detail.starts_with(name) {
                     return error; // the core's words name it already
                 }
-                let units = if LENGTH_FIELDS.contains(&name) {
+                let length = LENGTH_FIELDS.contains(&name);
+                // The street and following settings' own words name the field already and,
+                // but for lengths (metres there), give the caller's value.
+                let own_words = name.starts_with("street_") || name.starts_with("follow_");
+                if own_words && !length && detail.starts_with(&format!("{name} is ")) {
+                    return remake(format!("cg_crowd_config.{detail}"));
+                }
+                let units = if length {
                     format!(" (your units; units_per_metre is {})", self.units_per_metre)
                 } else {
                     String::new()
@@ -448,9 +455,10 @@ mod tests {
 
     #[test]
     fn street_and_following_fields_name_themselves_in_the_callers_units() {
-        refused_as("cg_crowd_config.street_latency_min is -1: ", |c| {
-            c.street_latency_min = -1.0
-        });
+        refused_as(
+            "cg_crowd_config.street_latency_min is -1, must be >= 0",
+            |c| c.street_latency_min = -1.0,
+        );
         refused_as(
             "cg_crowd_config.street_civil_distance is 200000 (your units; units_per_metre is 100): ",
             |c| {
@@ -458,9 +466,10 @@ mod tests {
                 c.street_civil_distance = 200_000.0;
             },
         );
-        refused_as("cg_crowd_config.follow_max_probability is 1.5: ", |c| {
-            c.follow_max_probability = 1.5
-        });
+        refused_as(
+            "cg_crowd_config.follow_max_probability is 1.5, must be in [0, 1]",
+            |c| c.follow_max_probability = 1.5,
+        );
         let message = create_error(|c| c.follow_enabled = 2);
         assert_eq!(
             message,

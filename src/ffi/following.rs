@@ -16,7 +16,7 @@ use super::{cg_status, ffi_boundary, Out};
 ///
 /// Errors (nothing written): `CG_STATUS_NULL_ARGUMENT` (a NULL pointer),
 /// `CG_STATUS_NOT_FOUND` (no such entity), `CG_STATUS_INVALID_ARGUMENT` (an object's or the
-/// viewer's id). Safe to call concurrently with other `const` calls.
+/// viewer's id, a misaligned output). Safe to call concurrently with other `const` calls.
 #[no_mangle]
 pub unsafe extern "C" fn cg_crowd_read_following(
     crowd: *const cg_crowd,
