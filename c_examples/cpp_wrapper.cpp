@@ -1,7 +1,7 @@
 // cpp_wrapper.cpp: the C++17 wrapper (bindings/cpp/crowdgaze.hpp) as an engine uses it —
 // a crowd created from its config, characters and an object added, frames pushed, steps,
 // gaze, joints, deltas and eyes read, a base pose, explicit gaze targets, blinks and
-// eyelids, a conversation, an offline plan and its constraints, a view blender (keys,
+// eyelids, a conversation, the street preset and gaze following, an offline plan and its constraints, a view blender (keys,
 // cameras, weights, evaluate), the dual quaternion helpers, errors as exceptions and as
 // statuses, and the owners' move semantics.
 #include "crowdgaze.hpp"
@@ -289,6 +289,70 @@ void eyelids() {
     CHECK(crowdgaze::Crowd::try_create(bad, refused) == CG_STATUS_NON_FINITE && !refused);
 }
 
+// The street preset and gaze following: five characters stare at a window (overriding
+// targets), passers-by standing in front of them glance there too; following reads back,
+// refuses an unknown id without writing, and bad follow settings are refused.
+void street_following() {
+    cg_crowd_config config = crowdgaze::street_config();
+    CHECK(config.follow_enabled == 1 && config.max_distance == 17.0f);
+    CHECK(crowdgaze::crowd_config().follow_enabled == 0);
+    config.seed = 1969;
+    config.max_characters = 15;
+    config.max_objects = 0;
+    crowdgaze::Crowd crowd(config);
+    CHECK(crowd.config().follow_enabled == 1);
+    const cg_vec3 window{0.0f, 12.0f, -6.0f};
+    std::vector<std::uint32_t> starers, passers_by;
+    for (int i = 0; i < 15; i++) {
+        cg_character_desc desc = crowdgaze::character_desc();
+        desc.attention_model = CG_ATTENTION_MODEL_STREET;
+        if (i < 5) {
+            desc.position = {-1.0f + 0.5f * static_cast<float>(i), 0.0f, 0.0f};
+            starers.push_back(crowd.add_character(desc));
+            crowd.set_gaze_target(starers.back(), crowdgaze::gaze_target_point(window));
+        } else {
+            desc.position = {-4.0f + 2.0f * static_cast<float>(i % 5), 0.0f,
+                             4.0f + static_cast<float>(i / 5)};
+            desc.heading = kPi;
+            passers_by.push_back(crowd.add_character(desc));
+        }
+    }
+    bool on_the_window = true;
+    for (int frame = 1; frame <= 300; frame++) {
+        crowd.step(1.0f / 30.0f);
+        for (std::uint32_t id : passers_by) {
+            const auto f = crowd.following(id);
+            if (f.following) {
+                on_the_window = on_the_window && std::fabs(f.point.y - window.y) < 1e-4f &&
+                                std::fabs(f.point.z - window.z) < 1e-4f;
+            }
+        }
+    }
+    int followers = 0;
+    for (std::uint32_t id : passers_by) followers += crowd.following(id).glances > 0;
+    CHECK(on_the_window);
+    CHECK(followers >= 3);
+    CHECK(crowd.following(starers[0]).glances == 0 && !crowd.following(starers[0]).following);
+    std::printf("street: %d of 10 passers-by glanced at the window\n", followers);
+
+    crowdgaze::Crowd::Following untouched;
+    untouched.glances = 77u;
+    CHECK(crowd.try_following(12345u, untouched) == CG_STATUS_NOT_FOUND);
+    CHECK(untouched.glances == 77u && !untouched.following);
+
+    cg_crowd_config bad = crowdgaze::street_config();
+    bad.follow_max_probability = 1.5f;
+    crowdgaze::Crowd refused;
+    CHECK(crowdgaze::Crowd::try_create(bad, refused) == CG_STATUS_INVALID_ARGUMENT && !refused);
+    bool named = false;
+    try {
+        crowdgaze::Crowd thrown(bad);
+    } catch (const crowdgaze::Error& error) {
+        named = error.message().find("follow_max_probability") != std::string::npos;
+    }
+    CHECK(named);
+}
+
 // A conversation: two characters facing each other form a group, the first talking; the
 // group is read back, ends when one of them is removed, and a group of one is refused.
 void conversation() {
@@ -507,6 +571,7 @@ int main() {
         crowd_gaze();
         eyelids();
         conversation();
+        street_following();
         offline_plan();
         dual_quaternions();
         view_blender();

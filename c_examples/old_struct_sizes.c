@@ -1,10 +1,10 @@
 /* old_struct_sizes.c: the library reads and writes no more of a versioned struct than its
  * struct_size says. Each struct lives in a heap block of exactly its size followed by guard
  * bytes: every call that fills, reads or returns the struct must leave the guard intact.
- * cg_crowd_config is also passed in its three older layouts, of 144 bytes (everything
- * before reorder_period), 152 bytes (everything before the blink fields, padded) and 176 bytes
- * (everything before the conversation fields, padded), as programs built against older headers
- * have it. */
+ * cg_crowd_config is also passed in its four older layouts, of 144 bytes (everything
+ * before reorder_period), 152 bytes (everything before the blink fields, padded), 176 bytes
+ * (everything before the conversation fields, padded) and 216 bytes (everything before the
+ * street and following fields), as programs built against older headers have it. */
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -22,6 +22,8 @@
 #define CROWD_CONFIG_SIZE_BEFORE_BLINKS ((offsetof(cg_crowd_config, blink_rate) + 7) / 8 * 8)
 #define CROWD_CONFIG_SIZE_BEFORE_CONVERSATIONS                                           \
     ((offsetof(cg_crowd_config, max_conversations) + 7) / 8 * 8)
+#define CROWD_CONFIG_SIZE_BEFORE_STREET                                                  \
+    ((offsetof(cg_crowd_config, street_view_half_angle) + 7) / 8 * 8)
 
 static int failures = 0;
 
@@ -105,6 +107,11 @@ static void old_crowd_config(size_t size) {
         CHECK(current.speaker_look_share == 0.41f && current.speaker_glance_time == 1.8f);
         CHECK(current.idle_look_share == 0.5f && current.idle_glance_time == 2.5f);
         CHECK(current.turn_start_aversion_time == 1.0f);
+        CHECK(current.street_first_fixation_probability == 0.86f);
+        CHECK(current.street_civil_distance == 3.0f && current.street_refixation_gap_max == 3.0f);
+        CHECK(current.follow_enabled == 0 && current.follow_distance == 10.0f);
+        CHECK(current.follow_one_looker_probability == 0.42f);
+        CHECK(current.follow_forget_time == 10.0f);
     }
 
     /* A struct_size that is no layout's: refused, nothing written. */
@@ -192,10 +199,12 @@ static void current_sizes(void) {
 
 int main(void) {
     CHECK(CROWD_CONFIG_SIZE_BEFORE_REORDER == 144 && CROWD_CONFIG_SIZE_BEFORE_BLINKS == 152);
-    CHECK(CROWD_CONFIG_SIZE_BEFORE_CONVERSATIONS == 176 && sizeof(cg_crowd_config) == 216);
+    CHECK(CROWD_CONFIG_SIZE_BEFORE_CONVERSATIONS == 176 && CROWD_CONFIG_SIZE_BEFORE_STREET == 216);
+    CHECK(sizeof(cg_crowd_config) == 312);
     old_crowd_config(CROWD_CONFIG_SIZE_BEFORE_REORDER);
     old_crowd_config(CROWD_CONFIG_SIZE_BEFORE_BLINKS);
     old_crowd_config(CROWD_CONFIG_SIZE_BEFORE_CONVERSATIONS);
+    old_crowd_config(CROWD_CONFIG_SIZE_BEFORE_STREET);
     current_sizes();
     if (failures != 0) {
         return 1;

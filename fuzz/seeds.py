@@ -144,6 +144,21 @@ def conversations():
     return crowd(5) + groups + talks + asks + reads() + ends + asks + walk(5) + reads()
 
 
+def following():
+    # The street preset (the create's last byte, 6: following on) for 14 characters (byte 9:
+    # 13), each with the street model (a rare model byte, then 3 as a u32); the first three
+    # stare at a point up high (an overriding point target), the others walk past. Then each
+    # character's following is read, one with its outputs NULL, and a starer is released.
+    create = op("crowd_create", 0, *([0] * 8), 13, *([0] * 13), 6)
+    people = b"".join(
+        op("add_character", 0, (8 * i) % 100, 0, (24 * i) % 80, 0, 0, 0, 0xF0, 3, 0, 0, 0) for i in range(14)
+    )
+    stares = b"".join(op("set_gaze_target", 0, k, 0, 0, 0, 0, 0, 8, 100, 16) for k in range(3))
+    asks = b"".join(op("read_following", 0, k) for k in range(14)) + op("read_following", 0, 5, 0, 0xF0)
+    release = op("clear_gaze_target", 0, 0)
+    return create + people + stares + walk(150) + asks + reads() + release + walk(60) + asks
+
+
 def pauses():
     # Long steps on a crowd that blinks and talks: a time stamp's worth (1e7 s), 1e30 s and
     # the largest floats, whole and ranged (a rare dt byte, then the special value's index),
@@ -220,6 +235,7 @@ def main():
         "conversations": conversations(),
         "pauses": pauses(),
         "rigs": rigs(),
+        "following": following(),
     }
     rng = random.Random(10)
     for index in range(30):

@@ -811,6 +811,79 @@ typedef struct cg_crowd_config {
     // Conversations: a member who starts talking first looks away this long, seconds
     // [0, 60] (0: not at all). Default 1 (Kendon 1967).
     float turn_start_aversion_time;
+    // Street model (`CG_ATTENTION_MODEL_STREET`, docs/street.md): half-angle of the view
+    // about the walking direction in which walkers are noticed, radians in [0, π].
+    // Default 60°. Walkers are noticed up to `max_distance` (`cg_crowd_config_init_street`
+    // sets 17 m, as measured).
+    float street_view_half_angle;
+    // Street model: probability that a walker coming into view is fixated, in [0, 1].
+    // Default 0.86 (Fotios et al. 2015).
+    float street_first_fixation_probability;
+    // Street model: shortest latency from coming into view to the first fixation,
+    // seconds, at most `street_latency_max`. Default 0.55.
+    float street_latency_min;
+    // Street model: longest such latency, seconds in [0, 60]. Default 0.75.
+    float street_latency_max;
+    // Street model: median duration of a fixation on a walker, seconds in (0, 60].
+    // Default 0.5.
+    float street_fixation_median;
+    // Street model: spread of fixation durations, the standard deviation of their natural
+    // logarithm, in [0, 2]. Default 0.35.
+    float street_fixation_log_spread;
+    // Street model: probability that a fixated walker is fixated a second time, in [0, 1].
+    // Default 0.3.
+    float street_refixation_probability;
+    // Street model: shortest wait before that second fixation, seconds, at most
+    // `street_refixation_gap_max`. Default 1.
+    float street_refixation_gap_min;
+    // Street model: longest such wait, seconds in [0, 600]. Default 3.
+    float street_refixation_gap_max;
+    // Street model: strangers closer than this (your units, at most 1 000 m) are looked at
+    // less, and the eyes go down the path while one is there (civil inattention).
+    // Default 3 m.
+    float street_civil_distance;
+    // Street model: probability that a fixation due on a stranger closer than
+    // `street_civil_distance` still happens, in [0, 1]. Default 0.25.
+    float street_civil_look_probability;
+    // Street model: how far ahead on the ground the eyes rest when no walker is fixated
+    // (your units, at most 1 000 m). Default 4 m.
+    float street_path_look_distance;
+    // Street model: how far ahead on the ground the eyes go while a stranger is close
+    // (your units, at most 1 000 m). Default 2 m.
+    float street_civil_look_distance;
+    // Gaze following, for characters of every model: 1 makes characters glance where
+    // others stare (a character whose `CG_GAZE_PRIORITY_OVERRIDE` target is a point or an
+    // object), 0 turns it off (default: the crowd behaves exactly as without it); no other
+    // value. Read who follows with `cg_crowd_read_following`.
+    // `cg_crowd_config_init_street` sets 1.
+    uint32_t follow_enabled;
+    // Gaze following: probability that a passer-by who sees one person staring looks
+    // too, in [0, `follow_max_probability`]. Default 0.42 (Milgram et al. 1969; Gallup et
+    // al. 2012 measured 0.12 on a shopping street).
+    float follow_one_looker_probability;
+    // Gaze following: the probability with many lookers, where it saturates, in [0, 1].
+    // Default 0.87 (Milgram et al. 1969; Gallup et al. 2012: 0.3).
+    float follow_max_probability;
+    // Gaze following: lookers are noticed up to this ground distance (your units, at most
+    // 1 000 m, and at most `max_distance` while `follow_enabled`). Default 10 m.
+    float follow_distance;
+    // Gaze following: half-angle of the view about the heading in which lookers are
+    // noticed, radians in [0, π]. Default π/2.
+    float follow_view_half_angle;
+    // Gaze following: weight of a looker walking towards the character (one standing or
+    // walking ahead the same way weighs 1), in [0, 1]. Default 0.5.
+    float follow_oncoming_weight;
+    // Gaze following: weight of a character that only glances because it follows (a
+    // stare weighs 1), in [0, 1]. Default 0.25.
+    float follow_glance_cue_weight;
+    // Gaze following: shortest glance of a follower, seconds, at most
+    // `follow_glance_max`. Default 1.
+    float follow_glance_min;
+    // Gaze following: longest glance, seconds in [0, 600]. Default 2.5.
+    float follow_glance_max;
+    // Gaze following: seconds in [0, 3600] with no looker in view after which an
+    // encounter is over (the next lookers are decided afresh). Default 10.
+    float follow_forget_time;
 } cg_crowd_config;
 
 // A character's eyelids after a step, as read by `cg_crowd_read_eyelids`. Not versioned:
@@ -1552,6 +1625,26 @@ cg_status cg_crowd_get_conversation(const struct cg_crowd *crowd,
 // knows (0 or an unset field included). Thread-safe.
 cg_status cg_crowd_config_init(struct cg_crowd_config *config);
 
+// Fills `config` with the street preset: the defaults of `cg_crowd_config_init`, but
+// `max_distance` 17 m (walkers notice each other as far away as they were measured to
+// fixate each other) and `follow_enabled` 1 (gaze following at Milgram's strength). Give
+// the characters `CG_ATTENTION_MODEL_STREET` in their `cg_character_desc`
+// (docs/street.md). Set `config->struct_size = sizeof(cg_crowd_config)` first: only that
+// many bytes are written (an older, shorter layout gets its own fields: the street and
+// following fields are past 216 bytes), and `struct_size` keeps its value. The caller
+// owns `config`.
+//
+// Like `cg_crowd_config_init`, this writes metres (`units_per_metre` 1): in other units,
+// set `units_per_metre` and multiply the length fields by it (`max_distance`,
+// `restart_distance`, `proximity_radius`, `street_civil_distance`,
+// `street_path_look_distance`, `street_civil_look_distance`, `follow_distance`): in
+// centimetres `max_distance` is then 1700.
+//
+// Errors (nothing written): `CG_STATUS_NULL_ARGUMENT` if `config` is NULL,
+// `CG_STATUS_BAD_STRUCT_SIZE` if `struct_size` is not a size of this struct the library
+// knows (0 or an unset field included). Thread-safe.
+cg_status cg_crowd_config_init_street(struct cg_crowd_config *config);
+
 // Creates an empty crowd from `config` and stores its handle in `*out_crowd`.
 //
 // All buffers are sized here from the capacities; later per-frame calls allocate nothing.
@@ -1599,6 +1692,23 @@ cg_status cg_crowd_read_eyelids(const struct cg_crowd *crowd,
                                 uint32_t count,
                                 struct cg_eyelids *out,
                                 size_t out_len);
+
+// Reads whether `character` glances now at a point because others look there (gaze
+// following, the `follow_*` fields of `cg_crowd_config`): `*out_following` is 1 while it
+// does, with the point in `*out_point` (world, your units and axes), and 0 otherwise, with
+// `*out_point` the origin. `*out_glances` is how many such glances it has started since it
+// was added. A character with a `CG_GAZE_PRIORITY_OVERRIDE` target follows no one (its
+// target wins), and with `follow_enabled` 0 no one ever follows. The caller owns the
+// outputs, written only on success.
+//
+// Errors (nothing written): `CG_STATUS_NULL_ARGUMENT` (a NULL pointer),
+// `CG_STATUS_NOT_FOUND` (no such entity), `CG_STATUS_INVALID_ARGUMENT` (an object's or the
+// viewer's id, a misaligned output). Safe to call concurrently with other `const` calls.
+cg_status cg_crowd_read_following(const struct cg_crowd *crowd,
+                                  uint32_t character,
+                                  struct cg_vec3 *out_point,
+                                  uint32_t *out_following,
+                                  uint32_t *out_glances);
 
 // Fills `target` with defaults (a point target at the origin, overriding). Set
 // `target->struct_size = sizeof(cg_gaze_target)` first: only that many bytes are written,

@@ -202,6 +202,10 @@ fn expected_output(stem: &str) -> Vec<String> {
             "BVH: gaze chain of 6 joints: 4 spine, 1 neck, head; hangs from 'Hips'".into(),
             "BVH character driven:".into(),
         ],
+        "street_following" => vec![
+            "passers-by glanced at the window".into(),
+            "follow_enabled 0 and a 216-byte config: bit-identical over 1200 frames".into(),
+        ],
         "cpp_no_exceptions" => vec![
             "joints 20, eye directions x +1.00 and -1.00".into(),
             "try_step(-1): invalid argument (invalid argument: dt is -1, must be >= 0)".into(),

@@ -577,3 +577,80 @@ fn rig_conversions_do_not_allocate_per_frame() {
         });
     }
 }
+
+#[test]
+fn the_street_model_and_gaze_following_step_and_read_without_allocating() {
+    use crowdgaze::ffi::attention::{
+        cg_attention_model, cg_character_desc, cg_character_desc_init, cg_crowd_add_character,
+    };
+    use crowdgaze::ffi::crowd::{cg_crowd_config, cg_crowd_config_init_street};
+    use crowdgaze::ffi::following::cg_crowd_read_following;
+    use crowdgaze::ffi::gaze::{cg_crowd_set_gaze_target, cg_gaze_target, cg_gaze_target_init};
+    use crowdgaze::ffi::types::cg_vec3;
+    use glam::Vec3;
+
+    let mut config: cg_crowd_config = support::init(cg_crowd_config_init_street);
+    config.max_characters = 40;
+    let crowd = support::CrowdHandle::new(&config);
+    // Five people stare at a point up high; 35 street-model characters walk past them.
+    let mut states = Vec::new();
+    for i in 0..40 {
+        let walking = i >= 5;
+        let position = if walking {
+            Vec3::new(2.0 + (i % 5) as f32, 0.0, -12.0 + (i % 8) as f32 * 3.0)
+        } else {
+            Vec3::new(-1.0 + 0.5 * i as f32, 0.0, 0.0)
+        };
+        let mut desc: cg_character_desc = support::init(cg_character_desc_init);
+        desc.attention_model = cg_attention_model::Street as u32;
+        desc.position = position.into();
+        let mut id = 0;
+        let status = unsafe { cg_crowd_add_character(crowd.as_mut(), &desc, &mut id) };
+        support::check(status, "cg_crowd_add_character");
+        let mut state = support::entity_state(id, 0.0, walking);
+        state.position = position.into();
+        states.push((state, if i % 2 == 0 { 0.04 } else { -0.04 }));
+    }
+    let mut target: cg_gaze_target = support::init(cg_gaze_target_init);
+    target.point = cg_vec3 {
+        x: 0.0,
+        y: 12.0,
+        z: -6.0,
+    };
+    for (state, _) in &states[..5] {
+        let status = unsafe { cg_crowd_set_gaze_target(crowd.as_mut(), state.id, &target) };
+        support::check(status, "cg_crowd_set_gaze_target");
+    }
+    let mut pushed: Vec<_> = states.iter().map(|(state, _)| *state).collect();
+    let mut frame = 0;
+    let mut advance = || {
+        frame += 1;
+        for (state, (_, speed)) in pushed.iter_mut().zip(&states).skip(5) {
+            state.position.z += speed;
+        }
+        crowd.push_and_step(f64::from(frame) / 30.0, 1.0 / 30.0, &pushed);
+        let mut glances_in_all = 0;
+        for state in &pushed {
+            let (mut point, mut following, mut glances) = (cg_vec3::default(), 0, 0);
+            let status = unsafe {
+                cg_crowd_read_following(
+                    crowd.as_const(),
+                    state.id,
+                    &mut point,
+                    &mut following,
+                    &mut glances,
+                )
+            };
+            support::check(status, "cg_crowd_read_following");
+            glances_in_all += glances;
+        }
+        glances_in_all
+    };
+    for _ in 0..30 {
+        advance();
+    }
+    let glances = assert_no_alloc("the street model, gaze following and its reader", || {
+        (0..300).map(|_| advance()).max().unwrap_or(0)
+    });
+    assert!(glances > 0, "no one followed the stare");
+}

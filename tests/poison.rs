@@ -20,6 +20,7 @@ use crowdgaze::ffi::attention::*;
 use crowdgaze::ffi::conversations::*;
 use crowdgaze::ffi::crowd::*;
 use crowdgaze::ffi::eyelids::*;
+use crowdgaze::ffi::following::*;
 use crowdgaze::ffi::frame::*;
 use crowdgaze::ffi::gaze::*;
 use crowdgaze::ffi::last_error::last_error_message;
@@ -227,6 +228,7 @@ fn every_crowd_call(crowd: *mut cg_crowd, ids: &[u32], expected: &str) {
     let mut constraints = [cg_constraint::default(); 4];
     let mut score = cg_score_breakdown::default();
     let (mut id, mut count) = (u32::MAX, usize::MAX);
+    let (mut point, mut flags) = (vec3(7.0, 7.0, 7.0), [u32::MAX; 2]);
     let viewer = vec3(0.0, 1.7, 5.0);
     // The outputs, as the raw pointers a C caller passes (the calls below share them).
     let (id_out, count_out): (*mut u32, *mut usize) = (&mut id, &mut count);
@@ -235,8 +237,9 @@ fn every_crowd_call(crowd: *mut cg_crowd, ids: &[u32], expected: &str) {
     let config_out: *mut cg_crowd_config = &mut config;
     let (gaze_out, eyes_out) = (gaze.as_mut_ptr(), eyes.as_mut_ptr());
     let eyelids_out = eyelids.as_mut_ptr();
+    let (point_out, flags_out): (*mut cg_vec3, *mut u32) = (&mut point, flags.as_mut_ptr());
     let (constraints_out, quats_out) = (constraints.as_mut_ptr(), quats.as_mut_ptr());
-    let calls: [(&str, &dyn Fn() -> cg_status); 35] = [
+    let calls: [(&str, &dyn Fn() -> cg_status); 36] = [
         ("cg_crowd_begin_step", &|| unsafe {
             cg_crowd_begin_step(crowd, 0.05)
         }),
@@ -334,10 +337,14 @@ fn every_crowd_call(crowd: *mut cg_crowd, ids: &[u32], expected: &str) {
         ("cg_crowd_get_conversation", &|| unsafe {
             cg_crowd_get_conversation(crowd, a, id_out)
         }),
+        ("cg_crowd_read_following", &|| unsafe {
+            cg_crowd_read_following(crowd, a, point_out, flags_out, flags_out.add(1))
+        }),
     ];
     all_poisoned("cg_crowd", &calls, expected);
     // Nothing was written.
     assert_eq!((id, count), (u32::MAX, usize::MAX));
+    assert_eq!((point, flags), (vec3(7.0, 7.0, 7.0), [u32::MAX; 2]));
     assert!(gaze.iter().all(|g| g.character == 0 && g.target == 0));
     assert!(eyes.iter().all(|e| e.character == 0));
     assert!(eyelids.iter().all(|e| *e == cg_eyelids::default()));

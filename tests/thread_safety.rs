@@ -17,6 +17,7 @@ use crowdgaze::ffi::chain::cg_chain_desc;
 use crowdgaze::ffi::conversations::*;
 use crowdgaze::ffi::crowd::*;
 use crowdgaze::ffi::eyelids::*;
+use crowdgaze::ffi::following::*;
 use crowdgaze::ffi::frame::*;
 use crowdgaze::ffi::gaze::*;
 use crowdgaze::ffi::last_error::last_error_message;
@@ -38,7 +39,7 @@ const ROUNDS: usize = 100;
 /// Every header function that takes a `const` crowd, blender or rig handle, as the
 /// transcripts below call them; `const_functions_are_all_covered` keeps the list equal to
 /// the header's.
-const COVERED: [&str; 22] = [
+const COVERED: [&str; 23] = [
     "cg_crowd_character_count",
     "cg_crowd_get_config",
     "cg_crowd_read_gaze",
@@ -51,6 +52,7 @@ const COVERED: [&str; 22] = [
     "cg_crowd_score",
     "cg_crowd_read_constraints",
     "cg_crowd_get_conversation",
+    "cg_crowd_read_following",
     "cg_view_blender_weights",
     "cg_view_blender_evaluate",
     "cg_rig_chain",
@@ -140,7 +142,22 @@ fn crowd_transcript(crowd: *const cg_crowd) -> String {
         let mut group = 0;
         let s = unsafe { cg_crowd_get_conversation(crowd, info.character, &mut group) };
         status(&mut out, "conversation", s);
-        writeln!(out, "{one:?} {params:?} {group}").unwrap();
+        let (mut point, mut following, mut glances) = (cg_vec3::default(), 0, 0);
+        let s = unsafe {
+            cg_crowd_read_following(
+                crowd,
+                info.character,
+                &mut point,
+                &mut following,
+                &mut glances,
+            )
+        };
+        status(&mut out, "following", s);
+        writeln!(
+            out,
+            "{one:?} {params:?} {group} {point:?} {following} {glances}"
+        )
+        .unwrap();
         let neighbour = gaze[(index + 1) % gaze.len()].character;
         for entity in [neighbour, info.target, info.head_target] {
             let mut score = cg_score_breakdown::default();

@@ -181,6 +181,15 @@ inline cg_crowd_config crowd_config() noexcept {
     (void)cg_crowd_config_init(&config);
     return config;
 }
+// The street preset (`cg_crowd_config_init_street`): the defaults, but `max_distance` 17 m
+// and gaze following on (`follow_enabled` 1). Give the characters
+// `CG_ATTENTION_MODEL_STREET`. In metres, like `crowd_config()`: with another
+// `units_per_metre`, scale the length fields too.
+inline cg_crowd_config street_config() noexcept {
+    cg_crowd_config config = sized<cg_crowd_config>();
+    (void)cg_crowd_config_init_street(&config);
+    return config;
+}
 inline cg_character_desc character_desc() noexcept {
     cg_character_desc desc = sized<cg_character_desc>();
     (void)cg_character_desc_init(&desc);
@@ -598,6 +607,37 @@ class Crowd : public Owner<cg_crowd, cg_crowd_destroy> {
         std::uint32_t group = CG_NO_TARGET;
         check(try_conversation(character, group));
         return group;
+    }
+
+    // --- gaze following ----------------------------------------------------------------
+
+    // What `cg_crowd_read_following` says of a character: whether it glances now where
+    // others stare, at `point` (world, your units; the origin when not following), and
+    // how many such glances it has started.
+    struct Following {
+        bool following = false;
+        cg_vec3 point{};
+        std::uint32_t glances = 0;
+    };
+    // `character`'s gaze following (the `follow_*` fields of the config); `out` is written
+    // only on success.
+    [[nodiscard]] cg_status try_following(std::uint32_t character,
+                                          Following& out) const noexcept {
+        cg_vec3 point{};
+        std::uint32_t following = 0, glances = 0;
+        const cg_status status =
+            cg_crowd_read_following(raw(), character, &point, &following, &glances);
+        if (status == CG_STATUS_OK) {
+            out.following = following != 0;
+            out.point = point;
+            out.glances = glances;
+        }
+        return status;
+    }
+    Following following(std::uint32_t character) const {
+        Following out;
+        check(try_following(character, out));
+        return out;
     }
 
     // --- tools and offline planning ----------------------------------------------------

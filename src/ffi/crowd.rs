@@ -5,21 +5,12 @@ use std::sync::atomic::{AtomicU32, AtomicU8, Ordering};
 
 use super::error::{FfiError, Result};
 use super::poison::{self, Poison};
-use super::types::cg_axis;
 use super::{
     ffi_boundary, handle_ref, into_c, layout_size, read_versioned, write_versioned, Handle, Out,
     Versioned,
 };
-use crate::attention::baseline::BaselineConfig;
-use crate::attention::conversation::ConversationSettings;
-use crate::attention::interest::InterestConfig;
-use crate::attention::saliency::SaliencyConfig;
-use crate::attention::score::ScoringConfig;
-use crate::attention::TargetPart;
-use crate::crowd::{Crowd, CrowdConfig, EyeMotion, PushRanges, StepRanges};
+use crate::crowd::{Crowd, CrowdConfig, PushRanges, StepRanges};
 use crate::error::Error;
-use crate::ik::{BlinkSettings, GazeConfig};
-use crate::world::World;
 
 /// A crowd of characters and the objects they may look at (opaque).
 ///
@@ -492,6 +483,79 @@ pub struct cg_crowd_config {
     /// Conversations: a member who starts talking first looks away this long, seconds
     /// [0, 60] (0: not at all). Default 1 (Kendon 1967).
     pub turn_start_aversion_time: f32,
+    /// Street model (`CG_ATTENTION_MODEL_STREET`, docs/street.md): half-angle of the view
+    /// about the walking direction in which walkers are noticed, radians in [0, π].
+    /// Default 60°. Walkers are noticed up to `max_distance` (`cg_crowd_config_init_street`
+    /// sets 17 m, as measured).
+    pub street_view_half_angle: f32,
+    /// Street model: probability that a walker coming into view is fixated, in [0, 1].
+    /// Default 0.86 (Fotios et al. 2015).
+    pub street_first_fixation_probability: f32,
+    /// Street model: shortest latency from coming into view to the first fixation,
+    /// seconds, at most `street_latency_max`. Default 0.55.
+    pub street_latency_min: f32,
+    /// Street model: longest such latency, seconds in [0, 60]. Default 0.75.
+    pub street_latency_max: f32,
+    /// Street model: median duration of a fixation on a walker, seconds in (0, 60].
+    /// Default 0.5.
+    pub street_fixation_median: f32,
+    /// Street model: spread of fixation durations, the standard deviation of their natural
+    /// logarithm, in [0, 2]. Default 0.35.
+    pub street_fixation_log_spread: f32,
+    /// Street model: probability that a fixated walker is fixated a second time, in [0, 1].
+    /// Default 0.3.
+    pub street_refixation_probability: f32,
+    /// Street model: shortest wait before that second fixation, seconds, at most
+    /// `street_refixation_gap_max`. Default 1.
+    pub street_refixation_gap_min: f32,
+    /// Street model: longest such wait, seconds in [0, 600]. Default 3.
+    pub street_refixation_gap_max: f32,
+    /// Street model: strangers closer than this (your units, at most 1 000 m) are looked at
+    /// less, and the eyes go down the path while one is there (civil inattention).
+    /// Default 3 m.
+    pub street_civil_distance: f32,
+    /// Street model: probability that a fixation due on a stranger closer than
+    /// `street_civil_distance` still happens, in [0, 1]. Default 0.25.
+    pub street_civil_look_probability: f32,
+    /// Street model: how far ahead on the ground the eyes rest when no walker is fixated
+    /// (your units, at most 1 000 m). Default 4 m.
+    pub street_path_look_distance: f32,
+    /// Street model: how far ahead on the ground the eyes go while a stranger is close
+    /// (your units, at most 1 000 m). Default 2 m.
+    pub street_civil_look_distance: f32,
+    /// Gaze following, for characters of every model: 1 makes characters glance where
+    /// others stare (a character whose `CG_GAZE_PRIORITY_OVERRIDE` target is a point or an
+    /// object), 0 turns it off (default: the crowd behaves exactly as without it); no other
+    /// value. Read who follows with `cg_crowd_read_following`.
+    /// `cg_crowd_config_init_street` sets 1.
+    pub follow_enabled: u32,
+    /// Gaze following: probability that a passer-by who sees one person staring looks
+    /// too, in [0, `follow_max_probability`]. Default 0.42 (Milgram et al. 1969; Gallup et
+    /// al. 2012 measured 0.12 on a shopping street).
+    pub follow_one_looker_probability: f32,
+    /// Gaze following: the probability with many lookers, where it saturates, in [0, 1].
+    /// Default 0.87 (Milgram et al. 1969; Gallup et al. 2012: 0.3).
+    pub follow_max_probability: f32,
+    /// Gaze following: lookers are noticed up to this ground distance (your units, at most
+    /// 1 000 m, and at most `max_distance` while `follow_enabled`). Default 10 m.
+    pub follow_distance: f32,
+    /// Gaze following: half-angle of the view about the heading in which lookers are
+    /// noticed, radians in [0, π]. Default π/2.
+    pub follow_view_half_angle: f32,
+    /// Gaze following: weight of a looker walking towards the character (one standing or
+    /// walking ahead the same way weighs 1), in [0, 1]. Default 0.5.
+    pub follow_oncoming_weight: f32,
+    /// Gaze following: weight of a character that only glances because it follows (a
+    /// stare weighs 1), in [0, 1]. Default 0.25.
+    pub follow_glance_cue_weight: f32,
+    /// Gaze following: shortest glance of a follower, seconds, at most
+    /// `follow_glance_max`. Default 1.
+    pub follow_glance_min: f32,
+    /// Gaze following: longest glance, seconds in [0, 600]. Default 2.5.
+    pub follow_glance_max: f32,
+    /// Gaze following: seconds in [0, 3600] with no looker in view after which an
+    /// encounter is over (the next lookers are decided afresh). Default 10.
+    pub follow_forget_time: f32,
 }
 
 /// `cg_crowd_config.eye_motion`: the paper's timing (Grillon & Thalmann 2009): the eyes
@@ -504,12 +568,16 @@ pub const CG_EYE_MOTION_MAIN_SEQUENCE: u32 = 1;
 
 impl Versioned for cg_crowd_config {
     // Callers built against a header from before `reorder_period` (144 bytes), before the
-    // blink fields (152 bytes) or before the conversation fields (176 bytes) get the
-    // defaults of the fields they lack.
+    // blink fields (152 bytes), before the conversation fields (176 bytes) or before the
+    // street and following fields (216 bytes) get the defaults of the fields they lack.
     const SIZES: &'static [usize] = &[
         layout_size::<cg_crowd_config>(std::mem::offset_of!(cg_crowd_config, reorder_period)),
         layout_size::<cg_crowd_config>(std::mem::offset_of!(cg_crowd_config, blink_rate)),
         layout_size::<cg_crowd_config>(std::mem::offset_of!(cg_crowd_config, max_conversations)),
+        layout_size::<cg_crowd_config>(std::mem::offset_of!(
+            cg_crowd_config,
+            street_view_half_angle
+        )),
         std::mem::size_of::<cg_crowd_config>(),
     ];
     const NAME: &'static str = "cg_crowd_config";
@@ -518,298 +586,6 @@ impl Versioned for cg_crowd_config {
         cg_crowd_config::from_core(&CrowdConfig::default())
     }
 }
-
-impl cg_crowd_config {
-    /// The C view of a core config (lengths in the caller's units).
-    fn from_core(core: &CrowdConfig) -> cg_crowd_config {
-        let units = core.world.units_per_metre;
-        cg_crowd_config {
-            struct_size: std::mem::size_of::<cg_crowd_config>() as u32,
-            max_characters: core.max_characters,
-            seed: core.seed,
-            max_objects: core.max_objects,
-            up_axis: cg_axis::from_axis(core.world.up_axis),
-            forward_axis: cg_axis::from_axis(core.world.forward_axis),
-            units_per_metre: units,
-            max_recorded_states: core.max_recorded_states,
-            max_distance: core.scoring.max_distance * units,
-            field_of_view: core.scoring.field_of_view,
-            speed_weight: core.scoring.speed_weight,
-            periphery_max_angle: core.scoring.periphery_max_angle,
-            min_interest_time: core.interest.min_hold,
-            max_interest_time: core.interest.max_hold,
-            interest_cooldown: core.interest.cooldown,
-            threshold_warmup: core.interest.warmup,
-            initial_threshold: core.interest.initial_threshold,
-            attention_fraction_min: core.attention_fraction_range.0,
-            attention_fraction_max: core.attention_fraction_range.1,
-            eyes_only_angle: core.gaze.spatial.bands.eyes_only,
-            eyes_head_neck_angle: core.gaze.spatial.bands.eyes_head_and_neck,
-            head_speed: core.gaze.timing.head_speed,
-            max_activation_time: core.gaze.timing.max_activation_time,
-            restart_distance: core.gaze.timing.restart_distance * units,
-            min_deactivation_time: core.gaze.timing.min_deactivation_time,
-            max_deactivation_time: core.gaze.timing.max_deactivation_time,
-            eye_fixation_time: core.saliency.eye_fixation,
-            head_fixation_time: core.saliency.head_fixation,
-            random_pick_probability: core.saliency.random_pick_probability,
-            social_weight: core.saliency.social_weight,
-            proximity_radius: core.baseline.proximity_radius * units,
-            attention_period: core.attention_period,
-            lod_distance: core.lod_distance * units,
-            far_attention_period: core.far_attention_period,
-            threads: core.threads,
-            reorder_period: core.reorder_period,
-            blink_rate: core.blinks.mean_rate,
-            blink_rate_spread: core.blinks.rate_spread,
-            evoked_blink_min_amplitude: core.blinks.evoked_min_amplitude,
-            evoked_blink_full_amplitude: core.blinks.evoked_full_amplitude,
-            evoked_blink_probability: core.blinks.evoked_probability,
-            lid_gain: core.blinks.lid_gain,
-            eye_motion: match core.eye_motion {
-                EyeMotion::Paper => CG_EYE_MOTION_PAPER,
-                EyeMotion::MainSequence => CG_EYE_MOTION_MAIN_SEQUENCE,
-            },
-            max_conversations: core.max_conversations,
-            talking_gain: core.scoring.talking_gain,
-            eye_part_weight: core.saliency.part_weights[TargetPart::LeftEye as usize],
-            listener_look_share: core.conversation.listener_share,
-            listener_glance_time: core.conversation.listener_glance,
-            speaker_look_share: core.conversation.speaker_share,
-            speaker_glance_time: core.conversation.speaker_glance,
-            idle_look_share: core.conversation.idle_share,
-            idle_glance_time: core.conversation.idle_glance,
-            turn_start_aversion_time: core.conversation.turn_start_aversion,
-        }
-    }
-
-    /// The gaze IK part of the core config (other gaze settings keep their defaults).
-    fn gaze_config(&self, metres: f32) -> GazeConfig {
-        let mut gaze = GazeConfig::default();
-        gaze.spatial.bands.eyes_only = self.eyes_only_angle;
-        gaze.spatial.bands.eyes_head_and_neck = self.eyes_head_neck_angle;
-        gaze.timing.head_speed = self.head_speed;
-        gaze.timing.max_activation_time = self.max_activation_time;
-        gaze.timing.restart_distance = self.restart_distance * metres;
-        gaze.timing.min_deactivation_time = self.min_deactivation_time;
-        gaze.timing.max_deactivation_time = self.max_deactivation_time;
-        gaze
-    }
-
-    /// Checks and converts to the core's config (lengths to metres); an error names the
-    /// field of this struct at fault.
-    fn to_core(self) -> crate::error::Result<CrowdConfig> {
-        // The axes and unit first: their errors name them already.
-        self.world()?;
-        self.convert().map_err(|error| self.name_the_field(error))
-    }
-
-    /// The world conventions of this config.
-    fn world(&self) -> crate::error::Result<World> {
-        World::new(
-            cg_axis::parse(self.up_axis, "up_axis")?,
-            cg_axis::parse(self.forward_axis, "forward_axis")?,
-            self.units_per_metre,
-        )
-    }
-
-    /// [`Self::to_core`] with the core's words in errors.
-    fn convert(self) -> crate::error::Result<CrowdConfig> {
-        let world = self.world()?;
-        let metres = 1.0 / self.units_per_metre;
-        let config = CrowdConfig {
-            seed: self.seed,
-            max_characters: self.max_characters,
-            max_objects: self.max_objects,
-            world,
-            scoring: ScoringConfig {
-                max_distance: self.max_distance * metres,
-                field_of_view: self.field_of_view,
-                speed_weight: self.speed_weight,
-                periphery_max_angle: self.periphery_max_angle,
-                talking_gain: self.talking_gain,
-            },
-            interest: InterestConfig {
-                min_hold: self.min_interest_time,
-                max_hold: self.max_interest_time,
-                cooldown: self.interest_cooldown,
-                warmup: self.threshold_warmup,
-                initial_threshold: self.initial_threshold,
-            },
-            attention_fraction_range: (self.attention_fraction_min, self.attention_fraction_max),
-            max_recorded_states: self.max_recorded_states,
-            gaze: self.gaze_config(metres),
-            saliency: SaliencyConfig {
-                eye_fixation: self.eye_fixation_time,
-                head_fixation: self.head_fixation_time,
-                random_pick_probability: self.random_pick_probability,
-                social_weight: self.social_weight,
-                part_weights: {
-                    let mut weights = SaliencyConfig::default().part_weights;
-                    weights[TargetPart::LeftEye as usize] = self.eye_part_weight;
-                    weights[TargetPart::RightEye as usize] = self.eye_part_weight;
-                    weights
-                },
-                ..SaliencyConfig::default()
-            },
-            baseline: BaselineConfig {
-                proximity_radius: self.proximity_radius * metres,
-                ..BaselineConfig::default()
-            },
-            attention_period: self.attention_period,
-            lod_distance: self.lod_distance * metres,
-            far_attention_period: self.far_attention_period,
-            threads: self.threads,
-            reorder_period: self.reorder_period,
-            blinks: BlinkSettings {
-                mean_rate: self.blink_rate,
-                rate_spread: self.blink_rate_spread,
-                evoked_min_amplitude: self.evoked_blink_min_amplitude,
-                evoked_full_amplitude: self.evoked_blink_full_amplitude,
-                evoked_probability: self.evoked_blink_probability,
-                lid_gain: self.lid_gain,
-            },
-            eye_motion: match self.eye_motion {
-                CG_EYE_MOTION_PAPER => EyeMotion::Paper,
-                CG_EYE_MOTION_MAIN_SEQUENCE => EyeMotion::MainSequence,
-                other => {
-                    return Err(Error::InvalidArgument(format!(
-                        "cg_crowd_config.eye_motion is {other}, not a CG_EYE_MOTION_*"
-                    )))
-                }
-            },
-            max_conversations: self.max_conversations,
-            conversation: ConversationSettings {
-                listener_share: self.listener_look_share,
-                listener_glance: self.listener_glance_time,
-                speaker_share: self.speaker_look_share,
-                speaker_glance: self.speaker_glance_time,
-                idle_share: self.idle_look_share,
-                idle_glance: self.idle_glance_time,
-                turn_start_aversion: self.turn_start_aversion_time,
-            },
-            street: crate::attention::street::StreetConfig::default(),
-            following: crate::attention::following::FollowConfig::MILGRAM,
-        };
-        config.validate()?;
-        Ok(config)
-    }
-
-    /// Names the field of this struct that a core error comes from: the core's names
-    /// (`min_hold`) and units (metres) are not the caller's (`min_interest_time`, their
-    /// units), and a NaN among grouped settings ("blink settings contains NaN") names none.
-    /// Finds the first real-valued field that alone, over the defaults in the caller's
-    /// units and axes, fails the same way; an error only a combination of fields makes (or
-    /// one of the integer fields, whose names are the same) keeps the core's words, after
-    /// the struct's name. Runs only on a failed create.
-    fn name_the_field(mut self, error: Error) -> Error {
-        // The same kind of error with other words.
-        let (detail, remake): (&String, fn(String) -> Error) = match &error {
-            Error::InvalidArgument(detail) => (detail, Error::InvalidArgument),
-            Error::NonFinite(detail) => (detail, Error::NonFinite),
-            _ => return error,
-        };
-        let world = World {
-            units_per_metre: self.units_per_metre,
-            ..World::default()
-        };
-        let mut defaults = cg_crowd_config::from_core(&CrowdConfig {
-            world,
-            ..CrowdConfig::default()
-        });
-        defaults.up_axis = self.up_axis;
-        defaults.forward_axis = self.forward_axis;
-        let count = self.real_fields().len();
-        for index in 0..count {
-            let (name, value) = {
-                let (name, value) = &self.real_fields()[index];
-                (*name, **value)
-            };
-            let mut alone = defaults;
-            *alone.real_fields()[index].1 = value;
-            let same = match (alone.convert(), &error) {
-                (Err(Error::InvalidArgument(again)), Error::InvalidArgument(_))
-                | (Err(Error::NonFinite(again)), Error::NonFinite(_)) => again == *detail,
-                _ => false,
-            };
-            if same {
-                if matches!(error, Error::NonFinite(_)) && detail.starts_with(name) {
-                    return error; // the core's words name it already
-                }
-                let units = if LENGTH_FIELDS.contains(&name) {
-                    format!(" (your units; units_per_metre is {})", self.units_per_metre)
-                } else {
-                    String::new()
-                };
-                return remake(format!(
-                    "cg_crowd_config.{name} is {value}{units}: {detail}"
-                ));
-            }
-        }
-        match error {
-            Error::InvalidArgument(_) => remake(format!("cg_crowd_config: {detail}")),
-            _ => error,
-        }
-    }
-
-    /// The real-valued fields but `units_per_metre`, by name.
-    fn real_fields(&mut self) -> [(&'static str, &mut f32); 39] {
-        macro_rules! named {
-            ($($field:ident),* $(,)?) => {
-                [$((stringify!($field), &mut self.$field)),*]
-            };
-        }
-        named!(
-            max_distance,
-            field_of_view,
-            speed_weight,
-            periphery_max_angle,
-            min_interest_time,
-            max_interest_time,
-            interest_cooldown,
-            threshold_warmup,
-            initial_threshold,
-            attention_fraction_min,
-            attention_fraction_max,
-            eyes_only_angle,
-            eyes_head_neck_angle,
-            head_speed,
-            max_activation_time,
-            restart_distance,
-            min_deactivation_time,
-            max_deactivation_time,
-            eye_fixation_time,
-            head_fixation_time,
-            random_pick_probability,
-            social_weight,
-            proximity_radius,
-            lod_distance,
-            blink_rate,
-            blink_rate_spread,
-            evoked_blink_min_amplitude,
-            evoked_blink_full_amplitude,
-            evoked_blink_probability,
-            lid_gain,
-            talking_gain,
-            eye_part_weight,
-            listener_look_share,
-            listener_glance_time,
-            speaker_look_share,
-            speaker_glance_time,
-            idle_look_share,
-            idle_glance_time,
-            turn_start_aversion_time,
-        )
-    }
-}
-
-/// The fields of `cg_crowd_config` in the caller's length units.
-const LENGTH_FIELDS: &[&str] = &[
-    "max_distance",
-    "restart_distance",
-    "proximity_radius",
-    "lod_distance",
-];
 
 /// Fills `config` with the defaults documented on each field. Set `config->struct_size =
 /// sizeof(cg_crowd_config)` first: only that many bytes are written (an older, shorter
@@ -825,6 +601,36 @@ pub unsafe extern "C" fn cg_crowd_config_init(config: *mut cg_crowd_config) -> s
         // SAFETY: the caller passes a cg_crowd_config it owns, of at least its struct_size
         // bytes (or NULL).
         unsafe { write_versioned(config, cg_crowd_config::defaults(), "config") }
+    })
+}
+
+/// Fills `config` with the street preset: the defaults of `cg_crowd_config_init`, but
+/// `max_distance` 17 m (walkers notice each other as far away as they were measured to
+/// fixate each other) and `follow_enabled` 1 (gaze following at Milgram's strength). Give
+/// the characters `CG_ATTENTION_MODEL_STREET` in their `cg_character_desc`
+/// (docs/street.md). Set `config->struct_size = sizeof(cg_crowd_config)` first: only that
+/// many bytes are written (an older, shorter layout gets its own fields: the street and
+/// following fields are past 216 bytes), and `struct_size` keeps its value. The caller
+/// owns `config`.
+///
+/// Like `cg_crowd_config_init`, this writes metres (`units_per_metre` 1): in other units,
+/// set `units_per_metre` and multiply the length fields by it (`max_distance`,
+/// `restart_distance`, `proximity_radius`, `street_civil_distance`,
+/// `street_path_look_distance`, `street_civil_look_distance`, `follow_distance`): in
+/// centimetres `max_distance` is then 1700.
+///
+/// Errors (nothing written): `CG_STATUS_NULL_ARGUMENT` if `config` is NULL,
+/// `CG_STATUS_BAD_STRUCT_SIZE` if `struct_size` is not a size of this struct the library
+/// knows (0 or an unset field included). Thread-safe.
+#[no_mangle]
+pub unsafe extern "C" fn cg_crowd_config_init_street(
+    config: *mut cg_crowd_config,
+) -> super::cg_status {
+    ffi_boundary!({
+        let street = cg_crowd_config::from_core(&CrowdConfig::street());
+        // SAFETY: the caller passes a cg_crowd_config it owns, of at least its struct_size
+        // bytes (or NULL).
+        unsafe { write_versioned(config, street, "config") }
     })
 }
 
@@ -944,46 +750,4 @@ pub unsafe extern "C" fn cg_crowd_get_config(
         // (or NULL).
         unsafe { write_versioned(out_config, config, "out_config") }
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn create_error(change: impl FnOnce(&mut cg_crowd_config)) -> String {
-        let mut config = cg_crowd_config::defaults();
-        change(&mut config);
-        match config.to_core() {
-            Err(Error::InvalidArgument(message)) => message,
-            other => panic!("expected an invalid argument, got {other:?}"),
-        }
-    }
-
-    #[test]
-    fn config_errors_name_the_callers_field_in_the_callers_units() {
-        let message = create_error(|c| c.min_interest_time = -1.0);
-        assert!(
-            message.starts_with("cg_crowd_config.min_interest_time is -1: "),
-            "{message}"
-        );
-        let message = create_error(|c| {
-            c.units_per_metre = 100.0;
-            c.max_distance = 0.5;
-        });
-        assert!(
-            message.starts_with(
-                "cg_crowd_config.max_distance is 0.5 (your units; units_per_metre is 100): "
-            ),
-            "{message}"
-        );
-        let message = create_error(|c| c.units_per_metre = 1e30);
-        assert!(message.starts_with("units_per_metre is "), "{message}");
-        // Only a combination is wrong: the core's words, after the struct's name.
-        let message = create_error(|c| {
-            c.attention_fraction_min = 0.9;
-            c.attention_fraction_max = 0.5;
-        });
-        assert!(message.starts_with("cg_crowd_config: "), "{message}");
-        assert!(message.contains("attention_fraction_max"), "{message}");
-    }
 }

@@ -25,7 +25,14 @@ fn crowd_config_floats() -> Fields {
         lod_distance, blink_rate, blink_rate_spread, evoked_blink_min_amplitude,
         evoked_blink_full_amplitude, evoked_blink_probability, lid_gain, talking_gain,
         eye_part_weight, listener_look_share, listener_glance_time, speaker_look_share,
-        speaker_glance_time, idle_look_share, idle_glance_time, turn_start_aversion_time)
+        speaker_glance_time, idle_look_share, idle_glance_time, turn_start_aversion_time,
+        street_view_half_angle, street_first_fixation_probability, street_latency_min,
+        street_latency_max, street_fixation_median, street_fixation_log_spread,
+        street_refixation_probability, street_refixation_gap_min, street_refixation_gap_max,
+        street_civil_distance, street_civil_look_probability, street_path_look_distance,
+        street_civil_look_distance, follow_one_looker_probability, follow_max_probability,
+        follow_distance, follow_view_half_angle, follow_oncoming_weight,
+        follow_glance_cue_weight, follow_glance_min, follow_glance_max, follow_forget_time)
 }
 
 /// Values of `cg_crowd_config` outside their documented ranges.
@@ -147,6 +154,121 @@ fn crowd_config_out_of_range() -> Vec<Corruption<cg_crowd_config>> {
         ("turn_start_aversion_time 61", |c| {
             c.turn_start_aversion_time = 61.0
         }),
+        ("street_view_half_angle -0.1", |c| {
+            c.street_view_half_angle = -0.1
+        }),
+        ("street_view_half_angle 4 (> π)", |c| {
+            c.street_view_half_angle = 4.0
+        }),
+        ("street_first_fixation_probability -0.1", |c| {
+            c.street_first_fixation_probability = -0.1
+        }),
+        ("street_first_fixation_probability 1.5", |c| {
+            c.street_first_fixation_probability = 1.5
+        }),
+        ("street_latency_min -1", |c| c.street_latency_min = -1.0),
+        ("street_latency_min > street_latency_max", |c| {
+            c.street_latency_min = c.street_latency_max + 0.1
+        }),
+        ("street_latency_max 61", |c| {
+            c.street_latency_min = 0.0;
+            c.street_latency_max = 61.0
+        }),
+        ("street_fixation_median 0", |c| {
+            c.street_fixation_median = 0.0
+        }),
+        ("street_fixation_median 61", |c| {
+            c.street_fixation_median = 61.0
+        }),
+        ("street_fixation_log_spread -0.1", |c| {
+            c.street_fixation_log_spread = -0.1
+        }),
+        ("street_fixation_log_spread 3", |c| {
+            c.street_fixation_log_spread = 3.0
+        }),
+        ("street_refixation_probability -0.1", |c| {
+            c.street_refixation_probability = -0.1
+        }),
+        ("street_refixation_probability 1.5", |c| {
+            c.street_refixation_probability = 1.5
+        }),
+        ("street_refixation_gap_min -1", |c| {
+            c.street_refixation_gap_min = -1.0
+        }),
+        (
+            "street_refixation_gap_min > street_refixation_gap_max",
+            |c| c.street_refixation_gap_min = c.street_refixation_gap_max + 1.0,
+        ),
+        ("street_refixation_gap_max 601", |c| {
+            c.street_refixation_gap_max = 601.0
+        }),
+        ("street_civil_distance -1", |c| {
+            c.street_civil_distance = -1.0
+        }),
+        ("street_civil_distance 1001 m", |c| {
+            c.street_civil_distance = 1001.0
+        }),
+        ("street_civil_look_probability -0.1", |c| {
+            c.street_civil_look_probability = -0.1
+        }),
+        ("street_civil_look_probability 1.5", |c| {
+            c.street_civil_look_probability = 1.5
+        }),
+        ("street_path_look_distance -1", |c| {
+            c.street_path_look_distance = -1.0
+        }),
+        ("street_path_look_distance 1001 m", |c| {
+            c.street_path_look_distance = 1001.0
+        }),
+        ("street_civil_look_distance -1", |c| {
+            c.street_civil_look_distance = -1.0
+        }),
+        ("street_civil_look_distance 1001 m", |c| {
+            c.street_civil_look_distance = 1001.0
+        }),
+        ("follow_enabled 2", |c| c.follow_enabled = 2),
+        ("follow_enabled UINT32_MAX", |c| c.follow_enabled = u32::MAX),
+        ("follow_one_looker_probability -0.1", |c| {
+            c.follow_one_looker_probability = -0.1
+        }),
+        (
+            "follow_one_looker_probability > follow_max_probability",
+            |c| c.follow_one_looker_probability = c.follow_max_probability + 0.05,
+        ),
+        ("follow_max_probability 1.5", |c| {
+            c.follow_max_probability = 1.5
+        }),
+        ("follow_distance -1", |c| c.follow_distance = -1.0),
+        ("follow_distance 1001 m", |c| c.follow_distance = 1001.0),
+        ("follow_distance > max_distance, following on", |c| {
+            c.follow_enabled = 1;
+            c.follow_distance = c.max_distance + 1.0
+        }),
+        ("follow_view_half_angle -0.1", |c| {
+            c.follow_view_half_angle = -0.1
+        }),
+        ("follow_view_half_angle 4 (> π)", |c| {
+            c.follow_view_half_angle = 4.0
+        }),
+        ("follow_oncoming_weight -0.1", |c| {
+            c.follow_oncoming_weight = -0.1
+        }),
+        ("follow_oncoming_weight 1.5", |c| {
+            c.follow_oncoming_weight = 1.5
+        }),
+        ("follow_glance_cue_weight -0.1", |c| {
+            c.follow_glance_cue_weight = -0.1
+        }),
+        ("follow_glance_cue_weight 1.5", |c| {
+            c.follow_glance_cue_weight = 1.5
+        }),
+        ("follow_glance_min -1", |c| c.follow_glance_min = -1.0),
+        ("follow_glance_min > follow_glance_max", |c| {
+            c.follow_glance_min = c.follow_glance_max + 1.0
+        }),
+        ("follow_glance_max 601", |c| c.follow_glance_max = 601.0),
+        ("follow_forget_time -1", |c| c.follow_forget_time = -1.0),
+        ("follow_forget_time 3601", |c| c.follow_forget_time = 3601.0),
     ])
 }
 
@@ -160,10 +282,10 @@ pub(crate) fn rows_crowd(t: &mut Table) {
     });
     // Callers built against older headers pass the sizes of the older layouts (144 bytes,
     // before `reorder_period`; 152, before the blink fields; 176, before the conversation
-    // fields), which are accepted.
+    // fields; 216, before the street and following fields), which are accepted.
     let mut corruptions = struct_sizes_from::<cg_crowd_config>(OLDER_CROWD_CONFIG);
     // Between two layouts' sizes: no layout's.
-    for size in [148u32, 156, 180, 212] {
+    for size in [148u32, 156, 180, 212, 220, 264] {
         corruptions.push(change(
             format!("struct_size {size} (between two layouts)"),
             BAD_SIZE,

@@ -98,6 +98,8 @@ pub(crate) struct Outputs {
     pub(crate) dual_quat: cg_dualquat,
     pub(crate) quat: cg_quat,
     pub(crate) vec3: cg_vec3,
+    /// `*out_following` and `*out_glances` of `cg_crowd_read_following`.
+    pub(crate) following: [u32; 2],
 }
 
 impl Outputs {

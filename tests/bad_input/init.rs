@@ -36,6 +36,12 @@ pub(crate) fn rows_init(t: &mut Table) {
         |_| unsafe { cg_crowd_config_init(null_mut()) },
     );
     t.case(
+        "cg_crowd_config_init_street",
+        "config NULL",
+        NULL_ARG,
+        |_| unsafe { cg_crowd_config_init_street(null_mut()) },
+    );
+    t.case(
         "cg_view_blender_config_init",
         "config NULL",
         NULL_ARG,
@@ -90,6 +96,12 @@ pub(crate) fn rows_init(t: &mut Table) {
         "cg_crowd_config_init",
         OLDER_CROWD_CONFIG,
         |_, out| unsafe { cg_crowd_config_init(out) },
+    );
+    bad_output_sizes(
+        t,
+        "cg_crowd_config_init_street",
+        OLDER_CROWD_CONFIG,
+        |_, out| unsafe { cg_crowd_config_init_street(out) },
     );
     let f = "cg_view_blender_config_init";
     bad_output_sizes(t, f, size_of::<cg_view_blender_config>(), |_, out| unsafe {

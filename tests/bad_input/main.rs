@@ -41,6 +41,7 @@ mod conversations;
 mod crowd;
 mod dual_quaternions;
 mod entities;
+mod following;
 mod frames;
 mod gaze;
 mod infallible;

@@ -8,6 +8,7 @@ use crowdgaze::ffi::attention::*;
 use crowdgaze::ffi::chain::cg_chain_desc;
 use crowdgaze::ffi::conversations::cg_crowd_get_conversation;
 use crowdgaze::ffi::crowd::*;
+use crowdgaze::ffi::following::cg_crowd_read_following;
 use crowdgaze::ffi::gaze::*;
 use crowdgaze::ffi::rig::*;
 use crowdgaze::ffi::status::cg_status;
@@ -126,6 +127,14 @@ pub(crate) fn crowd_snapshot(crowd: *const cg_crowd, ids: &[u32]) -> Snapshot {
             cg_crowd_get_conversation(crowd, id, &mut group)
         });
         b.extend(group.to_le_bytes());
+        let (mut point, mut following, mut glances) = (vec3(9.0, 9.0, 9.0), 7u32, 7u32);
+        let b = s.section(format!("cg_crowd_read_following({id})"));
+        status(b, unsafe {
+            cg_crowd_read_following(crowd, id, &mut point, &mut following, &mut glances)
+        });
+        b.extend(bytes_of(&[point]));
+        b.extend(following.to_le_bytes());
+        b.extend(glances.to_le_bytes());
         let b = s.section(format!("cg_crowd_score({id}, *)"));
         for &entity in ids {
             let mut score = [zeroed::<cg_score_breakdown>()];

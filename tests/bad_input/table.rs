@@ -9,6 +9,7 @@ use crate::{
     dual_quaternions::rows_dual_quaternions,
     entities::rows_entities,
     fixture::{Harness, Setup, UNKNOWN_ID},
+    following::rows_following,
     frames::{rows_frames, rows_pushes, rows_steps},
     gaze::rows_gaze,
     infallible::rows_infallible,
@@ -311,6 +312,7 @@ pub(crate) fn table() -> Table {
     rows_crowd(&mut t);
     rows_entities(&mut t);
     rows_conversations(&mut t);
+    rows_following(&mut t);
     rows_frames(&mut t);
     rows_attention(&mut t);
     rows_steps(&mut t);

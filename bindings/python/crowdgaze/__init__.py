@@ -56,6 +56,7 @@ from ._native import (
     CG_ATTENTION_MODEL_BASELINE,
     CG_ATTENTION_MODEL_CROWD,
     CG_ATTENTION_MODEL_SALIENCY,
+    CG_ATTENTION_MODEL_STREET,
     CG_AXIS_NEGATIVE_X,
     CG_AXIS_NEGATIVE_Y,
     CG_AXIS_NEGATIVE_Z,
@@ -166,8 +167,10 @@ from .crowd import (
     character_desc,
     crowd_config,
     entity_states,
+    Following,
     gaze_target,
     object_desc,
+    street_config,
 )
 from .rig import Rig
 
@@ -237,6 +240,7 @@ __all__ = [
     "EyeMotion",
     "FieldError",
     "find_library",
+    "Following",
     "FUNCTIONS",
     "GAZE_INFO_DTYPE",
     "GAZE_PRIORITY_OVERRIDE",
@@ -267,6 +271,7 @@ __all__ = [
     "STATE_HEADING_FROM_MOTION",
     "STATE_TALKING",
     "StateFlag",
+    "street_config",
     "Status",
     "status_string",
     "STRUCTS",
@@ -282,6 +287,7 @@ __all__ = [
     "CG_ATTENTION_MODEL_BASELINE",
     "CG_ATTENTION_MODEL_CROWD",
     "CG_ATTENTION_MODEL_SALIENCY",
+    "CG_ATTENTION_MODEL_STREET",
     "CG_AXIS_NEGATIVE_X",
     "CG_AXIS_NEGATIVE_Y",
     "CG_AXIS_NEGATIVE_Z",

@@ -130,6 +130,7 @@ class AttentionModel(enum.IntEnum):
     CROWD = 0
     SALIENCY = 1
     BASELINE = 2
+    STREET = 3
 
 
 class TargetPart(enum.IntEnum):
@@ -241,6 +242,7 @@ CG_VIEW_DISTANCE_CHORDAL = ViewDistance.CHORDAL
 CG_ATTENTION_MODEL_CROWD = AttentionModel.CROWD
 CG_ATTENTION_MODEL_SALIENCY = AttentionModel.SALIENCY
 CG_ATTENTION_MODEL_BASELINE = AttentionModel.BASELINE
+CG_ATTENTION_MODEL_STREET = AttentionModel.STREET
 CG_TARGET_PART_WHOLE = TargetPart.WHOLE
 CG_TARGET_PART_HEAD = TargetPart.HEAD
 CG_TARGET_PART_LEFT_EYE = TargetPart.LEFT_EYE
@@ -569,6 +571,29 @@ class CrowdConfig(CheckedStructure):
         ("idle_look_share", c_float),
         ("idle_glance_time", c_float),
         ("turn_start_aversion_time", c_float),
+        ("street_view_half_angle", c_float),
+        ("street_first_fixation_probability", c_float),
+        ("street_latency_min", c_float),
+        ("street_latency_max", c_float),
+        ("street_fixation_median", c_float),
+        ("street_fixation_log_spread", c_float),
+        ("street_refixation_probability", c_float),
+        ("street_refixation_gap_min", c_float),
+        ("street_refixation_gap_max", c_float),
+        ("street_civil_distance", c_float),
+        ("street_civil_look_probability", c_float),
+        ("street_path_look_distance", c_float),
+        ("street_civil_look_distance", c_float),
+        ("follow_enabled", c_uint32),
+        ("follow_one_looker_probability", c_float),
+        ("follow_max_probability", c_float),
+        ("follow_distance", c_float),
+        ("follow_view_half_angle", c_float),
+        ("follow_oncoming_weight", c_float),
+        ("follow_glance_cue_weight", c_float),
+        ("follow_glance_min", c_float),
+        ("follow_glance_max", c_float),
+        ("follow_forget_time", c_float),
     ]
 
 
@@ -751,6 +776,7 @@ FUNCTIONS = {
     ),
     "cg_chain_desc_init_human": (_status, [_P(ChainDesc), c_uint32, c_uint32]),
     "cg_crowd_config_init": (_status, [_P(CrowdConfig)]),
+    "cg_crowd_config_init_street": (_status, [_P(CrowdConfig)]),
     "cg_crowd_create": (_status, [_P(CrowdConfig), _P(_P(CrowdHandle))]),
     "cg_crowd_destroy": (None, [_P(CrowdHandle)]),
     "cg_crowd_get_config": (_status, [_P(CrowdHandle), _P(CrowdConfig)]),
@@ -767,6 +793,10 @@ FUNCTIONS = {
     ),
     "cg_crowd_remove_conversation": (_status, [_P(CrowdHandle), c_uint32]),
     "cg_crowd_get_conversation": (_status, [_P(CrowdHandle), c_uint32, _P(c_uint32)]),
+    "cg_crowd_read_following": (
+        _status,
+        [_P(CrowdHandle), c_uint32, _P(Vec3), _P(c_uint32), _P(c_uint32)],
+    ),
     "cg_crowd_set_base_pose": (_status, [_P(CrowdHandle), c_uint32, _P(Quat), c_size_t]),
     "cg_crowd_set_base_poses": (
         _status,

@@ -9,7 +9,7 @@ C calls holding the crowd's guard (see ``crowdgaze._owner``), and raises
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, NamedTuple
 from ctypes import POINTER, byref, c_size_t, c_uint32, sizeof
 
 import numpy as np
@@ -41,6 +41,30 @@ def crowd_config(**fields: Any) -> n.CrowdConfig:
     ``EyeMotion``. Values out of range are refused by ``Crowd``, naming the field."""
     return _new(n.CrowdConfig, lib.cg_crowd_config_init, "cg_crowd_config_init", fields,
                 "crowd_config")
+
+
+def street_config(**fields: Any) -> n.CrowdConfig:
+    """A ``CrowdConfig`` with the street preset (``cg_crowd_config_init_street``): the
+    defaults, but ``max_distance`` 17 m (walkers notice each other as far away as they were
+    measured to) and gaze following on (``follow_enabled`` 1, Milgram's strength); then
+    ``fields`` set. Give the characters ``AttentionModel.STREET``
+    (``crowd.add_character(position, attention_model=cg.AttentionModel.STREET)``). The
+    street model's settings are the ``street_*`` fields, gaze following's the ``follow_*``
+    ones (see the header). Like ``crowd_config`` it is in metres: with another
+    ``units_per_metre``, give the lengths (``max_distance``, ``follow_distance``,
+    ``street_civil_distance``, ``street_path_look_distance``, ``street_civil_look_distance``
+    ...) in those units too."""
+    return _new(n.CrowdConfig, lib.cg_crowd_config_init_street, "cg_crowd_config_init_street",
+                fields, "street_config")
+
+
+class Following(NamedTuple):
+    """What ``Crowd.read_following`` says of a character: the point (world, the crowd's
+    units and axes) it glances at now because others look there, or None, and how many
+    such glances it has started."""
+
+    point: tuple[float, float, float] | None
+    glances: int
 
 
 def character_desc(**fields: Any) -> n.CharacterDesc:
@@ -640,6 +664,28 @@ class Crowd(HandleOwner):
                 "cg_crowd_get_conversation",
             )
         return None if out.value == n.CG_NO_TARGET else out.value
+
+    # --- gaze following ----------------------------------------------------------------------
+
+    def read_following(self, character: int) -> Following:
+        """Whether ``character`` follows others' gaze now (``follow_enabled`` in the config):
+        the point it glances at because people in its view stare there (characters whose
+        overriding gaze target is a point or an object), or None, and its glances so far.
+        A character with an overriding target of its own follows no one."""
+        where = "Crowd.read_following"
+        character = c.integer(character, where, "character")
+        point = n.Vec3()
+        following = c_uint32(0)
+        glances = c_uint32(0)
+        with self._call(where) as handle:
+            check(
+                lib.cg_crowd_read_following(
+                    handle, character, byref(point), byref(following), byref(glances)
+                ),
+                "cg_crowd_read_following",
+            )
+        seen = (point.x, point.y, point.z) if following.value else None
+        return Following(seen, glances.value)
 
     # --- tools and offline planning ---------------------------------------------------------
 

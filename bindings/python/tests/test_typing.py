@@ -41,6 +41,14 @@ USER_SCRIPT = textwrap.dedent(
             status: cg.Status | int = error.status
             print(status, error.function)
 
+    street: cg.CrowdConfig = cg.street_config(follow_distance=8.0)
+    with cg.Crowd(street, max_characters=2) as walkers:
+        walker = walkers.add_character((0.0, 0.0, 0.0), attention_model=cg.AttentionModel.STREET)
+        walkers.step(1 / 30)
+        seen: cg.Following = walkers.read_following(walker)
+        followed: tuple[float, float, float] | None = seen.point
+        print(followed, seen.glances + 1)
+
     names = ["Hips", "Spine", "Neck", "Skull", "LeftUpLeg", "RightUpLeg"]
     offsets = [(0.0, 1.0, 0.0), (0.0, 0.2, 0.0), (0.0, 0.3, 0.0), (0.0, 0.1, 0.0),
                (0.1, 0.0, 0.0), (-0.1, 0.0, 0.0)]

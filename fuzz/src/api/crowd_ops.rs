@@ -11,14 +11,15 @@ use crowdgaze::ffi::conversations::{
     cg_crowd_get_conversation, cg_crowd_remove_conversation, cg_crowd_set_conversation,
 };
 use crowdgaze::ffi::crowd::{
-    cg_crowd, cg_crowd_config, cg_crowd_config_init, cg_crowd_create, cg_crowd_destroy,
-    cg_crowd_get_config, CG_EYE_MOTION_MAIN_SEQUENCE,
+    cg_crowd, cg_crowd_config, cg_crowd_config_init, cg_crowd_config_init_street, cg_crowd_create,
+    cg_crowd_destroy, cg_crowd_get_config, CG_EYE_MOTION_MAIN_SEQUENCE,
 };
 use crowdgaze::ffi::eyelids::{cg_crowd_read_eyelids, cg_eyelids};
+use crowdgaze::ffi::following::cg_crowd_read_following;
 use crowdgaze::ffi::frame::*;
 use crowdgaze::ffi::gaze::*;
 use crowdgaze::ffi::status::cg_status;
-use crowdgaze::ffi::types::cg_quat;
+use crowdgaze::ffi::types::{cg_quat, cg_vec3};
 use std::mem::{size_of, MaybeUninit};
 use std::ptr::null_mut;
 
@@ -188,6 +189,7 @@ pub fn create(state: &mut State, input: &mut Input) {
         }
         _ => {}
     }
+    street_settings(state, &mut config, input);
     let pointer: *const cg_crowd_config = if pointer.is_null() { pointer } else { &config };
     let status = state.change("cg_crowd_create", unsafe { cg_crowd_create(pointer, out) });
     if status == cg_status::Ok {
@@ -821,6 +823,107 @@ pub fn remove_conversation(state: &mut State, input: &mut Input) {
     state.change("cg_crowd_remove_conversation", unsafe {
         cg_crowd_remove_conversation(crowd, group)
     });
+}
+
+/// The street model's and gaze following's settings of a new crowd's config (read after
+/// the conversations', so that earlier inputs decode as they did): the street preset in the
+/// config's units, any values (and any `follow_enabled`), or following as strong and as
+/// short-lived as allowed, every glance a cue as strong as a stare.
+fn street_settings(state: &State, config: &mut cg_crowd_config, input: &mut Input) {
+    match input.below(8) {
+        7 => {
+            config.follow_enabled = input.below(3);
+            let fields: [&mut f32; 22] = [
+                &mut config.street_view_half_angle,
+                &mut config.street_first_fixation_probability,
+                &mut config.street_latency_min,
+                &mut config.street_latency_max,
+                &mut config.street_fixation_median,
+                &mut config.street_fixation_log_spread,
+                &mut config.street_refixation_probability,
+                &mut config.street_refixation_gap_min,
+                &mut config.street_refixation_gap_max,
+                &mut config.street_civil_distance,
+                &mut config.street_civil_look_probability,
+                &mut config.street_path_look_distance,
+                &mut config.street_civil_look_distance,
+                &mut config.follow_one_looker_probability,
+                &mut config.follow_max_probability,
+                &mut config.follow_distance,
+                &mut config.follow_view_half_angle,
+                &mut config.follow_oncoming_weight,
+                &mut config.follow_glance_cue_weight,
+                &mut config.follow_glance_min,
+                &mut config.follow_glance_max,
+                &mut config.follow_forget_time,
+            ];
+            for field in fields {
+                *field = input.float();
+            }
+        }
+        6 => {
+            let street = init(
+                state,
+                "cg_crowd_config_init_street",
+                cg_crowd_config_init_street,
+            );
+            let units = config.units_per_metre;
+            config.follow_enabled = street.follow_enabled;
+            config.max_distance = street.max_distance * units;
+            config.follow_distance = street.follow_distance * units;
+            config.street_civil_distance = street.street_civil_distance * units;
+            config.street_path_look_distance = street.street_path_look_distance * units;
+            config.street_civil_look_distance = street.street_civil_look_distance * units;
+        }
+        5 => {
+            config.follow_enabled = 1;
+            config.follow_one_looker_probability = 1.0;
+            config.follow_max_probability = 1.0;
+            config.follow_view_half_angle = std::f32::consts::PI;
+            config.follow_oncoming_weight = 1.0;
+            config.follow_glance_cue_weight = 1.0;
+            config.follow_glance_min = 0.0;
+            config.follow_glance_max = 1e-3;
+            config.follow_forget_time = 0.0;
+            config.street_first_fixation_probability = 1.0;
+            config.street_refixation_probability = 1.0;
+            config.street_latency_min = 0.0;
+            config.street_latency_max = 0.0;
+        }
+        _ => {}
+    }
+}
+
+/// `cg_crowd_read_following`: `*out_following` must be 0 or 1, the point the origin when
+/// not following, and a glance count no larger than the steps taken allow.
+pub fn read_following(state: &mut State, input: &mut Input) {
+    let id = state.id(input);
+    let mut point = sentinel::<cg_vec3>(1);
+    let mut flags = sentinel::<u32>(2);
+    let crowd = state.crowd(input);
+    let point_out = or_null(point.as_mut_ptr(), input);
+    let following_out = or_null(flags.as_mut_ptr(), input);
+    let glances_out = or_null(flags[1..].as_mut_ptr(), input);
+    let function = "cg_crowd_read_following";
+    let status = state.call(function, unsafe {
+        cg_crowd_read_following(crowd, id, point_out, following_out, glances_out)
+    });
+    state.outputs(function, status, &point, 1);
+    state.outputs(function, status, &flags, 2);
+    if status == cg_status::Ok {
+        assert!(
+            flags[0] <= 1,
+            "{function}({id}) gave following {}",
+            flags[0]
+        );
+        if flags[0] == 0 {
+            assert_eq!(
+                (point[0].x, point[0].y, point[0].z),
+                (0.0, 0.0, 0.0),
+                "{function}({id}): a point while not following"
+            );
+        }
+    }
 }
 
 /// `cg_crowd_get_conversation`, whose group must be `CG_NO_TARGET` or one the crowd

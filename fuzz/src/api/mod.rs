@@ -32,6 +32,7 @@ mod values;
 use crowdgaze::ffi::attention::{cg_crowd_read_gaze, cg_gaze_info};
 use crowdgaze::ffi::crowd::{cg_crowd, cg_crowd_config, cg_crowd_destroy};
 use crowdgaze::ffi::eyelids::{cg_crowd_read_eyelids, cg_eyelids};
+use crowdgaze::ffi::following::cg_crowd_read_following;
 use crowdgaze::ffi::gaze::{
     cg_crowd_joint_total, cg_crowd_read_eyes, cg_crowd_read_joint_deltas, cg_crowd_read_joints,
     cg_eye_info,
@@ -261,6 +262,25 @@ impl State {
             assert_eq!(self.call("cg_crowd_read_eyelids", status), cg_status::Ok);
             self.outputs("cg_crowd_read_eyelids", status, &eyelids, written);
             seen.extend_from_slice(bytes(&eyelids));
+            for info in &gaze[..written] {
+                let mut point = sentinel::<cg_vec3>(1);
+                let mut flags = sentinel::<u32>(2);
+                let status = unsafe {
+                    let (following, glances) = (flags.as_mut_ptr(), flags.as_mut_ptr().add(1));
+                    cg_crowd_read_following(
+                        self.crowd,
+                        info.character,
+                        point.as_mut_ptr(),
+                        following,
+                        glances,
+                    )
+                };
+                assert_eq!(self.call("cg_crowd_read_following", status), cg_status::Ok);
+                self.outputs("cg_crowd_read_following", status, &point, 1);
+                assert!(flags[0] <= 1, "following is {}", flags[0]);
+                seen.extend_from_slice(bytes(&point));
+                seen.extend_from_slice(bytes(&flags));
+            }
         }
         seen
     }

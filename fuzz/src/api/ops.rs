@@ -67,6 +67,7 @@ pub const OPS: &[Op] = &[
     ("rig_report", rig_ops::report),
     ("rig_base_pose", rig_ops::base_pose),
     ("rig_write_joints", rig_ops::write_joints),
+    ("read_following", crowd_ops::read_following),
 ];
 
 /// The functions that return no status: the last error message into a buffer of any
