@@ -107,8 +107,9 @@ static void old_crowd_config(size_t size) {
         CHECK(current.speaker_look_share == 0.41f && current.speaker_glance_time == 1.8f);
         CHECK(current.idle_look_share == 0.5f && current.idle_glance_time == 2.5f);
         CHECK(current.turn_start_aversion_time == 1.0f);
-        CHECK(current.street_first_fixation_probability == 0.86f);
-        CHECK(current.street_civil_distance == 3.0f && current.street_refixation_gap_max == 3.0f);
+        CHECK(current.street_first_fixation_probability == 0.95f);
+        CHECK(current.street_civil_distance == 3.0f && current.street_refixation_gap_max == 2.0f);
+        CHECK(current.street_miss_after == 1.0f && current.follow_reaction_max == 1.0f);
         CHECK(current.follow_enabled == 0 && current.follow_distance == 10.0f);
         CHECK(current.follow_one_looker_probability == 0.42f);
         CHECK(current.follow_forget_time == 10.0f);
@@ -200,7 +201,7 @@ static void current_sizes(void) {
 int main(void) {
     CHECK(CROWD_CONFIG_SIZE_BEFORE_REORDER == 144 && CROWD_CONFIG_SIZE_BEFORE_BLINKS == 152);
     CHECK(CROWD_CONFIG_SIZE_BEFORE_CONVERSATIONS == 176 && CROWD_CONFIG_SIZE_BEFORE_STREET == 216);
-    CHECK(sizeof(cg_crowd_config) == 312);
+    CHECK(sizeof(cg_crowd_config) == 320);
     old_crowd_config(CROWD_CONFIG_SIZE_BEFORE_REORDER);
     old_crowd_config(CROWD_CONFIG_SIZE_BEFORE_BLINKS);
     old_crowd_config(CROWD_CONFIG_SIZE_BEFORE_CONVERSATIONS);

@@ -405,6 +405,16 @@ fn osg_street_look_up_shows_the_group_staring_up() {
     eprintln!("looker head pitches per second: {pitches:?}");
     assert!(pitches[..4].iter().all(|&p| p < 10.0), "{pitches:?}");
     assert!(pitches[8..].iter().all(|&p| p > 15.0), "{pitches:?}");
+    // Gaze following is on in this scene: once they stare, passers-by glance at the point.
+    let at_point: Vec<u32> = log
+        .lines()
+        .filter_map(|l| l.strip_prefix("followers "))
+        .map(|l| l.split_whitespace().next().unwrap().parse().unwrap())
+        .collect();
+    eprintln!("characters glancing at the group's point, per second: {at_point:?}");
+    assert_eq!(at_point.len(), frames.len(), "{log}");
+    assert!(at_point[..2].iter().all(|&n| n == 0), "{at_point:?}");
+    assert!(at_point[2..].iter().any(|&n| n > 0), "{at_point:?}");
     // The point's mark is on every image, and so are the people (not blank).
     for frame in &frames {
         let image = read_png(&frame.path);

@@ -528,6 +528,8 @@ int main(int argc, char** argv) {
         const char* scene = std::getenv("OSG_STREET_SCENE");
         const bool look_up = scene != nullptr && std::string(scene) == "look-up";
         cg_crowd_config config = crowdgaze::crowd_config();
+        // The look-up scene: passers-by may follow the group's gaze (docs/street.md).
+        config.follow_enabled = look_up ? 1u : 0u;
         config.seed = 2009;
         config.max_characters = 32;
         config.max_objects = 32;
@@ -776,6 +778,17 @@ int main(int argc, char** argv) {
                 const double pitch =
                     std::atan2(forward.z(), std::hypot(forward.x(), forward.y())) * 180.0 / kPi;
                 std::printf("look %zu pitch %.2f staring %d\n", i, pitch, frame >= kLookFrame ? 1 : 0);
+            }
+            if (look_up) {  // who glances where the group looks, now and so far
+                std::uint32_t now = 0, glanced = 0;
+                for (const Character& c : street.characters) {
+                    const crowdgaze::Crowd::Following f = street.crowd.following(c.id);
+                    const float dx = f.point.x - kLookPoint.x, dy = f.point.y - kLookPoint.y,
+                                dz = f.point.z - kLookPoint.z;
+                    now += f.following && dx * dx + dy * dy + dz * dz < 0.01f ? 1u : 0u;
+                    glanced += f.glances > 0 ? 1u : 0u;
+                }
+                std::printf("followers %u at the point now, %u glanced so far\n", now, glanced);
             }
             // Where the red nose is on the image (x from the left, y from the top): the head
             // bone's transform and its ancestors', then the character's place.

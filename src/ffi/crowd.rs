@@ -488,8 +488,10 @@ pub struct cg_crowd_config {
     /// Default 60°. Walkers are noticed up to `max_distance` (`cg_crowd_config_init_street`
     /// sets 17 m, as measured).
     pub street_view_half_angle: f32,
-    /// Street model: probability that a walker coming into view is fixated, in [0, 1].
-    /// Default 0.86 (Fotios et al. 2015).
+    /// Street model: probability that a first fixation is planned for a walker coming into
+    /// view, in [0, 1]. Default 0.95 (with the fixations missed while the eyes are busy,
+    /// `street_miss_after`, walkers are fixated at least once 73–86 % of the time, as
+    /// measured: docs/street.md).
     pub street_first_fixation_probability: f32,
     /// Street model: shortest latency from coming into view to the first fixation,
     /// seconds, at most `street_latency_max`. Default 0.55.
@@ -506,9 +508,9 @@ pub struct cg_crowd_config {
     /// Default 0.3.
     pub street_refixation_probability: f32,
     /// Street model: shortest wait before that second fixation, seconds, at most
-    /// `street_refixation_gap_max`. Default 1.
+    /// `street_refixation_gap_max`. Default 0.5.
     pub street_refixation_gap_min: f32,
-    /// Street model: longest such wait, seconds in [0, 600]. Default 3.
+    /// Street model: longest such wait, seconds in [0, 600]. Default 2.
     pub street_refixation_gap_max: f32,
     /// Street model: strangers closer than this (your units, at most 1 000 m) are looked at
     /// less, and the eyes go down the path while one is there (civil inattention).
@@ -546,7 +548,8 @@ pub struct cg_crowd_config {
     /// walking ahead the same way weighs 1), in [0, 1]. Default 0.5.
     pub follow_oncoming_weight: f32,
     /// Gaze following: weight of a character that only glances because it follows (a
-    /// stare weighs 1), in [0, 1]. Default 0.25.
+    /// stare weighs 1), in [0, 1]. Default 0.1 (a glance is a weak cue: following does
+    /// not cascade).
     pub follow_glance_cue_weight: f32,
     /// Gaze following: shortest glance of a follower, seconds, at most
     /// `follow_glance_max`. Default 1.
@@ -556,6 +559,14 @@ pub struct cg_crowd_config {
     /// Gaze following: seconds in [0, 3600] with no looker in view after which an
     /// encounter is over (the next lookers are decided afresh). Default 10.
     pub follow_forget_time: f32,
+    /// Street model: a fixation due while the eyes are on someone else that has waited
+    /// this long, seconds in [0, 60], is missed (attention is limited). Default 1.
+    pub street_miss_after: f32,
+    /// Gaze following: shortest time from deciding to follow to the glance, seconds, at
+    /// most `follow_reaction_max`. Default 0.3.
+    pub follow_reaction_min: f32,
+    /// Gaze following: longest such time, seconds in [0, 60]. Default 1.
+    pub follow_reaction_max: f32,
 }
 
 /// `cg_crowd_config.eye_motion`: the paper's timing (Grillon & Thalmann 2009): the eyes

@@ -100,6 +100,9 @@ impl cg_crowd_config {
             follow_glance_min: core.following.glance_min,
             follow_glance_max: core.following.glance_max,
             follow_forget_time: core.following.forget_time,
+            street_miss_after: core.street.miss_after,
+            follow_reaction_min: core.following.reaction_min,
+            follow_reaction_max: core.following.reaction_max,
         }
     }
 
@@ -112,6 +115,7 @@ impl cg_crowd_config {
             latency_max: self.street_latency_max,
             fixation_median: self.street_fixation_median,
             fixation_log_spread: self.street_fixation_log_spread,
+            miss_after: self.street_miss_after,
             refixation_probability: self.street_refixation_probability,
             refixation_gap_min: self.street_refixation_gap_min,
             refixation_gap_max: self.street_refixation_gap_max,
@@ -133,6 +137,8 @@ impl cg_crowd_config {
             view_half_angle: self.follow_view_half_angle,
             oncoming_weight: self.follow_oncoming_weight,
             glance_cue_weight: self.follow_glance_cue_weight,
+            reaction_min: self.follow_reaction_min,
+            reaction_max: self.follow_reaction_max,
             glance_min: self.follow_glance_min,
             glance_max: self.follow_glance_max,
             forget_time: self.follow_forget_time,

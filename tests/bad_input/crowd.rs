@@ -32,7 +32,8 @@ fn crowd_config_floats() -> Fields {
         street_civil_distance, street_civil_look_probability, street_path_look_distance,
         street_civil_look_distance, follow_one_looker_probability, follow_max_probability,
         follow_distance, follow_view_half_angle, follow_oncoming_weight,
-        follow_glance_cue_weight, follow_glance_min, follow_glance_max, follow_forget_time)
+        follow_glance_cue_weight, follow_glance_min, follow_glance_max, follow_forget_time,
+        street_miss_after, follow_reaction_min, follow_reaction_max)
 }
 
 /// Values of `cg_crowd_config` outside their documented ranges.
@@ -269,6 +270,12 @@ fn crowd_config_out_of_range() -> Vec<Corruption<cg_crowd_config>> {
         ("follow_glance_max 601", |c| c.follow_glance_max = 601.0),
         ("follow_forget_time -1", |c| c.follow_forget_time = -1.0),
         ("follow_forget_time 3601", |c| c.follow_forget_time = 3601.0),
+        ("street_miss_after -1", |c| c.street_miss_after = -1.0),
+        ("street_miss_after 61", |c| c.street_miss_after = 61.0),
+        ("follow_reaction_min > follow_reaction_max", |c| {
+            c.follow_reaction_min = c.follow_reaction_max + 1.0
+        }),
+        ("follow_reaction_max 61", |c| c.follow_reaction_max = 61.0),
     ])
 }
 

@@ -594,6 +594,9 @@ class CrowdConfig(CheckedStructure):
         ("follow_glance_min", c_float),
         ("follow_glance_max", c_float),
         ("follow_forget_time", c_float),
+        ("street_miss_after", c_float),
+        ("follow_reaction_min", c_float),
+        ("follow_reaction_max", c_float),
     ]
 
 

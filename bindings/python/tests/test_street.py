@@ -56,7 +56,7 @@ def test_the_street_preset_and_its_defaults():
     defaults = cg.crowd_config()
     assert defaults.follow_enabled == 0 and defaults.max_distance == 10.0
     assert defaults.street_view_half_angle == pytest.approx(math.radians(60))
-    assert defaults.street_first_fixation_probability == pytest.approx(0.86)
+    assert defaults.street_first_fixation_probability == pytest.approx(0.95)
     assert (defaults.street_latency_min, defaults.street_latency_max) == pytest.approx((0.55, 0.75))
     assert defaults.street_civil_distance == 3.0 and defaults.street_path_look_distance == 4.0
     assert defaults.follow_one_looker_probability == pytest.approx(0.42)

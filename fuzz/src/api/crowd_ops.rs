@@ -833,7 +833,7 @@ fn street_settings(state: &State, config: &mut cg_crowd_config, input: &mut Inpu
     match input.below(8) {
         7 => {
             config.follow_enabled = input.below(3);
-            let fields: [&mut f32; 22] = [
+            let fields: [&mut f32; 25] = [
                 &mut config.street_view_half_angle,
                 &mut config.street_first_fixation_probability,
                 &mut config.street_latency_min,
@@ -856,6 +856,9 @@ fn street_settings(state: &State, config: &mut cg_crowd_config, input: &mut Inpu
                 &mut config.follow_glance_min,
                 &mut config.follow_glance_max,
                 &mut config.follow_forget_time,
+                &mut config.street_miss_after,
+                &mut config.follow_reaction_min,
+                &mut config.follow_reaction_max,
             ];
             for field in fields {
                 *field = input.float();
@@ -885,6 +888,9 @@ fn street_settings(state: &State, config: &mut cg_crowd_config, input: &mut Inpu
             config.follow_glance_min = 0.0;
             config.follow_glance_max = 1e-3;
             config.follow_forget_time = 0.0;
+            config.follow_reaction_min = 0.0;
+            config.follow_reaction_max = 0.0;
+            config.street_miss_after = 0.0;
             config.street_first_fixation_probability = 1.0;
             config.street_refixation_probability = 1.0;
             config.street_latency_min = 0.0;

@@ -209,6 +209,9 @@ output!(cg_crowd_config, |v| [
     v.follow_glance_min,
     v.follow_glance_max,
     v.follow_forget_time,
+    v.street_miss_after,
+    v.follow_reaction_min,
+    v.follow_reaction_max,
 ]);
 
 // SAFETY: a repr(C) struct of integers and floats only.
