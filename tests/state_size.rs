@@ -66,9 +66,10 @@ fn state_per_character_adds_up() {
     // bits of scratch, rounded up).
     assert_eq!(Crowd::state_bytes_per_character(), 1056);
     // The design's budget was 1 KiB; gaze following (issue #39) adds its 32 bytes on
-    // purpose (docs/street.md says why), and a crowd with following on 16 more (each
-    // character's cue, gathered as a step begins).
+    // purpose (docs/street.md says why), and a crowd with following on reserves one cue
+    // (48 bytes) per character, filled as a step begins by those who stare or glance.
     assert!(Crowd::state_bytes_per_character() <= 1024 + size_of::<FollowState>());
+    assert_eq!(size_of::<crowdgaze::attention::following::Cue>(), 48);
 }
 
 #[test]
