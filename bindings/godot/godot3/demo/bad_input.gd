@@ -166,6 +166,82 @@ func _process(_delta):
 			expect(crowd.set_gaze_target(gaze, Vector3(1, 1.5, 3)), "looking at a point")
 			expect(crowd.set_gaze_target(gaze, target), "looking at the target")
 			expect(crowd.clear_gaze_target(gaze), "clearing the target")
+		27:
+			# The controls and outputs given bad values: empty answers or one error each.
+			var gaze = people[1].get_node("Skeleton/Gaze")
+			var other = people[2].get_node("Skeleton/Gaze")
+			var freed = Spatial.new()
+			freed.free()
+			for bad in [null, "x", 42, freed, self, target, Vector3(NAN, 0, 0)]:
+				expect(crowd.get_eyelids(bad) == Vector2.ZERO, "eyelids of %s" % str(bad))
+				expect(crowd.get_character_influence(bad) == 0.0, "influence of %s" % str(bad))
+				expect(crowd.get_conversation(bad) == -1, "conversation of %s" % str(bad))
+			expect_error("/root/BadInput/CrowdGaze: CrowdGaze.set_conversation: members must be an Array of CrowdGazeCharacter nodes, not null")
+			expect(crowd.set_conversation(null) == -1, "a conversation of null")
+			expect_error("/root/BadInput/CrowdGaze: CrowdGaze.set_conversation: members must be an Array of CrowdGazeCharacter nodes, not a float")
+			expect(crowd.set_conversation(INF) == -1, "a conversation of INF")
+			expect_error("/root/BadInput/CrowdGaze: CrowdGaze.set_conversation: invalid argument: a conversation has 2 to 8 members, not 1; no conversation")
+			expect(crowd.set_conversation([gaze]) == -1, "a conversation of one")
+			expect_error("/root/BadInput/CrowdGaze: CrowdGaze.set_conversation: not found: member 1 is not a character of this crowd")
+			expect(crowd.set_conversation([gaze, freed]) == -1, "a conversation with a freed node")
+			expect_error("/root/BadInput/CrowdGaze: CrowdGaze.set_conversation: invalid argument: character")
+			expect(crowd.set_conversation([gaze, gaze]) == -1, "a conversation with itself")
+			var huge = []
+			for k in range(100000):
+				huge.append(gaze)
+			expect_error("/root/BadInput/CrowdGaze: CrowdGaze.set_conversation: invalid argument: a conversation has 2 to 8 members, not 100000")
+			expect(crowd.set_conversation(huge) == -1, "a conversation of 100000")
+			var id = crowd.set_conversation([gaze, other])
+			expect(id >= 0 and crowd.get_conversation(other) == id, "a good conversation")
+			expect_error("/root/BadInput/CrowdGaze: CrowdGaze.remove_conversation: id must be an int (from set_conversation), not a String")
+			expect(not crowd.remove_conversation("x"), "removing conversation 'x'")
+			expect_error("/root/BadInput/CrowdGaze: CrowdGaze.remove_conversation: not found: there is no conversation -5")
+			expect(not crowd.remove_conversation(-5), "removing conversation -5")
+			expect_error("/root/BadInput/CrowdGaze: CrowdGaze.remove_conversation: not found: there is no conversation 9223372036854775807")
+			expect(not crowd.remove_conversation(9223372036854775807), "removing a huge conversation")
+			expect(crowd.remove_conversation(id), "removing the good conversation")
+			# Out-of-range properties: one error each, naming the node and the value; the
+			# character keeps its settings.
+			var cases = [
+				["influence", NAN, "influence = NaN"],
+				["influence", 5.0, "influence = 5.0: it must be from 0 to 1"],
+				["influence_fade_time", -1.0, "influence_fade_time = -1.0"],
+				["influence_fade_time", INF, "influence_fade_time = inf"],
+				["attention_fraction", 2.0, "attention_fraction = 2.0"],
+				["attention_model", 9, "attention_model = 9"],
+				["max_head_turn", INF, "max_head_turn = inf"],
+				["max_eye_angle", -3.0, "max_eye_angle = -3.0"],
+			]
+			for case in cases:
+				var good = gaze.get(case[0])
+				expect_error("/root/BadInput/Person1/Skeleton/Gaze: CrowdGazeCharacter.set: invalid argument: " + case[2])
+				gaze.set(case[0], case[1])
+				gaze.set(case[0], good)
+			expect(crowd.get_character_influence(gaze) == 1.0, "the influence after bad values")
+			expect_error("/root/BadInput/Person1/Skeleton/Gaze: CrowdGazeCharacter.set_eyelid_mesh: eyelid_mesh = 'Nowhere' names no node")
+			gaze.eyelid_mesh = NodePath("Nowhere")
+			expect_error("/root/BadInput/Person1/Skeleton/Gaze: CrowdGazeCharacter.set_eyelid_mesh: eyelid_mesh = '..' names a Skeleton, not a MeshInstance")
+			gaze.eyelid_mesh = NodePath("..")
+			var face = MeshInstance.new()
+			face.name = "Face"
+			face.mesh = CubeMesh.new()
+			gaze.add_child(face)
+			expect_error("/root/BadInput/Person1/Skeleton/Gaze: CrowdGazeCharacter.set_eyelid_mesh: eyelid_mesh = 'Face' has no blink blend shape")
+			gaze.eyelid_mesh = NodePath("Face")
+			expect_error("/root/BadInput/Person1/Skeleton/Gaze: CrowdGazeCharacter.set_eyelid_mesh: eyelid_shapes names 'wink', which the mesh does not have (its blend shapes: none)")
+			gaze.eyelid_shapes = "wink"
+			face.free()
+			gaze.eyelid_mesh = NodePath("")
+			gaze.eyelid_shapes = ""
+			# The crowd's controls.
+			expect_error("/root/BadInput/CrowdGaze: CrowdGaze.set_active/set_influence/set_influence_fade_time: invalid argument: influence = NaN")
+			crowd.influence = NAN
+			crowd.influence = 1.0
+			expect_error("/root/BadInput/CrowdGaze: CrowdGaze.set_active/set_influence/set_influence_fade_time: invalid argument: influence_fade_time = 1e300")
+			crowd.influence_fade_time = 1e300
+			crowd.influence_fade_time = 0.0
+			gaze.talking = true
+			gaze.talking = false
 		30:
 			expect(crowd.get_character_count() == 2, "the crowd holds %d characters at the end" % crowd.get_character_count())
 			for root in [people[1], people[2]]:

@@ -7,6 +7,7 @@ use std::sync::OnceLock;
 use std::thread::ThreadId;
 
 use crowdgaze_godot_adapter::Xform;
+use gdnative::nativescript::init::property::hint::{EnumHint, FloatHint, IntHint, RangeHint};
 use gdnative::nativescript::user_data::{DeadlockPolicy, LockOptions, MutexData};
 use gdnative::prelude::*;
 
@@ -76,6 +77,66 @@ pub fn vec3(v: Vector3) -> glam::Vec3 {
 /// A glam quaternion as Godot's `Quat` (x, y, z, w).
 pub fn quat(q: glam::Quat) -> Quat {
     Quat::quaternion(q.x, q.y, q.z, q.w)
+}
+
+/// A variant's type as GDScript names it (`null`, `int`, `float`, `String`, ...), for
+/// messages.
+pub fn type_name(value: &Variant) -> String {
+    match value.get_type() {
+        VariantType::Nil => "null".into(),
+        VariantType::Bool => "a bool".into(),
+        VariantType::I64 => "an int".into(),
+        VariantType::F64 => "a float".into(),
+        VariantType::GodotString => "a String".into(),
+        VariantType::VariantArray => "an Array".into(),
+        VariantType::Dictionary => "a Dictionary".into(),
+        VariantType::Object => "an Object".into(),
+        other => format!("a {other:?}"),
+    }
+}
+
+/// The inspector's slider for a value from 0 to 1.
+pub fn unit_hint() -> FloatHint<f64> {
+    FloatHint::Range(RangeHint::new(0.0, 1.0).with_step(0.01))
+}
+
+/// The inspector's slider for seconds (0 up, more typed in).
+pub fn seconds_hint() -> FloatHint<f64> {
+    FloatHint::Range(RangeHint::new(0.0, 10.0).with_step(0.01).or_greater())
+}
+
+/// The inspector's slider for an attention fraction (-1: the crowd's draw).
+pub fn fraction_hint() -> FloatHint<f64> {
+    FloatHint::Range(RangeHint::new(-1.0, 1.0).with_step(0.01))
+}
+
+/// The inspector's list of attention models.
+pub fn model_hint() -> IntHint<i64> {
+    IntHint::Enum(EnumHint::new(vec![
+        "Crowd".into(),
+        "Saliency".into(),
+        "Baseline".into(),
+    ]))
+}
+
+/// The inspector's slider for the neck and head's turn, degrees.
+pub fn head_turn_hint() -> FloatHint<f64> {
+    FloatHint::Range(RangeHint::new(0.0, 180.0).with_step(1.0))
+}
+
+/// The inspector's slider for an eye's turn, degrees.
+pub fn eye_angle_hint() -> FloatHint<f64> {
+    FloatHint::Range(RangeHint::new(0.0, 90.0).with_step(1.0))
+}
+
+/// The inspector's slider for a gaze-share angle, degrees.
+pub fn share_angle_hint() -> FloatHint<f64> {
+    FloatHint::Range(RangeHint::new(0.0, 180.0).with_step(1.0))
+}
+
+/// The inspector's slider for the head speed, degrees per second.
+pub fn head_speed_hint() -> FloatHint<f64> {
+    FloatHint::Range(RangeHint::new(1.0, 1440.0).with_step(1.0).or_greater())
 }
 
 /// Runs an exported method's body; a panic becomes one Godot error naming `what`, and the

@@ -8,17 +8,19 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use crowdgaze_godot_adapter::crowdgaze::crowd::{ExplicitTarget, TargetPriority};
+use crowdgaze_godot_adapter::crowdgaze::scene::ids::NO_ENTITY;
+use crowdgaze_godot_adapter::lids::{find_blink_shapes, BlinkWriter};
 use crowdgaze_godot_adapter::{
-    claim_skeleton, message, CharacterSettings, CrowdSettings, EntityNode, PoseConvention, Reports,
+    claim_skeleton, message, Controls, CrowdSettings, EntityNode, PoseConvention, Reports,
     SceneCrowd, SkeletonClaim,
 };
-use gdnative::api::Skeleton;
+use gdnative::api::{ArrayMesh, MeshInstance, Skeleton};
 use gdnative::nativescript::init::{Signal, SignalArgument};
 use gdnative::nativescript::{ExportInfo, PropertyUsage};
 use gdnative::prelude::*;
 
-use crate::character::{resolve_crowd, Presence};
-use crate::convert::{boundary, on_main_thread_now, quat, vec3, vector, xform, Data};
+use crate::character::{resolve_crowd, CharacterInputs, Presence};
+use crate::convert::{boundary, on_main_thread_now, quat, type_name, vec3, vector, xform, Data};
 use crate::skeleton::GodotSkeleton;
 
 /// The group every `CrowdGaze` node joins while in the tree.
@@ -37,6 +39,95 @@ pub struct Handle {
     kept: Option<Kept>,
     /// A character's hold on its skeleton (released when the handle goes).
     _claim: Option<Arc<SkeletonClaim>>,
+    /// A character's eyelid mesh, if it has one with blink shapes.
+    eyelids: Option<EyelidMesh>,
+}
+
+/// A `MeshInstance` whose blink blend shapes take a character's eyelid closure.
+#[derive(Debug, Clone)]
+pub struct EyelidMesh {
+    /// The mesh instance's id.
+    mesh: i64,
+    /// Its blink shapes (indices into `properties`).
+    writer: BlinkWriter,
+    /// `blend_shapes/<name>` of each blend shape of the mesh, made once.
+    properties: Vec<GodotString>,
+}
+
+impl EyelidMesh {
+    /// Sets the blink shapes for character `slot` this frame (see
+    /// [`SceneCrowd::blink_values`]).
+    fn apply(&mut self, scene: &SceneCrowd<Handle>, slot: usize) {
+        let values = scene.blink_values(slot, &mut self.writer);
+        if values.iter().all(Option::is_none) {
+            return;
+        }
+        // SAFETY: an id taken from a MeshInstance, used within this call.
+        let Some(mesh) = (unsafe { live::<MeshInstance>(self.mesh) }) else {
+            return;
+        };
+        for (shape, value) in values.into_iter().flatten() {
+            if let Some(property) = self.properties.get(shape) {
+                mesh.set(property.new_ref(), f64::from(value));
+            }
+        }
+    }
+}
+
+/// The eyelid mesh `path` names from the character `node` with the shapes `shapes`
+/// (`eyelid_shapes`): `Ok(None)` for an empty path; errors say what to fix.
+fn eyelid_mesh(
+    node: &Spatial,
+    path: &NodePath,
+    shapes: &str,
+) -> Result<Option<EyelidMesh>, String> {
+    if path.is_empty() {
+        return Ok(None);
+    }
+    let text = path.to_string();
+    let found = Some(node)
+        .filter(|node| node.has_node(path.new_ref()))
+        .and_then(|node| node.get_node(path.new_ref()))
+        // SAFETY: a node of the tree, on the main thread, for this call.
+        .and_then(|n| unsafe { n.assume_safe_if_sane() })
+        .ok_or_else(|| format!("eyelid_mesh = '{text}' names no node: set it to a MeshInstance"))?;
+    let instance = found.cast::<MeshInstance>().ok_or_else(|| {
+        format!(
+            "eyelid_mesh = '{text}' names a {}, not a MeshInstance",
+            found.get_class()
+        )
+    })?;
+    let names: Vec<String> = instance
+        .mesh()
+        // SAFETY: the mesh resource is held by the instance, used within this call.
+        .and_then(|mesh| {
+            unsafe { mesh.assume_safe() }
+                .cast::<ArrayMesh>()
+                .map(|m| m.claim())
+        })
+        .map(|mesh| {
+            // SAFETY: as above.
+            let mesh = unsafe { mesh.assume_safe() };
+            (0..mesh.get_blend_shape_count())
+                .map(|k| mesh.get_blend_shape_name(k).to_string())
+                .collect()
+        })
+        .unwrap_or_default();
+    let shapes = find_blink_shapes(&names, shapes)?;
+    if shapes.is_empty() {
+        return Err(format!(
+            "eyelid_mesh = '{text}' has no blink blend shape (eyeBlinkLeft/eyeBlinkRight, \
+             Blink_L/Blink_R, Blink, blink): name its shapes in eyelid_shapes"
+        ));
+    }
+    Ok(Some(EyelidMesh {
+        mesh: instance.get_instance_id(),
+        writer: BlinkWriter::new(shapes),
+        properties: names
+            .iter()
+            .map(|name| GodotString::from(format!("blend_shapes/{name}")))
+            .collect(),
+    }))
 }
 
 /// A character's node and skeleton, kept at registration to be used each frame without an
@@ -122,6 +213,37 @@ pub struct CrowdGaze {
     /// See `lod_distance` (1 to 64).
     #[property(default = 4)]
     far_attention_period: i64,
+    /// Degrees: gaze turns up to this the eyes make alone. Per crowd (as in the library),
+    /// read when the crowd is made.
+    #[property(default = 15.0, hint = "crate::convert::share_angle_hint")]
+    eyes_only_angle: f64,
+    /// Degrees: gaze turns up to this leave the spine still (eyes, head and neck). Per
+    /// crowd, read when the crowd is made.
+    #[property(default = 30.0, hint = "crate::convert::share_angle_hint")]
+    eyes_head_neck_angle: f64,
+    /// Degrees per second: the head speed that times gaze shifts (faster: shorter shifts).
+    /// Per crowd, read when the crowd is made.
+    #[property(default = 360.0, hint = "crate::convert::head_speed_hint")]
+    head_speed: f64,
+    /// Whether the crowd's gaze is applied: false fades every character's influence to 0
+    /// over `influence_fade_time`, then leaves the bones to the animation.
+    #[property(default = true, after_set = "Self::controls_changed")]
+    active: bool,
+    /// How much of the gaze every character's bones take (0 to 1), times the character's
+    /// own `influence`.
+    #[property(
+        default = 1.0,
+        hint = "crate::convert::unit_hint",
+        after_set = "Self::controls_changed"
+    )]
+    influence: f64,
+    /// Seconds a change of `active` or `influence` takes to show fully (0: at once).
+    #[property(
+        default = 0.5,
+        hint = "crate::convert::seconds_hint",
+        after_set = "Self::controls_changed"
+    )]
+    influence_fade_time: f64,
     /// Make the active camera an entity the characters may look at.
     #[property(default = true)]
     camera_is_viewer: bool,
@@ -199,6 +321,7 @@ impl CrowdGaze {
     fn new(_owner: &Spatial) -> Self {
         // The inspector's defaults, kept once in the adapter.
         let defaults = CrowdSettings::default();
+        let controls = Controls::default();
         CrowdGaze {
             seed: defaults.seed,
             max_characters: defaults.max_characters,
@@ -211,6 +334,12 @@ impl CrowdGaze {
             attention_period: defaults.attention_period,
             lod_distance: defaults.lod_distance,
             far_attention_period: defaults.far_attention_period,
+            eyes_only_angle: defaults.eyes_only_angle,
+            eyes_head_neck_angle: defaults.eyes_head_neck_angle,
+            head_speed: defaults.head_speed,
+            active: controls.active,
+            influence: f64::from(controls.influence),
+            influence_fade_time: f64::from(controls.fade_time),
             camera_is_viewer: true,
             viewer_impact: 3.0,
             scene: None,
@@ -229,19 +358,25 @@ impl CrowdGaze {
             export_info: ExportInfo::new(VariantType::Object),
             usage: PropertyUsage::DEFAULT,
         };
-        builder.add_signal(Signal {
-            name: "interest_changed",
-            args: &[
-                SignalArgument {
-                    name: "character",
-                    ..node()
-                },
-                SignalArgument {
-                    name: "target",
-                    ..node()
-                },
-            ],
-        });
+        for name in [
+            "interest_changed",
+            "character_started_looking",
+            "character_stopped_looking",
+        ] {
+            builder.add_signal(Signal {
+                name,
+                args: &[
+                    SignalArgument {
+                        name: "character",
+                        ..node()
+                    },
+                    SignalArgument {
+                        name: "target",
+                        ..node()
+                    },
+                ],
+            });
+        }
     }
 
     /// The crowd's settings from the exported fields, as given.
@@ -258,6 +393,44 @@ impl CrowdGaze {
             attention_period: self.attention_period,
             lod_distance: self.lod_distance,
             far_attention_period: self.far_attention_period,
+            eyes_only_angle: self.eyes_only_angle,
+            eyes_head_neck_angle: self.eyes_head_neck_angle,
+            head_speed: self.head_speed,
+        }
+    }
+
+    /// `active`, `influence` or `influence_fade_time` was set: the crowd fades to them (a
+    /// bad value is reported once and the crowd keeps its controls).
+    fn controls_changed(&mut self, owner: TRef<Spatial>) {
+        boundary("CrowdGaze.controls_changed", (), || {
+            self.apply_controls(&owner)
+        })
+    }
+
+    /// Gives the crowd the node's controls.
+    fn apply_controls(&mut self, owner: &Spatial) {
+        match Controls::new(self.active, self.influence, self.influence_fade_time) {
+            Ok(controls) => {
+                if let Some(scene) = self.scene.as_mut() {
+                    scene.set_controls(&controls);
+                }
+            }
+            Err(error) => {
+                if self
+                    .reports
+                    .first(owner.get_instance_id(), "controls", &error)
+                {
+                    godot_error!(
+                        "{}",
+                        message(
+                            &path_of(owner),
+                            "CrowdGaze.set_active/set_influence/set_influence_fade_time",
+                            &error,
+                            "the crowd keeps its previous controls"
+                        )
+                    );
+                }
+            }
         }
     }
 
@@ -272,6 +445,7 @@ impl CrowdGaze {
                 Ok((scene, capacity)) => {
                     self.skeletons = Vec::with_capacity(capacity);
                     self.scene = Some(scene);
+                    self.apply_controls(owner);
                 }
                 Err(error) => {
                     self.config_failed = true;
@@ -297,9 +471,7 @@ impl CrowdGaze {
         &mut self,
         owner: &Spatial,
         node: TRef<Spatial>,
-        bone_map: &str,
-        impact: f64,
-        presence: Presence,
+        inputs: CharacterInputs,
     ) {
         let key = node.get_instance_id();
         if self.refused.contains(&key) {
@@ -313,13 +485,20 @@ impl CrowdGaze {
         }
         let skeleton = skeleton_of(&node);
         let path = path_of(&node);
+        let eyelids = Self::find_eyelids(&mut self.reports, &node, &inputs);
+        let Some(scene) = self.scene.as_mut() else {
+            return;
+        };
         let result = match skeleton {
             None => Err(
                 "a CrowdGazeCharacter must be a child of a Skeleton: move it under one".to_string(),
             ),
             Some(skeleton) => {
                 claim_skeleton(skeleton.get_instance_id(), key, &path).and_then(|claim| {
-                    CharacterSettings::new(bone_map, impact)
+                    let presence = inputs.presence;
+                    inputs
+                        .values
+                        .settings()
                         .and_then(|settings| {
                             let handle = Handle {
                                 node: key,
@@ -331,6 +510,7 @@ impl CrowdGaze {
                                     skeleton: skeleton.claim(),
                                 }),
                                 _claim: Some(Arc::new(claim)),
+                                eyelids,
                             };
                             scene.add_character(
                                 key,
@@ -359,21 +539,19 @@ impl CrowdGaze {
         }
     }
 
-    /// A registered character's `bone_map` or `impact` changed: the crowd takes them (a
-    /// character refused before tries to join again).
+    /// A registered character's settings changed: the crowd takes them (a character
+    /// refused before tries to join again).
     pub fn update_character(
         &mut self,
         owner: &Spatial,
         node: TRef<Spatial>,
-        bone_map: &str,
-        impact: f64,
-        presence: Presence,
+        inputs: CharacterInputs,
     ) {
         let key = node.get_instance_id();
         let registered = self.scene.as_ref().and_then(|s| s.entity_of(key)).is_some();
         if !registered {
             self.refused.remove(&key);
-            self.register_character(owner, node, bone_map, impact, presence);
+            self.register_character(owner, node, inputs);
             return;
         }
         let Some(scene) = self.scene.as_mut() else {
@@ -383,7 +561,7 @@ impl CrowdGaze {
         let Some(skeleton) = skeleton else {
             return;
         };
-        let result = CharacterSettings::new(bone_map, impact).and_then(|settings| {
+        let result = inputs.values.settings().and_then(|settings| {
             scene.update_character(
                 key,
                 &GodotSkeleton(skeleton),
@@ -397,11 +575,44 @@ impl CrowdGaze {
                     "{}",
                     message(
                         &path_of(&node),
-                        "CrowdGazeCharacter.set_bone_map/set_impact",
+                        "CrowdGazeCharacter.set",
                         &error,
                         "the character keeps its previous settings"
                     )
                 );
+            }
+        }
+        let eyelids = Self::find_eyelids(&mut self.reports, &node, &inputs);
+        if let Some(handle) = self.scene.as_mut().and_then(|scene| {
+            scene
+                .character_slot(key)
+                .and_then(|s| scene.character_handle_mut(s))
+        }) {
+            handle.eyelids = eyelids;
+        }
+    }
+
+    /// The character's eyelid mesh; a path or shapes that do not fit are reported once.
+    fn find_eyelids(
+        reports: &mut Reports,
+        node: &Spatial,
+        inputs: &CharacterInputs,
+    ) -> Option<EyelidMesh> {
+        match eyelid_mesh(node, &inputs.eyelid_mesh, &inputs.eyelid_shapes) {
+            Ok(eyelids) => eyelids,
+            Err(error) => {
+                if reports.first(node.get_instance_id(), "eyelids", &error) {
+                    godot_error!(
+                        "{}",
+                        message(
+                            &path_of(node),
+                            "CrowdGazeCharacter.set_eyelid_mesh",
+                            &error,
+                            "no blend shape is set"
+                        )
+                    );
+                }
+                None
             }
         }
     }
@@ -462,6 +673,7 @@ impl CrowdGaze {
             skeleton: 0,
             kept: None,
             _claim: None,
+            eyelids: None,
         };
         let placed = xform(&node.global_transform());
         if let Err(error) =
@@ -507,9 +719,9 @@ impl CrowdGaze {
             let settings = node
                 .cast_instance::<crate::character::CrowdGazeCharacter>()
                 .and_then(|instance| instance.map(|c, _| (c.settings(), c.crowd_path())).ok());
-            if let Some(((bone_map, impact, presence), path)) = settings {
+            if let Some((inputs, path)) = settings {
                 if joins(owner, &node, &path) {
-                    self.register_character(owner, node, &bone_map, impact, presence);
+                    self.register_character(owner, node, inputs);
                 }
             }
         }
@@ -657,6 +869,15 @@ impl CrowdGaze {
                     );
                 }
             }
+            let eyelids = scene
+                .character_handle_mut(slot)
+                .and_then(|handle| handle.eyelids.take());
+            if let Some(mut eyelids) = eyelids {
+                eyelids.apply(scene, slot);
+                if let Some(handle) = scene.character_handle_mut(slot) {
+                    handle.eyelids = Some(eyelids);
+                }
+            }
         }
         let written = start.elapsed();
         self.frame_usec = [
@@ -665,24 +886,38 @@ impl CrowdGaze {
             (written - stepped).as_secs_f64() * 1e6,
         ];
         // Signals go out at the end of the frame, when no method of this node is running.
-        for &(slot, target) in scene.interest_changes() {
-            let Some(character) = scene.character_handle(slot).and_then(|h| node_of(h.node)) else {
+        let node_variant = |id: u32| match scene.node_of(id) {
+            EntityNode::Character(handle) | EntityNode::Target(handle) => {
+                node_of(handle.node).map(|node| node.to_variant())
+            }
+            EntityNode::Viewer => camera.map(|camera| camera.to_variant()),
+            EntityNode::None => None,
+        };
+        for change in scene.interest_changes() {
+            let Some(character) = scene
+                .character_handle(change.slot)
+                .and_then(|h| node_of(h.node))
+            else {
                 continue;
             };
-            let target = match scene.node_of(target) {
-                EntityNode::Character(handle) | EntityNode::Target(handle) => {
-                    node_of(handle.node).map(|node| node.to_variant())
-                }
-                EntityNode::Viewer => camera.map(|camera| camera.to_variant()),
-                EntityNode::None => None,
+            let character = character.to_variant();
+            let (from, to) = (node_variant(change.from), node_variant(change.to));
+            let emit = |signal: &str, target: Option<Variant>| {
+                let arguments = [
+                    signal.to_variant(),
+                    character.clone(),
+                    target.unwrap_or_default(),
+                ];
+                // SAFETY: a deferred call of a built-in method on the node itself.
+                unsafe { owner.call_deferred("emit_signal", &arguments) };
             };
-            let arguments = [
-                "interest_changed".to_variant(),
-                character.to_variant(),
-                target.unwrap_or_default(),
-            ];
-            // SAFETY: a deferred call of a built-in method on the node itself.
-            unsafe { owner.call_deferred("emit_signal", &arguments) };
+            if change.from != NO_ENTITY {
+                emit("character_stopped_looking", from);
+            }
+            if change.to != NO_ENTITY {
+                emit("character_started_looking", to.clone());
+            }
+            emit("interest_changed", to);
         }
     }
 
@@ -923,6 +1158,107 @@ impl CrowdGaze {
                 .gaze(slot)
                 .and_then(|gaze| scene.crowd_mut().clear_gaze_target(gaze.character))
                 .is_ok()
+        })
+    }
+
+    /// A character's eyelids after the last step: `Vector2(closure, lid_pitch)`, closure 0
+    /// open to 1 closed (a blink), lid pitch in radians (positive up), both eyes' mean;
+    /// `Vector2(0, 0)` for anything but a character of this crowd.
+    #[export]
+    fn get_eyelids(&self, _owner: &Spatial, character: Variant) -> Vector2 {
+        boundary("CrowdGaze.get_eyelids", Vector2::zero(), || {
+            self.slot_of(&character)
+                .and_then(|slot| self.scene.as_ref()?.eyelid_summary(slot).ok())
+                .map_or(Vector2::zero(), |(closure, pitch)| {
+                    Vector2::new(closure, pitch)
+                })
+        })
+    }
+
+    /// A character's influence now (the crowd's times its own, fading), 0 to 1; 0 for
+    /// anything but a character of this crowd.
+    #[export]
+    fn get_character_influence(&self, _owner: &Spatial, character: Variant) -> f64 {
+        boundary("CrowdGaze.get_character_influence", 0.0, || {
+            self.slot_of(&character)
+                .and_then(|slot| self.scene.as_ref()?.influence(slot).ok())
+                .map_or(0.0, f64::from)
+        })
+    }
+
+    /// Makes `members` (an Array of 2 to 8 `CrowdGazeCharacter` nodes of this crowd, each
+    /// in no other conversation) a group standing together and talking; they look at each
+    /// other, more at whoever has `talking` set. Returns the conversation's id (≥ 0), or -1
+    /// with an error.
+    #[export]
+    fn set_conversation(&mut self, owner: &Spatial, members: Variant) -> i64 {
+        boundary("CrowdGaze.set_conversation", -1, || {
+            let result = match (self.scene.as_mut(), members.try_to_array()) {
+                (None, _) => Err("the crowd was not created (see the first error)".to_string()),
+                (_, None) => Err(format!(
+                    "members must be an Array of CrowdGazeCharacter nodes, not {}",
+                    type_name(&members)
+                )),
+                (Some(scene), Some(array)) => {
+                    let keys: Vec<i64> = array
+                        .iter()
+                        .map(|member| instance_id(&member).unwrap_or(0))
+                        .collect();
+                    scene
+                        .set_conversation(&keys)
+                        .map(i64::from)
+                        .map_err(|e| e.to_string())
+                }
+            };
+            result.unwrap_or_else(|error| {
+                godot_error!(
+                    "{}",
+                    message(
+                        &path_of(owner),
+                        "CrowdGaze.set_conversation",
+                        &error,
+                        "no conversation is formed"
+                    )
+                );
+                -1
+            })
+        })
+    }
+
+    /// Ends conversation `id` (from `set_conversation`): its members go back to their own
+    /// attention. False (with an error) if there is no such conversation.
+    #[export]
+    fn remove_conversation(&mut self, owner: &Spatial, id: Variant) -> bool {
+        boundary("CrowdGaze.remove_conversation", false, || {
+            let result = match (self.scene.as_mut(), id.try_to_i64()) {
+                (Some(scene), Some(id)) => scene.remove_conversation(id).map_err(|e| e.to_string()),
+                (None, _) => Err("the crowd was not created (see the first error)".to_string()),
+                (_, None) => Err(format!(
+                    "id must be an int (from set_conversation), not {}",
+                    type_name(&id)
+                )),
+            };
+            result.map_or_else(
+                |error| {
+                    godot_error!(
+                        "{}",
+                        message(&path_of(owner), "CrowdGaze.remove_conversation", &error, "")
+                    );
+                    false
+                },
+                |()| true,
+            )
+        })
+    }
+
+    /// The conversation a character is in (its id), or -1 for none (and for anything but
+    /// a character of this crowd).
+    #[export]
+    fn get_conversation(&self, _owner: &Spatial, character: Variant) -> i64 {
+        boundary("CrowdGaze.get_conversation", -1, || {
+            self.slot_of(&character)
+                .and_then(|slot| self.scene.as_ref()?.conversation_of(slot).ok().flatten())
+                .map_or(-1, i64::from)
         })
     }
 
