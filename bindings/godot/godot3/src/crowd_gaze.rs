@@ -415,6 +415,8 @@ impl CrowdGaze {
                     scene.set_controls(&controls);
                 }
             }
+            // Out of the tree (a scene being loaded) it is reported when the crowd is made.
+            Err(_) if !owner.is_inside_tree() => {}
             Err(error) => {
                 if self
                     .reports

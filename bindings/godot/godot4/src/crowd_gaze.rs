@@ -323,6 +323,8 @@ impl CrowdGaze {
                     scene.set_controls(&controls);
                 }
             }
+            // Out of the tree (a scene being loaded) it is reported when the crowd is made.
+            Err(_) if !self.base().is_inside_tree() => {}
             Err(error) => {
                 let me = self.to_gd();
                 if self
