@@ -242,6 +242,31 @@ func _process(_delta):
 			crowd.influence_fade_time = 0.0
 			gaze.talking = true
 			gaze.talking = false
+			# Wrong types: one error each, naming the node and the property, which keeps its
+			# value; what GDScript converts on assignment (an int for a float, a String for a
+			# NodePath) is taken.
+			var person1 = "/root/BadInput/Person1/Skeleton/Gaze: CrowdGazeCharacter.set: "
+			expect_error(person1 + "influence was given a String: it must be a float from 0 to 1")
+			gaze.set("influence", "abc")
+			expect_error(person1 + "active was given a Vector3: it must be a bool")
+			gaze.set("active", Vector3.ONE)
+			expect_error(person1 + "eyelid_mesh was given an int: it must be a NodePath")
+			gaze.set("eyelid_mesh", 42)
+			expect_error(person1 + "attention_model was given null: it must be an int")
+			gaze.set("attention_model", null)
+			expect_error(person1 + "max_head_turn was given an Object: it must be a float")
+			gaze.set("max_head_turn", freed)
+			expect_error("/root/BadInput/CrowdGaze: CrowdGaze.set: influence was given an Array: it must be a float")
+			crowd.set("influence", [1])
+			expect_error("/root/BadInput/CrowdGaze: CrowdGaze.set: active was given a String: it must be a bool")
+			crowd.set("active", "yes")
+			expect(gaze.influence == 1.0 and gaze.active and gaze.attention_model == 0, "a refused value was kept")
+			expect(crowd.influence == 1.0 and crowd.active, "a refused crowd value was kept")
+			gaze.influence = 0
+			expect(gaze.influence == 0.0, "an int influence was refused")
+			gaze.influence = 1
+			gaze.eyelid_mesh = ""
+			expect(gaze.eyelid_mesh == NodePath(""), "a String path was refused")
 		30:
 			expect(crowd.get_character_count() == 2, "the crowd holds %d characters at the end" % crowd.get_character_count())
 			for root in [people[1], people[2]]:

@@ -7,16 +7,21 @@
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
 
-use crowdgaze_godot_adapter::{choose_crowd, message, CharacterValues, NamedNode};
+use crowdgaze_godot_adapter::{choose_crowd, message, CharacterValues, NamedNode, Reports};
+use gdnative::nativescript::init::property::hint::FloatHint;
 use gdnative::prelude::*;
 
-use crate::convert::{boundary, is_main_thread, Data};
+use crate::convert::{
+    add_checked, boundary, eye_angle_hint, fraction_hint, head_turn_hint, is_main_thread,
+    model_hint, refuse_once, seconds_hint, unit_hint, Checked, Data,
+};
 use crate::crowd_gaze::{CrowdGaze, CHARACTER_GROUP, CROWD_GROUP};
 
 /// A character: its parent `Skeleton`'s bones are mapped to a gaze chain by name.
 #[derive(NativeClass)]
 #[inherit(Spatial)]
 #[user_data(Data<CrowdGazeCharacter>)]
+#[register_with(Self::register)]
 pub struct CrowdGazeCharacter {
     /// The `CrowdGaze` node to join; empty: the nearest `CrowdGaze` ancestor, else the only
     /// `CrowdGaze` in the tree.
@@ -33,66 +38,34 @@ pub struct CrowdGazeCharacter {
     /// Whether the gaze is applied: false fades the influence to 0 over
     /// `influence_fade_time`, then leaves the bones to the animation (attention keeps
     /// running, so turning it back on is smooth).
-    #[property(default = true, after_set = "Self::settings_changed")]
     active: bool,
     /// How much of the gaze the bones take, 0 (the animation alone) to 1 (the gaze); the
     /// `CrowdGaze` node's `influence` multiplies it.
-    #[property(
-        default = 1.0,
-        hint = "crate::convert::unit_hint",
-        after_set = "Self::settings_changed"
-    )]
     influence: f64,
     /// Seconds a change of `active` or `influence` takes to show fully (0: at once).
-    #[property(
-        default = 0.5,
-        hint = "crate::convert::seconds_hint",
-        after_set = "Self::settings_changed"
-    )]
     influence_fade_time: f64,
     /// True while the character talks: others in its conversation look at it more.
-    #[property(default = false, after_set = "Self::settings_changed")]
     talking: bool,
     /// The share of the time the character attends to something, 0 to 1; -1: the crowd's
     /// draw (from `attention_fraction_min` to `attention_fraction_max`).
-    #[property(
-        default = -1.0,
-        hint = "crate::convert::fraction_hint",
-        after_set = "Self::settings_changed"
-    )]
     attention_fraction: f64,
     /// The model deciding where the character looks: 0 the crowd model (Grillon &
     /// Thalmann), 1 saliency (Kokkinara et al.), 2 the baseline.
-    #[property(
-        default = 0,
-        hint = "crate::convert::model_hint",
-        after_set = "Self::settings_changed"
-    )]
     attention_model: i64,
     /// Degrees the neck and head may turn together (yaw; the library's chain has 70). The
     /// skeleton is mapped again when it changes.
-    #[property(
-        default = 70.0,
-        hint = "crate::convert::head_turn_hint",
-        after_set = "Self::settings_changed"
-    )]
     max_head_turn: f64,
     /// Degrees each eye may turn from straight ahead (the library's chain has 35).
-    #[property(
-        default = 35.0,
-        hint = "crate::convert::eye_angle_hint",
-        after_set = "Self::settings_changed"
-    )]
     max_eye_angle: f64,
     /// A `MeshInstance` whose blink blend shapes take the eyelids' closure each frame
     /// (empty: none). Its shapes are found by name (ARKit `eyeBlinkLeft`/`eyeBlinkRight`,
     /// VRM `Blink_L`/`Blink_R`/`Blink`, `blink`) unless `eyelid_shapes` names them.
-    #[property(after_set = "Self::settings_changed")]
     eyelid_mesh: NodePath,
     /// The blink blend shapes of `eyelid_mesh`: empty (found by name), one name for both
     /// eyes, or `left,right`.
-    #[property(after_set = "Self::settings_changed")]
     eyelid_shapes: GodotString,
+    /// What was reported of values of the wrong type (once per property and type).
+    reports: Reports,
     /// What the crowd knows of the node's life (see [`Presence`]).
     presence: Presence,
 }
@@ -153,8 +126,160 @@ impl CrowdGazeCharacter {
             max_eye_angle: defaults.max_eye_angle,
             eyelid_mesh: NodePath::default(),
             eyelid_shapes: GodotString::new(),
+            reports: Reports::new(),
             presence: Presence::new(),
         }
+    }
+
+    /// Registers the properties that check their values' types (see [`add_checked`]).
+    fn register(builder: &ClassBuilder<Self>) {
+        let d = CharacterValues::default();
+        let refuse = Self::refuse;
+        type Get<T> = fn(&CrowdGazeCharacter) -> T;
+        type Set<T> = fn(&mut CrowdGazeCharacter, TRef<Spatial>, T);
+        /// Name, type as a message says it, default, hint, getter, setter.
+        type Float = (
+            &'static str,
+            &'static str,
+            f64,
+            FloatHint<f64>,
+            Get<f64>,
+            Set<f64>,
+        );
+        let floats: [Float; 5] = [
+            (
+                "influence",
+                "a float from 0 to 1",
+                d.influence,
+                unit_hint(),
+                |c| c.influence,
+                |c, owner, v| c.set(owner, |c| c.influence = v),
+            ),
+            (
+                "influence_fade_time",
+                "a float (seconds)",
+                d.influence_fade_time,
+                seconds_hint(),
+                |c| c.influence_fade_time,
+                |c, owner, v| c.set(owner, |c| c.influence_fade_time = v),
+            ),
+            (
+                "attention_fraction",
+                "a float from 0 to 1, or -1",
+                d.attention_fraction,
+                fraction_hint(),
+                |c| c.attention_fraction,
+                |c, owner, v| c.set(owner, |c| c.attention_fraction = v),
+            ),
+            (
+                "max_head_turn",
+                "a float (degrees)",
+                d.max_head_turn,
+                head_turn_hint(),
+                |c| c.max_head_turn,
+                |c, owner, v| c.set(owner, |c| c.max_head_turn = v),
+            ),
+            (
+                "max_eye_angle",
+                "a float (degrees)",
+                d.max_eye_angle,
+                eye_angle_hint(),
+                |c| c.max_eye_angle,
+                |c, owner, v| c.set(owner, |c| c.max_eye_angle = v),
+            ),
+        ];
+        for (name, expected, default, hint, get, set) in floats {
+            let hint = Some(hint);
+            add_checked(
+                builder,
+                Checked {
+                    name,
+                    expected,
+                    default,
+                    hint,
+                    get,
+                    set,
+                    refuse,
+                },
+            );
+        }
+        let bools: [(&str, bool, Get<bool>, Set<bool>); 2] = [
+            (
+                "active",
+                d.active,
+                |c| c.active,
+                |c, owner, v| c.set(owner, |c| c.active = v),
+            ),
+            (
+                "talking",
+                d.talking,
+                |c| c.talking,
+                |c, owner, v| c.set(owner, |c| c.talking = v),
+            ),
+        ];
+        for (name, default, get, set) in bools {
+            let (expected, hint) = ("a bool", None);
+            add_checked(
+                builder,
+                Checked {
+                    name,
+                    expected,
+                    default,
+                    hint,
+                    get,
+                    set,
+                    refuse,
+                },
+            );
+        }
+        add_checked(
+            builder,
+            Checked {
+                name: "attention_model",
+                expected: "an int (0, 1 or 2)",
+                default: d.attention_model,
+                hint: Some(model_hint()),
+                get: |c| c.attention_model,
+                set: |c, owner, v| c.set(owner, |c| c.attention_model = v),
+                refuse,
+            },
+        );
+        add_checked(
+            builder,
+            Checked {
+                name: "eyelid_mesh",
+                expected: "a NodePath",
+                default: NodePath::default(),
+                hint: None,
+                get: |c| c.eyelid_mesh.new_ref(),
+                set: |c, owner, v| c.set(owner, |c| c.eyelid_mesh = v),
+                refuse,
+            },
+        );
+        add_checked(
+            builder,
+            Checked {
+                name: "eyelid_shapes",
+                expected: "a String",
+                default: GodotString::new(),
+                hint: None,
+                get: |c| c.eyelid_shapes.clone(),
+                set: |c, owner, v| c.set(owner, |c| c.eyelid_shapes = v),
+                refuse,
+            },
+        );
+    }
+
+    /// Sets a property with `change`; a character in a crowd takes it at once.
+    fn set(&mut self, owner: TRef<Spatial>, change: impl FnOnce(&mut Self)) {
+        change(self);
+        self.settings_changed(owner);
+    }
+
+    /// A property was given a value of the wrong type: reported once per property and type;
+    /// the property keeps its value.
+    fn refuse(&mut self, owner: TRef<Spatial>, error: &str) {
+        refuse_once(&mut self.reports, &owner, "CrowdGazeCharacter.set", error);
     }
 
     /// The `crowd` path as set.

@@ -6,9 +6,13 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::OnceLock;
 use std::thread::ThreadId;
 
-use crowdgaze_godot_adapter::Xform;
+use crowdgaze_godot_adapter::{message, Reports, Xform};
+use gdnative::core_types::FromVariantError;
 use gdnative::nativescript::init::property::hint::{EnumHint, FloatHint, IntHint, RangeHint};
+use gdnative::nativescript::init::property::{Export, ExportInfo};
+use gdnative::nativescript::init::ClassBuilder;
 use gdnative::nativescript::user_data::{DeadlockPolicy, LockOptions, MutexData};
+use gdnative::nativescript::NativeClass;
 use gdnative::prelude::*;
 
 /// The lock policy of the addon's nodes' data: a call that finds it locked fails at once
@@ -79,6 +83,32 @@ pub fn quat(q: glam::Quat) -> Quat {
     Quat::quaternion(q.x, q.y, q.z, q.w)
 }
 
+/// A node's path for messages, or its name while it is out of the tree (Godot reports an
+/// error for the path of a node out of the tree).
+pub fn node_name(node: &Node) -> String {
+    if node.is_inside_tree() {
+        node.get_path().to_string()
+    } else {
+        node.name().to_string()
+    }
+}
+
+/// Reports once per node and cause that a property of `node` was given a value of the
+/// wrong type (`error`, from [`add_checked`]); `method` is the class and `set`.
+pub fn refuse_once(reports: &mut Reports, node: &Node, method: &str, error: &str) {
+    if reports.first(node.get_instance_id(), "type", &error) {
+        godot_error!(
+            "{}",
+            message(
+                &node_name(node),
+                method,
+                &error,
+                "the property keeps its value"
+            )
+        );
+    }
+}
+
 /// A variant's type as GDScript names it (`null`, `int`, `float`, `String`, ...), for
 /// messages.
 pub fn type_name(value: &Variant) -> String {
@@ -92,6 +122,124 @@ pub fn type_name(value: &Variant) -> String {
         VariantType::Dictionary => "a Dictionary".into(),
         VariantType::Object => "an Object".into(),
         other => format!("a {other:?}"),
+    }
+}
+
+/// A property's value as a script or the inspector sets it. gdnative refuses a value of
+/// another type before the node sees it, with a message that names no node; registered as
+/// `Given<T>`, a property takes any value, and the node reports one of the wrong type
+/// itself (see [`add_checked`]). Exported as `T` (same type and hints in the inspector).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Given<T> {
+    /// The value, if it has the property's type.
+    value: Option<T>,
+    /// The type given instead, as GDScript names it.
+    refused: String,
+}
+
+impl<T> Given<T> {
+    /// A value of the property's type.
+    pub fn new(value: T) -> Self {
+        Given {
+            value: Some(value),
+            refused: String::new(),
+        }
+    }
+}
+
+impl<T: FromVariant> FromVariant for Given<T> {
+    /// Takes a value of type `T`, and what GDScript converts to it on assignment: an int
+    /// for a float, a String for a NodePath.
+    fn from_variant(variant: &Variant) -> Result<Self, FromVariantError> {
+        let converted = match variant.get_type() {
+            VariantType::I64 => Some((variant.to_i64() as f64).to_variant()),
+            VariantType::GodotString => {
+                Some(NodePath::new(&variant.to_godot_string()).to_variant())
+            }
+            _ => None,
+        };
+        let value = T::from_variant(variant)
+            .ok()
+            .or_else(|| converted.and_then(|v| T::from_variant(&v).ok()));
+        Ok(match value {
+            Some(value) => Given::new(value),
+            None => Given {
+                value: None,
+                refused: type_name(variant),
+            },
+        })
+    }
+}
+
+impl<T: ToVariant> ToVariant for Given<T> {
+    fn to_variant(&self) -> Variant {
+        self.value
+            .as_ref()
+            .map_or_else(Variant::new, ToVariant::to_variant)
+    }
+}
+
+impl<T: Export> Export for Given<T> {
+    type Hint = T::Hint;
+
+    fn export_info(hint: Option<Self::Hint>) -> ExportInfo {
+        T::export_info(hint)
+    }
+}
+
+/// A property of type `T` of a `Spatial`-based class `C`, to register with
+/// [`add_checked`].
+pub struct Checked<C, T: Export> {
+    /// Its name.
+    pub name: &'static str,
+    /// Its type as a message says it (`a float`).
+    pub expected: &'static str,
+    /// Its default.
+    pub default: T,
+    /// The inspector's hint.
+    pub hint: Option<T::Hint>,
+    /// Reads it.
+    pub get: fn(&C) -> T,
+    /// Sets it (a value of type `T`).
+    pub set: fn(&mut C, TRef<Spatial>, T),
+    /// Reports a value of another type: `"<name> was given <type>: it must be <expected>"`.
+    pub refuse: fn(&mut C, TRef<Spatial>, &str),
+}
+
+/// Registers `property`: a value of its type goes to its `set`, one of any other type to its
+/// `refuse`, instead of gdnative's own message.
+pub fn add_checked<C, T>(builder: &ClassBuilder<C>, property: Checked<C, T>)
+where
+    C: NativeClass<Base = Spatial>,
+    C::UserData: gdnative::nativescript::Map + gdnative::nativescript::MapMut,
+    T: Export + FromVariant + 'static,
+{
+    let Checked {
+        name,
+        expected,
+        default,
+        hint,
+        get,
+        set,
+        refuse,
+    } = property;
+    let builder = builder
+        .add_property::<Given<T>>(name)
+        .with_default(Given::new(default))
+        .with_getter(move |this: &C, _owner: TRef<Spatial>| Given::new(get(this)))
+        .with_setter(move |this: &mut C, owner: TRef<Spatial>, given: Given<T>| {
+            boundary("property setter", (), || match given.value {
+                Some(value) => set(this, owner, value),
+                None => refuse(
+                    this,
+                    owner,
+                    &format!("{name} was given {}: it must be {expected}", given.refused),
+                ),
+            })
+        });
+    match hint {
+        Some(hint) => builder.with_hint(hint).done(),
+        None => builder.done(),
     }
 }
 

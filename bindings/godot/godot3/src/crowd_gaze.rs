@@ -20,7 +20,10 @@ use gdnative::nativescript::{ExportInfo, PropertyUsage};
 use gdnative::prelude::*;
 
 use crate::character::{resolve_crowd, CharacterInputs, Presence};
-use crate::convert::{boundary, on_main_thread_now, quat, type_name, vec3, vector, xform, Data};
+use crate::convert::{
+    add_checked, boundary, head_speed_hint, on_main_thread_now, quat, refuse_once, seconds_hint,
+    share_angle_hint, type_name, unit_hint, vec3, vector, xform, Checked, Data,
+};
 use crate::skeleton::GodotSkeleton;
 
 /// The group every `CrowdGaze` node joins while in the tree.
@@ -215,34 +218,20 @@ pub struct CrowdGaze {
     far_attention_period: i64,
     /// Degrees: gaze turns up to this the eyes make alone. Per crowd (as in the library),
     /// read when the crowd is made.
-    #[property(default = 15.0, hint = "crate::convert::share_angle_hint")]
     eyes_only_angle: f64,
     /// Degrees: gaze turns up to this leave the spine still (eyes, head and neck). Per
     /// crowd, read when the crowd is made.
-    #[property(default = 30.0, hint = "crate::convert::share_angle_hint")]
     eyes_head_neck_angle: f64,
     /// Degrees per second: the head speed that times gaze shifts (faster: shorter shifts).
     /// Per crowd, read when the crowd is made.
-    #[property(default = 360.0, hint = "crate::convert::head_speed_hint")]
     head_speed: f64,
     /// Whether the crowd's gaze is applied: false fades every character's influence to 0
     /// over `influence_fade_time`, then leaves the bones to the animation.
-    #[property(default = true, after_set = "Self::controls_changed")]
     active: bool,
     /// How much of the gaze every character's bones take (0 to 1), times the character's
     /// own `influence`.
-    #[property(
-        default = 1.0,
-        hint = "crate::convert::unit_hint",
-        after_set = "Self::controls_changed"
-    )]
     influence: f64,
     /// Seconds a change of `active` or `influence` takes to show fully (0: at once).
-    #[property(
-        default = 0.5,
-        hint = "crate::convert::seconds_hint",
-        after_set = "Self::controls_changed"
-    )]
     influence_fade_time: f64,
     /// Make the active camera an entity the characters may look at.
     #[property(default = true)]
@@ -352,6 +341,80 @@ impl CrowdGaze {
     }
 
     fn register(builder: &ClassBuilder<Self>) {
+        let defaults = CrowdSettings::default();
+        let controls = Controls::default();
+        let refuse = Self::refuse;
+        for (name, default, hint, get, set) in [
+            (
+                "eyes_only_angle",
+                defaults.eyes_only_angle,
+                share_angle_hint(),
+                (|c| c.eyes_only_angle) as fn(&Self) -> f64,
+                (|c, _, v| c.eyes_only_angle = v) as fn(&mut Self, TRef<Spatial>, f64),
+            ),
+            (
+                "eyes_head_neck_angle",
+                defaults.eyes_head_neck_angle,
+                share_angle_hint(),
+                |c| c.eyes_head_neck_angle,
+                |c, _, v| c.eyes_head_neck_angle = v,
+            ),
+            (
+                "head_speed",
+                defaults.head_speed,
+                head_speed_hint(),
+                |c| c.head_speed,
+                |c, _, v| c.head_speed = v,
+            ),
+            (
+                "influence",
+                f64::from(controls.influence),
+                unit_hint(),
+                |c| c.influence,
+                |c, owner, v| {
+                    c.influence = v;
+                    c.apply_controls(&owner);
+                },
+            ),
+            (
+                "influence_fade_time",
+                f64::from(controls.fade_time),
+                seconds_hint(),
+                |c| c.influence_fade_time,
+                |c, owner, v| {
+                    c.influence_fade_time = v;
+                    c.apply_controls(&owner);
+                },
+            ),
+        ] {
+            add_checked(
+                builder,
+                Checked {
+                    name,
+                    expected: "a float",
+                    default,
+                    hint: Some(hint),
+                    get,
+                    set,
+                    refuse,
+                },
+            );
+        }
+        add_checked(
+            builder,
+            Checked {
+                name: "active",
+                expected: "a bool",
+                default: controls.active,
+                hint: None,
+                get: |c| c.active,
+                set: |c, owner, v| {
+                    c.active = v;
+                    c.apply_controls(&owner);
+                },
+                refuse,
+            },
+        );
         let node = || SignalArgument {
             name: "node",
             default: Variant::new(),
@@ -399,12 +462,10 @@ impl CrowdGaze {
         }
     }
 
-    /// `active`, `influence` or `influence_fade_time` was set: the crowd fades to them (a
-    /// bad value is reported once and the crowd keeps its controls).
-    fn controls_changed(&mut self, owner: TRef<Spatial>) {
-        boundary("CrowdGaze.controls_changed", (), || {
-            self.apply_controls(&owner)
-        })
+    /// A property was given a value of the wrong type: reported once per property and type;
+    /// the property keeps its value.
+    fn refuse(&mut self, owner: TRef<Spatial>, error: &str) {
+        refuse_once(&mut self.reports, &owner, "CrowdGaze.set", error);
     }
 
     /// Gives the crowd the node's controls.
