@@ -665,15 +665,14 @@ impl<H> SceneCrowd<H> {
         }
         self.time += f64::from(dt);
         self.fade.advance(dt);
-        for character in &mut self.characters {
-            character.fade.advance(dt);
-        }
         let pushed = self.crowd.push_frame(self.time, &self.updates);
         self.updates.clear();
         pushed?;
         self.crowd.step(dt)?;
         self.changes.clear();
+        // One pass over the characters: their fades, and their targets' changes.
         for (slot, character) in self.characters.iter_mut().enumerate() {
+            character.fade.advance(dt);
             let target = self
                 .crowd
                 .gaze(character.id)

@@ -127,6 +127,9 @@ pub struct BoundSkeleton {
     unchanged: u32,
     /// True once each joint's `written` holds the rotation written.
     has_written: bool,
+    /// True if `lids` holds a lid bone (kept here, in the first cache line the write reads,
+    /// so that a skeleton without lids costs no read of `lids`).
+    lidded: bool,
     /// How bone poses relate to local transforms.
     convention: PoseConvention,
     /// The bone of each chain joint, bottom to top.
@@ -359,6 +362,7 @@ impl BoundSkeleton {
             }
         }
         let mut bound = BoundSkeleton {
+            lidded: lids.iter().any(Option::is_some),
             lids,
             bone_count: count,
             bones: [0; MAX_CHAIN_JOINTS],
@@ -439,7 +443,7 @@ impl BoundSkeleton {
 
     /// True if the skeleton has upper-lid bones the adapter turns.
     pub fn has_lids(&self) -> bool {
-        self.lids[0].is_some() || self.lids[1].is_some()
+        self.lidded
     }
 
     /// The upper-lid bones (left, right).
