@@ -29,6 +29,15 @@ pub struct CrowdSettings {
     pub lod_distance: f64,
     /// Frames between far attention updates (1 to 64).
     pub far_attention_period: i64,
+    /// Degrees: gaze turns up to this the eyes make alone (the library's
+    /// `eyes_only_angle`; per crowd, as in the library).
+    pub eyes_only_angle: f64,
+    /// Degrees: gaze turns up to this leave the spine still (eyes, head and neck; the
+    /// library's `eyes_head_neck_angle`).
+    pub eyes_head_neck_angle: f64,
+    /// Degrees per second: the head speed `v_m` that times a gaze shift (the library's
+    /// `head_speed`, which is in radians per second).
+    pub head_speed: f64,
 }
 
 impl Default for CrowdSettings {
@@ -46,6 +55,9 @@ impl Default for CrowdSettings {
             attention_period: 1,
             lod_distance: 0.0,
             far_attention_period: 4,
+            eyes_only_angle: 15.0,
+            eyes_head_neck_angle: 30.0,
+            head_speed: 360.0,
         }
     }
 }
@@ -93,6 +105,45 @@ impl CrowdSettings {
             )));
         }
         config.scoring.field_of_view = real(self.field_of_view, "field_of_view")?.to_radians();
+        let degrees = |value: f64, name: &str, low: f64, high: f64, unit: &str| -> Result<f32> {
+            if !(value.is_finite() && (low..=high).contains(&value)) {
+                return Err(Error::InvalidArgument(format!(
+                    "{name} = {value:?}: it must be from {low} to {high} {unit}; set it in the \
+                     inspector"
+                )));
+            }
+            Ok((value as f32).to_radians())
+        };
+        let eyes_only = degrees(
+            self.eyes_only_angle,
+            "eyes_only_angle",
+            0.0,
+            180.0,
+            "degrees",
+        )?;
+        let eyes_head_neck = degrees(
+            self.eyes_head_neck_angle,
+            "eyes_head_neck_angle",
+            0.0,
+            180.0,
+            "degrees",
+        )?;
+        if eyes_head_neck < eyes_only {
+            return Err(Error::InvalidArgument(format!(
+                "eyes_head_neck_angle = {} is below eyes_only_angle = {}: it must be at least \
+                 that; set it in the inspector",
+                self.eyes_head_neck_angle, self.eyes_only_angle
+            )));
+        }
+        config.gaze.spatial.bands.eyes_only = eyes_only;
+        config.gaze.spatial.bands.eyes_head_and_neck = eyes_head_neck;
+        config.gaze.timing.head_speed = degrees(
+            self.head_speed,
+            "head_speed",
+            1.0,
+            100_000.0,
+            "degrees per second",
+        )?;
         config.validate().map_err(|error| match error {
             // The library names max_objects; the node calls them targets.
             Error::InvalidArgument(text) => {
@@ -160,5 +211,69 @@ mod tests {
             ..CrowdSettings::default()
         };
         assert_eq!(seed.config().unwrap().seed, u64::MAX);
+    }
+
+    #[test]
+    fn head_share_and_speed_are_degrees_checked_by_name() {
+        let config = CrowdSettings::default().config().unwrap();
+        let library = CrowdConfig::default();
+        let close = |a: f32, b: f32| (a - b).abs() < 1e-6;
+        assert!(close(
+            config.gaze.spatial.bands.eyes_only,
+            library.gaze.spatial.bands.eyes_only
+        ));
+        assert!(close(
+            config.gaze.spatial.bands.eyes_head_and_neck,
+            library.gaze.spatial.bands.eyes_head_and_neck
+        ));
+        assert!(close(
+            config.gaze.timing.head_speed,
+            library.gaze.timing.head_speed
+        ));
+        let wide = CrowdSettings {
+            eyes_only_angle: 25.0,
+            eyes_head_neck_angle: 60.0,
+            head_speed: 180.0,
+            ..CrowdSettings::default()
+        };
+        let config = wide.config().unwrap();
+        assert!(close(
+            config.gaze.spatial.bands.eyes_only,
+            25f32.to_radians()
+        ));
+        assert!(close(config.gaze.timing.head_speed, std::f32::consts::PI));
+        for (settings, name) in [
+            (
+                CrowdSettings {
+                    eyes_only_angle: f64::NAN,
+                    ..CrowdSettings::default()
+                },
+                "eyes_only_angle = NaN",
+            ),
+            (
+                CrowdSettings {
+                    eyes_only_angle: 40.0,
+                    ..CrowdSettings::default()
+                },
+                "eyes_head_neck_angle = 30 is below eyes_only_angle = 40",
+            ),
+            (
+                CrowdSettings {
+                    head_speed: -1.0,
+                    ..CrowdSettings::default()
+                },
+                "head_speed = -1",
+            ),
+            (
+                CrowdSettings {
+                    eyes_head_neck_angle: 1e300,
+                    ..CrowdSettings::default()
+                },
+                "eyes_head_neck_angle = 1e300",
+            ),
+        ] {
+            let text = settings.config().unwrap_err().to_string();
+            assert!(text.contains(name), "{text}");
+        }
     }
 }

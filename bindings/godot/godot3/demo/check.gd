@@ -7,6 +7,8 @@
 #      each eye's forward (its rest forward, the skeleton's +Z, carried by the eye bone's
 #      global pose) points at the target's look-at point within 2 degrees;
 #   3. the crowd holds exactly the character nodes in the tree (freed people leave at once).
+# 1 and 2 apply at full influence: the fading bystander's frames below it are counted (its
+# gaze must fade out and back in) and left to controls.gd, which checks the blend.
 # Prints the figures and "CROWDGAZE CHECK PASSED" (or FAILED), then quits with 0 (or 1).
 extends Node
 
@@ -22,6 +24,7 @@ var eye_samples = 0
 var attending = {}
 var targets_seen = {}
 var failures = []
+var faded_frames = 0
 var eye_forward = {}   # skeleton instance id -> [left, right] eye forward in the eye's frame
 
 
@@ -73,6 +76,12 @@ func _process(_delta):
 
 
 func check_character(crowd, gaze):
+	# A character whose gaze fades (demo.gd's fading bystander) is blended with its walk,
+	# which only the walk knows: its poses are the library's only at full influence
+	# (controls.gd checks the blend itself).
+	if crowd.get_character_influence(gaze) < 1.0:
+		faded_frames += 1
+		return
 	var skeleton = gaze.get_parent()
 	var bones = crowd.get_chain_bones(gaze)
 	var rotations = crowd.get_joint_rotations(gaze)
@@ -126,10 +135,12 @@ func check_character(crowd, gaze):
 
 
 func finish():
-	print("CROWDGAZE CHECK frames=%d characters_attending=%d targets=%d eye_samples=%d" % [frames, attending.size(), targets_seen.size(), eye_samples])
+	print("CROWDGAZE CHECK frames=%d characters_attending=%d targets=%d eye_samples=%d faded_frames=%d" % [frames, attending.size(), targets_seen.size(), eye_samples, faded_frames])
 	print("CROWDGAZE CHECK max_pose_error_rad=%.9f max_eye_angle_deg=%.4f (%s)" % [worst_pose, worst_eye, worst_eye_where])
 	if eye_samples == 0 or attending.size() < 3:
 		fail("too few characters attended (%d) to check the eyes" % attending.size())
+	if faded_frames < 30:
+		fail("the fading bystander's gaze was below full influence for %d frames" % faded_frames)
 	for failure in failures:
 		print("CROWDGAZE CHECK FAILURE " + failure)
 	if failures.empty():

@@ -123,8 +123,8 @@ func setup_scene():
 	var spots = [[Vector3(-3.2, 0, 1.8), 2.08], [Vector3(3.0, 0, 2.2), -2.2], [Vector3(3.4, 0, -2.6), -1.2], [Vector3(-3.6, 0, -1.8), 1.4]]
 	for k in range(spots.size()):
 		standing.append(make_person(spots[k][0], spots[k][1], k % PALETTES.size(), "Bystander%d" % k))
-	# Two people chatting in front of the camera: each looks at the other (an explicit
-	# target, which overrides their attention), half turned towards the street.
+	# Two people chatting in front of the camera, half turned towards the street: a
+	# conversation, whose members look at each other (more at whoever talks).
 	var left = make_person(Vector3(-0.75, 0, 4.8), PI / 2 - 0.6, 3, "ChatLeft")
 	var right = make_person(Vector3(0.75, 0, 4.8), -PI / 2 + 0.6, 5, "ChatRight")
 	standing.append(left)
@@ -132,8 +132,9 @@ func setup_scene():
 	if with_addon:
 		var a = left.skeleton.get_node("Gaze")
 		var b = right.skeleton.get_node("Gaze")
-		crowd.set_gaze_target(a, b)
-		crowd.set_gaze_target(b, a)
+		if crowd.set_conversation([a, b]) < 0:
+			push_error("demo: the chatting pair's conversation was not formed")
+		a.talking = true
 	add_target("Kiosk", Vector3(-3.8, 0, 3.6), Color(0.85, 0.15, 0.15), 1.9, 2.0)
 	add_target("Sign", Vector3(3.8, 0, 1.4), Color(0.95, 0.8, 0.1), 2.2, 2.0)
 	add_target("Fountain", Vector3(-4.2, 0, 2.0), Color(0.2, 0.55, 0.9), 1.0, 1.5)
