@@ -24,7 +24,7 @@ pub struct CharacterValues {
     pub impact: f64,
     /// `attention_fraction`: 0 to 1, or negative for the crowd's draw.
     pub attention_fraction: f64,
-    /// `attention_model`: 0 the crowd model, 1 saliency, 2 the baseline.
+    /// `attention_model`: 0 the crowd model, 1 saliency, 2 the baseline, 3 the street model.
     pub attention_model: i64,
     /// `max_head_turn`, degrees.
     pub max_head_turn: f64,
@@ -78,10 +78,11 @@ impl CharacterValues {
             0 => AttentionModel::Crowd,
             1 => AttentionModel::Saliency,
             2 => AttentionModel::Baseline,
+            3 => AttentionModel::Street,
             other => {
                 return Err(Error::InvalidArgument(format!(
-                    "attention_model = {other}: it must be 0 (crowd), 1 (saliency) or 2 \
-                     (baseline)"
+                    "attention_model = {other}: it must be 0 (crowd), 1 (saliency), 2 \
+                     (baseline) or 3 (street)"
                 )))
             }
         };

@@ -54,6 +54,8 @@ struct Character<H> {
     countdown: u8,
     /// The bone count of the last mapping that failed (not tried again until it changes).
     failed_count: Option<usize>,
+    /// True if it glanced where others stare (gaze following) after the last step.
+    following: bool,
     /// Its influence, fading to its controls' goal.
     fade: Fade,
     /// The influence its bones were last written with (0: not written, or the base pose
@@ -87,6 +89,16 @@ pub struct InterestChange {
     pub from: u32,
     /// The target it looks at now ([`NO_ENTITY`] for none).
     pub to: u32,
+}
+
+/// A character that started to glance where others stare (gaze following) in the last
+/// step.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FollowStart {
+    /// The character's slot.
+    pub slot: usize,
+    /// The point it glances at, world metres.
+    pub point: Vec3,
 }
 
 /// A registered scene object.
@@ -134,6 +146,10 @@ pub struct SceneCrowd<H> {
     updates: Vec<EntityUpdate>,
     /// Characters whose eyes' target changed in the last step.
     changes: Vec<InterestChange>,
+    /// True if the crowd's characters follow others' gaze.
+    following: bool,
+    /// Characters that started to follow someone's gaze in the last step.
+    follows: Vec<FollowStart>,
     /// The crowd-wide influence (`CrowdGaze`'s controls), times each character's.
     fade: Fade,
     /// Scratch for one character's joints.
@@ -185,6 +201,12 @@ impl<H> SceneCrowd<H> {
             viewer_position: None,
             updates: Vec::with_capacity(entities),
             changes: Vec::with_capacity(characters),
+            following: config.following.enabled,
+            follows: Vec::with_capacity(if config.following.enabled {
+                characters
+            } else {
+                0
+            }),
             fade: Fade::FULL,
             joints: [Quat::IDENTITY; MAX_CHAIN_JOINTS],
             time: 0.0,
@@ -294,6 +316,7 @@ impl<H> SceneCrowd<H> {
             countdown: (self.characters.len() % usize::from(HIERARCHY_PERIOD)) as u8,
             failed_count: None,
             fade: Fade::at(settings.controls.goal()),
+            following: false,
             written_weight: 0.0,
             drawn,
             settings: settings.clone(),
@@ -670,7 +693,9 @@ impl<H> SceneCrowd<H> {
         pushed?;
         self.crowd.step(dt)?;
         self.changes.clear();
-        // One pass over the characters: their fades, and their targets' changes.
+        self.follows.clear();
+        // One pass over the characters: their fades, their targets' changes, and (with gaze
+        // following on) the glances they start.
         for (slot, character) in self.characters.iter_mut().enumerate() {
             character.fade.advance(dt);
             let target = self
@@ -684,6 +709,13 @@ impl<H> SceneCrowd<H> {
                     to: target,
                 });
                 character.target = target;
+            }
+            if self.following {
+                let point = self.crowd.following(character.id).ok().and_then(|f| f.0);
+                if let (Some(point), false) = (point, character.following) {
+                    self.follows.push(FollowStart { slot, point });
+                }
+                character.following = point.is_some();
             }
         }
         Ok(())
@@ -732,6 +764,18 @@ impl<H> SceneCrowd<H> {
     /// [`NO_ENTITY`] for none). Map ids to nodes with [`node_of`](Self::node_of).
     pub fn interest_changes(&self) -> &[InterestChange] {
         &self.changes
+    }
+
+    /// The characters that started to glance where others stare in the last step (gaze
+    /// following; empty when it is off).
+    pub fn follow_starts(&self) -> &[FollowStart] {
+        &self.follows
+    }
+
+    /// The point character `slot` glances at because others stare there (gaze following),
+    /// world metres; `None` when it follows no one's gaze now, or following is off.
+    pub fn following(&self, slot: usize) -> Result<Option<Vec3>> {
+        Ok(self.crowd.following(self.character(slot)?.id)?.0)
     }
 
     /// Sets the crowd-wide controls (the `CrowdGaze` node's `active`, `influence` and

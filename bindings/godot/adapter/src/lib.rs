@@ -41,7 +41,7 @@ pub mod skeleton;
 pub mod xform;
 
 pub use character::{CharacterSettings, CharacterValues};
-pub use crowd::{EntityNode, InterestChange, NodeKey, SceneCrowd};
+pub use crowd::{EntityNode, FollowStart, InterestChange, NodeKey, SceneCrowd};
 pub use editor::{check_character, check_crowd, check_target, CharacterCheck, CrowdFound};
 pub use fade::{Controls, Fade};
 pub use membership::{choose_crowd, claim_skeleton, NamedNode, SkeletonClaim};

@@ -2,6 +2,7 @@
 //! checked and turned into the library's [`CrowdConfig`]: a value out of range is reported
 //! as it was given (`max_characters = -5`), never as what a conversion made of it.
 
+use crowdgaze::attention::following::FollowConfig;
 use crowdgaze::{CrowdConfig, Error, Result};
 
 /// The `CrowdGaze` node's exported settings, as given.
@@ -38,6 +39,12 @@ pub struct CrowdSettings {
     /// Degrees per second: the head speed `v_m` that times a gaze shift (the library's
     /// `head_speed`, which is in radians per second).
     pub head_speed: f64,
+    /// Gaze following: characters may glance where others stare (a point or object set
+    /// with an overriding gaze target). Off by default.
+    pub gaze_following: bool,
+    /// How strongly passers-by follow: 0 Milgram et al. 1969 (42 % with one looker, up to
+    /// 87 %), 1 Gallup et al. 2012 (12 %, up to 30 %).
+    pub following_strength: i64,
 }
 
 impl Default for CrowdSettings {
@@ -58,6 +65,8 @@ impl Default for CrowdSettings {
             eyes_only_angle: 15.0,
             eyes_head_neck_angle: 30.0,
             head_speed: 360.0,
+            gaze_following: false,
+            following_strength: 0,
         }
     }
 }
@@ -144,6 +153,19 @@ impl CrowdSettings {
             100_000.0,
             "degrees per second",
         )?;
+        config.following = match self.following_strength {
+            0 => FollowConfig::MILGRAM,
+            1 => FollowConfig::GALLUP,
+            other => {
+                return Err(Error::InvalidArgument(format!(
+                    "following_strength = {other}: it must be 0 (Milgram) or 1 (Gallup); set \
+                     it in the inspector"
+                )))
+            }
+        };
+        config.following.enabled = self.gaze_following;
+        // Lookers are noticed up to 10 m, or as far as anyone is seen if that is nearer.
+        config.following.distance = config.following.distance.min(config.scoring.max_distance);
         config.validate().map_err(|error| match error {
             // The library names max_objects; the node calls them targets.
             Error::InvalidArgument(text) => {
@@ -211,6 +233,36 @@ mod tests {
             ..CrowdSettings::default()
         };
         assert_eq!(seed.config().unwrap().seed, u64::MAX);
+    }
+
+    #[test]
+    fn gaze_following_is_off_by_default_and_its_strength_checked() {
+        let config = CrowdSettings::default().config().unwrap();
+        assert!(!config.following.enabled);
+        let on = |strength: i64, max_distance: f64| CrowdSettings {
+            gaze_following: true,
+            following_strength: strength,
+            max_distance,
+            ..CrowdSettings::default()
+        };
+        let milgram = on(0, 17.0).config().unwrap().following;
+        assert!(milgram.enabled);
+        assert_eq!(
+            milgram.one_looker_probability,
+            FollowConfig::MILGRAM.one_looker_probability
+        );
+        assert_eq!(milgram.distance, FollowConfig::MILGRAM.distance);
+        let gallup = on(1, 17.0).config().unwrap().following;
+        assert_eq!(gallup.max_probability, FollowConfig::GALLUP.max_probability);
+        // A crowd that sees less far notices lookers as far as it sees.
+        assert_eq!(on(0, 4.0).config().unwrap().following.distance, 4.0);
+        for strength in [-1, 2, i64::MAX] {
+            let error = on(strength, 10.0).config().unwrap_err().to_string();
+            assert!(
+                error.contains(&format!("following_strength = {strength}: it must be 0")),
+                "{error}"
+            );
+        }
     }
 
     #[test]

@@ -255,7 +255,7 @@ func _process(_delta):
 			gaze.set("active", Vector3.ONE)
 			expect_error(person1 + "eyelid_mesh: an int is not a NodePath; the value is kept")
 			gaze.set("eyelid_mesh", 42)
-			expect_error(person1 + "attention_model: null is not an int (0, 1 or 2); the value is kept")
+			expect_error(person1 + "attention_model: null is not an int (0 to 3); the value is kept")
 			gaze.set("attention_model", null)
 			expect_error(person1 + "max_head_turn: an Object is not a float (degrees); the value is kept")
 			gaze.set("max_head_turn", freed)
@@ -305,7 +305,9 @@ const CROWD_METHODS = [
 	["get_gaze_target", 1], ["get_gaze_point", 1], ["is_attending", 1], ["is_holding", 1],
 	["get_chain_bones", 1], ["get_joint_rotations", 1], ["get_look_at_height", 1],
 	["set_gaze_target", 2], ["clear_gaze_target", 1], ["get_frame_usec", 0],
-	["get_frame_parts_usec", 0],
+	["get_frame_parts_usec", 0], ["get_eyelids", 1], ["get_character_influence", 1],
+	["set_conversation", 1], ["remove_conversation", 1], ["get_conversation", 1],
+	["get_following", 1],
 ]
 const CHARACTER_METHODS = [
 	["_enter_tree", 0], ["_ready", 0], ["_exit_tree", 0], ["_notification", 1],
@@ -360,6 +362,7 @@ func hostile_calls():
 		expect(crowd.get_chain_bones(value).size() == 0, "the chain bones of %s" % [value])
 		expect(crowd.get_joint_rotations(value).size() == 0, "the rotations of %s" % [value])
 		expect(crowd.get_look_at_height(value) == 0.0, "the look-at height of %s" % [value])
+		expect(crowd.get_following(value) == null, "the followed point of %s" % [value])
 		expect(not crowd.clear_gaze_target(value), "clearing the target of %s" % [value])
 		expect(not crowd.set_gaze_target(value, target), "%s looking at the target" % [value])
 		if not (typeof(value) == TYPE_OBJECT and is_instance_valid(value) and value == target):
@@ -413,6 +416,9 @@ const CROWD_SETTINGS = [
 	["viewer_impact", NAN, "CrowdGaze._process: the camera as the viewer: "],
 	["viewer_impact", -1e300, "CrowdGaze._process: the camera as the viewer: "],
 	["camera_is_viewer", false, ""],
+	["gaze_following", true, ""],
+	["following_strength", 2, "invalid argument: following_strength = 2: it must be 0 (Milgram) or 1 (Gallup)"],
+	["following_strength", -1, "invalid argument: following_strength = -1: it must be 0 (Milgram) or 1 (Gallup)"],
 ]
 
 
@@ -502,7 +508,7 @@ const CROWD_PROPERTIES = [
 	["field_of_view", "float"], ["attention_fraction_min", "float"],
 	["attention_fraction_max", "float"], ["threads", "int"], ["attention_period", "int"],
 	["lod_distance", "float"], ["far_attention_period", "int"], ["camera_is_viewer", "bool"],
-	["viewer_impact", "float"],
+	["viewer_impact", "float"], ["gaze_following", "bool"],
 ]
 const CHARACTER_PROPERTIES = [["crowd", "NodePath"], ["bone_map", "String"], ["impact", "float"]]
 const TARGET_PROPERTIES = [["crowd", "NodePath"], ["look_at_height", "float"], ["impact", "float"]]

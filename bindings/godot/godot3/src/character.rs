@@ -155,7 +155,7 @@ impl CrowdGazeCharacter {
         checked_property!(builder, CrowdGazeCharacter, attention_fraction: f64 = d.attention_fraction,
             hint fraction_hint(), expects "a float from 0 to 1, or -1", then Self::settings_changed);
         checked_property!(builder, CrowdGazeCharacter, attention_model: i64 = d.attention_model,
-            hint model_hint(), expects "an int (0, 1 or 2)", then Self::settings_changed);
+            hint model_hint(), expects "an int (0 to 3)", then Self::settings_changed);
         checked_property!(builder, CrowdGazeCharacter, max_head_turn: f64 = d.max_head_turn,
             hint head_turn_hint(), expects "a float (degrees)", then Self::settings_changed);
         checked_property!(builder, CrowdGazeCharacter, max_eye_angle: f64 = d.max_eye_angle,

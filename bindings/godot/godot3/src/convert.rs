@@ -135,7 +135,13 @@ pub fn model_hint() -> IntHint<i64> {
         "Crowd".into(),
         "Saliency".into(),
         "Baseline".into(),
+        "Street".into(),
     ]))
+}
+
+/// The inspector's list of gaze-following strengths.
+pub fn strength_hint() -> IntHint<i64> {
+    IntHint::Enum(EnumHint::new(vec!["Milgram".into(), "Gallup".into()]))
 }
 
 /// The inspector's slider for the neck and head's turn, degrees.

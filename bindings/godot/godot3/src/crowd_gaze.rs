@@ -22,7 +22,7 @@ use gdnative::prelude::*;
 use crate::character::{resolve_crowd, CharacterInputs, Presence};
 use crate::convert::{
     boundary, head_speed_hint, in_editor, node_path, number, on_main_thread_now, quat,
-    seconds_hint, share_angle_hint, unit_hint, vec3, vector, xform, Data,
+    seconds_hint, share_angle_hint, strength_hint, unit_hint, vec3, vector, xform, Data,
 };
 use crate::props::a_type;
 use crate::skeleton::GodotSkeleton;
@@ -220,6 +220,11 @@ pub struct CrowdGaze {
     influence: f64,
     /// Seconds a change of `active` or `influence` takes to show fully (0: at once).
     influence_fade_time: f64,
+    /// Gaze following: characters may glance where others stare (a point or object set
+    /// with `set_gaze_target`). Per crowd, read when the crowd is made.
+    gaze_following: bool,
+    /// How strongly passers-by follow: 0 Milgram (1969), 1 Gallup (2012). Per crowd.
+    following_strength: i64,
     /// Make the active camera an entity the characters may look at.
     camera_is_viewer: bool,
     /// How interesting the camera is (`I_E`, ≥ 0).
@@ -311,6 +316,8 @@ impl CrowdGaze {
             eyes_only_angle: defaults.eyes_only_angle,
             eyes_head_neck_angle: defaults.eyes_head_neck_angle,
             head_speed: defaults.head_speed,
+            gaze_following: defaults.gaze_following,
+            following_strength: defaults.following_strength,
             active: controls.active,
             influence: f64::from(controls.influence),
             influence_fade_time: f64::from(controls.fade_time),
@@ -351,6 +358,21 @@ impl CrowdGaze {
                 ],
             });
         }
+        builder.add_signal(Signal {
+            name: "character_followed_gaze",
+            args: &[
+                SignalArgument {
+                    name: "character",
+                    ..node()
+                },
+                SignalArgument {
+                    name: "point",
+                    default: Variant::new(),
+                    export_info: ExportInfo::new(VariantType::Vector3),
+                    usage: PropertyUsage::DEFAULT,
+                },
+            ],
+        });
         Self::register_properties(builder);
         Self::register_methods(builder);
     }
@@ -378,6 +400,9 @@ impl CrowdGaze {
             hint share_angle_hint(), expects "a float (degrees)");
         checked_property!(builder, CrowdGaze, head_speed: f64 = d.head_speed,
             hint head_speed_hint(), expects "a float (degrees per second)");
+        checked_property!(builder, CrowdGaze, gaze_following: bool = d.gaze_following);
+        checked_property!(builder, CrowdGaze, following_strength: i64 = d.following_strength,
+            hint strength_hint(), expects "an int (0 Milgram, 1 Gallup)");
         let c = Controls::default();
         checked_property!(builder, CrowdGaze, active: bool = c.active, then Self::controls_changed);
         checked_property!(builder, CrowdGaze, influence: f64 = f64::from(c.influence),
@@ -405,6 +430,7 @@ impl CrowdGaze {
         checked_method!(builder, CrowdGaze, ["character"], fn get_look_at_height(&self, _owner: &Spatial, character: Variant) -> f64);
         checked_method!(builder, CrowdGaze, ["character", "target"], fn set_gaze_target(&mut self, owner: &Spatial, character: Variant, target: Variant) -> bool);
         checked_method!(builder, CrowdGaze, ["character"], fn clear_gaze_target(&mut self, _owner: &Spatial, character: Variant) -> bool);
+        checked_method!(builder, CrowdGaze, ["character"], fn get_following(&self, _owner: &Spatial, character: Variant) -> Variant);
         checked_method!(builder, CrowdGaze, ["character"], fn get_eyelids(&self, _owner: &Spatial, character: Variant) -> Vector2);
         checked_method!(builder, CrowdGaze, ["character"], fn get_character_influence(&self, _owner: &Spatial, character: Variant) -> f64);
         checked_method!(builder, CrowdGaze, ["members"], fn set_conversation(&mut self, owner: &Spatial, members: Variant) -> i64);
@@ -431,6 +457,8 @@ impl CrowdGaze {
             eyes_only_angle: self.eyes_only_angle,
             eyes_head_neck_angle: self.eyes_head_neck_angle,
             head_speed: self.head_speed,
+            gaze_following: self.gaze_following,
+            following_strength: self.following_strength,
         }
     }
 
@@ -962,6 +990,21 @@ impl CrowdGaze {
             }
             emit("interest_changed", to);
         }
+        for start in scene.follow_starts() {
+            let Some(character) = scene
+                .character_handle(start.slot)
+                .and_then(|h| node_of(h.node))
+            else {
+                continue;
+            };
+            let arguments = [
+                "character_followed_gaze".to_variant(),
+                character.to_variant(),
+                vector(start.point).to_variant(),
+            ];
+            // SAFETY: a deferred call of a built-in method on the node itself.
+            unsafe { owner.call_deferred("emit_signal", &arguments) };
+        }
     }
 
     /// The character slot of a node variant.
@@ -1089,6 +1132,17 @@ impl CrowdGaze {
             self.slot_of(&character)
                 .and_then(|slot| self.scene.as_ref()?.gaze(slot).ok())
                 .map_or(Vector3::zero(), |gaze| vector(gaze.target_position))
+        })
+    }
+
+    /// The point a character glances at because others stare there (gaze following), or
+    /// null when it follows no one's gaze now (and for anything but a character of the
+    /// crowd, or with `gaze_following` off).
+    fn get_following(&self, _owner: &Spatial, character: Variant) -> Variant {
+        boundary("CrowdGaze.get_following", Variant::new(), || {
+            self.slot_of(&character)
+                .and_then(|slot| self.scene.as_ref()?.following(slot).ok().flatten())
+                .map_or_else(Variant::new, |point| vector(point).to_variant())
         })
     }
 

@@ -66,8 +66,9 @@ pub struct CrowdGazeCharacter {
     #[var(set = set_attention_fraction)]
     attention_fraction: f64,
     /// The model deciding where the character looks: 0 the crowd model (Grillon &
-    /// Thalmann), 1 saliency (Kokkinara et al.), 2 the baseline.
-    #[export(enum = (Crowd = 0, Saliency = 1, Baseline = 2))]
+    /// Thalmann), 1 saliency (Kokkinara et al.), 2 the baseline, 3 the street model
+    /// (walkers as measured with eye trackers).
+    #[export(enum = (Crowd = 0, Saliency = 1, Baseline = 2, Street = 3))]
     #[var(set = set_attention_model)]
     attention_model: i64,
     /// Degrees the neck and head may turn together (yaw; the library's chain has 70). The

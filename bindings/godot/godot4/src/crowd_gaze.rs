@@ -191,6 +191,13 @@ pub struct CrowdGaze {
     /// Per crowd, read when the crowd is made.
     #[export(range = (1.0, 1440.0, 1.0, or_greater))]
     head_speed: f64,
+    /// Gaze following: characters may glance where others stare (a point or object set
+    /// with `set_gaze_target`). Per crowd, read when the crowd is made.
+    #[export]
+    gaze_following: bool,
+    /// How strongly passers-by follow: 0 Milgram (1969), 1 Gallup (2012). Per crowd.
+    #[export(enum = (Milgram = 0, Gallup = 1))]
+    following_strength: i64,
     /// Whether the crowd's gaze is applied: false fades every character's influence to 0
     /// over `influence_fade_time`, then leaves the bones to the animation.
     #[export]
@@ -244,6 +251,8 @@ impl INode3D for CrowdGaze {
             eyes_only_angle: defaults.eyes_only_angle,
             eyes_head_neck_angle: defaults.eyes_head_neck_angle,
             head_speed: defaults.head_speed,
+            gaze_following: defaults.gaze_following,
+            following_strength: defaults.following_strength,
             active: controls.active,
             influence: f64::from(controls.influence),
             influence_fade_time: f64::from(controls.fade_time),
@@ -329,6 +338,8 @@ impl CrowdGaze {
             eyes_only_angle: self.eyes_only_angle,
             eyes_head_neck_angle: self.eyes_head_neck_angle,
             head_speed: self.head_speed,
+            gaze_following: self.gaze_following,
+            following_strength: self.following_strength,
         }
     }
 
@@ -810,6 +821,18 @@ impl CrowdGaze {
             }
             emit("interest_changed", to);
         }
+        for start in scene.follow_starts() {
+            if let Some(character) = scene
+                .character_handle(start.slot)
+                .and_then(|h| live::<Node>(h.node))
+            {
+                emits.push([
+                    "character_followed_gaze".to_variant(),
+                    character.to_variant(),
+                    vector(start.point).to_variant(),
+                ]);
+            }
+        }
         for arguments in emits {
             self.base_mut().call_deferred("emit_signal", &arguments);
         }
@@ -836,6 +859,11 @@ impl CrowdGaze {
     /// A character's eyes left a target (null if that node is gone).
     #[signal]
     fn character_stopped_looking(character: Gd<Node>, target: Variant);
+
+    /// A character started to glance at `point` (world metres) because others stare there
+    /// (gaze following).
+    #[signal]
+    fn character_followed_gaze(character: Gd<Node>, point: Vector3);
 
     /// Sets `active`; every character's influence fades to it.
     #[func]
@@ -1003,6 +1031,18 @@ impl CrowdGaze {
                     .map_or_else(Variant::nil, |camera| camera.to_variant()),
                 EntityNode::None => Variant::nil(),
             }
+        })
+    }
+
+    /// The point a character glances at because others stare there (gaze following), or
+    /// null when it follows no one's gaze now (and for anything but a character of the
+    /// crowd, or with `gaze_following` off).
+    #[func]
+    fn get_following(&self, character: Variant) -> Variant {
+        boundary("CrowdGaze.get_following", Variant::nil(), || {
+            self.slot_of(&character)
+                .and_then(|slot| self.scene.as_ref()?.following(slot).ok().flatten())
+                .map_or_else(Variant::nil, |point| vector(point).to_variant())
         })
     }
 

@@ -4,6 +4,7 @@
 use super::*;
 use crate::fade::Controls;
 use crate::lids::lid_angle;
+use crate::settings::CrowdSettings;
 
 /// The human with upper-lid bones under its head.
 fn with_lids(convention: PoseConvention, global: Xform) -> FakeSkeleton {
@@ -327,4 +328,57 @@ fn new_limits_hold_in_the_poses_of_a_skeleton_nothing_animates() {
         eye_turn(&world)
     );
     assert!(pose_error(&world, 0) < 1e-5);
+}
+
+/// Three people stare at a point up a facade; eight stand behind them facing the same
+/// way. Returns each step's follow starts (slot, distance of the point from the stared
+/// point) and whether `following` answered a point for every slot that started.
+fn staring_group(following: bool) -> (Vec<(usize, f32)>, bool) {
+    let settings = CrowdSettings {
+        gaze_following: following,
+        max_distance: 17.0,
+        ..CrowdSettings::default()
+    };
+    let mut world = World::new(settings.config().unwrap(), PoseConvention::RestTimesPose);
+    let stared = Vec3::new(0.0, 6.0, 9.0);
+    for k in 0..3 {
+        let at = placed(Vec3::new(k as f32 - 1.0, 0.0, 5.0), 0.0);
+        let id = world
+            .add(FakeSkeleton::human(PoseConvention::RestTimesPose, at, 1.0))
+            .unwrap();
+        world
+            .crowd
+            .crowd_mut()
+            .set_gaze_target(id, ExplicitTarget::Point(stared), TargetPriority::Override)
+            .unwrap();
+    }
+    for k in 0..8 {
+        let at = placed(Vec3::new(k as f32 * 0.8 - 3.0, 0.0, 1.0), 0.0);
+        world
+            .add(FakeSkeleton::human(PoseConvention::RestTimesPose, at, 1.0))
+            .unwrap();
+    }
+    let (mut starts, mut answered) = (Vec::new(), true);
+    for _ in 0..300 {
+        world.frame(1.0 / 30.0);
+        for start in world.crowd.follow_starts() {
+            starts.push((start.slot, start.point.distance(stared)));
+            answered &= world.crowd.following(start.slot).unwrap().is_some();
+        }
+    }
+    (starts, answered)
+}
+
+#[test]
+fn passers_by_follow_a_stare_only_with_following_on() {
+    let (starts, answered) = staring_group(true);
+    let followers: std::collections::HashSet<usize> = starts.iter().map(|s| s.0).collect();
+    assert!(
+        followers.iter().any(|&slot| slot >= 3),
+        "no passer-by followed: {starts:?}"
+    );
+    assert!(starts.iter().all(|s| s.1 < 0.5), "{starts:?}");
+    assert!(answered, "following() gave no point for a follower");
+    let (starts, _) = staring_group(false);
+    assert!(starts.is_empty(), "following off, yet {starts:?}");
 }
