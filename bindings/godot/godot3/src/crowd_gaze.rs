@@ -1332,15 +1332,21 @@ impl CrowdGaze {
                 }
             };
             result.unwrap_or_else(|error| {
-                godot_error!(
-                    "{}",
-                    message(
-                        &path_of(owner),
-                        "CrowdGaze.set_conversation",
-                        &error,
-                        "no conversation is formed"
-                    )
-                );
+                // Once per cause: a script retrying every frame does not flood the output.
+                if self
+                    .reports
+                    .first(owner.get_instance_id(), "set_conversation", &error)
+                {
+                    godot_error!(
+                        "{}",
+                        message(
+                            &path_of(owner),
+                            "CrowdGaze.set_conversation",
+                            &error,
+                            "no conversation is formed"
+                        )
+                    );
+                }
                 -1
             })
         })
@@ -1360,10 +1366,15 @@ impl CrowdGaze {
             };
             result.map_or_else(
                 |error| {
-                    godot_error!(
-                        "{}",
-                        message(&path_of(owner), "CrowdGaze.remove_conversation", &error, "")
-                    );
+                    if self
+                        .reports
+                        .first(owner.get_instance_id(), "remove_conversation", &error)
+                    {
+                        godot_error!(
+                            "{}",
+                            message(&path_of(owner), "CrowdGaze.remove_conversation", &error, "")
+                        );
+                    }
                     false
                 },
                 |()| true,

@@ -938,15 +938,19 @@ impl CrowdGaze {
                 }
             };
             result.unwrap_or_else(|error| {
-                godot_error!(
-                    "{}",
-                    message(
-                        &path_of(&self.to_gd()),
-                        "CrowdGaze.set_conversation",
-                        &error,
-                        "no conversation is formed"
-                    )
-                );
+                // Once per cause: a script retrying every frame does not flood the output.
+                let key = self.to_gd().instance_id().to_i64();
+                if self.reports.first(key, "set_conversation", &error) {
+                    godot_error!(
+                        "{}",
+                        message(
+                            &path_of(&self.to_gd()),
+                            "CrowdGaze.set_conversation",
+                            &error,
+                            "no conversation is formed"
+                        )
+                    );
+                }
                 -1
             })
         })
@@ -967,15 +971,18 @@ impl CrowdGaze {
             };
             result.map_or_else(
                 |error| {
-                    godot_error!(
-                        "{}",
-                        message(
-                            &path_of(&self.to_gd()),
-                            "CrowdGaze.remove_conversation",
-                            &error,
-                            ""
-                        )
-                    );
+                    let key = self.to_gd().instance_id().to_i64();
+                    if self.reports.first(key, "remove_conversation", &error) {
+                        godot_error!(
+                            "{}",
+                            message(
+                                &path_of(&self.to_gd()),
+                                "CrowdGaze.remove_conversation",
+                                &error,
+                                ""
+                            )
+                        );
+                    }
                     false
                 },
                 |()| true,
