@@ -11,13 +11,17 @@
 
 use std::collections::HashMap;
 
+use crowdgaze::attention::CharacterParams;
+use crowdgaze::crowd::EyelidState;
 use crowdgaze::ik::{GazePhase, MAX_CHAIN_JOINTS};
 use crowdgaze::scene::ids::NO_ENTITY;
 use crowdgaze::scene::EntityUpdate;
-use crowdgaze::skeleton_map::BoneMap;
 use crowdgaze::{CharacterDesc, Crowd, CrowdConfig, Error, GazeInfo, ObjectDesc, Result};
 use glam::{Quat, Vec3};
 
+pub use crate::character::CharacterSettings;
+use crate::fade::{Controls, Fade};
+use crate::lids::BlinkWriter;
 use crate::skeleton::{
     character_frame, prefetch_bytes, BoundSkeleton, PoseConvention, SkeletonAccess,
 };
@@ -29,38 +33,6 @@ use crate::xform::Xform;
 
 /// A node's key: an id that names it for as long as it lives (Godot's instance id).
 pub type NodeKey = i64;
-
-/// How a character is registered.
-#[derive(Debug, Clone, PartialEq)]
-pub struct CharacterSettings {
-    /// Bone names to roles: the library's default map with the node's overrides.
-    pub bone_map: BoneMap,
-    /// `I_E`, how interesting the character is to others (≥ 0).
-    pub impact: f32,
-}
-
-impl CharacterSettings {
-    /// From the node's `bone_map` (overrides, `Name=role,...`) and `impact` as given.
-    pub fn new(bone_map: &str, impact: f64) -> Result<CharacterSettings> {
-        let bone_map = BoneMap::with_overrides(bone_map)?;
-        let impact = impact as f32;
-        if !(impact.is_finite() && (0.0..=1e6).contains(&impact)) {
-            return Err(Error::InvalidArgument(format!(
-                "impact = {impact}: it must be from 0 to 1000000"
-            )));
-        }
-        Ok(CharacterSettings { bone_map, impact })
-    }
-}
-
-impl Default for CharacterSettings {
-    fn default() -> Self {
-        CharacterSettings {
-            bone_map: BoneMap::default(),
-            impact: 1.0,
-        }
-    }
-}
 
 /// A registered character (its small fields first, then the skeleton: see
 /// [`prefetch`](Self::prefetch)).
@@ -82,6 +54,16 @@ struct Character<H> {
     countdown: u8,
     /// The bone count of the last mapping that failed (not tried again until it changes).
     failed_count: Option<usize>,
+    /// True if it glanced where others stare (gaze following) after the last step.
+    following: bool,
+    /// Its influence, fading to its controls' goal.
+    fade: Fade,
+    /// The influence its bones were last written with (0: not written, or the base pose
+    /// written back): while both it and the influence are 0 its bones are left alone.
+    written_weight: f32,
+    /// The attention parameters the crowd drew for it (its own fraction and model go on
+    /// top).
+    drawn: CharacterParams,
     settings: CharacterSettings,
     handle: H,
     skeleton: BoundSkeleton,
@@ -95,6 +77,28 @@ impl<H> Character<H> {
         prefetch_bytes(start, &self.skeleton as *const BoundSkeleton as usize);
         self.skeleton.prefetch();
     }
+}
+
+/// A character whose eyes moved to another target in the last step.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct InterestChange {
+    /// The character's slot.
+    pub slot: usize,
+    /// The target it looked at before ([`NO_ENTITY`] for none; the id of a removed node
+    /// names no node).
+    pub from: u32,
+    /// The target it looks at now ([`NO_ENTITY`] for none).
+    pub to: u32,
+}
+
+/// A character that started to glance where others stare (gaze following) in the last
+/// step.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FollowStart {
+    /// The character's slot.
+    pub slot: usize,
+    /// The point it glances at, world metres.
+    pub point: Vec3,
 }
 
 /// A registered scene object.
@@ -140,14 +144,32 @@ pub struct SceneCrowd<H> {
     viewer_position: Option<Vec3>,
     /// This frame's entity states (capacity for every entity: no allocation per frame).
     updates: Vec<EntityUpdate>,
-    /// Characters whose eyes' target changed in the last step: (slot, new target).
-    changes: Vec<(usize, u32)>,
+    /// Characters whose eyes' target changed in the last step.
+    changes: Vec<InterestChange>,
+    /// True if the crowd's characters follow others' gaze.
+    following: bool,
+    /// Characters that started to follow someone's gaze in the last step.
+    follows: Vec<FollowStart>,
+    /// The crowd-wide influence (`CrowdGaze`'s controls), times each character's.
+    fade: Fade,
     /// Scratch for one character's joints.
     joints: [Quat; MAX_CHAIN_JOINTS],
     time: f64,
     /// `max_characters` as configured (the library's crowd holds one more, so that a
     /// character can be re-mapped in a full crowd: new chain added before the old removed).
     max_characters: usize,
+}
+
+/// A character's attention parameters: those the crowd drew, with the settings' own
+/// fraction and model.
+fn params_for(drawn: &CharacterParams, settings: &CharacterSettings) -> CharacterParams {
+    CharacterParams {
+        attention_fraction: settings
+            .attention_fraction
+            .unwrap_or(drawn.attention_fraction),
+        model: settings.attention_model,
+        ..*drawn
+    }
 }
 
 impl<H> SceneCrowd<H> {
@@ -179,6 +201,13 @@ impl<H> SceneCrowd<H> {
             viewer_position: None,
             updates: Vec::with_capacity(entities),
             changes: Vec::with_capacity(characters),
+            following: config.following.enabled,
+            follows: Vec::with_capacity(if config.following.enabled {
+                characters
+            } else {
+                0
+            }),
+            fade: Fade::FULL,
             joints: [Quat::IDENTITY; MAX_CHAIN_JOINTS],
             time: 0.0,
         })
@@ -208,6 +237,11 @@ impl<H> SceneCrowd<H> {
     /// The handle of character `slot` (`0 .. character_count()`).
     pub fn character_handle(&self, slot: usize) -> Option<&H> {
         self.characters.get(slot).map(|c| &c.handle)
+    }
+
+    /// The handle of character `slot`, to change what the front end keeps in it.
+    pub fn character_handle_mut(&mut self, slot: usize) -> Option<&mut H> {
+        self.characters.get_mut(slot).map(|c| &mut c.handle)
     }
 
     /// The handle of target `slot` (`0 .. target_count()`).
@@ -267,7 +301,7 @@ impl<H> SceneCrowd<H> {
                 self.max_characters
             )));
         }
-        let (bound, id) = self.add_entity(skeleton, node, settings)?;
+        let (bound, id, drawn) = self.add_entity(skeleton, node, settings)?;
         self.by_key.insert(key, id);
         self.slots
             .insert(id, Slot::Character(self.characters.len()));
@@ -281,6 +315,10 @@ impl<H> SceneCrowd<H> {
             unmapped: false,
             countdown: (self.characters.len() % usize::from(HIERARCHY_PERIOD)) as u8,
             failed_count: None,
+            fade: Fade::at(settings.controls.goal()),
+            following: false,
+            written_weight: 0.0,
+            drawn,
             settings: settings.clone(),
             target: NO_ENTITY,
         });
@@ -342,10 +380,10 @@ impl<H> SceneCrowd<H> {
                 }
                 // Pending changes follow the character moved into the slot.
                 let moved_from = self.characters.len();
-                self.changes.retain(|(changed, _)| *changed != slot);
-                for (changed, _) in &mut self.changes {
-                    if *changed == moved_from {
-                        *changed = slot;
+                self.changes.retain(|change| change.slot != slot);
+                for change in &mut self.changes {
+                    if change.slot == moved_from {
+                        change.slot = slot;
                     }
                 }
                 removed.handle
@@ -363,16 +401,18 @@ impl<H> SceneCrowd<H> {
         Some(handle)
     }
 
-    /// Maps a skeleton to a chain and adds it to the crowd as a character: the binding and
-    /// the entity id.
+    /// Maps a skeleton to a chain (with the settings' limits) and adds it to the crowd as a
+    /// character with the settings' attention parameters: the binding, the entity id and
+    /// the parameters the crowd drew.
     fn add_entity(
         &mut self,
         skeleton: &impl SkeletonAccess,
         node: &Xform,
         settings: &CharacterSettings,
-    ) -> Result<(BoundSkeleton, u32)> {
+    ) -> Result<(BoundSkeleton, u32, CharacterParams)> {
         let (bound, chain) =
             BoundSkeleton::bind(skeleton, node, &settings.bone_map, self.convention)?;
+        let chain = settings.limit_chain(&chain)?;
         let (position, heading, _) = character_frame(&skeleton.global_transform().mul(node));
         let id = self.crowd.add_character(&CharacterDesc {
             position,
@@ -381,7 +421,15 @@ impl<H> SceneCrowd<H> {
             chain: Some(chain),
             ..CharacterDesc::default()
         })?;
-        Ok((bound, id))
+        let drawn = self.crowd.character_params(id)?;
+        if let Err(error) = self
+            .crowd
+            .set_character_params(id, &params_for(&drawn, settings))
+        {
+            let _ = self.crowd.remove_entity(id);
+            return Err(error);
+        }
+        Ok((bound, id, drawn))
     }
 
     /// Maps character `slot`'s skeleton again (its bones or its settings changed): a new
@@ -401,15 +449,20 @@ impl<H> SceneCrowd<H> {
         let settings = settings.unwrap_or(&character.settings).clone();
         // The crowd has room for one more: the new entity first, so that a failure leaves
         // the old one.
-        let (bound, id) = self.add_entity(skeleton, node, &settings)?;
+        let (bound, id, drawn) = self.add_entity(skeleton, node, &settings)?;
         let character = &mut self.characters[slot];
+        character.drawn = drawn;
         let old = character.id;
         let _ = self.crowd.remove_entity(old);
         self.slots.remove(&old);
         self.slots.insert(id, Slot::Character(slot));
         self.by_key.insert(character.key, id);
         character.id = id;
+        let mut bound = bound;
+        bound.carry_over(&character.skeleton);
         character.skeleton = bound;
+        settings.controls.apply(&mut character.fade);
+        character.written_weight = 0.0;
         character.settings = settings;
         character.unmapped = false;
         character.failed_count = None;
@@ -417,10 +470,11 @@ impl<H> SceneCrowd<H> {
         Ok(())
     }
 
-    /// A registered character's settings changed (its node's `bone_map` or `impact`): a
-    /// new bone map maps the skeleton again, a new impact is set. On an error (a bone map
-    /// that does not parse or map, an impact out of range) the character keeps its
-    /// previous settings. Errors if the node is not a registered character.
+    /// A registered character's settings changed: a new bone map or new limits map the
+    /// skeleton again, the rest is set (impact, attention parameters, controls, talking).
+    /// On an error (a bone map that does not parse or map, a value out of range) the
+    /// character keeps its previous settings. Errors if the node is not a registered
+    /// character.
     pub fn update_character(
         &mut self,
         key: NodeKey,
@@ -432,13 +486,23 @@ impl<H> SceneCrowd<H> {
             .character_slot(key)
             .ok_or_else(|| Error::NotFound("the node is not a character of the crowd".into()))?;
         let character = &self.characters[slot];
-        if settings.bone_map != character.settings.bone_map || character.unmapped {
+        if settings.chain_differs(&character.settings) || character.unmapped {
             return self.remap(slot, skeleton, node, Some(settings));
         }
         if settings.impact != character.settings.impact {
             self.crowd.set_impact(character.id, settings.impact)?;
             self.characters[slot].settings.impact = settings.impact;
         }
+        let character = &self.characters[slot];
+        if settings.attention_fraction != character.settings.attention_fraction
+            || settings.attention_model != character.settings.attention_model
+        {
+            let params = params_for(&character.drawn, settings);
+            self.crowd.set_character_params(character.id, &params)?;
+        }
+        let character = &mut self.characters[slot];
+        settings.controls.apply(&mut character.fade);
+        character.settings = settings.clone();
         Ok(())
     }
 
@@ -554,7 +618,7 @@ impl<H> SceneCrowd<H> {
                     heading: read.heading,
                     heading_from_motion: false,
                     velocity: None,
-                    talking: false,
+                    talking: character.settings.talking,
                 });
                 Ok(())
             }
@@ -623,26 +687,45 @@ impl<H> SceneCrowd<H> {
             });
         }
         self.time += f64::from(dt);
+        self.fade.advance(dt);
         let pushed = self.crowd.push_frame(self.time, &self.updates);
         self.updates.clear();
         pushed?;
         self.crowd.step(dt)?;
         self.changes.clear();
+        self.follows.clear();
+        // One pass over the characters: their fades, their targets' changes, and (with gaze
+        // following on) the glances they start.
         for (slot, character) in self.characters.iter_mut().enumerate() {
+            character.fade.advance(dt);
             let target = self
                 .crowd
                 .gaze(character.id)
                 .map_or(NO_ENTITY, |g| g.target);
             if target != character.target {
+                self.changes.push(InterestChange {
+                    slot,
+                    from: character.target,
+                    to: target,
+                });
                 character.target = target;
-                self.changes.push((slot, target));
+            }
+            if self.following {
+                let point = self.crowd.following(character.id).ok().and_then(|f| f.0);
+                if let (Some(point), false) = (point, character.following) {
+                    self.follows.push(FollowStart { slot, point });
+                }
+                character.following = point.is_some();
             }
         }
         Ok(())
     }
 
     /// Writes character `slot`'s gaze to its skeleton's chain bones (if it was read this
-    /// frame; a stalled character's bones are left alone).
+    /// frame; a stalled character's bones are left alone), blended from the animated pose
+    /// by its influence (the crowd's times its own), and its upper lids if the skeleton has
+    /// lid bones. At influence 0 the animated pose is written back once, then the bones are
+    /// left alone until the influence rises again.
     pub fn write_character(
         &mut self,
         slot: usize,
@@ -659,17 +742,125 @@ impl<H> SceneCrowd<H> {
             next.prefetch();
         }
         let character = &mut self.characters[slot];
+        let weight = self.fade.value() * character.fade.value();
+        if weight <= 0.0 && character.written_weight <= 0.0 {
+            return Ok(());
+        }
         let joints = character.skeleton.joint_count;
         self.crowd
             .read_joints_of(character.id, false, &mut self.joints[..joints])?;
-        character.skeleton.write(skeleton, &self.joints[..joints]);
+        character
+            .skeleton
+            .write(skeleton, &self.joints[..joints], weight);
+        if character.skeleton.has_lids() {
+            let lids = self.crowd.eyelids(character.id)?;
+            character.skeleton.write_lids(skeleton, &lids, weight);
+        }
+        character.written_weight = weight;
         Ok(())
     }
 
-    /// The characters whose eyes' target changed in the last step: (character slot, new
-    /// target id, [`NO_ENTITY`] for none). Map ids to nodes with [`node_of`](Self::node_of).
-    pub fn interest_changes(&self) -> &[(usize, u32)] {
+    /// The characters whose eyes' target changed in the last step (target ids,
+    /// [`NO_ENTITY`] for none). Map ids to nodes with [`node_of`](Self::node_of).
+    pub fn interest_changes(&self) -> &[InterestChange] {
         &self.changes
+    }
+
+    /// The characters that started to glance where others stare in the last step (gaze
+    /// following; empty when it is off).
+    pub fn follow_starts(&self) -> &[FollowStart] {
+        &self.follows
+    }
+
+    /// The point character `slot` glances at because others stare there (gaze following),
+    /// world metres; `None` when it follows no one's gaze now, or following is off.
+    pub fn following(&self, slot: usize) -> Result<Option<Vec3>> {
+        Ok(self.crowd.following(self.character(slot)?.id)?.0)
+    }
+
+    /// Sets the crowd-wide controls (the `CrowdGaze` node's `active`, `influence` and
+    /// `influence_fade_time`): every character's influence is multiplied by the crowd's.
+    pub fn set_controls(&mut self, controls: &Controls) {
+        controls.apply(&mut self.fade);
+    }
+
+    /// The crowd-wide influence now, 0 to 1.
+    pub fn crowd_influence(&self) -> f32 {
+        self.fade.value()
+    }
+
+    /// Character `slot`'s influence now (the crowd's times its own), 0 to 1.
+    pub fn influence(&self, slot: usize) -> Result<f32> {
+        Ok(self.fade.value() * self.character(slot)?.fade.value())
+    }
+
+    /// Character `slot`'s eyelids after the last step (closure and lid pitch, as the
+    /// library computes them, whatever the influence).
+    pub fn eyelids(&self, slot: usize) -> Result<EyelidState> {
+        self.crowd.eyelids(self.character(slot)?.id)
+    }
+
+    /// Character `slot`'s eyelids for a script: the mean closure of both eyes (0 open, 1
+    /// closed) and their lids' mean pitch (radians, positive up).
+    pub fn eyelid_summary(&self, slot: usize) -> Result<(f32, f32)> {
+        let lids = self.eyelids(slot)?;
+        Ok((
+            0.5 * (lids.left_closure + lids.right_closure),
+            0.5 * (lids.left_lid_pitch + lids.right_lid_pitch),
+        ))
+    }
+
+    /// The blink shape values to set for character `slot` this frame (see
+    /// [`BlinkWriter::frame`]); none if the slot is not a character's.
+    pub fn blink_values(&self, slot: usize, writer: &mut BlinkWriter) -> [Option<(usize, f32)>; 2] {
+        match (self.eyelids(slot), self.influence(slot)) {
+            (Ok(lids), Ok(weight)) => writer.frame(lids.left_closure, lids.right_closure, weight),
+            _ => [None, None],
+        }
+    }
+
+    /// The upper-lid bones found in character `slot`'s skeleton (left, right).
+    pub fn lid_bones(&self, slot: usize) -> Result<[Option<usize>; 2]> {
+        Ok(self.character(slot)?.skeleton.lid_bones())
+    }
+
+    /// Makes the characters of nodes `members` (2 to 8, each in no other conversation) a
+    /// group standing together and talking; returns the group's id. Errors name the
+    /// member that is not a character of the crowd (by its position in `members`).
+    pub fn set_conversation(&mut self, members: &[NodeKey]) -> Result<u32> {
+        let mut ids = [NO_ENTITY; crowdgaze::attention::conversation::MAX_MEMBERS];
+        if members.len() > ids.len() || members.len() < 2 {
+            return Err(Error::InvalidArgument(format!(
+                "a conversation has 2 to {} members, not {}",
+                ids.len(),
+                members.len()
+            )));
+        }
+        for (k, &key) in members.iter().enumerate() {
+            ids[k] = self
+                .character_slot(key)
+                .map(|slot| self.characters[slot].id)
+                .ok_or_else(|| {
+                    Error::NotFound(format!(
+                        "member {k} is not a character of this crowd (give CrowdGazeCharacter \
+                         nodes that joined it)"
+                    ))
+                })?;
+        }
+        self.crowd.set_conversation(&ids[..members.len()])
+    }
+
+    /// Ends conversation `id` (as a script holds it: any integer): its members go back to
+    /// their own attention.
+    pub fn remove_conversation(&mut self, id: i64) -> Result<()> {
+        let id = u32::try_from(id)
+            .map_err(|_| Error::NotFound(format!("there is no conversation {id}")))?;
+        self.crowd.remove_conversation(id)
+    }
+
+    /// The conversation character `slot` is in, if any.
+    pub fn conversation_of(&self, slot: usize) -> Result<Option<u32>> {
+        self.crowd.conversation_of(self.character(slot)?.id)
     }
 
     /// Where character `slot` looks after the last step.

@@ -11,6 +11,9 @@
 //!   (`rest * pose`) or Godot 4's (the pose is the local transform).
 //! - [`crowd`]: one `CrowdGaze` node's crowd — node keys ↔ entity ids, characters, targets
 //!   and the viewer pushed each frame, the step, the gaze written, interest changes.
+//! - [`character`]: a character node's settings as given, checked; its chain's limits.
+//! - [`fade`]: influence (how much of the gaze the bones take) and its fades.
+//! - [`lids`]: upper-lid bones and blink blend shapes found by name, the lid's angle.
 //! - [`membership`]: which crowd a node joins, one character per skeleton.
 //! - [`settings`]: the `CrowdGaze` node's settings as given, checked.
 //! - [`editor`]: what the editor shows: configuration warnings, the mapping report.
@@ -26,16 +29,21 @@
 /// The library, re-exported so that the front ends use the adapter's version of it.
 pub use crowdgaze;
 
+pub mod character;
 pub mod crowd;
 pub mod editor;
+pub mod fade;
+pub mod lids;
 pub mod membership;
 pub mod report;
 pub mod settings;
 pub mod skeleton;
 pub mod xform;
 
-pub use crowd::{CharacterSettings, EntityNode, NodeKey, SceneCrowd};
+pub use character::{CharacterSettings, CharacterValues};
+pub use crowd::{EntityNode, FollowStart, InterestChange, NodeKey, SceneCrowd};
 pub use editor::{check_character, check_crowd, check_target, CharacterCheck, CrowdFound};
+pub use fade::{Controls, Fade};
 pub use membership::{choose_crowd, claim_skeleton, NamedNode, SkeletonClaim};
 pub use report::{message, Reports};
 pub use settings::CrowdSettings;

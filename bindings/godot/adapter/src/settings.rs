@@ -2,6 +2,7 @@
 //! checked and turned into the library's [`CrowdConfig`]: a value out of range is reported
 //! as it was given (`max_characters = -5`), never as what a conversion made of it.
 
+use crowdgaze::attention::following::FollowConfig;
 use crowdgaze::{CrowdConfig, Error, Result};
 
 /// The `CrowdGaze` node's exported settings, as given.
@@ -29,6 +30,21 @@ pub struct CrowdSettings {
     pub lod_distance: f64,
     /// Frames between far attention updates (1 to 64).
     pub far_attention_period: i64,
+    /// Degrees: gaze turns up to this the eyes make alone (the library's
+    /// `eyes_only_angle`; per crowd, as in the library).
+    pub eyes_only_angle: f64,
+    /// Degrees: gaze turns up to this leave the spine still (eyes, head and neck; the
+    /// library's `eyes_head_neck_angle`).
+    pub eyes_head_neck_angle: f64,
+    /// Degrees per second: the head speed `v_m` that times a gaze shift (the library's
+    /// `head_speed`, which is in radians per second).
+    pub head_speed: f64,
+    /// Gaze following: characters may glance where others stare (a point or object set
+    /// with an overriding gaze target). Off by default.
+    pub gaze_following: bool,
+    /// How strongly passers-by follow: 0 Milgram et al. 1969 (42 % with one looker, up to
+    /// 87 %), 1 Gallup et al. 2012 (12 %, up to 30 %).
+    pub following_strength: i64,
 }
 
 impl Default for CrowdSettings {
@@ -46,6 +62,11 @@ impl Default for CrowdSettings {
             attention_period: 1,
             lod_distance: 0.0,
             far_attention_period: 4,
+            eyes_only_angle: 15.0,
+            eyes_head_neck_angle: 30.0,
+            head_speed: 360.0,
+            gaze_following: false,
+            following_strength: 0,
         }
     }
 }
@@ -93,6 +114,58 @@ impl CrowdSettings {
             )));
         }
         config.scoring.field_of_view = real(self.field_of_view, "field_of_view")?.to_radians();
+        let degrees = |value: f64, name: &str, low: f64, high: f64, unit: &str| -> Result<f32> {
+            if !(value.is_finite() && (low..=high).contains(&value)) {
+                return Err(Error::InvalidArgument(format!(
+                    "{name} = {value:?}: it must be from {low} to {high} {unit}; set it in the \
+                     inspector"
+                )));
+            }
+            Ok((value as f32).to_radians())
+        };
+        let eyes_only = degrees(
+            self.eyes_only_angle,
+            "eyes_only_angle",
+            0.0,
+            180.0,
+            "degrees",
+        )?;
+        let eyes_head_neck = degrees(
+            self.eyes_head_neck_angle,
+            "eyes_head_neck_angle",
+            0.0,
+            180.0,
+            "degrees",
+        )?;
+        if eyes_head_neck < eyes_only {
+            return Err(Error::InvalidArgument(format!(
+                "eyes_head_neck_angle = {} is below eyes_only_angle = {}: it must be at least \
+                 that; set it in the inspector",
+                self.eyes_head_neck_angle, self.eyes_only_angle
+            )));
+        }
+        config.gaze.spatial.bands.eyes_only = eyes_only;
+        config.gaze.spatial.bands.eyes_head_and_neck = eyes_head_neck;
+        config.gaze.timing.head_speed = degrees(
+            self.head_speed,
+            "head_speed",
+            1.0,
+            100_000.0,
+            "degrees per second",
+        )?;
+        config.following = match self.following_strength {
+            0 => FollowConfig::MILGRAM,
+            1 => FollowConfig::GALLUP,
+            other => {
+                return Err(Error::InvalidArgument(format!(
+                    "following_strength = {other}: it must be 0 (Milgram) or 1 (Gallup); set \
+                     it in the inspector"
+                )))
+            }
+        };
+        config.following.enabled = self.gaze_following;
+        // Lookers are noticed up to 10 m, or as far as anyone is seen if that is nearer.
+        config.following.distance = config.following.distance.min(config.scoring.max_distance);
         config.validate().map_err(|error| match error {
             // The library names max_objects; the node calls them targets.
             Error::InvalidArgument(text) => {
@@ -160,5 +233,99 @@ mod tests {
             ..CrowdSettings::default()
         };
         assert_eq!(seed.config().unwrap().seed, u64::MAX);
+    }
+
+    #[test]
+    fn gaze_following_is_off_by_default_and_its_strength_checked() {
+        let config = CrowdSettings::default().config().unwrap();
+        assert!(!config.following.enabled);
+        let on = |strength: i64, max_distance: f64| CrowdSettings {
+            gaze_following: true,
+            following_strength: strength,
+            max_distance,
+            ..CrowdSettings::default()
+        };
+        let milgram = on(0, 17.0).config().unwrap().following;
+        assert!(milgram.enabled);
+        assert_eq!(
+            milgram.one_looker_probability,
+            FollowConfig::MILGRAM.one_looker_probability
+        );
+        assert_eq!(milgram.distance, FollowConfig::MILGRAM.distance);
+        let gallup = on(1, 17.0).config().unwrap().following;
+        assert_eq!(gallup.max_probability, FollowConfig::GALLUP.max_probability);
+        // A crowd that sees less far notices lookers as far as it sees.
+        assert_eq!(on(0, 4.0).config().unwrap().following.distance, 4.0);
+        for strength in [-1, 2, i64::MAX] {
+            let error = on(strength, 10.0).config().unwrap_err().to_string();
+            assert!(
+                error.contains(&format!("following_strength = {strength}: it must be 0")),
+                "{error}"
+            );
+        }
+    }
+
+    #[test]
+    fn head_share_and_speed_are_degrees_checked_by_name() {
+        let config = CrowdSettings::default().config().unwrap();
+        let library = CrowdConfig::default();
+        let close = |a: f32, b: f32| (a - b).abs() < 1e-6;
+        assert!(close(
+            config.gaze.spatial.bands.eyes_only,
+            library.gaze.spatial.bands.eyes_only
+        ));
+        assert!(close(
+            config.gaze.spatial.bands.eyes_head_and_neck,
+            library.gaze.spatial.bands.eyes_head_and_neck
+        ));
+        assert!(close(
+            config.gaze.timing.head_speed,
+            library.gaze.timing.head_speed
+        ));
+        let wide = CrowdSettings {
+            eyes_only_angle: 25.0,
+            eyes_head_neck_angle: 60.0,
+            head_speed: 180.0,
+            ..CrowdSettings::default()
+        };
+        let config = wide.config().unwrap();
+        assert!(close(
+            config.gaze.spatial.bands.eyes_only,
+            25f32.to_radians()
+        ));
+        assert!(close(config.gaze.timing.head_speed, std::f32::consts::PI));
+        for (settings, name) in [
+            (
+                CrowdSettings {
+                    eyes_only_angle: f64::NAN,
+                    ..CrowdSettings::default()
+                },
+                "eyes_only_angle = NaN",
+            ),
+            (
+                CrowdSettings {
+                    eyes_only_angle: 40.0,
+                    ..CrowdSettings::default()
+                },
+                "eyes_head_neck_angle = 30 is below eyes_only_angle = 40",
+            ),
+            (
+                CrowdSettings {
+                    head_speed: -1.0,
+                    ..CrowdSettings::default()
+                },
+                "head_speed = -1",
+            ),
+            (
+                CrowdSettings {
+                    eyes_head_neck_angle: 1e300,
+                    ..CrowdSettings::default()
+                },
+                "eyes_head_neck_angle = 1e300",
+            ),
+        ] {
+            let text = settings.config().unwrap_err().to_string();
+            assert!(text.contains(name), "{text}");
+        }
     }
 }

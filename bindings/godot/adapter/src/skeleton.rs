@@ -13,6 +13,7 @@ use crowdgaze::world::{Axis, World};
 use crowdgaze::{Error, Result};
 use glam::{Quat, Vec3};
 
+use crate::lids::{find_upper_lids, lid_angle};
 use crate::xform::{basis_of, rotation_of, Xform};
 
 /// Most bones from the chain root up to the skeleton's top (the chain root's ancestors,
@@ -126,6 +127,9 @@ pub struct BoundSkeleton {
     unchanged: u32,
     /// True once each joint's `written` holds the rotation written.
     has_written: bool,
+    /// True if `lids` holds a lid bone (kept here, in the first cache line the write reads,
+    /// so that a skeleton without lids costs no read of `lids`).
+    lidded: bool,
     /// How bone poses relate to local transforms.
     convention: PoseConvention,
     /// The bone of each chain joint, bottom to top.
@@ -150,6 +154,8 @@ pub struct BoundSkeleton {
     pub report: String,
     /// The mapping's notes (what it guessed, what it left out), one sentence each.
     pub notes: Vec<String>,
+    /// The upper-lid bones found by name (left, right), if the skeleton has them.
+    lids: [Option<Lid>; 2],
 }
 
 /// A bone between two chain joints (a facial root between the head and the eyes): read
@@ -162,6 +168,20 @@ struct Between {
     rest: Xform,
     /// Its parent at registration.
     parent: Option<usize>,
+}
+
+/// An upper-lid bone and what the adapter keeps of it between frames.
+#[derive(Debug, Clone, Copy)]
+struct Lid {
+    /// The bone.
+    bone: usize,
+    /// The head's lateral axis (the character's left at rest) in the bone's frame: a
+    /// rotation about it by a positive angle turns the lid down.
+    axis: Vec3,
+    /// The pose as the animation last set it.
+    base: Xform,
+    /// The pose last written, if any.
+    written: Option<Xform>,
 }
 
 /// Asks the processor to fetch the cache lines of the addresses `start .. end` (a hint: no
@@ -361,7 +381,34 @@ impl BoundSkeleton {
                 return Err(mirrored(&format!("bone {}'s rest", names[bone])));
             }
         }
+        // Upper lids (not chain bones): each with the head's lateral axis in its rest
+        // frame, from the rest globals in the skeleton's frame.
+        let mut lids = [None, None];
+        let found = find_upper_lids(names.iter().map(String::as_str));
+        for (slot, bone) in lids.iter_mut().zip(found) {
+            let Some(bone) = bone.filter(|b| !mapped.bones.contains(b)) else {
+                continue;
+            };
+            let mut rotation = Quat::IDENTITY;
+            let mut current = Some(bone);
+            while let Some(b) = current {
+                rotation = rests[b].rotation() * rotation;
+                current = parents[b];
+            }
+            let lateral = placement.conjugate() * Vec3::X;
+            let axis = (rotation.normalize().conjugate() * lateral).normalize_or_zero();
+            if axis != Vec3::ZERO && axis.is_finite() {
+                *slot = Some(Lid {
+                    bone,
+                    axis,
+                    base: Xform::IDENTITY,
+                    written: None,
+                });
+            }
+        }
         let mut bound = BoundSkeleton {
+            lidded: lids.iter().any(Option::is_some),
+            lids,
             bone_count: count,
             bones: [0; MAX_CHAIN_JOINTS],
             joint_count: mapped.bones.len(),
@@ -457,6 +504,80 @@ impl BoundSkeleton {
             rotation = (rotation * rotation_of(&local.basis)).normalize();
         }
         Ok(rotation)
+    }
+
+    /// Takes over what `old` (the binding this one replaces, mapped again) remembers of the
+    /// bones both drive: each one's animated pose and the pose last written. Without it, a
+    /// bone that nothing animates would hold the gaze written under the old binding, and the
+    /// new one would read that as its animated pose.
+    pub fn carry_over(&mut self, old: &BoundSkeleton) {
+        for k in 0..self.joint_count {
+            if let Some(j) = old.chain_bones().iter().position(|&b| b == self.bones[k]) {
+                let rest = self.joints[k].rest;
+                self.joints[k] = Joint {
+                    rest,
+                    ..old.joints[j]
+                };
+            }
+        }
+        self.has_written = old.has_written;
+        for lid in self.lids.iter_mut().flatten() {
+            if let Some(before) = old.lids.iter().flatten().find(|l| l.bone == lid.bone) {
+                lid.base = before.base;
+                lid.written = before.written;
+            }
+        }
+    }
+
+    /// True if the skeleton has upper-lid bones the adapter turns.
+    pub fn has_lids(&self) -> bool {
+        self.lidded
+    }
+
+    /// The upper-lid bones (left, right).
+    pub fn lid_bones(&self) -> [Option<usize>; 2] {
+        [self.lids[0].map(|l| l.bone), self.lids[1].map(|l| l.bone)]
+    }
+
+    /// Turns the upper-lid bones from their animated poses for the library's `eyelids`
+    /// (lid pitch and closure), times `weight`. A pose that is still the one last written
+    /// keeps the animated pose read before it (the turn never accumulates); a non-finite
+    /// pose is left alone.
+    pub fn write_lids(
+        &mut self,
+        skeleton: &mut impl SkeletonAccess,
+        eyelids: &crowdgaze::crowd::EyelidState,
+        weight: f32,
+    ) {
+        let sides = [
+            (eyelids.left_lid_pitch, eyelids.left_closure),
+            (eyelids.right_lid_pitch, eyelids.right_closure),
+        ];
+        for (lid, (pitch, closure)) in self.lids.iter_mut().zip(sides) {
+            let Some(lid) = lid else {
+                continue;
+            };
+            if lid.bone >= self.bone_count {
+                continue;
+            }
+            let pose = skeleton.bone_pose(lid.bone);
+            if !pose.is_finite() {
+                continue;
+            }
+            if lid.written != Some(pose) {
+                lid.base = pose;
+            }
+            let angle = lid_angle(pitch, closure, weight);
+            let turn = glam::Mat3::from_quat(Quat::from_axis_angle(lid.axis, angle));
+            let written = Xform {
+                basis: lid.base.basis * turn,
+                origin: lid.base.origin,
+            };
+            if pose != written {
+                skeleton.set_bone_pose(lid.bone, written);
+            }
+            lid.written = Some(written);
+        }
     }
 
     /// The chain bones, bottom to top.
@@ -593,17 +714,23 @@ impl BoundSkeleton {
     }
 
     /// Writes the chain's final rotations (the library's `base * delta`, the first in the
-    /// character frame) as bone poses, keeping each pose's translation and scale from this
-    /// the animation's last pose. Call after [`read`](Self::read) in the same frame. A bone
-    /// that still holds exactly the pose to write is not written again (nothing to update
-    /// in the engine).
-    pub fn write(&mut self, skeleton: &mut impl SkeletonAccess, rotations: &[Quat]) {
+    /// character frame) as bone poses, keeping each pose's translation and scale from
+    /// the animation's last pose. Each local rotation is the animated one slerped towards
+    /// the gaze's by `weight` (0: the animated pose, 1: the gaze). Call after
+    /// [`read`](Self::read) in the same frame. A bone that still holds exactly the pose to
+    /// write is not written again (nothing to update in the engine).
+    pub fn write(&mut self, skeleton: &mut impl SkeletonAccess, rotations: &[Quat], weight: f32) {
         let joints = &mut self.joints[..self.joint_count];
         for (k, (rotation, joint)) in rotations.iter().zip(joints).enumerate() {
-            let local = if k == 0 {
+            let gaze = if k == 0 {
                 self.root_rotation.conjugate() * *rotation
             } else {
                 joint.above.conjugate() * *rotation
+            };
+            let local = if weight >= 1.0 {
+                gaze
+            } else {
+                joint.local.slerp(gaze, weight.max(0.0))
             };
             let pose_rotation = match self.convention {
                 PoseConvention::RestTimesPose => joint.rest.conjugate() * local,

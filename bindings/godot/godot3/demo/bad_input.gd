@@ -169,6 +169,110 @@ func _process(_delta):
 			expect(crowd.set_gaze_target(gaze, Vector3(1, 1.5, 3)), "looking at a point")
 			expect(crowd.set_gaze_target(gaze, target), "looking at the target")
 			expect(crowd.clear_gaze_target(gaze), "clearing the target")
+		27:
+			# The controls and outputs given bad values: empty answers or one error each.
+			var gaze = people[1].get_node("Skeleton/Gaze")
+			var other = people[2].get_node("Skeleton/Gaze")
+			var freed = Spatial.new()
+			freed.free()
+			for bad in [null, "x", 42, freed, self, target, Vector3(NAN, 0, 0)]:
+				expect(crowd.get_eyelids(bad) == Vector2.ZERO, "eyelids of %s" % str(bad))
+				expect(crowd.get_character_influence(bad) == 0.0, "influence of %s" % str(bad))
+				expect(crowd.get_conversation(bad) == -1, "conversation of %s" % str(bad))
+			expect_error("/root/BadInput/CrowdGaze: CrowdGaze.set_conversation: members must be an Array of CrowdGazeCharacter nodes, not null")
+			expect(crowd.set_conversation(null) == -1, "a conversation of null")
+			# Once per cause: the same bad call again prints nothing.
+			expect(crowd.set_conversation(null) == -1, "a conversation of null, again")
+			expect_error("/root/BadInput/CrowdGaze: CrowdGaze.set_conversation: members must be an Array of CrowdGazeCharacter nodes, not a float")
+			expect(crowd.set_conversation(INF) == -1, "a conversation of INF")
+			expect_error("/root/BadInput/CrowdGaze: CrowdGaze.set_conversation: invalid argument: a conversation has 2 to 8 members, not 1; no conversation")
+			expect(crowd.set_conversation([gaze]) == -1, "a conversation of one")
+			expect_error("/root/BadInput/CrowdGaze: CrowdGaze.set_conversation: not found: member 1 is not a character of this crowd")
+			expect(crowd.set_conversation([gaze, freed]) == -1, "a conversation with a freed node")
+			expect_error("/root/BadInput/CrowdGaze: CrowdGaze.set_conversation: invalid argument: character")
+			expect(crowd.set_conversation([gaze, gaze]) == -1, "a conversation with itself")
+			var huge = []
+			for k in range(100000):
+				huge.append(gaze)
+			# (The cause of one member, with another number: not reported again.)
+			expect(crowd.set_conversation(huge) == -1, "a conversation of 100000")
+			var id = crowd.set_conversation([gaze, other])
+			expect(id >= 0 and crowd.get_conversation(other) == id, "a good conversation")
+			expect_error("/root/BadInput/CrowdGaze: CrowdGaze.remove_conversation: id must be an int (from set_conversation), not a String")
+			expect(not crowd.remove_conversation("x"), "removing conversation 'x'")
+			expect_error("/root/BadInput/CrowdGaze: CrowdGaze.remove_conversation: not found: there is no conversation -5")
+			expect(not crowd.remove_conversation(-5), "removing conversation -5")
+			expect(not crowd.remove_conversation(-5), "removing conversation -5 again")
+			expect_error("/root/BadInput/CrowdGaze: CrowdGaze.remove_conversation: not found: there is no conversation 9223372036854775807")
+			expect(not crowd.remove_conversation(9223372036854775807), "removing a huge conversation")
+			expect(crowd.remove_conversation(id), "removing the good conversation")
+			# Out-of-range properties: one error each, naming the node and the value; the
+			# character keeps its settings.
+			var cases = [
+				["influence", NAN, "influence = NaN"],
+				["influence", 5.0, "influence = 5.0: it must be from 0 to 1"],
+				["influence_fade_time", -1.0, "influence_fade_time = -1.0"],
+				["influence_fade_time", INF, "influence_fade_time = inf"],
+				["attention_fraction", 2.0, "attention_fraction = 2.0"],
+				["attention_model", 9, "attention_model = 9"],
+				["max_head_turn", INF, "max_head_turn = inf"],
+				["max_eye_angle", -3.0, "max_eye_angle = -3.0"],
+			]
+			for case in cases:
+				var good = gaze.get(case[0])
+				expect_error("/root/BadInput/Person1/Skeleton/Gaze: CrowdGazeCharacter.set: invalid argument: " + case[2])
+				gaze.set(case[0], case[1])
+				gaze.set(case[0], good)
+			expect(crowd.get_character_influence(gaze) == 1.0, "the influence after bad values")
+			expect_error("/root/BadInput/Person1/Skeleton/Gaze: CrowdGazeCharacter.set_eyelid_mesh: eyelid_mesh = 'Nowhere' names no node")
+			gaze.eyelid_mesh = NodePath("Nowhere")
+			expect_error("/root/BadInput/Person1/Skeleton/Gaze: CrowdGazeCharacter.set_eyelid_mesh: eyelid_mesh = '..' names a Skeleton, not a MeshInstance")
+			gaze.eyelid_mesh = NodePath("..")
+			var face = MeshInstance.new()
+			face.name = "Face"
+			face.mesh = CubeMesh.new()
+			gaze.add_child(face)
+			expect_error("/root/BadInput/Person1/Skeleton/Gaze: CrowdGazeCharacter.set_eyelid_mesh: eyelid_mesh = 'Face' has no blink blend shape")
+			gaze.eyelid_mesh = NodePath("Face")
+			expect_error("/root/BadInput/Person1/Skeleton/Gaze: CrowdGazeCharacter.set_eyelid_mesh: eyelid_shapes names 'wink', which the mesh does not have (its blend shapes: none)")
+			gaze.eyelid_shapes = "wink"
+			face.free()
+			gaze.eyelid_mesh = NodePath("")
+			gaze.eyelid_shapes = ""
+			# The crowd's controls.
+			expect_error("/root/BadInput/CrowdGaze: CrowdGaze.set_active/set_influence/set_influence_fade_time: invalid argument: influence = NaN")
+			crowd.influence = NAN
+			crowd.influence = 1.0
+			expect_error("/root/BadInput/CrowdGaze: CrowdGaze.set_active/set_influence/set_influence_fade_time: invalid argument: influence_fade_time = 1e300")
+			crowd.influence_fade_time = 1e300
+			crowd.influence_fade_time = 0.0
+			gaze.talking = true
+			gaze.talking = false
+			# Wrong types: one error each, naming the node and the property, which keeps its
+			# value; what GDScript converts on assignment (an int for a float, a String for a
+			# NodePath) is taken.
+			var person1 = "/root/BadInput/Person1/Skeleton/Gaze: CrowdGazeCharacter."
+			expect_error(person1 + "influence: a String is not a float from 0 to 1; the value is kept")
+			gaze.set("influence", "abc")
+			expect_error(person1 + "active: a Vector3 is not a bool; the value is kept")
+			gaze.set("active", Vector3.ONE)
+			expect_error(person1 + "eyelid_mesh: an int is not a NodePath; the value is kept")
+			gaze.set("eyelid_mesh", 42)
+			expect_error(person1 + "attention_model: null is not an int (0 to 3); the value is kept")
+			gaze.set("attention_model", null)
+			expect_error(person1 + "max_head_turn: an Object is not a float (degrees); the value is kept")
+			gaze.set("max_head_turn", freed)
+			expect_error("/root/BadInput/CrowdGaze: CrowdGaze.influence: an Array is not a float from 0 to 1; the value is kept")
+			crowd.set("influence", [1])
+			expect_error("/root/BadInput/CrowdGaze: CrowdGaze.active: a String is not a bool; the value is kept")
+			crowd.set("active", "yes")
+			expect(gaze.influence == 1.0 and gaze.active and gaze.attention_model == 0, "a refused value was kept")
+			expect(crowd.influence == 1.0 and crowd.active, "a refused crowd value was kept")
+			gaze.influence = 0
+			expect(gaze.influence == 0.0, "an int influence was refused")
+			gaze.influence = 1
+			gaze.eyelid_mesh = ""
+			expect(gaze.eyelid_mesh == NodePath(""), "a String path was refused")
 		28:
 			hostile_calls()
 			hostile_properties()
@@ -204,7 +308,9 @@ const CROWD_METHODS = [
 	["get_gaze_target", 1], ["get_gaze_point", 1], ["is_attending", 1], ["is_holding", 1],
 	["get_chain_bones", 1], ["get_joint_rotations", 1], ["get_look_at_height", 1],
 	["set_gaze_target", 2], ["clear_gaze_target", 1], ["get_frame_usec", 0],
-	["get_frame_parts_usec", 0],
+	["get_frame_parts_usec", 0], ["get_eyelids", 1], ["get_character_influence", 1],
+	["set_conversation", 1], ["remove_conversation", 1], ["get_conversation", 1],
+	["get_following", 1],
 ]
 const CHARACTER_METHODS = [
 	["_enter_tree", 0], ["_ready", 0], ["_exit_tree", 0], ["_notification", 1],
@@ -259,6 +365,7 @@ func hostile_calls():
 		expect(crowd.get_chain_bones(value).size() == 0, "the chain bones of %s" % [value])
 		expect(crowd.get_joint_rotations(value).size() == 0, "the rotations of %s" % [value])
 		expect(crowd.get_look_at_height(value) == 0.0, "the look-at height of %s" % [value])
+		expect(crowd.get_following(value) == null, "the followed point of %s" % [value])
 		expect(not crowd.clear_gaze_target(value), "clearing the target of %s" % [value])
 		expect(not crowd.set_gaze_target(value, target), "%s looking at the target" % [value])
 		if not (typeof(value) == TYPE_OBJECT and is_instance_valid(value) and value == target):
@@ -312,6 +419,9 @@ const CROWD_SETTINGS = [
 	["viewer_impact", NAN, "CrowdGaze._process: the camera as the viewer: "],
 	["viewer_impact", -1e300, "CrowdGaze._process: the camera as the viewer: "],
 	["camera_is_viewer", false, ""],
+	["gaze_following", true, ""],
+	["following_strength", 2, "invalid argument: following_strength = 2: it must be 0 (Milgram) or 1 (Gallup)"],
+	["following_strength", -1, "invalid argument: following_strength = -1: it must be 0 (Milgram) or 1 (Gallup)"],
 ]
 
 
@@ -348,7 +458,7 @@ func hostile_properties():
 	expect(crowd.max_distance == 12.0, "an int max_distance was refused")
 	crowd.max_distance = 10.0
 	var gaze = people[2].get_node("Skeleton/Gaze")
-	var path = "/root/BadInput/Person2/Skeleton/Gaze: CrowdGazeCharacter.set_bone_map/set_impact: invalid argument: "
+	var path = "/root/BadInput/Person2/Skeleton/Gaze: CrowdGazeCharacter.set: invalid argument: "
 	expect_error(path + "impact = NaN")
 	expect_error(path + "impact = inf")
 	expect_error(path + "impact = -1")
@@ -401,7 +511,7 @@ const CROWD_PROPERTIES = [
 	["field_of_view", "float"], ["attention_fraction_min", "float"],
 	["attention_fraction_max", "float"], ["threads", "int"], ["attention_period", "int"],
 	["lod_distance", "float"], ["far_attention_period", "int"], ["camera_is_viewer", "bool"],
-	["viewer_impact", "float"],
+	["viewer_impact", "float"], ["gaze_following", "bool"],
 ]
 const CHARACTER_PROPERTIES = [["crowd", "NodePath"], ["bone_map", "String"], ["impact", "float"]]
 const TARGET_PROPERTIES = [["crowd", "NodePath"], ["look_at_height", "float"], ["impact", "float"]]
@@ -411,13 +521,15 @@ static func with_article(name):
 	return ("an " if name[0] in ["a", "e", "i", "o", "u"] else "a ") + name
 
 
-# Each property set to a String (a Vector3 for the String ones), then to null: one error
-# each, the value unchanged.
+# Each property set to a String (a Vector3 for the String and NodePath ones: a String is
+# taken as a NodePath, as GDScript converts it), then to null: one error each, the value
+# unchanged.
 func wrong_types(node, prefix, properties):
 	for entry in properties:
 		var before = node.get(entry[0])
-		var wrong = Vector3(1, 2, 3) if entry[1] == "String" else "x"
-		var wrong_name = "a Vector3" if entry[1] == "String" else "a String"
+		var textual = entry[1] in ["String", "NodePath"]
+		var wrong = Vector3(1, 2, 3) if textual else "x"
+		var wrong_name = "a Vector3" if textual else "a String"
 		expect_error("%s.%s: %s is not %s; the value is kept" % [prefix, entry[0], wrong_name, with_article(entry[1])])
 		node.set(entry[0], wrong)
 		node.set(entry[0], wrong)

@@ -168,7 +168,7 @@ func _process(_delta):
 				var before = crowd_b.get_chain_bones(gaze).size()
 				gaze.bone_map = "LeftEye=none,RightEye=none"
 				expect(crowd_b.get_chain_bones(gaze).size() == before - 2, "bone_map did not take effect")
-				expect_error("/root/Cases/B0/Skeleton/Gaze: CrowdGazeCharacter.set_bone_map/set_impact: invalid argument: impact = -1")
+				expect_error("/root/Cases/B0/Skeleton/Gaze: CrowdGazeCharacter.set: invalid argument: impact = -1")
 				gaze.impact = -1.0
 				gaze.impact = 2.0
 				post.look_at_height = 2.5

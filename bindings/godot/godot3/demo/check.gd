@@ -6,7 +6,12 @@
 #   2. once its gaze has settled on a target (is_holding; attention's or an explicit one),
 #      each eye's forward (its rest forward, the skeleton's +Z, carried by the eye bone's
 #      global pose) points at the target's look-at point within 2 degrees;
-#   3. the crowd holds exactly the character nodes in the tree (freed people leave at once).
+#   3. the crowd holds exactly the character nodes in the tree (freed people leave at once);
+#   4. gaze following: the onlookers' eyes, once their gaze holds, point at the facade point
+#      they stare at, within 2 degrees; at least one other character glances there
+#      (get_following gives that point, and character_followed_gaze is emitted).
+# 1 and 2 apply at full influence: the fading bystander's frames below it are counted (its
+# gaze must fade out and back in) and left to controls.gd, which checks the blend.
 # Prints the figures and "CROWDGAZE CHECK PASSED" (or FAILED), then quits with 0 (or 1).
 extends Node
 
@@ -22,6 +27,9 @@ var eye_samples = 0
 var attending = {}
 var targets_seen = {}
 var failures = []
+var faded_frames = 0
+var onlooker_frames = 0   # frames an onlooker's gaze held on the facade point
+var followers = {}     # characters (not onlookers) seen following the onlookers' gaze
 var eye_forward = {}   # skeleton instance id -> [left, right] eye forward in the eye's frame
 
 
@@ -73,6 +81,12 @@ func _process(_delta):
 
 
 func check_character(crowd, gaze):
+	# A character whose gaze fades (demo.gd's fading bystander) is blended with its walk,
+	# which only the walk knows: its poses are the library's only at full influence
+	# (controls.gd checks the blend itself).
+	if crowd.get_character_influence(gaze) < 1.0:
+		faded_frames += 1
+		return
 	var skeleton = gaze.get_parent()
 	var bones = crowd.get_chain_bones(gaze)
 	var rotations = crowd.get_joint_rotations(gaze)
@@ -94,16 +108,37 @@ func check_character(crowd, gaze):
 			worst_pose = error
 		if error > POSE_TOLERANCE:
 			fail("%s: bone %s is %g rad from the library's rotation" % [gaze.get_path(), skeleton.get_bone_name(bones[k]), error])
-	# The eyes' target: from attention, or an explicit one (the chatting pair's).
+	# The onlookers stare at the facade point (an explicit point: get_gaze_target gives
+	# their attention's node, which their eyes leave for the point).
+	if demo.onlookers.has(gaze):
+		if crowd.is_holding(gaze):
+			onlooker_frames += 1
+			check_eyes(gaze, bones, demo.FACADE_POINT, "the facade point")
+		return
+	# A glance where the onlookers stare (gaze following wins over attention).
+	var following = crowd.get_following(gaze)
+	if following != null:
+		followers[gaze.get_instance_id()] = true
+		if following.distance_to(demo.FACADE_POINT) > 1e-3:
+			fail("%s follows a gaze to %s, not to the facade point" % [gaze.get_path(), following])
+		# (Its eyes are not checked: a walker may glance at a point beyond what its joints
+		# reach, and then holds the gaze short of it.)
+		return
+	# The eyes' target: from attention, or an explicit one (a node).
 	var target = crowd.get_gaze_target(gaze)
 	if target == null:
 		return
 	if crowd.is_attending(gaze):
 		attending[gaze.get_instance_id()] = true
 	targets_seen[target.get_instance_id()] = true
-	if not crowd.is_holding(gaze):
-		return
-	var point = look_at_point(target)
+	if crowd.is_holding(gaze):
+		check_eyes(gaze, bones, look_at_point(target), str(target.get_path()))
+
+
+# Both eyes of a character whose gaze holds point at `point` within the tolerance.
+func check_eyes(gaze, bones, point, what):
+	var skeleton = gaze.get_parent()
+	var place = skeleton.global_transform
 	var key = skeleton.get_instance_id()
 	var eyes = [bones.size() - 2, bones.size() - 1]   # the chain ends with both eyes
 	if not eye_forward.has(key):
@@ -120,16 +155,23 @@ func check_character(crowd, gaze):
 		eye_samples += 1
 		if degrees > worst_eye:
 			worst_eye = degrees
-			worst_eye_where = "%s looking at %s" % [gaze.get_path(), target.get_path()]
+			worst_eye_where = "%s looking at %s" % [gaze.get_path(), what]
 		if degrees > EYE_TOLERANCE_DEGREES:
-			fail("%s: eye %d is %.2f degrees off %s" % [gaze.get_path(), e, degrees, target.get_path()])
+			fail("%s: eye %d is %.2f degrees off %s" % [gaze.get_path(), e, degrees, what])
 
 
 func finish():
-	print("CROWDGAZE CHECK frames=%d characters_attending=%d targets=%d eye_samples=%d" % [frames, attending.size(), targets_seen.size(), eye_samples])
+	print("CROWDGAZE CHECK frames=%d characters_attending=%d targets=%d eye_samples=%d faded_frames=%d" % [frames, attending.size(), targets_seen.size(), eye_samples, faded_frames])
+	print("CROWDGAZE CHECK onlooker_frames=%d followers=%d followed_gaze_signals=%d" % [onlooker_frames, followers.size(), demo.followed])
 	print("CROWDGAZE CHECK max_pose_error_rad=%.9f max_eye_angle_deg=%.4f (%s)" % [worst_pose, worst_eye, worst_eye_where])
 	if eye_samples == 0 or attending.size() < 3:
 		fail("too few characters attended (%d) to check the eyes" % attending.size())
+	if onlooker_frames < 300:
+		fail("the onlookers' gaze held on the facade point for %d frames" % onlooker_frames)
+	if followers.empty() or demo.followed == 0:
+		fail("nobody followed the onlookers' gaze (%d followers, %d signals)" % [followers.size(), demo.followed])
+	if faded_frames < 30:
+		fail("the fading bystander's gaze was below full influence for %d frames" % faded_frames)
 	for failure in failures:
 		print("CROWDGAZE CHECK FAILURE " + failure)
 	if failures.empty():

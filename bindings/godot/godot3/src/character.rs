@@ -8,12 +8,15 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
 
 use crowdgaze_godot_adapter::{
-    check_character, choose_crowd, message, CharacterCheck, CrowdFound, NamedNode,
+    check_character, choose_crowd, message, CharacterCheck, CharacterValues, CrowdFound, NamedNode,
 };
 use gdnative::nativescript::init::property::{StringHint, Usage};
 use gdnative::prelude::*;
 
-use crate::convert::{boundary, first_report, in_editor, is_main_thread, node_path, xform, Data};
+use crate::convert::{
+    boundary, eye_angle_hint, first_report, fraction_hint, head_turn_hint, in_editor,
+    is_main_thread, model_hint, node_path, seconds_hint, unit_hint, xform, Data,
+};
 use crate::crowd_gaze::{skeleton_of, CrowdGaze, CHARACTER_GROUP, CROWD_GROUP};
 use crate::props::Given;
 use crate::skeleton::GodotSkeleton;
@@ -34,6 +37,35 @@ pub struct CrowdGazeCharacter {
     bone_map: GodotString,
     /// How interesting this character is to others (`I_E`, ≥ 0).
     impact: f64,
+    /// Whether the gaze is applied: false fades the influence to 0 over
+    /// `influence_fade_time`, then leaves the bones to the animation (attention keeps
+    /// running, so turning it back on is smooth).
+    active: bool,
+    /// How much of the gaze the bones take, 0 (the animation alone) to 1 (the gaze); the
+    /// `CrowdGaze` node's `influence` multiplies it.
+    influence: f64,
+    /// Seconds a change of `active` or `influence` takes to show fully (0: at once).
+    influence_fade_time: f64,
+    /// True while the character talks: others in its conversation look at it more.
+    talking: bool,
+    /// The share of the time the character attends to something, 0 to 1; -1: the crowd's
+    /// draw (from `attention_fraction_min` to `attention_fraction_max`).
+    attention_fraction: f64,
+    /// The model deciding where the character looks: 0 the crowd model (Grillon &
+    /// Thalmann), 1 saliency (Kokkinara et al.), 2 the baseline.
+    attention_model: i64,
+    /// Degrees the neck and head may turn together (yaw; the library's chain has 70). The
+    /// skeleton is mapped again when it changes.
+    max_head_turn: f64,
+    /// Degrees each eye may turn from straight ahead (the library's chain has 35).
+    max_eye_angle: f64,
+    /// A `MeshInstance` whose blink blend shapes take the eyelids' closure each frame
+    /// (empty: none). Its shapes are found by name (ARKit `eyeBlinkLeft`/`eyeBlinkRight`,
+    /// VRM `Blink_L`/`Blink_R`/`Blink`, `blink`) unless `eyelid_shapes` names them.
+    eyelid_mesh: NodePath,
+    /// The blink blend shapes of `eyelid_mesh`: empty (found by name), one name for both
+    /// eyes, or `left,right`.
+    eyelid_shapes: GodotString,
     /// What the crowd knows of the node's life (see [`Presence`]).
     presence: Presence,
 }
@@ -79,10 +111,21 @@ impl Presence {
 
 impl CrowdGazeCharacter {
     fn new(_owner: &Spatial) -> Self {
+        let defaults = CharacterValues::default();
         CrowdGazeCharacter {
             crowd: NodePath::default(),
             bone_map: GodotString::new(),
-            impact: 1.0,
+            impact: defaults.impact,
+            active: defaults.active,
+            influence: defaults.influence,
+            influence_fade_time: defaults.influence_fade_time,
+            talking: defaults.talking,
+            attention_fraction: defaults.attention_fraction,
+            attention_model: defaults.attention_model,
+            max_head_turn: defaults.max_head_turn,
+            max_eye_angle: defaults.max_eye_angle,
+            eyelid_mesh: NodePath::default(),
+            eyelid_shapes: GodotString::new(),
             presence: Presence::new(),
         }
     }
@@ -102,6 +145,23 @@ impl CrowdGazeCharacter {
         checked_property!(builder, CrowdGazeCharacter, crowd: NodePath);
         checked_property!(builder, CrowdGazeCharacter, bone_map: GodotString, then Self::settings_changed);
         checked_property!(builder, CrowdGazeCharacter, impact: f64 = 1.0, then Self::settings_changed);
+        let d = CharacterValues::default();
+        checked_property!(builder, CrowdGazeCharacter, active: bool = d.active, then Self::settings_changed);
+        checked_property!(builder, CrowdGazeCharacter, influence: f64 = d.influence, hint unit_hint(),
+            expects "a float from 0 to 1", then Self::settings_changed);
+        checked_property!(builder, CrowdGazeCharacter, influence_fade_time: f64 = d.influence_fade_time,
+            hint seconds_hint(), expects "a float (seconds)", then Self::settings_changed);
+        checked_property!(builder, CrowdGazeCharacter, talking: bool = d.talking, then Self::settings_changed);
+        checked_property!(builder, CrowdGazeCharacter, attention_fraction: f64 = d.attention_fraction,
+            hint fraction_hint(), expects "a float from 0 to 1, or -1", then Self::settings_changed);
+        checked_property!(builder, CrowdGazeCharacter, attention_model: i64 = d.attention_model,
+            hint model_hint(), expects "an int (0 to 3)", then Self::settings_changed);
+        checked_property!(builder, CrowdGazeCharacter, max_head_turn: f64 = d.max_head_turn,
+            hint head_turn_hint(), expects "a float (degrees)", then Self::settings_changed);
+        checked_property!(builder, CrowdGazeCharacter, max_eye_angle: f64 = d.max_eye_angle,
+            hint eye_angle_hint(), expects "a float (degrees)", then Self::settings_changed);
+        checked_property!(builder, CrowdGazeCharacter, eyelid_mesh: NodePath, then Self::settings_changed);
+        checked_property!(builder, CrowdGazeCharacter, eyelid_shapes: GodotString, then Self::settings_changed);
         builder
             .add_property::<Given<String>>("mapping_report")
             .with_getter(|this: &Self, owner: TRef<Spatial>| {
@@ -164,15 +224,39 @@ impl CrowdGazeCharacter {
         )
     }
 
-    /// The settings a `CrowdGaze` registers the character with: bone map and impact, and
-    /// the node's presence.
-    pub fn settings(&self) -> (String, f64, Presence) {
-        (
-            self.bone_map.to_string(),
-            self.impact,
-            self.presence.clone(),
-        )
+    /// The settings a `CrowdGaze` registers the character with, as given.
+    pub fn settings(&self) -> CharacterInputs {
+        CharacterInputs {
+            values: CharacterValues {
+                bone_map: self.bone_map.to_string(),
+                impact: self.impact,
+                attention_fraction: self.attention_fraction,
+                attention_model: self.attention_model,
+                max_head_turn: self.max_head_turn,
+                max_eye_angle: self.max_eye_angle,
+                active: self.active,
+                influence: self.influence,
+                influence_fade_time: self.influence_fade_time,
+                talking: self.talking,
+            },
+            eyelid_mesh: self.eyelid_mesh.new_ref(),
+            eyelid_shapes: self.eyelid_shapes.to_string(),
+            presence: self.presence.clone(),
+        }
     }
+}
+
+/// What a `CrowdGaze` registers a character with: its values as given, its eyelid mesh
+/// and shapes, and its presence.
+pub struct CharacterInputs {
+    /// The adapter's values.
+    pub values: CharacterValues,
+    /// `eyelid_mesh`, relative to the character node.
+    pub eyelid_mesh: NodePath,
+    /// `eyelid_shapes`.
+    pub eyelid_shapes: String,
+    /// The node's presence (see [`Presence`]).
+    pub presence: Presence,
 }
 
 impl Drop for CrowdGazeCharacter {
@@ -359,9 +443,9 @@ impl CrowdGazeCharacter {
         let path = owner.get_path().to_string();
         match resolve_crowd(&owner, &self.crowd) {
             Ok(Some(crowd)) => {
-                let (bone_map, impact, presence) = self.settings();
+                let inputs = self.settings();
                 with_crowd(crowd, |crowd, crowd_owner| {
-                    crowd.register_character(&crowd_owner, owner, &bone_map, impact, presence)
+                    crowd.register_character(&crowd_owner, owner, inputs)
                 });
             }
             Ok(None) if report => godot_warn!(
@@ -382,7 +466,7 @@ impl CrowdGazeCharacter {
         }
     }
 
-    /// `bone_map` or `impact` was set: a character in a crowd takes the new values now.
+    /// A setting was set: a character in a crowd takes the new values now.
     fn settings_changed(&mut self, owner: TRef<Spatial>) {
         boundary("CrowdGazeCharacter.settings_changed", (), || {
             if !owner.is_inside_tree() {
@@ -393,9 +477,9 @@ impl CrowdGazeCharacter {
                 return;
             }
             if let Ok(Some(crowd)) = resolve_crowd(&owner, &self.crowd) {
-                let (bone_map, impact, presence) = self.settings();
+                let inputs = self.settings();
                 with_crowd(crowd, |crowd, crowd_owner| {
-                    crowd.update_character(&crowd_owner, owner, &bone_map, impact, presence)
+                    crowd.update_character(&crowd_owner, owner, inputs)
                 });
             }
         })

@@ -7,6 +7,7 @@ use std::sync::OnceLock;
 use std::thread::ThreadId;
 
 use crowdgaze_godot_adapter::{Reports, Xform};
+use gdnative::nativescript::init::property::hint::{EnumHint, FloatHint, IntHint, RangeHint};
 use gdnative::nativescript::user_data::{DeadlockPolicy, LockOptions, MutexData};
 use gdnative::prelude::*;
 
@@ -111,6 +112,56 @@ pub fn first_report(node: i64, method: &str, error: &dyn std::fmt::Display) -> b
     reports
         .get_or_insert_with(Reports::new)
         .first(node, method, error)
+}
+
+/// The inspector's slider for a value from 0 to 1.
+pub fn unit_hint() -> FloatHint<f64> {
+    FloatHint::Range(RangeHint::new(0.0, 1.0).with_step(0.01))
+}
+
+/// The inspector's slider for seconds (0 up, more typed in).
+pub fn seconds_hint() -> FloatHint<f64> {
+    FloatHint::Range(RangeHint::new(0.0, 10.0).with_step(0.01).or_greater())
+}
+
+/// The inspector's slider for an attention fraction (-1: the crowd's draw).
+pub fn fraction_hint() -> FloatHint<f64> {
+    FloatHint::Range(RangeHint::new(-1.0, 1.0).with_step(0.01))
+}
+
+/// The inspector's list of attention models.
+pub fn model_hint() -> IntHint<i64> {
+    IntHint::Enum(EnumHint::new(vec![
+        "Crowd".into(),
+        "Saliency".into(),
+        "Baseline".into(),
+        "Street".into(),
+    ]))
+}
+
+/// The inspector's list of gaze-following strengths.
+pub fn strength_hint() -> IntHint<i64> {
+    IntHint::Enum(EnumHint::new(vec!["Milgram".into(), "Gallup".into()]))
+}
+
+/// The inspector's slider for the neck and head's turn, degrees.
+pub fn head_turn_hint() -> FloatHint<f64> {
+    FloatHint::Range(RangeHint::new(0.0, 180.0).with_step(1.0))
+}
+
+/// The inspector's slider for an eye's turn, degrees.
+pub fn eye_angle_hint() -> FloatHint<f64> {
+    FloatHint::Range(RangeHint::new(0.0, 90.0).with_step(1.0))
+}
+
+/// The inspector's slider for a gaze-share angle, degrees.
+pub fn share_angle_hint() -> FloatHint<f64> {
+    FloatHint::Range(RangeHint::new(0.0, 180.0).with_step(1.0))
+}
+
+/// The inspector's slider for the head speed, degrees per second.
+pub fn head_speed_hint() -> FloatHint<f64> {
+    FloatHint::Range(RangeHint::new(1.0, 1440.0).with_step(1.0).or_greater())
 }
 
 /// Runs an exported method's body; a panic becomes one Godot error naming `what`, and the

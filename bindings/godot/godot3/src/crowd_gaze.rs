@@ -8,19 +8,23 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use crowdgaze_godot_adapter::crowdgaze::crowd::{ExplicitTarget, TargetPriority};
+use crowdgaze_godot_adapter::crowdgaze::scene::ids::NO_ENTITY;
+use crowdgaze_godot_adapter::lids::{find_blink_shapes, BlinkWriter};
 use crowdgaze_godot_adapter::{
-    check_crowd, claim_skeleton, message, CharacterSettings, CrowdSettings, EntityNode,
-    PoseConvention, Reports, SceneCrowd, SkeletonClaim,
+    check_crowd, claim_skeleton, message, Controls, CrowdSettings, EntityNode, PoseConvention,
+    Reports, SceneCrowd, SkeletonClaim,
 };
-use gdnative::api::Skeleton;
+use gdnative::api::{ArrayMesh, MeshInstance, Skeleton};
 use gdnative::nativescript::init::{Signal, SignalArgument};
 use gdnative::nativescript::{ExportInfo, PropertyUsage};
 use gdnative::prelude::*;
 
-use crate::character::{resolve_crowd, Presence};
+use crate::character::{resolve_crowd, CharacterInputs, Presence};
 use crate::convert::{
-    boundary, in_editor, node_path, number, on_main_thread_now, quat, vec3, vector, xform, Data,
+    boundary, head_speed_hint, in_editor, node_path, number, on_main_thread_now, quat,
+    seconds_hint, share_angle_hint, strength_hint, unit_hint, vec3, vector, xform, Data,
 };
+use crate::props::a_type;
 use crate::skeleton::GodotSkeleton;
 use crate::{checked_method, checked_property};
 
@@ -36,6 +40,95 @@ pub struct Handle {
     kept: Option<Kept>,
     /// A character's hold on its skeleton (released when the handle goes).
     _claim: Option<Arc<SkeletonClaim>>,
+    /// A character's eyelid mesh, if it has one with blink shapes.
+    eyelids: Option<EyelidMesh>,
+}
+
+/// A `MeshInstance` whose blink blend shapes take a character's eyelid closure.
+#[derive(Debug, Clone)]
+pub struct EyelidMesh {
+    /// The mesh instance's id.
+    mesh: i64,
+    /// Its blink shapes (indices into `properties`).
+    writer: BlinkWriter,
+    /// `blend_shapes/<name>` of each blend shape of the mesh, made once.
+    properties: Vec<GodotString>,
+}
+
+impl EyelidMesh {
+    /// Sets the blink shapes for character `slot` this frame (see
+    /// [`SceneCrowd::blink_values`]).
+    fn apply(&mut self, scene: &SceneCrowd<Handle>, slot: usize) {
+        let values = scene.blink_values(slot, &mut self.writer);
+        if values.iter().all(Option::is_none) {
+            return;
+        }
+        // SAFETY: an id taken from a MeshInstance, used within this call.
+        let Some(mesh) = (unsafe { live::<MeshInstance>(self.mesh) }) else {
+            return;
+        };
+        for (shape, value) in values.into_iter().flatten() {
+            if let Some(property) = self.properties.get(shape) {
+                mesh.set(property.new_ref(), f64::from(value));
+            }
+        }
+    }
+}
+
+/// The eyelid mesh `path` names from the character `node` with the shapes `shapes`
+/// (`eyelid_shapes`): `Ok(None)` for an empty path; errors say what to fix.
+fn eyelid_mesh(
+    node: &Spatial,
+    path: &NodePath,
+    shapes: &str,
+) -> Result<Option<EyelidMesh>, String> {
+    if path.is_empty() {
+        return Ok(None);
+    }
+    let text = path.to_string();
+    let found = Some(node)
+        .filter(|node| node.has_node(path.new_ref()))
+        .and_then(|node| node.get_node(path.new_ref()))
+        // SAFETY: a node of the tree, on the main thread, for this call.
+        .and_then(|n| unsafe { n.assume_safe_if_sane() })
+        .ok_or_else(|| format!("eyelid_mesh = '{text}' names no node: set it to a MeshInstance"))?;
+    let instance = found.cast::<MeshInstance>().ok_or_else(|| {
+        format!(
+            "eyelid_mesh = '{text}' names a {}, not a MeshInstance",
+            found.get_class()
+        )
+    })?;
+    let names: Vec<String> = instance
+        .mesh()
+        // SAFETY: the mesh resource is held by the instance, used within this call.
+        .and_then(|mesh| {
+            unsafe { mesh.assume_safe() }
+                .cast::<ArrayMesh>()
+                .map(|m| m.claim())
+        })
+        .map(|mesh| {
+            // SAFETY: as above.
+            let mesh = unsafe { mesh.assume_safe() };
+            (0..mesh.get_blend_shape_count())
+                .map(|k| mesh.get_blend_shape_name(k).to_string())
+                .collect()
+        })
+        .unwrap_or_default();
+    let shapes = find_blink_shapes(&names, shapes)?;
+    if shapes.is_empty() {
+        return Err(format!(
+            "eyelid_mesh = '{text}' has no blink blend shape (eyeBlinkLeft/eyeBlinkRight, \
+             Blink_L/Blink_R, Blink, blink): name its shapes in eyelid_shapes"
+        ));
+    }
+    Ok(Some(EyelidMesh {
+        mesh: instance.get_instance_id(),
+        writer: BlinkWriter::new(shapes),
+        properties: names
+            .iter()
+            .map(|name| GodotString::from(format!("blend_shapes/{name}")))
+            .collect(),
+    }))
 }
 
 /// A character's node and skeleton, kept at registration to be used each frame without an
@@ -110,6 +203,28 @@ pub struct CrowdGaze {
     lod_distance: f64,
     /// See `lod_distance` (1 to 64).
     far_attention_period: i64,
+    /// Degrees: gaze turns up to this the eyes make alone. Per crowd (as in the library),
+    /// read when the crowd is made.
+    eyes_only_angle: f64,
+    /// Degrees: gaze turns up to this leave the spine still (eyes, head and neck). Per
+    /// crowd, read when the crowd is made.
+    eyes_head_neck_angle: f64,
+    /// Degrees per second: the head speed that times gaze shifts (faster: shorter shifts).
+    /// Per crowd, read when the crowd is made.
+    head_speed: f64,
+    /// Whether the crowd's gaze is applied: false fades every character's influence to 0
+    /// over `influence_fade_time`, then leaves the bones to the animation.
+    active: bool,
+    /// How much of the gaze every character's bones take (0 to 1), times the character's
+    /// own `influence`.
+    influence: f64,
+    /// Seconds a change of `active` or `influence` takes to show fully (0: at once).
+    influence_fade_time: f64,
+    /// Gaze following: characters may glance where others stare (a point or object set
+    /// with `set_gaze_target`). Per crowd, read when the crowd is made.
+    gaze_following: bool,
+    /// How strongly passers-by follow: 0 Milgram (1969), 1 Gallup (2012). Per crowd.
+    following_strength: i64,
     /// Make the active camera an entity the characters may look at.
     camera_is_viewer: bool,
     /// How interesting the camera is (`I_E`, ≥ 0).
@@ -185,6 +300,7 @@ impl CrowdGaze {
     fn new(_owner: &Spatial) -> Self {
         // The inspector's defaults, kept once in the adapter.
         let defaults = CrowdSettings::default();
+        let controls = Controls::default();
         CrowdGaze {
             seed: defaults.seed,
             max_characters: defaults.max_characters,
@@ -197,6 +313,14 @@ impl CrowdGaze {
             attention_period: defaults.attention_period,
             lod_distance: defaults.lod_distance,
             far_attention_period: defaults.far_attention_period,
+            eyes_only_angle: defaults.eyes_only_angle,
+            eyes_head_neck_angle: defaults.eyes_head_neck_angle,
+            head_speed: defaults.head_speed,
+            gaze_following: defaults.gaze_following,
+            following_strength: defaults.following_strength,
+            active: controls.active,
+            influence: f64::from(controls.influence),
+            influence_fade_time: f64::from(controls.fade_time),
             camera_is_viewer: true,
             viewer_impact: 3.0,
             scene: None,
@@ -215,16 +339,37 @@ impl CrowdGaze {
             export_info: ExportInfo::new(VariantType::Object),
             usage: PropertyUsage::DEFAULT,
         };
+        for name in [
+            "interest_changed",
+            "character_started_looking",
+            "character_stopped_looking",
+        ] {
+            builder.add_signal(Signal {
+                name,
+                args: &[
+                    SignalArgument {
+                        name: "character",
+                        ..node()
+                    },
+                    SignalArgument {
+                        name: "target",
+                        ..node()
+                    },
+                ],
+            });
+        }
         builder.add_signal(Signal {
-            name: "interest_changed",
+            name: "character_followed_gaze",
             args: &[
                 SignalArgument {
                     name: "character",
                     ..node()
                 },
                 SignalArgument {
-                    name: "target",
-                    ..node()
+                    name: "point",
+                    default: Variant::new(),
+                    export_info: ExportInfo::new(VariantType::Vector3),
+                    usage: PropertyUsage::DEFAULT,
                 },
             ],
         });
@@ -249,6 +394,21 @@ impl CrowdGaze {
         checked_property!(builder, CrowdGaze, far_attention_period: i64 = d.far_attention_period);
         checked_property!(builder, CrowdGaze, camera_is_viewer: bool = true);
         checked_property!(builder, CrowdGaze, viewer_impact: f64 = 3.0);
+        checked_property!(builder, CrowdGaze, eyes_only_angle: f64 = d.eyes_only_angle,
+            hint share_angle_hint(), expects "a float (degrees)");
+        checked_property!(builder, CrowdGaze, eyes_head_neck_angle: f64 = d.eyes_head_neck_angle,
+            hint share_angle_hint(), expects "a float (degrees)");
+        checked_property!(builder, CrowdGaze, head_speed: f64 = d.head_speed,
+            hint head_speed_hint(), expects "a float (degrees per second)");
+        checked_property!(builder, CrowdGaze, gaze_following: bool = d.gaze_following);
+        checked_property!(builder, CrowdGaze, following_strength: i64 = d.following_strength,
+            hint strength_hint(), expects "an int (0 Milgram, 1 Gallup)");
+        let c = Controls::default();
+        checked_property!(builder, CrowdGaze, active: bool = c.active, then Self::controls_changed);
+        checked_property!(builder, CrowdGaze, influence: f64 = f64::from(c.influence),
+            hint unit_hint(), expects "a float from 0 to 1", then Self::controls_changed);
+        checked_property!(builder, CrowdGaze, influence_fade_time: f64 = f64::from(c.fade_time),
+            hint seconds_hint(), expects "a float (seconds)", then Self::controls_changed);
     }
 
     /// The exported methods, each with its argument count checked (see
@@ -270,6 +430,12 @@ impl CrowdGaze {
         checked_method!(builder, CrowdGaze, ["character"], fn get_look_at_height(&self, _owner: &Spatial, character: Variant) -> f64);
         checked_method!(builder, CrowdGaze, ["character", "target"], fn set_gaze_target(&mut self, owner: &Spatial, character: Variant, target: Variant) -> bool);
         checked_method!(builder, CrowdGaze, ["character"], fn clear_gaze_target(&mut self, _owner: &Spatial, character: Variant) -> bool);
+        checked_method!(builder, CrowdGaze, ["character"], fn get_following(&self, _owner: &Spatial, character: Variant) -> Variant);
+        checked_method!(builder, CrowdGaze, ["character"], fn get_eyelids(&self, _owner: &Spatial, character: Variant) -> Vector2);
+        checked_method!(builder, CrowdGaze, ["character"], fn get_character_influence(&self, _owner: &Spatial, character: Variant) -> f64);
+        checked_method!(builder, CrowdGaze, ["members"], fn set_conversation(&mut self, owner: &Spatial, members: Variant) -> i64);
+        checked_method!(builder, CrowdGaze, ["id"], fn remove_conversation(&mut self, owner: &Spatial, id: Variant) -> bool);
+        checked_method!(builder, CrowdGaze, ["character"], fn get_conversation(&self, _owner: &Spatial, character: Variant) -> i64);
         checked_method!(builder, CrowdGaze, [], fn get_frame_usec(&self, _owner: &Spatial) -> f64);
         checked_method!(builder, CrowdGaze, [], fn get_frame_parts_usec(&self, _owner: &Spatial) -> Vector3);
     }
@@ -288,6 +454,54 @@ impl CrowdGaze {
             attention_period: self.attention_period,
             lod_distance: self.lod_distance,
             far_attention_period: self.far_attention_period,
+            eyes_only_angle: self.eyes_only_angle,
+            eyes_head_neck_angle: self.eyes_head_neck_angle,
+            head_speed: self.head_speed,
+            gaze_following: self.gaze_following,
+            following_strength: self.following_strength,
+        }
+    }
+
+    /// `active`, `influence` or `influence_fade_time` was set: the crowd takes them (in
+    /// the editor, only the warnings are shown again).
+    fn controls_changed(&mut self, owner: TRef<Spatial>) {
+        boundary("CrowdGaze.controls_changed", (), || {
+            if in_editor() {
+                if owner.is_inside_tree() {
+                    owner.update_configuration_warning();
+                }
+                return;
+            }
+            self.apply_controls(&owner);
+        })
+    }
+
+    /// Gives the crowd the node's controls.
+    fn apply_controls(&mut self, owner: &Spatial) {
+        match Controls::new(self.active, self.influence, self.influence_fade_time) {
+            Ok(controls) => {
+                if let Some(scene) = self.scene.as_mut() {
+                    scene.set_controls(&controls);
+                }
+            }
+            // Out of the tree (a scene being loaded) it is reported when the crowd is made.
+            Err(_) if !owner.is_inside_tree() => {}
+            Err(error) => {
+                if self
+                    .reports
+                    .first(owner.get_instance_id(), "controls", &error)
+                {
+                    godot_error!(
+                        "{}",
+                        message(
+                            &path_of(owner),
+                            "CrowdGaze.set_active/set_influence/set_influence_fade_time",
+                            &error,
+                            "the crowd keeps its previous controls"
+                        )
+                    );
+                }
+            }
         }
     }
 
@@ -302,6 +516,7 @@ impl CrowdGaze {
                 Ok((scene, capacity)) => {
                     self.skeletons = Vec::with_capacity(capacity);
                     self.scene = Some(scene);
+                    self.apply_controls(owner);
                 }
                 Err(error) => {
                     self.config_failed = true;
@@ -327,9 +542,7 @@ impl CrowdGaze {
         &mut self,
         owner: &Spatial,
         node: TRef<Spatial>,
-        bone_map: &str,
-        impact: f64,
-        presence: Presence,
+        inputs: CharacterInputs,
     ) {
         let key = node.get_instance_id();
         if self.refused.contains(&key) {
@@ -343,13 +556,20 @@ impl CrowdGaze {
         }
         let skeleton = skeleton_of(&node);
         let path = path_of(&node);
+        let eyelids = Self::find_eyelids(&mut self.reports, &node, &inputs);
+        let Some(scene) = self.scene.as_mut() else {
+            return;
+        };
         let result = match skeleton {
             None => Err(
                 "a CrowdGazeCharacter must be a child of a Skeleton: move it under one".to_string(),
             ),
             Some(skeleton) => {
                 claim_skeleton(skeleton.get_instance_id(), key, &path).and_then(|claim| {
-                    CharacterSettings::new(bone_map, impact)
+                    let presence = inputs.presence;
+                    inputs
+                        .values
+                        .settings()
                         .and_then(|settings| {
                             let handle = Handle {
                                 node: key,
@@ -361,6 +581,7 @@ impl CrowdGaze {
                                     skeleton: skeleton.claim(),
                                 }),
                                 _claim: Some(Arc::new(claim)),
+                                eyelids,
                             };
                             scene.add_character(
                                 key,
@@ -389,21 +610,19 @@ impl CrowdGaze {
         }
     }
 
-    /// A registered character's `bone_map` or `impact` changed: the crowd takes them (a
-    /// character refused before tries to join again).
+    /// A registered character's settings changed: the crowd takes them (a character
+    /// refused before tries to join again).
     pub fn update_character(
         &mut self,
         owner: &Spatial,
         node: TRef<Spatial>,
-        bone_map: &str,
-        impact: f64,
-        presence: Presence,
+        inputs: CharacterInputs,
     ) {
         let key = node.get_instance_id();
         let registered = self.scene.as_ref().and_then(|s| s.entity_of(key)).is_some();
         if !registered {
             self.refused.remove(&key);
-            self.register_character(owner, node, bone_map, impact, presence);
+            self.register_character(owner, node, inputs);
             return;
         }
         let Some(scene) = self.scene.as_mut() else {
@@ -413,7 +632,7 @@ impl CrowdGaze {
         let Some(skeleton) = skeleton else {
             return;
         };
-        let result = CharacterSettings::new(bone_map, impact).and_then(|settings| {
+        let result = inputs.values.settings().and_then(|settings| {
             scene.update_character(
                 key,
                 &GodotSkeleton(skeleton),
@@ -427,11 +646,44 @@ impl CrowdGaze {
                     "{}",
                     message(
                         &path_of(&node),
-                        "CrowdGazeCharacter.set_bone_map/set_impact",
+                        "CrowdGazeCharacter.set",
                         &error,
                         "the character keeps its previous settings"
                     )
                 );
+            }
+        }
+        let eyelids = Self::find_eyelids(&mut self.reports, &node, &inputs);
+        if let Some(handle) = self.scene.as_mut().and_then(|scene| {
+            scene
+                .character_slot(key)
+                .and_then(|s| scene.character_handle_mut(s))
+        }) {
+            handle.eyelids = eyelids;
+        }
+    }
+
+    /// The character's eyelid mesh; a path or shapes that do not fit are reported once.
+    fn find_eyelids(
+        reports: &mut Reports,
+        node: &Spatial,
+        inputs: &CharacterInputs,
+    ) -> Option<EyelidMesh> {
+        match eyelid_mesh(node, &inputs.eyelid_mesh, &inputs.eyelid_shapes) {
+            Ok(eyelids) => eyelids,
+            Err(error) => {
+                if reports.first(node.get_instance_id(), "eyelids", &error) {
+                    godot_error!(
+                        "{}",
+                        message(
+                            &path_of(node),
+                            "CrowdGazeCharacter.set_eyelid_mesh",
+                            &error,
+                            "no blend shape is set"
+                        )
+                    );
+                }
+                None
             }
         }
     }
@@ -492,6 +744,7 @@ impl CrowdGaze {
             skeleton: 0,
             kept: None,
             _claim: None,
+            eyelids: None,
         };
         let placed = xform(&node.global_transform());
         if let Err(error) =
@@ -537,9 +790,9 @@ impl CrowdGaze {
             let settings = node
                 .cast_instance::<crate::character::CrowdGazeCharacter>()
                 .and_then(|instance| instance.map(|c, _| (c.settings(), c.crowd_path())).ok());
-            if let Some(((bone_map, impact, presence), path)) = settings {
+            if let Some((inputs, path)) = settings {
                 if joins(owner, &node, &path) {
-                    self.register_character(owner, node, &bone_map, impact, presence);
+                    self.register_character(owner, node, inputs);
                 }
             }
         }
@@ -687,6 +940,15 @@ impl CrowdGaze {
                     );
                 }
             }
+            let eyelids = scene
+                .character_handle_mut(slot)
+                .and_then(|handle| handle.eyelids.take());
+            if let Some(mut eyelids) = eyelids {
+                eyelids.apply(scene, slot);
+                if let Some(handle) = scene.character_handle_mut(slot) {
+                    handle.eyelids = Some(eyelids);
+                }
+            }
         }
         let written = start.elapsed();
         self.frame_usec = [
@@ -695,21 +957,50 @@ impl CrowdGaze {
             (written - stepped).as_secs_f64() * 1e6,
         ];
         // Signals go out at the end of the frame, when no method of this node is running.
-        for &(slot, target) in scene.interest_changes() {
-            let Some(character) = scene.character_handle(slot).and_then(|h| node_of(h.node)) else {
+        let node_variant = |id: u32| match scene.node_of(id) {
+            EntityNode::Character(handle) | EntityNode::Target(handle) => {
+                node_of(handle.node).map(|node| node.to_variant())
+            }
+            EntityNode::Viewer => camera.map(|camera| camera.to_variant()),
+            EntityNode::None => None,
+        };
+        for change in scene.interest_changes() {
+            let Some(character) = scene
+                .character_handle(change.slot)
+                .and_then(|h| node_of(h.node))
+            else {
                 continue;
             };
-            let target = match scene.node_of(target) {
-                EntityNode::Character(handle) | EntityNode::Target(handle) => {
-                    node_of(handle.node).map(|node| node.to_variant())
-                }
-                EntityNode::Viewer => camera.map(|camera| camera.to_variant()),
-                EntityNode::None => None,
+            let character = character.to_variant();
+            let (from, to) = (node_variant(change.from), node_variant(change.to));
+            let emit = |signal: &str, target: Option<Variant>| {
+                let arguments = [
+                    signal.to_variant(),
+                    character.clone(),
+                    target.unwrap_or_default(),
+                ];
+                // SAFETY: a deferred call of a built-in method on the node itself.
+                unsafe { owner.call_deferred("emit_signal", &arguments) };
+            };
+            if change.from != NO_ENTITY {
+                emit("character_stopped_looking", from);
+            }
+            if change.to != NO_ENTITY {
+                emit("character_started_looking", to.clone());
+            }
+            emit("interest_changed", to);
+        }
+        for start in scene.follow_starts() {
+            let Some(character) = scene
+                .character_handle(start.slot)
+                .and_then(|h| node_of(h.node))
+            else {
+                continue;
             };
             let arguments = [
-                "interest_changed".to_variant(),
+                "character_followed_gaze".to_variant(),
                 character.to_variant(),
-                target.unwrap_or_default(),
+                vector(start.point).to_variant(),
             ];
             // SAFETY: a deferred call of a built-in method on the node itself.
             unsafe { owner.call_deferred("emit_signal", &arguments) };
@@ -841,6 +1132,17 @@ impl CrowdGaze {
             self.slot_of(&character)
                 .and_then(|slot| self.scene.as_ref()?.gaze(slot).ok())
                 .map_or(Vector3::zero(), |gaze| vector(gaze.target_position))
+        })
+    }
+
+    /// The point a character glances at because others stare there (gaze following), or
+    /// null when it follows no one's gaze now (and for anything but a character of the
+    /// crowd, or with `gaze_following` off).
+    fn get_following(&self, _owner: &Spatial, character: Variant) -> Variant {
+        boundary("CrowdGaze.get_following", Variant::new(), || {
+            self.slot_of(&character)
+                .and_then(|slot| self.scene.as_ref()?.following(slot).ok().flatten())
+                .map_or_else(Variant::new, |point| vector(point).to_variant())
         })
     }
 
@@ -980,6 +1282,113 @@ impl CrowdGaze {
                 .gaze(slot)
                 .and_then(|gaze| scene.crowd_mut().clear_gaze_target(gaze.character))
                 .is_ok()
+        })
+    }
+
+    /// A character's eyelids after the last step: `Vector2(closure, lid_pitch)`, closure 0
+    /// open to 1 closed (a blink), lid pitch in radians (positive up), both eyes' mean;
+    /// `Vector2(0, 0)` for anything but a character of this crowd.
+    fn get_eyelids(&self, _owner: &Spatial, character: Variant) -> Vector2 {
+        boundary("CrowdGaze.get_eyelids", Vector2::zero(), || {
+            self.slot_of(&character)
+                .and_then(|slot| self.scene.as_ref()?.eyelid_summary(slot).ok())
+                .map_or(Vector2::zero(), |(closure, pitch)| {
+                    Vector2::new(closure, pitch)
+                })
+        })
+    }
+
+    /// A character's influence now (the crowd's times its own, fading), 0 to 1; 0 for
+    /// anything but a character of this crowd.
+    fn get_character_influence(&self, _owner: &Spatial, character: Variant) -> f64 {
+        boundary("CrowdGaze.get_character_influence", 0.0, || {
+            self.slot_of(&character)
+                .and_then(|slot| self.scene.as_ref()?.influence(slot).ok())
+                .map_or(0.0, f64::from)
+        })
+    }
+
+    /// Makes `members` (an Array of 2 to 8 `CrowdGazeCharacter` nodes of this crowd, each
+    /// in no other conversation) a group standing together and talking; they look at each
+    /// other, more at whoever has `talking` set. Returns the conversation's id (≥ 0), or -1
+    /// with an error.
+    fn set_conversation(&mut self, owner: &Spatial, members: Variant) -> i64 {
+        boundary("CrowdGaze.set_conversation", -1, || {
+            let result = match (self.scene.as_mut(), members.try_to_array()) {
+                (None, _) => Err("the crowd was not created (see the first error)".to_string()),
+                (_, None) => Err(format!(
+                    "members must be an Array of CrowdGazeCharacter nodes, not {}",
+                    a_type(&members)
+                )),
+                (Some(scene), Some(array)) => {
+                    let keys: Vec<i64> = array
+                        .iter()
+                        .map(|member| instance_id(&member).unwrap_or(0))
+                        .collect();
+                    scene
+                        .set_conversation(&keys)
+                        .map(i64::from)
+                        .map_err(|e| e.to_string())
+                }
+            };
+            result.unwrap_or_else(|error| {
+                // Once per cause: a script retrying every frame does not flood the output.
+                if self
+                    .reports
+                    .first(owner.get_instance_id(), "set_conversation", &error)
+                {
+                    godot_error!(
+                        "{}",
+                        message(
+                            &path_of(owner),
+                            "CrowdGaze.set_conversation",
+                            &error,
+                            "no conversation is formed"
+                        )
+                    );
+                }
+                -1
+            })
+        })
+    }
+
+    /// Ends conversation `id` (from `set_conversation`): its members go back to their own
+    /// attention. False (with an error) if there is no such conversation.
+    fn remove_conversation(&mut self, owner: &Spatial, id: Variant) -> bool {
+        boundary("CrowdGaze.remove_conversation", false, || {
+            let result = match (self.scene.as_mut(), id.try_to_i64()) {
+                (Some(scene), Some(id)) => scene.remove_conversation(id).map_err(|e| e.to_string()),
+                (None, _) => Err("the crowd was not created (see the first error)".to_string()),
+                (_, None) => Err(format!(
+                    "id must be an int (from set_conversation), not {}",
+                    a_type(&id)
+                )),
+            };
+            result.map_or_else(
+                |error| {
+                    if self
+                        .reports
+                        .first(owner.get_instance_id(), "remove_conversation", &error)
+                    {
+                        godot_error!(
+                            "{}",
+                            message(&path_of(owner), "CrowdGaze.remove_conversation", &error, "")
+                        );
+                    }
+                    false
+                },
+                |()| true,
+            )
+        })
+    }
+
+    /// The conversation a character is in (its id), or -1 for none (and for anything but
+    /// a character of this crowd).
+    fn get_conversation(&self, _owner: &Spatial, character: Variant) -> i64 {
+        boundary("CrowdGaze.get_conversation", -1, || {
+            self.slot_of(&character)
+                .and_then(|slot| self.scene.as_ref()?.conversation_of(slot).ok().flatten())
+                .map_or(-1, i64::from)
         })
     }
 

@@ -21,8 +21,8 @@ pub struct Given<T>(pub Result<T, VariantType>);
 
 impl<T: FromVariant> FromVariant for Given<T> {
     /// Never fails: a value of another type is kept as its type, for the message. An int
-    /// is taken for a float property, and a float holding a whole number for an int one (a
-    /// script's `impact = 2`).
+    /// is taken for a float property, a float holding a whole number for an int one (a
+    /// script's `impact = 2`), and a String for a NodePath.
     fn from_variant(variant: &Variant) -> Result<Self, FromVariantError> {
         let number = match variant.get_type() {
             VariantType::I64 => variant.try_to_i64().map(|v| Variant::from_f64(v as f64)),
@@ -30,6 +30,10 @@ impl<T: FromVariant> FromVariant for Given<T> {
                 .try_to_f64()
                 .filter(|v| v.fract() == 0.0 && v.abs() < 9.0e15)
                 .map(|v| Variant::from_i64(v as i64)),
+            // GDScript turns a String into a NodePath on assignment.
+            VariantType::GodotString => {
+                Some(NodePath::new(&variant.to_godot_string()).to_variant())
+            }
             _ => None,
         };
         let value = T::from_variant(variant)
@@ -94,6 +98,9 @@ pub fn type_name(kind: VariantType) -> String {
         VariantType::I64 => "int".into(),
         VariantType::F64 => "float".into(),
         VariantType::GodotString => "String".into(),
+        VariantType::VariantArray => "Array".into(),
+        VariantType::Dictionary => "Dictionary".into(),
+        VariantType::Object => "Object".into(),
         other => format!("{other:?}"),
     }
 }
@@ -108,6 +115,11 @@ pub fn rust_type_name(rust: &str) -> &str {
     }
 }
 
+/// A value's type with its article, for messages: "an int", "a String", "null".
+pub fn a_type(value: &Variant) -> String {
+    with_article(&type_name(value.get_type()))
+}
+
 /// "an int", "a String", "null".
 fn with_article(name: &str) -> String {
     match name.chars().next() {
@@ -117,15 +129,22 @@ fn with_article(name: &str) -> String {
     }
 }
 
-/// Reports a value of type `given` refused for property `property` (of Rust type `rust`)
-/// of `owner`'s `class`, once per node, property and cause.
-pub fn refused(owner: &Node, class: &str, property: &str, rust: &str, given: VariantType) {
+/// Reports a value of type `given` refused for property `property` (of Rust type `rust`,
+/// or as `expected` says if it has one: `a float from 0 to 1`) of `owner`'s `class`,
+/// once per node, property and cause.
+pub fn refused(
+    owner: &Node,
+    class: &str,
+    property: &str,
+    (rust, expected): (&str, &[&str]),
+    given: VariantType,
+) {
     let method = format!("{class}.{property}");
-    let error = format!(
-        "{} is not {}",
-        with_article(&type_name(given)),
-        with_article(rust_type_name(rust))
-    );
+    let expected = match expected.first() {
+        Some(expected) => expected.to_string(),
+        None => with_article(rust_type_name(rust)),
+    };
+    let error = format!("{} is not {expected}", with_article(&type_name(given)));
     if first_report(owner.get_instance_id(), &method, &error) {
         godot_error!(
             "{}",
@@ -136,14 +155,18 @@ pub fn refused(owner: &Node, class: &str, property: &str, rust: &str, given: Var
 
 /// Registers a property of a class with the type of a script's value checked by the addon
 /// (see the [module](crate::props)): `checked_property!(builder, Class, field: Type = default,
-/// then Self::after_set)`, the field named as the property; `= default` and `then` are
-/// optional. The field carries no `#[property]` (which would register it again unchecked).
+/// hint h, expects "a float from 0 to 1", then Self::after_set)`, the field named as the
+/// property; `= default`, `hint` (the inspector's), `expects` (what a message says the value
+/// must be, else its type) and `then` are optional. The field carries no `#[property]`
+/// (which would register it again unchecked).
 #[macro_export]
 macro_rules! checked_property {
-    ($builder:expr, $class:ty, $name:ident: $t:ty $(= $default:expr)? $(, then $after:path)?) => {
+    ($builder:expr, $class:ty, $name:ident: $t:ty $(= $default:expr)? $(, hint $hint:expr)?
+        $(, expects $expected:literal)? $(, then $after:path)?) => {
         $builder
             .add_property::<$crate::props::Given<$t>>(stringify!($name))
             $(.with_default($crate::props::Given(Ok($default))))?
+            $(.with_hint($hint))?
             .with_getter(|this: &$class, _owner| {
                 $crate::props::Given(Ok($crate::props::Share::share(&this.$name)))
             })
@@ -157,7 +180,7 @@ macro_rules! checked_property {
                         &owner,
                         stringify!($class),
                         stringify!($name),
-                        stringify!($t),
+                        (stringify!($t), &[$($expected)?]),
                         given,
                     ),
                 }

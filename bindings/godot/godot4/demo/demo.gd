@@ -43,6 +43,10 @@ var people = {}       # track id -> person
 var standing = []     # persons who do not walk
 var bench_frames = []
 var last_ticks = 0
+var onlookers = []    # the group staring up at the facade (CrowdGazeCharacter nodes)
+var followed = 0      # character_followed_gaze signals received
+
+const FACADE_POINT = Vector3(2.5, 7.0, -12.0)   # what the onlookers stare at
 
 @onready var crowd = $CrowdGaze
 
@@ -74,6 +78,12 @@ func _ready():
 			add_child(crowd)
 		setup_bench(int(OS.get_environment("CROWDGAZE_BENCH")))
 		return
+	# Gaze following (read when the crowd is made, so the crowd is made again with it):
+	# passers-by may glance where the onlookers stare.
+	remove_child(crowd)
+	crowd.gaze_following = true
+	add_child(crowd)
+	crowd.character_followed_gaze.connect(_on_followed_gaze)
 	for palette in PALETTES:
 		meshes.append(builder.mesh(palette[0], palette[1]))
 	var file = OS.get_environment("CROWDGAZE_TRAJECTORY")
@@ -123,8 +133,8 @@ func setup_scene():
 	var spots = [[Vector3(-3.2, 0, 1.8), 2.08], [Vector3(3.0, 0, 2.2), -2.2], [Vector3(3.4, 0, -2.6), -1.2], [Vector3(-3.6, 0, -1.8), 1.4]]
 	for k in range(spots.size()):
 		standing.append(make_person(spots[k][0], spots[k][1], k % PALETTES.size(), "Bystander%d" % k))
-	# Two people chatting in front of the camera: each looks at the other (an explicit
-	# target, which overrides their attention), half turned towards the street.
+	# Two people chatting in front of the camera, half turned towards the street: a
+	# conversation, whose members look at each other (more at whoever talks).
 	var left = make_person(Vector3(-0.75, 0, 4.8), PI / 2 - 0.6, 3, "ChatLeft")
 	var right = make_person(Vector3(0.75, 0, 4.8), -PI / 2 + 0.6, 5, "ChatRight")
 	standing.append(left)
@@ -132,12 +142,28 @@ func setup_scene():
 	if with_addon:
 		var a = left.skeleton.get_node("Gaze")
 		var b = right.skeleton.get_node("Gaze")
-		crowd.set_gaze_target(a, b)
-		crowd.set_gaze_target(b, a)
+		if crowd.set_conversation([a, b]) < 0:
+			push_error("demo: the chatting pair's conversation was not formed")
+		a.talking = true
+	# A group stopped by the walkway, staring up at a point on a facade: a cue that
+	# passers-by may follow (gaze following).
+	var group = [[Vector3(1.6, 0, -3.6), PI - 0.3], [Vector3(2.3, 0, -3.9), PI - 0.1], [Vector3(1.9, 0, -4.5), PI + 0.2]]
+	for k in range(group.size()):
+		var onlooker = make_person(group[k][0], group[k][1], (k + 2) % PALETTES.size(), "Onlooker%d" % k)
+		standing.append(onlooker)
+		if with_addon:
+			var gaze = onlooker.skeleton.get_node("Gaze")
+			if not crowd.set_gaze_target(gaze, FACADE_POINT):
+				push_error("demo: an onlooker's gaze target was refused")
+			onlookers.append(gaze)
 	add_target("Kiosk", Vector3(-3.8, 0, 3.6), Color(0.85, 0.15, 0.15), 1.9, 2.0)
 	add_target("Sign", Vector3(3.8, 0, 1.4), Color(0.95, 0.8, 0.1), 2.2, 2.0)
 	add_target("Fountain", Vector3(-4.2, 0, 2.0), Color(0.2, 0.55, 0.9), 1.0, 1.5)
 	update_people(0.0)
+
+
+func _on_followed_gaze(_character, _point):
+	followed += 1
 
 
 func make_person(position, heading, palette, name):

@@ -6,7 +6,7 @@
 //! removed).
 
 use crowdgaze_godot_adapter::{
-    check_character, choose_crowd, message, CharacterCheck, CrowdFound, NamedNode,
+    check_character, choose_crowd, message, CharacterCheck, CharacterValues, CrowdFound, NamedNode,
 };
 use godot::classes::{ISkeletonModifier3D, Node3D, Os, SkeletonModifier3D};
 use godot::prelude::*;
@@ -41,9 +41,70 @@ pub struct CrowdGazeCharacter {
         reason = "the property's field: its getter computes the report"
     )]
     mapping_report: GString,
+    /// Whether the gaze is applied: false fades the influence to 0 over
+    /// `influence_fade_time`, then leaves the bones to the animation (attention keeps
+    /// running, so turning it back on is smooth).
+    #[export]
+    #[var(set = set_active)]
+    active: bool,
+    /// How much of the gaze the bones take, 0 (the animation alone) to 1 (the gaze); the
+    /// `CrowdGaze` node's `influence` multiplies it.
+    #[export(range = (0.0, 1.0, 0.01))]
+    #[var(set = set_influence)]
+    influence: f64,
+    /// Seconds a change of `active` or `influence` takes to show fully (0: at once).
+    #[export(range = (0.0, 10.0, 0.01, or_greater))]
+    #[var(set = set_influence_fade_time)]
+    influence_fade_time: f64,
+    /// True while the character talks: others in its conversation look at it more.
+    #[export]
+    #[var(set = set_talking)]
+    talking: bool,
+    /// The share of the time the character attends to something, 0 to 1; -1: the crowd's
+    /// draw (from `attention_fraction_min` to `attention_fraction_max`).
+    #[export(range = (-1.0, 1.0, 0.01))]
+    #[var(set = set_attention_fraction)]
+    attention_fraction: f64,
+    /// The model deciding where the character looks: 0 the crowd model (Grillon &
+    /// Thalmann), 1 saliency (Kokkinara et al.), 2 the baseline, 3 the street model
+    /// (walkers as measured with eye trackers).
+    #[export(enum = (Crowd = 0, Saliency = 1, Baseline = 2, Street = 3))]
+    #[var(set = set_attention_model)]
+    attention_model: i64,
+    /// Degrees the neck and head may turn together (yaw; the library's chain has 70). The
+    /// skeleton is mapped again when it changes.
+    #[export(range = (0.0, 180.0, 1.0))]
+    #[var(set = set_max_head_turn)]
+    max_head_turn: f64,
+    /// Degrees each eye may turn from straight ahead (the library's chain has 35).
+    #[export(range = (0.0, 90.0, 1.0))]
+    #[var(set = set_max_eye_angle)]
+    max_eye_angle: f64,
+    /// A `MeshInstance3D` whose blink blend shapes take the eyelids' closure each frame
+    /// (empty: none). Its shapes are found by name (ARKit `eyeBlinkLeft`/`eyeBlinkRight`,
+    /// VRM `Blink_L`/`Blink_R`/`Blink`, `blink`) unless `eyelid_shapes` names them.
+    #[export]
+    #[var(set = set_eyelid_mesh)]
+    eyelid_mesh: NodePath,
+    /// The blink blend shapes of `eyelid_mesh`: empty (found by name), one name for both
+    /// eyes, or `left,right`.
+    #[export]
+    #[var(set = set_eyelid_shapes)]
+    eyelid_shapes: GString,
     /// The `CrowdGaze` node joined (its instance id), for the per-frame write.
     joined: Option<InstanceId>,
     base: Base<SkeletonModifier3D>,
+}
+
+/// What a `CrowdGaze` registers a character with: its values as given, and its eyelid
+/// mesh and shapes.
+pub struct CharacterInputs {
+    /// The adapter's values.
+    pub values: CharacterValues,
+    /// `eyelid_mesh`, relative to the character node.
+    pub eyelid_mesh: NodePath,
+    /// `eyelid_shapes`.
+    pub eyelid_shapes: String,
 }
 
 /// The `CrowdGaze` node a character or target joins (see [`choose_crowd`]): the one its
@@ -125,11 +186,22 @@ pub fn leave(node: &Gd<Node>) {
 #[godot_api]
 impl ISkeletonModifier3D for CrowdGazeCharacter {
     fn init(base: Base<SkeletonModifier3D>) -> Self {
+        let defaults = CharacterValues::default();
         CrowdGazeCharacter {
             crowd: NodePath::default(),
             bone_map: GString::new(),
-            impact: 1.0,
+            impact: defaults.impact,
             mapping_report: GString::new(),
+            active: defaults.active,
+            influence: defaults.influence,
+            influence_fade_time: defaults.influence_fade_time,
+            talking: defaults.talking,
+            attention_fraction: defaults.attention_fraction,
+            attention_model: defaults.attention_model,
+            max_head_turn: defaults.max_head_turn,
+            max_eye_angle: defaults.max_eye_angle,
+            eyelid_mesh: NodePath::default(),
+            eyelid_shapes: GString::new(),
             joined: None,
             base,
         }
@@ -224,6 +296,76 @@ impl CrowdGazeCharacter {
         self.settings_changed();
     }
 
+    /// Sets `active`; the influence fades to it.
+    #[func]
+    fn set_active(&mut self, active: bool) {
+        self.active = active;
+        self.settings_changed();
+    }
+
+    /// Sets `influence`; the influence fades to it.
+    #[func]
+    fn set_influence(&mut self, influence: f64) {
+        self.influence = influence;
+        self.settings_changed();
+    }
+
+    /// Sets `influence_fade_time`.
+    #[func]
+    fn set_influence_fade_time(&mut self, seconds: f64) {
+        self.influence_fade_time = seconds;
+        self.settings_changed();
+    }
+
+    /// Sets `talking`; pushed to the crowd from the next frame.
+    #[func]
+    fn set_talking(&mut self, talking: bool) {
+        self.talking = talking;
+        self.settings_changed();
+    }
+
+    /// Sets `attention_fraction`.
+    #[func]
+    fn set_attention_fraction(&mut self, fraction: f64) {
+        self.attention_fraction = fraction;
+        self.settings_changed();
+    }
+
+    /// Sets `attention_model`.
+    #[func]
+    fn set_attention_model(&mut self, model: i64) {
+        self.attention_model = model;
+        self.settings_changed();
+    }
+
+    /// Sets `max_head_turn`; the skeleton is mapped again.
+    #[func]
+    fn set_max_head_turn(&mut self, degrees: f64) {
+        self.max_head_turn = degrees;
+        self.settings_changed();
+    }
+
+    /// Sets `max_eye_angle`; the skeleton is mapped again.
+    #[func]
+    fn set_max_eye_angle(&mut self, degrees: f64) {
+        self.max_eye_angle = degrees;
+        self.settings_changed();
+    }
+
+    /// Sets `eyelid_mesh`; its blink shapes are found again.
+    #[func]
+    fn set_eyelid_mesh(&mut self, path: NodePath) {
+        self.eyelid_mesh = path;
+        self.settings_changed();
+    }
+
+    /// Sets `eyelid_shapes`; the mesh's blink shapes are found again.
+    #[func]
+    fn set_eyelid_shapes(&mut self, shapes: GString) {
+        self.eyelid_shapes = shapes;
+        self.settings_changed();
+    }
+
     /// Joins the crowd on the main thread (called deferred when the node entered the tree
     /// on another thread).
     #[func]
@@ -267,9 +409,24 @@ impl CrowdGazeCharacter {
         self.crowd.clone()
     }
 
-    /// The settings a `CrowdGaze` registers the character with: bone map and impact.
-    pub fn settings(&self) -> (String, f64) {
-        (self.bone_map.to_string(), self.impact)
+    /// The settings a `CrowdGaze` registers the character with, as given.
+    pub fn settings(&self) -> CharacterInputs {
+        CharacterInputs {
+            values: CharacterValues {
+                bone_map: self.bone_map.to_string(),
+                impact: self.impact,
+                attention_fraction: self.attention_fraction,
+                attention_model: self.attention_model,
+                max_head_turn: self.max_head_turn,
+                max_eye_angle: self.max_eye_angle,
+                active: self.active,
+                influence: self.influence,
+                influence_fade_time: self.influence_fade_time,
+                talking: self.talking,
+            },
+            eyelid_mesh: self.eyelid_mesh.clone(),
+            eyelid_shapes: self.eyelid_shapes.to_string(),
+        }
     }
 
     /// Joins its crowd; on another thread than the main one, deferred to it. With `report`
@@ -283,11 +440,11 @@ impl CrowdGazeCharacter {
         let path = node.clone().upcast::<Node>().get_path().to_string();
         match resolve_crowd(&node.clone().upcast::<Node>(), &self.crowd) {
             Ok(Some(mut crowd)) => {
-                let (bone_map, impact) = self.settings();
+                let inputs = self.settings();
                 self.joined = Some(crowd.instance_id());
                 crowd
                     .bind_mut()
-                    .register_character(node.upcast::<Node3D>(), &bone_map, impact);
+                    .register_character(node.upcast::<Node3D>(), inputs);
             }
             Ok(None) if report => godot_warn!(
                 "crowdgaze: {path}: no CrowdGaze node in the tree yet; the character joins the \
@@ -307,7 +464,7 @@ impl CrowdGazeCharacter {
         }
     }
 
-    /// `bone_map` or `impact` was set: a character in a crowd takes the new values now.
+    /// A setting was set: a character in a crowd takes the new values now.
     fn settings_changed(&mut self) {
         boundary("CrowdGazeCharacter.settings_changed", (), || {
             let mut node = self.to_gd();
@@ -320,10 +477,10 @@ impl CrowdGazeCharacter {
             }
             if let Ok(Some(mut crowd)) = resolve_crowd(&node.clone().upcast::<Node>(), &self.crowd)
             {
-                let (bone_map, impact) = self.settings();
+                let inputs = self.settings();
                 crowd
                     .bind_mut()
-                    .update_character(node.upcast::<Node3D>(), &bone_map, impact);
+                    .update_character(node.upcast::<Node3D>(), inputs);
             }
         })
     }

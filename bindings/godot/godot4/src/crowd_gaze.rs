@@ -10,14 +10,16 @@ use std::time::Instant;
 
 use crowdgaze_godot_adapter::crowdgaze::crowd::{ExplicitTarget, TargetPriority};
 use crowdgaze_godot_adapter::crowdgaze::ik::MAX_CHAIN_JOINTS;
+use crowdgaze_godot_adapter::crowdgaze::scene::ids::NO_ENTITY;
+use crowdgaze_godot_adapter::lids::{find_blink_shapes, BlinkWriter};
 use crowdgaze_godot_adapter::{
-    check_crowd, claim_skeleton, message, CharacterSettings, CrowdSettings, EntityNode,
-    PoseConvention, Reports, SceneCrowd, SkeletonClaim,
+    check_crowd, claim_skeleton, message, Controls, CrowdSettings, EntityNode, PoseConvention,
+    Reports, SceneCrowd, SkeletonClaim,
 };
-use godot::classes::{Camera3D, INode3D, Node3D, Skeleton3D};
+use godot::classes::{ArrayMesh, Camera3D, INode3D, MeshInstance3D, Node3D, Skeleton3D};
 use godot::prelude::*;
 
-use crate::character::resolve_crowd;
+use crate::character::{resolve_crowd, CharacterInputs};
 use crate::convert::{boundary, in_editor, quaternion, strings, vec3, vector, xform};
 use crate::skeleton::GodotSkeleton;
 
@@ -31,6 +33,79 @@ pub struct Handle {
     skeleton: i64,
     /// A character's hold on its skeleton (released when the handle goes).
     _claim: Option<Arc<SkeletonClaim>>,
+    /// A character's eyelid mesh, if it has one with blink shapes.
+    eyelids: Option<EyelidMesh>,
+}
+
+/// A `MeshInstance3D` whose blink blend shapes take a character's eyelid closure.
+#[derive(Debug, Clone)]
+pub struct EyelidMesh {
+    /// The mesh instance's id.
+    mesh: i64,
+    /// Its blink shapes (blend shape indices).
+    writer: BlinkWriter,
+}
+
+impl EyelidMesh {
+    /// Sets the blink shapes for character `slot` this frame (see
+    /// [`SceneCrowd::blink_values`]).
+    fn apply(&mut self, scene: &SceneCrowd<Handle>, slot: usize) {
+        let values = scene.blink_values(slot, &mut self.writer);
+        if values.iter().all(Option::is_none) {
+            return;
+        }
+        let Some(mut mesh) = live::<MeshInstance3D>(self.mesh) else {
+            return;
+        };
+        let count = mesh.get_blend_shape_count().max(0) as usize;
+        for (shape, value) in values.into_iter().flatten() {
+            if shape < count {
+                mesh.set_blend_shape_value(shape as i32, value);
+            }
+        }
+    }
+}
+
+/// The eyelid mesh `path` names from the character `node` with the shapes `shapes`
+/// (`eyelid_shapes`): `Ok(None)` for an empty path; errors say what to fix.
+fn eyelid_mesh(
+    node: &Gd<Node3D>,
+    path: &NodePath,
+    shapes: &str,
+) -> Result<Option<EyelidMesh>, String> {
+    if path.is_empty() {
+        return Ok(None);
+    }
+    let text = path.to_string();
+    let found = node.get_node_or_null(path).ok_or_else(|| {
+        format!("eyelid_mesh = '{text}' names no node: set it to a MeshInstance3D")
+    })?;
+    let instance = found.try_cast::<MeshInstance3D>().map_err(|other| {
+        format!(
+            "eyelid_mesh = '{text}' names a {}, not a MeshInstance3D",
+            other.get_class()
+        )
+    })?;
+    let names: Vec<String> = instance
+        .get_mesh()
+        .and_then(|mesh| mesh.try_cast::<ArrayMesh>().ok())
+        .map(|mesh| {
+            (0..mesh.get_blend_shape_count())
+                .map(|k| mesh.get_blend_shape_name(k).to_string())
+                .collect()
+        })
+        .unwrap_or_default();
+    let shapes = find_blink_shapes(&names, shapes)?;
+    if shapes.is_empty() {
+        return Err(format!(
+            "eyelid_mesh = '{text}' has no blink blend shape (eyeBlinkLeft/eyeBlinkRight, \
+             Blink_L/Blink_R, Blink, blink): name its shapes in eyelid_shapes"
+        ));
+    }
+    Ok(Some(EyelidMesh {
+        mesh: instance.instance_id().to_i64(),
+        writer: BlinkWriter::new(shapes),
+    }))
 }
 
 /// True if `node`, whose `crowd` path is `path`, joins the crowd `crowd`.
@@ -104,6 +179,39 @@ pub struct CrowdGaze {
     /// See `lod_distance` (1 to 64).
     #[export]
     far_attention_period: i64,
+    /// Degrees: gaze turns up to this the eyes make alone. Per crowd (as in the library),
+    /// read when the crowd is made.
+    #[export(range = (0.0, 180.0, 1.0))]
+    eyes_only_angle: f64,
+    /// Degrees: gaze turns up to this leave the spine still (eyes, head and neck). Per
+    /// crowd, read when the crowd is made.
+    #[export(range = (0.0, 180.0, 1.0))]
+    eyes_head_neck_angle: f64,
+    /// Degrees per second: the head speed that times gaze shifts (faster: shorter shifts).
+    /// Per crowd, read when the crowd is made.
+    #[export(range = (1.0, 1440.0, 1.0, or_greater))]
+    head_speed: f64,
+    /// Gaze following: characters may glance where others stare (a point or object set
+    /// with `set_gaze_target`). Per crowd, read when the crowd is made.
+    #[export]
+    gaze_following: bool,
+    /// How strongly passers-by follow: 0 Milgram (1969), 1 Gallup (2012). Per crowd.
+    #[export(enum = (Milgram = 0, Gallup = 1))]
+    following_strength: i64,
+    /// Whether the crowd's gaze is applied: false fades every character's influence to 0
+    /// over `influence_fade_time`, then leaves the bones to the animation.
+    #[export]
+    #[var(set = set_active)]
+    active: bool,
+    /// How much of the gaze every character's bones take (0 to 1), times the character's
+    /// own `influence`.
+    #[export(range = (0.0, 1.0, 0.01))]
+    #[var(set = set_influence)]
+    influence: f64,
+    /// Seconds a change of `active` or `influence` takes to show fully (0: at once).
+    #[export(range = (0.0, 10.0, 0.01, or_greater))]
+    #[var(set = set_influence_fade_time)]
+    influence_fade_time: f64,
     /// Make the active camera an entity the characters may look at.
     #[export]
     camera_is_viewer: bool,
@@ -127,6 +235,7 @@ impl INode3D for CrowdGaze {
     fn init(base: Base<Node3D>) -> Self {
         // The inspector's defaults, kept once in the adapter.
         let defaults = CrowdSettings::default();
+        let controls = Controls::default();
         CrowdGaze {
             seed: defaults.seed,
             max_characters: defaults.max_characters,
@@ -139,6 +248,14 @@ impl INode3D for CrowdGaze {
             attention_period: defaults.attention_period,
             lod_distance: defaults.lod_distance,
             far_attention_period: defaults.far_attention_period,
+            eyes_only_angle: defaults.eyes_only_angle,
+            eyes_head_neck_angle: defaults.eyes_head_neck_angle,
+            head_speed: defaults.head_speed,
+            gaze_following: defaults.gaze_following,
+            following_strength: defaults.following_strength,
+            active: controls.active,
+            influence: f64::from(controls.influence),
+            influence_fade_time: f64::from(controls.fade_time),
             camera_is_viewer: true,
             viewer_impact: 3.0,
             scene: None,
@@ -218,6 +335,71 @@ impl CrowdGaze {
             attention_period: self.attention_period,
             lod_distance: self.lod_distance,
             far_attention_period: self.far_attention_period,
+            eyes_only_angle: self.eyes_only_angle,
+            eyes_head_neck_angle: self.eyes_head_neck_angle,
+            head_speed: self.head_speed,
+            gaze_following: self.gaze_following,
+            following_strength: self.following_strength,
+        }
+    }
+
+    /// Gives the crowd the node's controls (a bad value is reported once and the crowd
+    /// keeps its controls).
+    fn apply_controls(&mut self) {
+        // In the editor nothing runs: the crowd takes its controls when the game does.
+        if in_editor() {
+            return;
+        }
+        match Controls::new(self.active, self.influence, self.influence_fade_time) {
+            Ok(controls) => {
+                if let Some(scene) = self.scene.as_mut() {
+                    scene.set_controls(&controls);
+                }
+            }
+            // Out of the tree (a scene being loaded) it is reported when the crowd is made.
+            Err(_) if !self.base().is_inside_tree() => {}
+            Err(error) => {
+                let me = self.to_gd();
+                if self
+                    .reports
+                    .first(me.instance_id().to_i64(), "controls", &error)
+                {
+                    godot_error!(
+                        "{}",
+                        message(
+                            &path_of(&me),
+                            "CrowdGaze.set_active/set_influence/set_influence_fade_time",
+                            &error,
+                            "the crowd keeps its previous controls"
+                        )
+                    );
+                }
+            }
+        }
+    }
+
+    /// The character's eyelid mesh; a path or shapes that do not fit are reported once.
+    fn find_eyelids(
+        reports: &mut Reports,
+        node: &Gd<Node3D>,
+        inputs: &CharacterInputs,
+    ) -> Option<EyelidMesh> {
+        match eyelid_mesh(node, &inputs.eyelid_mesh, &inputs.eyelid_shapes) {
+            Ok(eyelids) => eyelids,
+            Err(error) => {
+                if reports.first(node.instance_id().to_i64(), "eyelids", &error) {
+                    godot_error!(
+                        "{}",
+                        message(
+                            &path_of(node),
+                            "CrowdGazeCharacter.set_eyelid_mesh",
+                            &error,
+                            "no blend shape is set"
+                        )
+                    );
+                }
+                None
+            }
         }
     }
 
@@ -229,7 +411,10 @@ impl CrowdGaze {
                 .config()
                 .and_then(|config| SceneCrowd::new(config, PoseConvention::PoseIsLocal));
             match created {
-                Ok(scene) => self.scene = Some(scene),
+                Ok(scene) => {
+                    self.scene = Some(scene);
+                    self.apply_controls();
+                }
                 Err(error) => {
                     self.config_failed = true;
                     godot_error!(
@@ -257,7 +442,7 @@ impl CrowdGaze {
 
     /// Adds a `CrowdGazeCharacter` node (a child of its `Skeleton3D`) to the crowd, once; a
     /// skeleton that cannot be mapped is reported once and left out.
-    pub fn register_character(&mut self, node: Gd<Node3D>, bone_map: &str, impact: f64) {
+    pub fn register_character(&mut self, node: Gd<Node3D>, inputs: CharacterInputs) {
         let key = node.instance_id().to_i64();
         if self.refused.contains(&key) {
             return;
@@ -270,6 +455,10 @@ impl CrowdGaze {
         }
         let skeleton = skeleton_of(&node);
         let path = path_of(&node);
+        let eyelids = Self::find_eyelids(&mut self.reports, &node, &inputs);
+        let Some(scene) = self.scene.as_mut() else {
+            return;
+        };
         let result = match skeleton {
             None => Err(
                 "a CrowdGazeCharacter must be a child of a Skeleton3D: move it under one"
@@ -278,12 +467,15 @@ impl CrowdGaze {
             Some(skeleton) => {
                 let skeleton_key = skeleton.instance_id().to_i64();
                 claim_skeleton(skeleton_key, key, &path).and_then(|claim| {
-                    CharacterSettings::new(bone_map, impact)
+                    inputs
+                        .values
+                        .settings()
                         .and_then(|settings| {
                             let handle = Handle {
                                 node: key,
                                 skeleton: skeleton_key,
                                 _claim: Some(Arc::new(claim)),
+                                eyelids,
                             };
                             scene.add_character(
                                 key,
@@ -312,20 +504,27 @@ impl CrowdGaze {
         }
     }
 
-    /// A registered character's `bone_map` or `impact` changed: the crowd takes them (a
-    /// character refused before tries to join again).
-    pub fn update_character(&mut self, node: Gd<Node3D>, bone_map: &str, impact: f64) {
+    /// A registered character's settings changed: the crowd takes them (a character
+    /// refused before tries to join again).
+    pub fn update_character(&mut self, node: Gd<Node3D>, inputs: CharacterInputs) {
         let key = node.instance_id().to_i64();
         let registered = self.scene.as_ref().and_then(|s| s.entity_of(key)).is_some();
         if !registered {
             self.refused.remove(&key);
-            self.register_character(node, bone_map, impact);
+            self.register_character(node, inputs);
             return;
         }
+        let eyelids = Self::find_eyelids(&mut self.reports, &node, &inputs);
         let (Some(scene), Some(skeleton)) = (self.scene.as_mut(), skeleton_of(&node)) else {
             return;
         };
-        let result = CharacterSettings::new(bone_map, impact).and_then(|settings| {
+        if let Some(handle) = scene
+            .character_slot(key)
+            .and_then(|slot| scene.character_handle_mut(slot))
+        {
+            handle.eyelids = eyelids;
+        }
+        let result = inputs.values.settings().and_then(|settings| {
             scene.update_character(
                 key,
                 &GodotSkeleton(skeleton),
@@ -339,7 +538,7 @@ impl CrowdGaze {
                     "{}",
                     message(
                         &path_of(&node),
-                        "CrowdGazeCharacter.set_bone_map/set_impact",
+                        "CrowdGazeCharacter.set",
                         &error,
                         "the character keeps its previous settings"
                     )
@@ -391,6 +590,7 @@ impl CrowdGaze {
             node: key,
             skeleton: 0,
             _claim: None,
+            eyelids: None,
         };
         let placed = xform(&node.get_global_transform());
         if let Err(error) =
@@ -424,6 +624,15 @@ impl CrowdGaze {
             return;
         };
         if let Some(slot) = scene.character_slot(key) {
+            let eyelids = scene
+                .character_handle_mut(slot)
+                .and_then(|handle| handle.eyelids.take());
+            if let Some(mut eyelids) = eyelids {
+                eyelids.apply(scene, slot);
+                if let Some(handle) = scene.character_handle_mut(slot) {
+                    handle.eyelids = Some(eyelids);
+                }
+            }
             if let Err(error) = scene.write_character(slot, &mut GodotSkeleton(skeleton)) {
                 if self.reports.first(key, "write", &error) {
                     let path = path_of(&self.to_gd());
@@ -449,12 +658,12 @@ impl CrowdGaze {
         let tree = self.base().get_tree();
         for node in tree.get_nodes_in_group(CHARACTER_GROUP).iter_shared() {
             if let Ok(mut character) = node.try_cast::<crate::character::CrowdGazeCharacter>() {
-                let (bone_map, impact) = character.bind().settings();
+                let inputs = character.bind().settings();
                 let path = character.bind().crowd_path();
                 let me = self.to_gd().instance_id();
                 if joins(me, &character.clone().upcast::<Node>(), &path) {
                     character.bind_mut().set_joined(me);
-                    self.register_character(character.upcast(), &bone_map, impact);
+                    self.register_character(character.upcast(), inputs);
                 }
             }
         }
@@ -581,25 +790,48 @@ impl CrowdGaze {
         ];
         // Signals go out at the end of the frame, when no method of this node is running.
         let mut emits = Vec::new();
-        for &(slot, target) in scene.interest_changes() {
+        let node_variant = |id: u32| match scene.node_of(id) {
+            EntityNode::Character(handle) | EntityNode::Target(handle) => {
+                live::<Node>(handle.node).map(|node| node.to_variant())
+            }
+            EntityNode::Viewer => camera.as_ref().map(|camera| camera.to_variant()),
+            EntityNode::None => None,
+        };
+        for change in scene.interest_changes() {
             let Some(character) = scene
-                .character_handle(slot)
+                .character_handle(change.slot)
                 .and_then(|h| live::<Node>(h.node))
             else {
                 continue;
             };
-            let target = match scene.node_of(target) {
-                EntityNode::Character(handle) | EntityNode::Target(handle) => {
-                    live::<Node>(handle.node).map(|node| node.to_variant())
-                }
-                EntityNode::Viewer => camera.as_ref().map(|camera| camera.to_variant()),
-                EntityNode::None => None,
+            let character = character.to_variant();
+            let (from, to) = (node_variant(change.from), node_variant(change.to));
+            let mut emit = |signal: &str, target: Option<Variant>| {
+                emits.push([
+                    signal.to_variant(),
+                    character.clone(),
+                    target.unwrap_or_default(),
+                ]);
             };
-            emits.push([
-                "interest_changed".to_variant(),
-                character.to_variant(),
-                target.unwrap_or_default(),
-            ]);
+            if change.from != NO_ENTITY {
+                emit("character_stopped_looking", from);
+            }
+            if change.to != NO_ENTITY {
+                emit("character_started_looking", to.clone());
+            }
+            emit("interest_changed", to);
+        }
+        for start in scene.follow_starts() {
+            if let Some(character) = scene
+                .character_handle(start.slot)
+                .and_then(|h| live::<Node>(h.node))
+            {
+                emits.push([
+                    "character_followed_gaze".to_variant(),
+                    character.to_variant(),
+                    vector(start.point).to_variant(),
+                ]);
+            }
         }
         for arguments in emits {
             self.base_mut().call_deferred("emit_signal", &arguments);
@@ -618,6 +850,156 @@ impl CrowdGaze {
     /// or null.
     #[signal]
     fn interest_changed(character: Gd<Node>, target: Variant);
+
+    /// A character's eyes arrived at a new target (a character or target node, or the
+    /// camera); sent after `character_stopped_looking` for the one before.
+    #[signal]
+    fn character_started_looking(character: Gd<Node>, target: Variant);
+
+    /// A character's eyes left a target (null if that node is gone).
+    #[signal]
+    fn character_stopped_looking(character: Gd<Node>, target: Variant);
+
+    /// A character started to glance at `point` (world metres) because others stare there
+    /// (gaze following).
+    #[signal]
+    fn character_followed_gaze(character: Gd<Node>, point: Vector3);
+
+    /// Sets `active`; every character's influence fades to it.
+    #[func]
+    fn set_active(&mut self, active: bool) {
+        self.active = active;
+        boundary("CrowdGaze.set_active", (), || self.apply_controls())
+    }
+
+    /// Sets `influence`; every character's influence fades to it times its own.
+    #[func]
+    fn set_influence(&mut self, influence: f64) {
+        self.influence = influence;
+        boundary("CrowdGaze.set_influence", (), || self.apply_controls())
+    }
+
+    /// Sets `influence_fade_time`.
+    #[func]
+    fn set_influence_fade_time(&mut self, seconds: f64) {
+        self.influence_fade_time = seconds;
+        boundary("CrowdGaze.set_influence_fade_time", (), || {
+            self.apply_controls()
+        })
+    }
+
+    /// A character's eyelids after the last step: `Vector2(closure, lid_pitch)`, closure 0
+    /// open to 1 closed (a blink), lid pitch in radians (positive up), both eyes' mean;
+    /// `Vector2(0, 0)` for anything but a character of this crowd.
+    #[func]
+    fn get_eyelids(&self, character: Variant) -> Vector2 {
+        boundary("CrowdGaze.get_eyelids", Vector2::ZERO, || {
+            self.slot_of(&character)
+                .and_then(|slot| self.scene.as_ref()?.eyelid_summary(slot).ok())
+                .map_or(Vector2::ZERO, |(closure, pitch)| {
+                    Vector2::new(closure, pitch)
+                })
+        })
+    }
+
+    /// A character's influence now (the crowd's times its own, fading), 0 to 1; 0 for
+    /// anything but a character of this crowd.
+    #[func]
+    fn get_character_influence(&self, character: Variant) -> f64 {
+        boundary("CrowdGaze.get_character_influence", 0.0, || {
+            self.slot_of(&character)
+                .and_then(|slot| self.scene.as_ref()?.influence(slot).ok())
+                .map_or(0.0, f64::from)
+        })
+    }
+
+    /// Makes `members` (an Array of 2 to 8 `CrowdGazeCharacter` nodes of this crowd, each
+    /// in no other conversation) a group standing together and talking; they look at each
+    /// other, more at whoever has `talking` set. Returns the conversation's id (≥ 0), or -1
+    /// with an error.
+    #[func]
+    fn set_conversation(&mut self, members: Variant) -> i64 {
+        boundary("CrowdGaze.set_conversation", -1, || {
+            let result = match (self.scene.as_mut(), members.try_to::<VarArray>().ok()) {
+                (None, _) => Err("the crowd was not created (see the first error)".to_string()),
+                (_, None) => Err(format!(
+                    "members must be an Array of CrowdGazeCharacter nodes, not a {:?}",
+                    members.get_type()
+                )),
+                (Some(scene), Some(array)) => {
+                    let keys: Vec<i64> = array
+                        .iter_shared()
+                        .map(|member| instance_id(&member).unwrap_or(0))
+                        .collect();
+                    scene
+                        .set_conversation(&keys)
+                        .map(i64::from)
+                        .map_err(|e| e.to_string())
+                }
+            };
+            result.unwrap_or_else(|error| {
+                // Once per cause: a script retrying every frame does not flood the output.
+                let key = self.to_gd().instance_id().to_i64();
+                if self.reports.first(key, "set_conversation", &error) {
+                    godot_error!(
+                        "{}",
+                        message(
+                            &path_of(&self.to_gd()),
+                            "CrowdGaze.set_conversation",
+                            &error,
+                            "no conversation is formed"
+                        )
+                    );
+                }
+                -1
+            })
+        })
+    }
+
+    /// Ends conversation `id` (from `set_conversation`): its members go back to their own
+    /// attention. False (with an error) if there is no such conversation.
+    #[func]
+    fn remove_conversation(&mut self, id: Variant) -> bool {
+        boundary("CrowdGaze.remove_conversation", false, || {
+            let result = match (self.scene.as_mut(), id.try_to::<i64>().ok()) {
+                (Some(scene), Some(id)) => scene.remove_conversation(id).map_err(|e| e.to_string()),
+                (None, _) => Err("the crowd was not created (see the first error)".to_string()),
+                (_, None) => Err(format!(
+                    "id must be an int (from set_conversation), not a {:?}",
+                    id.get_type()
+                )),
+            };
+            result.map_or_else(
+                |error| {
+                    let key = self.to_gd().instance_id().to_i64();
+                    if self.reports.first(key, "remove_conversation", &error) {
+                        godot_error!(
+                            "{}",
+                            message(
+                                &path_of(&self.to_gd()),
+                                "CrowdGaze.remove_conversation",
+                                &error,
+                                ""
+                            )
+                        );
+                    }
+                    false
+                },
+                |()| true,
+            )
+        })
+    }
+
+    /// The conversation a character is in (its id), or -1 for none (and for anything but
+    /// a character of this crowd).
+    #[func]
+    fn get_conversation(&self, character: Variant) -> i64 {
+        boundary("CrowdGaze.get_conversation", -1, || {
+            self.slot_of(&character)
+                .and_then(|slot| self.scene.as_ref()?.conversation_of(slot).ok().flatten())
+                .map_or(-1, i64::from)
+        })
+    }
 
     /// Number of characters in the crowd.
     #[func]
@@ -656,6 +1038,18 @@ impl CrowdGaze {
                     .map_or_else(Variant::nil, |camera| camera.to_variant()),
                 EntityNode::None => Variant::nil(),
             }
+        })
+    }
+
+    /// The point a character glances at because others stare there (gaze following), or
+    /// null when it follows no one's gaze now (and for anything but a character of the
+    /// crowd, or with `gaze_following` off).
+    #[func]
+    fn get_following(&self, character: Variant) -> Variant {
+        boundary("CrowdGaze.get_following", Variant::nil(), || {
+            self.slot_of(&character)
+                .and_then(|slot| self.scene.as_ref()?.following(slot).ok().flatten())
+                .map_or_else(Variant::nil, |point| vector(point).to_variant())
         })
     }
 

@@ -2,7 +2,8 @@
 # project holding only the addon, as addons/crowdgaze_check, enables it after the crowdgaze
 # plugin and runs `godot3-server --editor`): the crowdgaze plugin is enabled and in the editor's tree; the
 # addon's nodes, in the editor's tree (tool mode), give the configuration warnings and the
-# mapping report, join no crowd, do not process and write no bone; the bone pickers in a
+# mapping report, join no crowd, do not process and write no bone (their controls set in
+# the editor too); the bone pickers in a
 # character's inspector write bone_map, undoably. Prints "CROWDGAZE EDITOR
 # PASSED" (or FAILED) and quits the editor.
 tool
@@ -135,6 +136,30 @@ func run():
 	scene.add_child(target)
 	warning = target._get_configuration_warning()
 	expect(warning.find("look_at_height = NaN") >= 0 and warning.find("names a Spatial") >= 0 and warning.find("not a CrowdGaze") >= 0, "the target's warning: " + warning)
+	# The controls set in the editor: kept as values, nothing fades, joins or is written, and
+	# no error (a bad value is reported when the game runs; the run fails on any error).
+	crowd.active = false
+	crowd.influence = NAN
+	crowd.influence = 0.5
+	crowd.influence_fade_time = 2.0
+	crowd.eyes_only_angle = 10.0
+	crowd.eyes_head_neck_angle = 25.0
+	crowd.head_speed = 200.0
+	whole.active = false
+	whole.influence = 0.25
+	whole.influence_fade_time = -1.0
+	whole.talking = true
+	whole.attention_fraction = 0.4
+	whole.attention_model = 1
+	whole.max_head_turn = 60.0
+	whole.max_eye_angle = 30.0
+	whole.eyelid_mesh = NodePath("Nowhere")
+	whole.eyelid_shapes = "wink"
+	expect(not crowd.active and crowd.influence == 0.5 and crowd.head_speed == 200.0, "the crowd's controls were not kept in the editor")
+	expect(not whole.active and whole.influence == 0.25 and whole.attention_model == 1 and whole.eyelid_shapes == "wink", "the character's controls were not kept in the editor")
+	expect(crowd.get_character_influence(whole) == 0.0 and crowd.get_conversation(whole) == -1, "the character has an influence in the editor")
+	expect(whole._get_configuration_warning() == "", "the controls made the whole chain warn: " + whole._get_configuration_warning())
+	expect(crowd._get_configuration_warning() == "", "the controls made the crowd warn: " + crowd._get_configuration_warning())
 	# A bad crowd setting.
 	crowd.max_characters = -5
 	expect(crowd._get_configuration_warning().find("max_characters = -5") >= 0, "the crowd's warning: " + crowd._get_configuration_warning())

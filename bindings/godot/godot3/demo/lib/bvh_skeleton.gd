@@ -92,6 +92,17 @@ func load_bvh(path, height):
 	return ""
 
 
+# Adds an upper-lid bone over each eye (eyelid_upper_l, eyelid_upper_r, under the head, its
+# pivot at the eye's centre), as rigs with lid bones have; the mesh then has lids on them.
+func add_lids():
+	var head = names.find("Head")
+	for eye in ["LeftEye", "RightEye"]:
+		names.append("eyelid_upper_l" if eye == "LeftEye" else "eyelid_upper_r")
+		parents.append(head)
+		positions.append(positions[names.find(eye)])
+	compute_rests()
+
+
 # The rotation that takes +Y to `direction`.
 static func along(direction):
 	var d = direction.normalized()
@@ -108,9 +119,14 @@ func first_children():
 		children.append(-1)
 	for b in range(names.size()):
 		var p = parents[b]
-		if p >= 0 and children[p] < 0 and not names[b].ends_with("Eye"):
+		if p >= 0 and children[p] < 0 and not is_face_bone(b):
 			children[p] = b
 	return children
+
+
+# True for an eye or lid bone (they hang from the head without setting its direction).
+func is_face_bone(b):
+	return names[b].ends_with("Eye") or names[b].begins_with("eyelid")
 
 
 # The rest global transforms: every bone's Y along the bone to its first child.
@@ -220,7 +236,7 @@ func mesh(shirt, trousers):
 	_tool.begin(Mesh.PRIMITIVE_TRIANGLES)
 	for b in range(names.size()):
 		var p = parents[b]
-		if p < 0 or names[b].ends_with("Eye"):
+		if p < 0 or is_face_bone(b):
 			continue
 		var name = names[p]
 		if name == "Head":
@@ -243,6 +259,11 @@ func mesh(shirt, trousers):
 		var e = positions[eye]
 		_sphere(e, EYE_RADIUS, Color(0.97, 0.97, 0.97), eye, 8)
 		_sphere(e + Vector3(0, 0, EYE_RADIUS * 0.75), PUPIL_RADIUS, Color(0.05, 0.05, 0.1), eye, 6)
+	# Upper lids: a flattened shell over each eye's top, turning down over it in a blink.
+	for lid in [names.find("eyelid_upper_l"), names.find("eyelid_upper_r")]:
+		if lid >= 0:
+			var e = positions[lid]
+			_sphere(e + Vector3(0, EYE_RADIUS * 0.8, 0.004), EYE_RADIUS * 1.12, skin.darkened(0.1), lid, 8, Vector3(1.0, 0.55, 1.0))
 	var result = _tool.commit()
 	_tool = null
 	var material = SpatialMaterial.new()
