@@ -128,7 +128,7 @@ fn the_street_preset_is_the_default_but_for_its_view_distance_and_following() {
     let mut same = street;
     (same.max_distance, same.follow_enabled) = (10.0, 0);
     assert_eq!(format!("{same:?}"), format!("{defaults:?}"));
-    assert_eq!(street.street_first_fixation_probability, 0.86);
+    assert_eq!(street.street_first_fixation_probability, 0.95);
     assert_eq!(street.follow_one_looker_probability, 0.42);
 }
 

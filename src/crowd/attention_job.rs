@@ -10,12 +10,12 @@
 
 use glam::Vec2;
 
-use super::attention_models::CueRuns;
 use super::config::CrowdConfig;
 use super::look::LookContext;
 use super::model_state::ModelState;
 use super::states::{CharacterMut, RawCharacterSlices};
 use crate::attention::candidates::{nearby_candidates, CandidateBatch, NeighbourIndex};
+use crate::attention::following::CueRuns;
 use crate::attention::score::Scorer;
 use crate::attention::AttentionModel;
 use crate::error::{Error, Result};

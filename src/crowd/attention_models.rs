@@ -8,7 +8,7 @@ use super::attention_job::AttentionJob;
 use super::model_state::{Look, LookTarget, ModelState};
 use super::states::CharacterMut;
 use super::values::TargetPriority;
-use crate::attention::following::{Cue, FollowState, CUE_CELL_MIN};
+use crate::attention::following::{Cue, CueRuns, FollowState, CUE_CELL_MIN};
 use crate::attention::saliency::{saliency, Fixation, FixationChannel, SalientPoint};
 use crate::attention::street::{Noticed, STREET_MEMORY};
 use crate::attention::TargetPart;
@@ -369,34 +369,6 @@ impl AttentionJob<'_> {
         }
         let lookers = total_units as f32 / WEIGHT_UNITS;
         follow.update(dt, lookers, nearest.2, config, random);
-    }
-}
-
-/// The runs of the cell-sorted cues around one cell — its row and the rows beside it,
-/// three cells wide each — kept for the next character: attention visits characters in
-/// spatial order, so the next one is most often in the same cell.
-#[derive(Debug, Clone, Default)]
-pub(super) struct CueRuns {
-    /// The cell (column, row) the runs are for.
-    cell: Option<(i64, i64)>,
-    /// Cue index ranges, one per row.
-    runs: [std::ops::Range<usize>; 3],
-}
-
-impl CueRuns {
-    /// The runs of `cues` (sorted by cell) around `cell`.
-    fn around(&mut self, cell: (i64, i64), cues: &[Cue]) -> [std::ops::Range<usize>; 3] {
-        if self.cell != Some(cell) {
-            let (column, row) = cell;
-            self.runs = [row - 1, row, row + 1].map(|row| {
-                let (first, last) = (Cue::key(column - 1, row), Cue::key(column + 1, row));
-                let start = cues.partition_point(|cue| cue.cell < first);
-                let end = start + cues[start..].partition_point(|cue| cue.cell <= last);
-                start..end
-            });
-            self.cell = Some(cell);
-        }
-        self.runs.clone()
     }
 }
 
