@@ -48,6 +48,30 @@ pub fn ensure_finite(value: f32, what: &str) -> Result<()> {
     }
 }
 
+/// Fails naming `what` unless `value` is finite ([`Error::NonFinite`]) and at least
+/// `low` ([`Error::InvalidArgument`]).
+pub(crate) fn check_at_least(value: f32, low: f32, what: &str) -> Result<()> {
+    ensure_finite(value, what)?;
+    if value < low {
+        return Err(Error::InvalidArgument(format!(
+            "{what} is {value}, must be >= {low}"
+        )));
+    }
+    Ok(())
+}
+
+/// Fails naming `what` unless `value` is finite ([`Error::NonFinite`]) and in
+/// `[low, high]` ([`Error::InvalidArgument`]).
+pub(crate) fn check_range(value: f32, low: f32, high: f32, what: &str) -> Result<()> {
+    ensure_finite(value, what)?;
+    if value < low || value > high {
+        return Err(Error::InvalidArgument(format!(
+            "{what} is {value}, must be in [{low}, {high}]"
+        )));
+    }
+    Ok(())
+}
+
 /// Fails with [`Error::NonFinite`] naming `what` if any component of `values` is NaN or infinite.
 pub fn ensure_all_finite(values: &[f32], what: &str) -> Result<()> {
     match values.iter().find(|v| !v.is_finite()) {

@@ -8,7 +8,7 @@
 
 use glam::{Vec2, Vec3};
 
-use crate::error::{ensure_finite, Error, Result};
+use crate::error::{check_range, Error, Result};
 use crate::math::random::Random;
 
 /// Settings of gaze following. Distances are metres, durations seconds, angles radians.
@@ -95,55 +95,21 @@ impl FollowConfig {
 
     /// Checks every setting; errors name the setting and its value.
     pub fn validate(&self, max_distance: f32) -> Result<()> {
-        let fields = [
-            (
-                "follow_one_looker_probability",
-                self.one_looker_probability,
-                1.0,
-            ),
-            ("follow_max_probability", self.max_probability, 1.0),
-            ("follow_distance", self.distance, 1000.0),
-            (
-                "follow_view_half_angle",
-                self.view_half_angle,
-                std::f32::consts::PI,
-            ),
-            ("follow_oncoming_weight", self.oncoming_weight, 1.0),
-            ("follow_glance_cue_weight", self.glance_cue_weight, 1.0),
-            ("follow_reaction_min", self.reaction_min, 60.0),
-            ("follow_reaction_max", self.reaction_max, 60.0),
-            ("follow_glance_min", self.glance_min, 600.0),
-            ("follow_glance_max", self.glance_max, 600.0),
-            ("follow_forget_time", self.forget_time, 3600.0),
-        ];
-        for (name, value, high) in fields {
-            ensure_finite(value, name)?;
-            if !(0.0..=high).contains(&value) {
-                return Err(Error::InvalidArgument(format!(
-                    "{name} is {value}, must be in [0, {high}]"
-                )));
-            }
-        }
-        if self.one_looker_probability > self.max_probability {
-            return Err(Error::InvalidArgument(format!(
-                "follow_one_looker_probability ({}) is above follow_max_probability ({}): \
-                 more lookers cannot draw fewer people",
-                self.one_looker_probability, self.max_probability
-            )));
-        }
-        if self.reaction_min > self.reaction_max {
-            return Err(Error::InvalidArgument(format!(
-                "follow_reaction_min ({}) is above follow_reaction_max ({}): the range is \
-                 empty",
-                self.reaction_min, self.reaction_max
-            )));
-        }
-        if self.glance_min > self.glance_max {
-            return Err(Error::InvalidArgument(format!(
-                "follow_glance_min ({}) is above follow_glance_max ({}): the range is empty",
-                self.glance_min, self.glance_max
-            )));
-        }
+        use std::f32::consts::PI;
+        let ceiling = self.max_probability;
+        check_range(ceiling, 0.0, 1.0, "follow_max_probability")?;
+        let one = self.one_looker_probability;
+        check_range(one, 0.0, ceiling, "follow_one_looker_probability")?;
+        check_range(self.distance, 0.0, 1000.0, "follow_distance")?;
+        check_range(self.view_half_angle, 0.0, PI, "follow_view_half_angle")?;
+        check_range(self.oncoming_weight, 0.0, 1.0, "follow_oncoming_weight")?;
+        check_range(self.glance_cue_weight, 0.0, 1.0, "follow_glance_cue_weight")?;
+        check_range(self.reaction_max, 0.0, 60.0, "follow_reaction_max")?;
+        let reaction = self.reaction_min;
+        check_range(reaction, 0.0, self.reaction_max, "follow_reaction_min")?;
+        check_range(self.glance_max, 0.0, 600.0, "follow_glance_max")?;
+        check_range(self.glance_min, 0.0, self.glance_max, "follow_glance_min")?;
+        check_range(self.forget_time, 0.0, 3600.0, "follow_forget_time")?;
         if self.enabled && self.distance > max_distance {
             return Err(Error::InvalidArgument(format!(
                 "follow_distance ({} m) is beyond max_distance ({max_distance} m), the \

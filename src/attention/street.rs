@@ -5,7 +5,7 @@
 //! ahead. Every constant comes from field measurements: docs/street.md lists them with
 //! their sources and crowdgaze's measured figures beside them.
 
-use crate::error::{ensure_finite, Error, Result};
+use crate::error::{check_at_least, check_range, Result};
 use crate::math::random::Random;
 use crate::scene::ids::NO_ENTITY;
 
@@ -84,98 +84,41 @@ impl Default for StreetConfig {
 impl StreetConfig {
     /// Checks every setting; errors name the setting and its value.
     pub fn validate(&self) -> Result<()> {
-        let fields = [
-            ("street_view_half_angle", self.view_half_angle),
-            (
-                "street_first_fixation_probability",
-                self.first_fixation_probability,
-            ),
-            ("street_latency_min", self.latency_min),
-            ("street_latency_max", self.latency_max),
-            ("street_fixation_median", self.fixation_median),
-            ("street_fixation_log_spread", self.fixation_log_spread),
-            ("street_miss_after", self.miss_after),
-            ("street_refixation_probability", self.refixation_probability),
-            ("street_refixation_gap_min", self.refixation_gap_min),
-            ("street_refixation_gap_max", self.refixation_gap_max),
-            ("street_civil_distance", self.civil_distance),
-            ("street_civil_look_probability", self.civil_look_probability),
-            ("street_path_look_distance", self.path_look_distance),
-            ("street_civil_look_distance", self.civil_look_distance),
-        ];
-        for (name, value) in fields {
-            ensure_finite(value, name)?;
-            if value < 0.0 {
-                return Err(Error::InvalidArgument(format!(
-                    "{name} is {value}, must be >= 0"
-                )));
-            }
-        }
-        let range = |name: &str, value: f32, high: f32| {
-            if value > high {
-                Err(Error::InvalidArgument(format!(
-                    "{name} is {value}, must be at most {high}"
-                )))
-            } else {
-                Ok(())
-            }
-        };
-        range(
-            "street_view_half_angle",
-            self.view_half_angle,
-            std::f32::consts::PI,
-        )?;
-        range(
-            "street_first_fixation_probability",
+        use std::f32::consts::PI;
+        check_range(self.view_half_angle, 0.0, PI, "street_view_half_angle")?;
+        check_range(
             self.first_fixation_probability,
+            0.0,
             1.0,
+            "street_first_fixation_probability",
         )?;
-        range(
-            "street_refixation_probability",
-            self.refixation_probability,
-            1.0,
+        check_at_least(self.latency_min, 0.0, "street_latency_min")?;
+        check_range(self.latency_max, 0.0, 60.0, "street_latency_max")?;
+        check_range(
+            self.latency_min,
+            0.0,
+            self.latency_max,
+            "street_latency_min",
         )?;
-        range(
-            "street_civil_look_probability",
-            self.civil_look_probability,
-            1.0,
-        )?;
-        range("street_fixation_log_spread", self.fixation_log_spread, 2.0)?;
-        range("street_fixation_median", self.fixation_median, 60.0)?;
-        range("street_latency_max", self.latency_max, 60.0)?;
-        range("street_miss_after", self.miss_after, 60.0)?;
-        range("street_refixation_gap_max", self.refixation_gap_max, 600.0)?;
-        range("street_path_look_distance", self.path_look_distance, 1000.0)?;
-        range(
-            "street_civil_look_distance",
-            self.civil_look_distance,
-            1000.0,
-        )?;
-        range("street_civil_distance", self.civil_distance, 1000.0)?;
-        let ordered = |low: (&str, f32), high: (&str, f32)| {
-            if low.1 > high.1 {
-                Err(Error::InvalidArgument(format!(
-                    "{} ({}) is above {} ({}): the range is empty",
-                    low.0, low.1, high.0, high.1
-                )))
-            } else {
-                Ok(())
-            }
-        };
-        ordered(
-            ("street_latency_min", self.latency_min),
-            ("street_latency_max", self.latency_max),
-        )?;
-        ordered(
-            ("street_refixation_gap_min", self.refixation_gap_min),
-            ("street_refixation_gap_max", self.refixation_gap_max),
-        )?;
-        if self.fixation_median <= 0.0 {
-            return Err(Error::InvalidArgument(
-                "street_fixation_median is 0, must be above 0".into(),
-            ));
-        }
-        Ok(())
+        let median = self.fixation_median;
+        check_range(median, f32::MIN_POSITIVE, 60.0, "street_fixation_median")?;
+        let spread = self.fixation_log_spread;
+        check_range(spread, 0.0, 2.0, "street_fixation_log_spread")?;
+        check_range(self.miss_after, 0.0, 60.0, "street_miss_after")?;
+        let refixation = self.refixation_probability;
+        check_range(refixation, 0.0, 1.0, "street_refixation_probability")?;
+        let gap_max = self.refixation_gap_max;
+        check_range(gap_max, 0.0, 600.0, "street_refixation_gap_max")?;
+        let gap_min = self.refixation_gap_min;
+        check_at_least(gap_min, 0.0, "street_refixation_gap_min")?;
+        check_range(gap_min, 0.0, gap_max, "street_refixation_gap_min")?;
+        check_range(self.civil_distance, 0.0, 1000.0, "street_civil_distance")?;
+        let civil = self.civil_look_probability;
+        check_range(civil, 0.0, 1.0, "street_civil_look_probability")?;
+        let path = self.path_look_distance;
+        check_range(path, 0.0, 1000.0, "street_path_look_distance")?;
+        let civil_look = self.civil_look_distance;
+        check_range(civil_look, 0.0, 1000.0, "street_civil_look_distance")
     }
 
     /// A fixation duration: log-normal about the median, kept within a factor of 4 of it.

@@ -8,7 +8,8 @@ use crate::attention::interest::InterestConfig;
 use crate::attention::saliency::SaliencyConfig;
 use crate::attention::score::ScoringConfig;
 use crate::attention::street::StreetConfig;
-use crate::error::{ensure_finite, Error, Result};
+pub(super) use crate::error::check_range;
+use crate::error::{Error, Result};
 use crate::ik::{BlinkSettings, GazeConfig, MotionStyle};
 use crate::world::World;
 
@@ -173,16 +174,6 @@ impl CrowdConfig {
         config.following.enabled = true;
         config
     }
-}
-
-pub(super) fn check_range(value: f32, low: f32, high: f32, what: &str) -> Result<()> {
-    ensure_finite(value, what)?;
-    if value < low || value > high {
-        return Err(Error::InvalidArgument(format!(
-            "{what} is {value}, must be in [{low}, {high}]"
-        )));
-    }
-    Ok(())
 }
 
 /// Checks that a count lies in `low..=high`.
