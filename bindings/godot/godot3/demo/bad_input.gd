@@ -48,11 +48,8 @@ func person(name, position):
 
 
 func _ready():
-	var data = OS.get_environment("CROWDGAZE_DATA")
-	if data == "":
-		data = ProjectSettings.globalize_path("res://").plus_file("../../../../../shared/data")
 	builder = Builder.new()
-	var error = builder.load_bvh(data.plus_file("bvh/zombie.bvh"), 1.7)
+	var error = builder.load_shared("bvh/zombie.bvh", 1.7)
 	if error != "":
 		failures.append(error)
 

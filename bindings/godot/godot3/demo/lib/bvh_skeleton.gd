@@ -18,6 +18,15 @@ var globals = []     # rest global transforms (skeleton space)
 
 # Reads the HIERARCHY of a BVH file and scales the skeleton to `height` metres, its feet on
 # the ground. Returns an error string, or "" on success.
+# Loads `file` (e.g. "bvh/zombie.bvh") from the shared data directory: CROWDGAZE_DATA, or
+# ../shared/data beside the repository. Returns "" or what went wrong, as load_bvh does.
+func load_shared(file, height):
+	var data = OS.get_environment("CROWDGAZE_DATA")
+	if data == "":
+		data = ProjectSettings.globalize_path("res://").plus_file("../../../../../shared/data")
+	return load_bvh(data.plus_file(file), height)
+
+
 func load_bvh(path, height):
 	var file = File.new()
 	if file.open(path, File.READ) != OK:
